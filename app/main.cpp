@@ -1,0 +1,30 @@
+// ecpsim: the command-line front end. Each sub-command lives in its own *_command.cpp.
+
+#include <cstdio>
+#include <exception>
+
+#include <CLI/CLI.hpp>
+
+#include "app/commands.h"
+#include "geometry/errors.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"ecpsim: rigid bodies with planar non-convex contact (equivalent contact points)"};
+  app.require_subcommand(1);
+  ecpsim::app::AddHullCommand(app);
+  ecpsim::app::AddMeshesCommand(app);
+
+  // exit codes: 0 ok, 1 bad input (one line on stderr), 3 solver failure, 4 internal error
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const ecpsim::InputError& e) {
+    std::fprintf(stderr, "ecpsim: error: %s\n", e.what());
+    return 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "ecpsim: error: %s\n", e.what());
+    return 4;
+  }
+  return 0;
+}

@@ -1,0 +1,1 @@
+// Load + hull + mass properties benchmarks (filled in by the geometry work).

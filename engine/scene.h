@@ -1,0 +1,74 @@
+#pragma once
+// The immutable description of a simulation: bodies, fixed convex obstacles, contacts, loads and
+// settings (MuJoCo's model/data split: this is the model; state.h is the data).
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "engine/loads.h"
+#include "geometry/convex_shape.h"
+#include "geometry/triangle_mesh.h"
+
+namespace ecpsim::engine {
+
+/// Ellipsoidal friction parameters of one contact (paper eq. for the friction ellipsoid).
+struct Friction {
+  double mu = 0.22;   // Coulomb coefficient, ≥ 0
+  double e_t = 1;     // ellipsoid semi-axes: force axes (dimensionless) ...
+  double e_o = 1;
+  double e_r = 0.1;   // ... and torsion (m)
+};
+
+/// A rigid body F: its mesh and convex hull in the body frame (origin at the centre of mass).
+struct Body {
+  std::string name;
+  geometry::TriangleMesh mesh;                        // body frame, for patches/penetration/display
+  std::shared_ptr<const geometry::ConvexShape> hull;  // body frame: the CGAL hull or a primitive
+  double mass = 1;                                    // kg
+  Eigen::Matrix3d inertia = Eigen::Matrix3d::Identity();  // kg·m², about the CM, body axes
+  // initial state
+  Eigen::Vector3d p0 = Eigen::Vector3d::Zero();        // m, CM position in world
+  Eigen::Quaterniond q0 = Eigen::Quaterniond::Identity();  // body → world
+  Eigen::Vector3d v0 = Eigen::Vector3d::Zero();        // m/s, world
+  Eigen::Vector3d w0 = Eigen::Vector3d::Zero();        // rad/s, world (spatial)
+};
+
+/// A fixed convex body G (the ground, a tilted plane, a box fixture) in world coordinates.
+struct Obstacle {
+  std::string name;
+  std::shared_ptr<const geometry::ConvexShape> shape;  // world frame
+  Friction friction;                                   // default friction of contacts with it
+};
+
+/// One potential contact between a body's hull and an obstacle: its own ECPs and wrench.
+struct ContactPair {
+  int body = 0;
+  int obstacle = 0;
+  Friction friction;
+};
+
+struct SolverSettings {
+  double tolerance = 1e-10;    // on the unscaled residual (see engine/README.md)
+  int max_iterations = 60;
+  int window_rings = 1;        // vertex rings of hull faces around the support vertex
+  bool use_window = true;      // false: every hull face enters the MNCP
+};
+
+struct Scene {
+  std::string source;                                   // file the scene came from, for messages
+  Eigen::Vector3d gravity = Eigen::Vector3d(0, 0, -9.8);  // m/s²
+  double h = 0.01;                                      // s, time step
+  double duration = 1;                                  // s
+  std::vector<Body> bodies;
+  std::vector<Obstacle> obstacles;
+  std::vector<ContactPair> contacts;
+  std::vector<Load> loads;
+  std::vector<Impulse> impulses;
+  SolverSettings solver;
+};
+
+}  // namespace ecpsim::engine

@@ -1,0 +1,43 @@
+#pragma once
+// The per-step data of a simulation (MuJoCo's mjData): poses, velocities, contact solutions.
+
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "engine/scene.h"
+
+namespace ecpsim::engine {
+
+struct BodyState {
+  Eigen::Vector3d p_WB = Eigen::Vector3d::Zero();             // m, CM position
+  Eigen::Quaterniond Q_WB = Eigen::Quaterniond::Identity();   // unit, body → world
+  Eigen::Vector3d v_WB = Eigen::Vector3d::Zero();             // m/s
+  Eigen::Vector3d w_WB = Eigen::Vector3d::Zero();             // rad/s, world frame
+};
+
+/// The solution of one contact's part of the MNCP at the end of the last step.
+struct ContactState {
+  Eigen::Vector3d a1 = Eigen::Vector3d::Zero();  // m, ECP on the body's hull (world)
+  Eigen::Vector3d a2 = Eigen::Vector3d::Zero();  // m, ECP on the obstacle (world)
+  double p_n = 0, p_t = 0, p_o = 0, p_r = 0;     // N·s, N·s, N·s, N·m·s
+  double sigma = 0;                              // m/s, slip magnitude multiplier
+  Eigen::Vector3d n = Eigen::Vector3d::UnitZ();  // contact frame: normal out of G ...
+  Eigen::Vector3d t = Eigen::Vector3d::UnitX();  // ... and tangents
+  Eigen::Vector3d o = Eigen::Vector3d::UnitY();
+  // warm start for the next step: the full unknown vector and its window of hull constraints
+  Eigen::VectorXd warm_start;
+  std::vector<int> window;
+};
+
+struct State {
+  double t = 0;  // s
+  std::vector<BodyState> bodies;
+  std::vector<ContactState> contacts;  // one per Scene::contacts entry
+};
+
+/// The state at t = 0 from the bodies' initial conditions; contacts start separated.
+State InitialState(const Scene& scene);
+
+}  // namespace ecpsim::engine

@@ -1,0 +1,1 @@
+#include "geometry/contact_patch.h"

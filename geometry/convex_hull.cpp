@@ -1,0 +1,1 @@
+#include "geometry/convex_hull.h"

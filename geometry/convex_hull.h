@@ -1,0 +1,43 @@
+#pragma once
+// Convex hulls with CGAL (the only CGAL translation unit): 3-D hull as merged polygonal faces and
+// half-spaces, and the 2-D hull of planar point sets.
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "geometry/triangle_mesh.h"
+
+namespace ecpsim::geometry {
+
+/// A convex polyhedron as both vertex/face lists and the half-space system n_i · y ≤ d_i.
+struct ConvexHull {
+  std::vector<Eigen::Vector3d> vertices;       // m
+  std::vector<std::vector<int>> faces;         // polygons, counter-clockwise seen from outside
+  std::vector<Eigen::Vector3d> normals;        // unit outward normal of each face
+  std::vector<double> offsets;                 // d_i: n_i · y ≤ d_i inside, m
+  std::vector<std::vector<int>> vertex_faces;  // faces incident to each vertex (≥ 3 each)
+  std::vector<std::vector<int>> vertex_neighbors;  // vertices joined to each vertex by a hull edge
+};
+
+/// Convex hull of `points` with exact predicates. Triangles whose planes agree within
+/// kCoplanarTolerance × (bounding-box diagonal) are merged into one polygonal face, so a cube read
+/// from a file with float noise has exactly 6 faces. Offsets are taken as max_v n_i · v over the
+/// hull vertices, so every input point satisfies every inequality up to round-off.
+/// @throws InputError naming `source` for fewer than 4 points, non-finite coordinates, or a
+///         degenerate (collinear or coplanar, zero-volume) point set.
+ConvexHull ComputeConvexHull(const std::vector<Eigen::Vector3d>& points,
+                             const std::string& source = "point set");
+
+/// The hull shifted by `offset` (e.g. −centre of mass, to move it into the body frame).
+ConvexHull TranslateHull(const ConvexHull& hull, const Eigen::Vector3d& offset);
+
+/// The hull's faces fanned into triangles (outward winding), e.g. for rendering or mass properties.
+TriangleMesh TriangulateHull(const ConvexHull& hull);
+
+/// 2-D convex hull, counter-clockwise, without collinear points; fewer than 3 output points for
+/// degenerate input (one point, or a segment given by its two ends).
+std::vector<Eigen::Vector2d> ComputeConvexHull2D(const std::vector<Eigen::Vector2d>& points);
+
+}  // namespace ecpsim::geometry

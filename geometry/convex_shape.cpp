@@ -1,0 +1,1 @@
+#include "geometry/convex_shape.h"

@@ -1,0 +1,1 @@
+#include "geometry/mass_properties.h"

@@ -1,0 +1,1 @@
+#include "geometry/mesh_topology.h"

@@ -1,0 +1,1 @@
+#include "geometry/weld_vertices.h"
