@@ -1,1 +1,44 @@
 #include "engine/state.h"
+
+#include <algorithm>
+
+namespace ecpsim::engine {
+
+Eigen::Vector3d ObstacleNormalToward(const geometry::ConvexShape& obstacle,
+                                     const Eigen::Vector3d& point) {
+  // the gradient of the most violated (largest) constraint at the point: for a plane its normal,
+  // for a box the face the point is in front of
+  int best = 0;
+  double best_value = obstacle.Value(0, point);
+  for (int j = 1; j < obstacle.NumConstraints(); ++j) {
+    const double value = obstacle.Value(j, point);
+    if (value > best_value) {
+      best_value = value;
+      best = j;
+    }
+  }
+  return obstacle.Gradient(best, point).normalized();
+}
+
+State InitialState(const Scene& scene) {
+  State state;
+  state.t = 0;
+  for (const Body& body : scene.bodies) {
+    BodyState b;
+    b.p_WB = body.p0;
+    b.Q_WB = body.q0.normalized();
+    b.v_WB = body.v0;
+    b.w_WB = body.w0;
+    state.bodies.push_back(b);
+  }
+  for (const ContactPair& pair : scene.contacts) {
+    ContactState c;
+    const Obstacle& obstacle = scene.obstacles[pair.obstacle];
+    c.n = ObstacleNormalToward(*obstacle.shape, scene.bodies[pair.body].p0);
+    c.a1 = c.a2 = scene.bodies[pair.body].p0;
+    state.contacts.push_back(c);
+  }
+  return state;
+}
+
+}  // namespace ecpsim::engine

@@ -37,7 +37,12 @@ struct State {
   std::vector<ContactState> contacts;  // one per Scene::contacts entry
 };
 
-/// The state at t = 0 from the bodies' initial conditions; contacts start separated.
+/// The state at t = 0 from the bodies' initial conditions; contacts start without a warm start.
 State InitialState(const Scene& scene);
+
+/// Unit outward normal of the obstacle constraint with the largest value at `point` (world): the
+/// side of G a body at `point` faces.
+Eigen::Vector3d ObstacleNormalToward(const geometry::ConvexShape& obstacle,
+                                     const Eigen::Vector3d& point);
 
 }  // namespace ecpsim::engine

@@ -1,1 +1,430 @@
 #include "engine/time_step.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <string>
+
+#include <fmt/format.h>
+
+#include "engine/complementarity_solver.h"
+#include "engine/contact_window.h"
+#include "engine/mncp_system.h"
+#include "engine/rotation.h"
+
+namespace ecpsim::engine {
+namespace {
+
+using Eigen::Matrix3d;
+using Eigen::Vector3d;
+using Eigen::VectorXd;
+
+// a guess's slip multiplier starts slightly positive: (σ, ζ) = (0, 0) is the kink of φ_FB
+constexpr double kInitialSigmaFraction = 1e-3;  // of the velocity scale
+// the window check tolerance relative to the body size: far below any face, far above round-off
+constexpr double kWindowCheckRelTol = 1e-9;
+// growing the window this many times (one vertex ring each) before using every hull face
+constexpr int kMaxWindowGrowth = 3;
+
+// characteristic sizes of one body's step, for scaling the MNCP (FORMULATION.md trap 6)
+struct Scales {
+  double length;    // m: radius of gyration
+  double velocity;  // m/s
+  double impulse;   // N·s
+};
+
+Scales BodyScales(const Body& body, const BodyState& state, const Vector3d& gravity, double h) {
+  Scales s;
+  s.length = std::sqrt(body.inertia.trace() / body.mass);
+  s.velocity = std::max({state.v_WB.norm() + state.w_WB.norm() * s.length, gravity.norm() * h,
+                         1e-3 * s.length / h});
+  s.impulse = body.mass * s.velocity;
+  return s;
+}
+
+// which alternative initial guess to build (FORMULATION.md, the restart ladder)
+enum class Guess { kWarm, kSeparated, kResting, kSliding };
+
+const char* GuessName(Guess guess) {
+  switch (guess) {
+    case Guess::kWarm:
+      return "warm start";
+    case Guess::kSeparated:
+      return "separated guess";
+    case Guess::kResting:
+      return "resting guess";
+    case Guess::kSliding:
+      return "sliding guess";
+  }
+  return "guess";
+}
+
+// the closest point of G to `point` along the gradient of its largest constraint (exact for
+// linear constraints, a Newton step for smooth ones), and that constraint's index
+std::pair<Vector3d, int> ProjectOntoObstacle(const geometry::ConvexShape& obstacle,
+                                             const Vector3d& point) {
+  int best = 0;
+  double best_value = obstacle.Value(0, point);
+  for (int j = 1; j < obstacle.NumConstraints(); ++j) {
+    const double value = obstacle.Value(j, point);
+    if (value > best_value) {
+      best_value = value;
+      best = j;
+    }
+  }
+  const Vector3d grad = obstacle.Gradient(best, point);
+  return {point - best_value * grad / grad.squaredNorm(), best};
+}
+
+class BodyStepper {
+ public:
+  BodyStepper(const Scene& scene, int body_index, std::vector<int> contact_ids)
+      : scene_(scene), body_index_(body_index), contact_ids_(std::move(contact_ids)) {}
+
+  // one step of length h from (body, contacts); returns false if every guess failed
+  bool Advance(double t, double h, BodyState& body, std::vector<ContactState>& contacts,
+               StepReport& report, double& residual, std::string& tried) {
+    const Body& model = scene_.bodies[body_index_];
+    const Scales scales = BodyScales(model, body, scene_.gravity, h);
+    BodyProblem problem = MakeProblem(t, h, body);
+
+    // windows around the support feature at the predicted pose, in the direction of −n
+    const Matrix3d R_predicted = ExpMap(h * body.w_WB) * problem.R;
+    for (size_t k = 0; k < contact_ids_.size(); ++k) {
+      ContactProblem& cp = problem.contacts[k];
+      const Vector3d direction_B = R_predicted.transpose() * -contacts[k].n;
+      cp.window = SelectWindow(*cp.hull, direction_B, scene_.solver.window_rings,
+                               scene_.solver.use_window);
+    }
+
+    std::vector<Guess> ladder;
+    const bool have_warm_start = contacts.empty() || contacts[0].warm_start.size() > 0;
+    if (have_warm_start) ladder.push_back(Guess::kWarm);
+    ladder.insert(ladder.end(), {Guess::kSeparated, Guess::kResting, Guess::kSliding});
+
+    McpOptions options;
+    options.tolerance = scene_.solver.tolerance;
+    options.max_iterations = scene_.solver.max_iterations;
+
+    for (Guess guess : ladder) {
+      for (int growth = 0; growth <= kMaxWindowGrowth + 1; ++growth) {
+        const MncpLayout layout = MakeLayout(problem);
+        VectorXd z = MakeGuess(guess, problem, layout, body, contacts, scales);
+        const McpFunction f = [&](const VectorXd& zz, VectorXd* F, Eigen::MatrixXd* J) {
+          EvaluateMncp(problem, layout, zz, F, J);
+        };
+        options.measure = [&](const VectorXd& zz, const VectorXd& F) {
+          return MncpResidual(layout, zz, F);
+        };
+        const McpResult result =
+            SolveMcp(f, layout.num_free, RowScales(problem, layout, scales),
+                     VariableScales(problem, layout, scales), z, options);
+        report.iterations += result.iterations;
+        residual = result.residual;
+        if (!result.converged || !z.allFinite()) {
+          tried += fmt::format("{}{} (h = {:g} s): residual {:.3g} after {} iterations", 
+                               tried.empty() ? "" : "; ", GuessName(guess), h, result.residual,
+                               result.iterations);
+          ++report.retries;
+          break;
+        }
+        // a converged windowed solution must also solve the full-hull problem
+        const int grow = WindowFailures(problem, layout, z, scales);
+        if (grow >= 0) {
+          const ContactProblem& cp = problem.contacts[grow];
+          const Vector3d n_solution = MakeContactFrame(SolutionNormal(problem, layout, z, grow),
+                                                       cp.tangent_reference).n;
+          const EndPose end = PoseAfterStep(problem, z.segment<3>(0), z.segment<3>(3));
+          std::vector<int> wider = SelectWindow(
+              *cp.hull, end.R.transpose() * -n_solution,
+              growth < kMaxWindowGrowth ? scene_.solver.window_rings + growth + 1 : -1, true);
+          std::vector<int> merged;
+          std::set_union(cp.window.begin(), cp.window.end(), wider.begin(), wider.end(),
+                         std::back_inserter(merged));
+          problem.contacts[grow].window = merged;
+          continue;
+        }
+        Commit(problem, layout, z, h, body, contacts);
+        return true;
+      }
+    }
+    return false;
+  }
+
+ private:
+  BodyProblem MakeProblem(double t, double h, const BodyState& body) const {
+    const Body& model = scene_.bodies[body_index_];
+    BodyProblem p;
+    p.h = h;
+    p.mass = model.mass;
+    p.R = body.Q_WB.toRotationMatrix();
+    p.inertia_world = p.R * model.inertia * p.R.transpose();
+    p.c = body.p_WB;
+    p.v = body.v_WB;
+    p.w = body.w_WB;
+    // gravity, applied loads and the gyroscopic impulse p_vp = (0, −h ω × Iω), all at the start
+    // of the step (FORMULATION.md trap 4)
+    p.p_ext = AppliedImpulse(scene_.loads, scene_.impulses, body_index_, t, h, p.R);
+    p.p_ext.head<3>() += h * model.mass * scene_.gravity;
+    p.p_ext.tail<3>() -= h * body.w_WB.cross(p.inertia_world * body.w_WB);
+    for (int id : contact_ids_) {
+      const ContactPair& pair = scene_.contacts[id];
+      ContactProblem cp;
+      cp.hull = model.hull.get();
+      cp.obstacle = scene_.obstacles[pair.obstacle].shape.get();
+      cp.friction = pair.friction;
+      p.contacts.push_back(cp);
+    }
+    return p;
+  }
+
+  // fixes each contact's tangent reference: the world axis least aligned with the last normal
+  static void ChooseTangentReference(ContactProblem& cp, const Vector3d& n) {
+    int axis;
+    n.cwiseAbs().minCoeff(&axis);
+    cp.tangent_reference = Vector3d::Unit(axis);
+  }
+
+  VectorXd MakeGuess(Guess guess, BodyProblem& problem, const MncpLayout& layout,
+                     const BodyState& body, const std::vector<ContactState>& contacts,
+                     const Scales& scales) const {
+    VectorXd z = VectorXd::Zero(layout.size);
+    // free-flight velocities as the starting point of a fresh guess; the last ones for warm starts
+    const Vector3d v_free = body.v_WB + problem.p_ext.head<3>() / problem.mass;
+    const Vector3d w_free =
+        body.w_WB + problem.inertia_world.ldlt().solve(Vector3d(problem.p_ext.tail<3>()));
+    z.segment<3>(0) = guess == Guess::kWarm ? body.v_WB : v_free;
+    z.segment<3>(3) = guess == Guess::kWarm ? body.w_WB : w_free;
+
+    for (size_t k = 0; k < problem.contacts.size(); ++k) {
+      ContactProblem& cp = problem.contacts[k];
+      const MncpLayout::Contact& L = layout.contacts[k];
+      const ContactState& previous = contacts[k];
+      const Friction& fr = cp.friction;
+      ChooseTangentReference(cp, previous.n);
+      const double sigma0 = kInitialSigmaFraction * scales.velocity;
+
+      if (guess == Guess::kWarm && previous.warm_start.size() > 0) {
+        z.segment<3>(L.a1) = previous.a1;
+        z.segment<3>(L.a2) = previous.a2;
+        z[L.s] = previous.warm_start[0];
+        z[L.p_t] = previous.p_t;
+        z[L.p_o] = previous.p_o;
+        z[L.p_r] = previous.p_r;
+        z[L.p_n] = previous.p_n;
+        z[L.sigma] = std::max(previous.sigma, sigma0);
+        const int k_g = L.l_g_count;
+        for (int j = 0; j < k_g; ++j) z[L.l_g + j] = previous.warm_start[1 + j];
+        // carry hull multipliers over by face index (the window may have moved)
+        std::map<int, double> by_face;
+        for (size_t i = 0; i < previous.window.size(); ++i)
+          by_face[previous.window[i]] = previous.warm_start[1 + k_g + i];
+        for (int i = 0; i < L.l_count; ++i) {
+          const auto it = by_face.find(cp.window[i]);
+          if (it != by_face.end()) z[L.l + i] = it->second;
+        }
+        continue;
+      }
+
+      // geometric guess at the free-flight pose: the hull's support point in the direction −n
+      const Vector3d n = previous.n;
+      const EndPose pose = PoseAfterStep(problem, z.segment<3>(0), z.segment<3>(3));
+      const Vector3d support = pose.c + pose.R * cp.hull->Support(pose.R.transpose() * -n);
+      // a contact without a warm start (new to the ladder) starts as separated
+      const bool separated = guess == Guess::kSeparated || guess == Guess::kWarm;
+      Vector3d a1 = support;
+      if (!separated) a1 = pose.c - n * n.dot(pose.c - support);  // under the CM
+      const auto [a2, active_g] = ProjectOntoObstacle(*cp.obstacle, a1);
+      z.segment<3>(L.a1) = a1;
+      z.segment<3>(L.a2) = a2;
+      z[L.l_g + active_g] = 1;
+      const Vector3d N = cp.obstacle->Gradient(active_g, a2);
+      z[L.s] = separated ? std::max(0.0, (a1 - a2).dot(N) / N.squaredNorm()) : 0;
+      // the window face whose world normal is most opposed to N carries the cone
+      const Vector3d y = pose.R.transpose() * (a1 - pose.c);
+      int best = 0;
+      double best_alignment = -INFINITY;
+      for (int i = 0; i < L.l_count; ++i) {
+        const double alignment = -(pose.R * cp.hull->Gradient(cp.window[i], y)).dot(N);
+        if (alignment > best_alignment) {
+          best_alignment = alignment;
+          best = i;
+        }
+      }
+      z[L.l + best] = 1;
+      z[L.sigma] = sigma0;
+      if (separated) continue;
+
+      // in contact: the normal impulse that cancels gravity and the approach velocity
+      const double p_n = std::max(problem.mass * (-n.dot(z.segment<3>(0))), 0.0) +
+                         std::max(-problem.mass * scene_.gravity.dot(n) * problem.h, 0.0);
+      z[L.p_n] = p_n;
+      const Vector3d v_tangent = body.v_WB - n * n.dot(body.v_WB);
+      z.segment<3>(0) = v_tangent;
+      if (guess == Guess::kSliding) {
+        const ContactFrame frame = MakeContactFrame(N, cp.tangent_reference);
+        const double v_t = frame.t.dot(v_tangent), v_o = frame.o.dot(v_tangent);
+        const double v_r = frame.n.dot(body.w_WB);
+        const double sigma = std::sqrt(fr.e_t * fr.e_t * v_t * v_t + fr.e_o * fr.e_o * v_o * v_o +
+                                       fr.e_r * fr.e_r * v_r * v_r);
+        if (sigma > sigma0) {
+          z[L.sigma] = sigma;
+          z[L.p_t] = -fr.e_t * fr.e_t * fr.mu * p_n * v_t / sigma;
+          z[L.p_o] = -fr.e_o * fr.e_o * fr.mu * p_n * v_o / sigma;
+          z[L.p_r] = -fr.e_r * fr.e_r * fr.mu * p_n * v_r / sigma;
+        }
+      }
+    }
+    return z;
+  }
+
+  static VectorXd VariableScales(const BodyProblem& problem, const MncpLayout& layout,
+                                 const Scales& s) {
+    VectorXd scale = VectorXd::Ones(layout.size);
+    scale.segment<3>(0).setConstant(s.velocity);
+    scale.segment<3>(3).setConstant(s.velocity / s.length);
+    for (size_t k = 0; k < problem.contacts.size(); ++k) {
+      const MncpLayout::Contact& L = layout.contacts[k];
+      scale.segment<7>(L.a1).setConstant(s.length);  // a1, a2, s
+      scale[L.p_t] = scale[L.p_o] = scale[L.p_n] = s.impulse;
+      scale[L.p_r] = s.impulse * problem.contacts[k].friction.e_r;
+      scale[L.sigma] = s.velocity;
+    }
+    return scale;
+  }
+
+  static VectorXd RowScales(const BodyProblem& problem, const MncpLayout& layout,
+                            const Scales& s) {
+    VectorXd scale = VectorXd::Ones(layout.size);
+    scale.segment<3>(0).setConstant(1 / s.impulse);
+    scale.segment<3>(3).setConstant(1 / (s.impulse * s.length));
+    for (size_t k = 0; k < problem.contacts.size(); ++k) {
+      const MncpLayout::Contact& L = layout.contacts[k];
+      const double e_r = problem.contacts[k].friction.e_r;
+      scale.segment<3>(L.a1).setConstant(1 / s.length);  // a1 − a2 − s N
+      // the cone rows and Σ l_G = 1 are dimensionless
+      scale[L.p_t] = scale[L.p_o] = 1 / (s.impulse * s.velocity);
+      scale[L.p_r] = 1 / (s.impulse * s.velocity * e_r);
+      scale.segment(L.l, L.l_count).setConstant(1 / s.length);
+      scale.segment(L.l_g, L.l_g_count).setConstant(1 / s.length);
+      scale[L.p_n] = 1 / s.length;
+      scale[L.sigma] = 1 / s.impulse;
+    }
+    return scale;
+  }
+
+  static Vector3d SolutionNormal(const BodyProblem& problem, const MncpLayout& layout,
+                                 const VectorXd& z, int k) {
+    const MncpLayout::Contact& L = layout.contacts[k];
+    const ContactProblem& cp = problem.contacts[k];
+    Vector3d N = Vector3d::Zero();
+    for (int j = 0; j < L.l_g_count; ++j)
+      N += z[L.l_g + j] * cp.obstacle->Gradient(j, z.segment<3>(L.a2));
+    return N;
+  }
+
+  // the first contact whose windowed solution is not a full-hull solution, or −1
+  int WindowFailures(const BodyProblem& problem, const MncpLayout& layout, const VectorXd& z,
+                     const Scales& scales) const {
+    const EndPose end = PoseAfterStep(problem, z.segment<3>(0), z.segment<3>(3));
+    for (size_t k = 0; k < problem.contacts.size(); ++k) {
+      const MncpLayout::Contact& L = layout.contacts[k];
+      const ContactProblem& cp = problem.contacts[k];
+      int active = 0;
+      z.segment(L.l, L.l_count).maxCoeff(&active);
+      const Vector3d y = end.R.transpose() * (z.segment<3>(L.a1) - end.c);
+      if (!WindowSolutionIsExact(*cp.hull, cp.window, cp.window[active], y,
+                                 kWindowCheckRelTol * scales.length))
+        return static_cast<int>(k);
+    }
+    return -1;
+  }
+
+  void Commit(const BodyProblem& problem, const MncpLayout& layout, const VectorXd& z, double h,
+              BodyState& body, std::vector<ContactState>& contacts) const {
+    const Vector3d v = z.segment<3>(0);
+    const Vector3d w = z.segment<3>(3);
+    body.p_WB += h * v;
+    body.Q_WB = IntegrateOrientation(body.Q_WB, w, h);
+    body.v_WB = v;
+    body.w_WB = w;
+    for (size_t k = 0; k < problem.contacts.size(); ++k) {
+      const MncpLayout::Contact& L = layout.contacts[k];
+      const ContactProblem& cp = problem.contacts[k];
+      ContactState& c = contacts[k];
+      c.a1 = z.segment<3>(L.a1);
+      c.a2 = z.segment<3>(L.a2);
+      c.p_t = z[L.p_t];
+      c.p_o = z[L.p_o];
+      c.p_r = z[L.p_r];
+      // complementarity unknowns are ≥ 0 up to the tolerance; report them clamped
+      c.p_n = std::max(z[L.p_n], 0.0);
+      // without a normal impulse any σ ≥ 0 solves the MNCP (trap 2); report the canonical 0
+      c.sigma = c.p_n > 0 ? std::max(z[L.sigma], 0.0) : 0.0;
+      const ContactFrame frame =
+          MakeContactFrame(SolutionNormal(problem, layout, z, static_cast<int>(k)),
+                           cp.tangent_reference);
+      c.n = frame.n;
+      c.t = frame.t;
+      c.o = frame.o;
+      c.window = cp.window;
+      c.warm_start.resize(1 + L.l_g_count + L.l_count);
+      c.warm_start[0] = z[L.s];
+      c.warm_start.segment(1, L.l_g_count) = z.segment(L.l_g, L.l_g_count);
+      c.warm_start.segment(1 + L.l_g_count, L.l_count) = z.segment(L.l, L.l_count);
+    }
+  }
+
+  const Scene& scene_;
+  int body_index_;
+  std::vector<int> contact_ids_;
+};
+
+}  // namespace
+
+StepReport Step(const Scene& scene, State& state) {
+  StepReport report;
+  report.converged = true;
+  std::vector<BodyState> next_bodies = state.bodies;
+  std::vector<ContactState> next_contacts = state.contacts;
+
+  for (int b = 0; b < static_cast<int>(scene.bodies.size()); ++b) {
+    std::vector<int> contact_ids;
+    for (int k = 0; k < static_cast<int>(scene.contacts.size()); ++k)
+      if (scene.contacts[k].body == b) contact_ids.push_back(k);
+    BodyStepper stepper(scene, b, contact_ids);
+
+    // the ladder at h, then 2 sub-steps of h/2, then 4 of h/4 (engine/README.md)
+    std::string tried;
+    double residual = 0;
+    bool solved = false;
+    for (int substeps : {1, 2, 4}) {
+      BodyState body = state.bodies[b];
+      std::vector<ContactState> contacts;
+      for (int id : contact_ids) contacts.push_back(state.contacts[id]);
+      const double h = scene.h / substeps;
+      bool ok = true;
+      for (int i = 0; i < substeps && ok; ++i)
+        ok = stepper.Advance(state.t + i * h, h, body, contacts, report, residual, tried);
+      if (!ok) continue;
+      next_bodies[b] = body;
+      for (size_t k = 0; k < contact_ids.size(); ++k) next_contacts[contact_ids[k]] = contacts[k];
+      report.substeps = std::max(report.substeps, substeps);
+      report.residual = std::max(report.residual, residual);
+      solved = true;
+      break;
+    }
+    if (!solved) {
+      throw SolverFailure(fmt::format(
+          "solver failed at t = {:.6g} s on body '{}': residual {:.3g} > tolerance {:.3g}; tried {}",
+          state.t, scene.bodies[b].name, residual, scene.solver.tolerance, tried));
+    }
+  }
+
+  state.bodies = std::move(next_bodies);
+  state.contacts = std::move(next_contacts);
+  state.t += scene.h;
+  return report;
+}
+
+}  // namespace ecpsim::engine

@@ -1,0 +1,47 @@
+#pragma once
+// A solver for small dense mixed complementarity problems: semismooth Newton on the penalized
+// Fischer–Burmeister reformulation with a non-monotone Armijo line search and Levenberg–Marquardt /
+// gradient fallbacks (FORMULATION.md, "Solver guidance").
+
+#include <functional>
+
+#include <Eigen/Core>
+
+namespace ecpsim::engine {
+
+/// Find z with F_i(z) = 0 for i < num_free and 0 ≤ z_i ⊥ F_i(z) ≥ 0 for i ≥ num_free.
+/// The callback returns F(z) and, when J is not null, the Jacobian ∂F/∂z.
+using McpFunction =
+    std::function<void(const Eigen::VectorXd& z, Eigen::VectorXd* F, Eigen::MatrixXd* J)>;
+
+/// A problem-specific convergence measure of (z, F); by default McpResidual.
+using McpMeasure = std::function<double(const Eigen::VectorXd& z, const Eigen::VectorXd& F)>;
+
+struct McpOptions {
+  double tolerance = 1e-10;    // on the unscaled residual (McpResidual)
+  int max_iterations = 60;
+  double fb_lambda = 0.9;      // penalized FB weight (Chen–Chen–Kanzow); 1 is plain FB
+  int nonmonotone_memory = 5;  // Armijo reference = max of the last few merit values
+  McpMeasure measure;          // empty: McpResidual with the solver's num_free
+};
+
+struct McpResult {
+  bool converged = false;
+  int iterations = 0;
+  double residual = 0;  // the measure (McpResidual by default) at the returned z
+};
+
+/// max(max_{i<num_free} |F_i|, max_{i≥num_free} |min(z_i, F_i)|): the unscaled residual of the
+/// conditions (0 exactly at a solution), in the units of each row.
+double McpResidual(const Eigen::VectorXd& z, const Eigen::VectorXd& F, int num_free);
+
+/// Solves in place from the initial guess `z`. `row_scale` and `var_scale` (positive) define the
+/// scaled problem F̃ = row_scale ⊙ F(var_scale ⊙ x) the Newton iteration works on, so rows and
+/// unknowns of different units (N·s, m, dimensionless multipliers) weigh alike (trap 6); the
+/// convergence test is on the unscaled residual. Never returns a non-finite z: if an iterate
+/// would be non-finite the solve stops unconverged at the last finite iterate.
+McpResult SolveMcp(const McpFunction& f, int num_free, const Eigen::VectorXd& row_scale,
+                   const Eigen::VectorXd& var_scale, Eigen::VectorXd& z,
+                   const McpOptions& options = {});
+
+}  // namespace ecpsim::engine

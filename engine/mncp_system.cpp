@@ -1,0 +1,290 @@
+#include "engine/mncp_system.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "engine/rotation.h"
+
+namespace ecpsim::engine {
+namespace {
+
+using Eigen::Matrix3d;
+using Eigen::Vector3d;
+using RowVector3d = Eigen::Matrix<double, 1, 3>;
+
+// |N| is 1 at a solution (a unit face normal, or a convex combination of unit normals ≥ cos of
+// half the dihedral angle); the floor only keeps intermediate Newton iterates finite
+constexpr double kMinNormalLength = 1e-12;
+
+// derivatives of the contact frame with respect to N = Σ l_G ∇g (see MakeContactFrame)
+struct FrameDerivatives {
+  Matrix3d dn_dN, dt_dN, do_dN;
+};
+
+FrameDerivatives ContactFrameDerivatives(const Vector3d& N, const ContactFrame& frame,
+                                         const Vector3d& e) {
+  const double length = std::max(N.norm(), kMinNormalLength);
+  const Vector3d& n = frame.n;
+  const Vector3d& t = frame.t;
+  const Vector3d u = e - n * n.dot(e);
+  const Matrix3d dn_dN = (Matrix3d::Identity() - n * n.transpose()) / length;
+  const Matrix3d du_dn = -(n.dot(e) * Matrix3d::Identity() + n * e.transpose());
+  const Matrix3d dt_du = (Matrix3d::Identity() - t * t.transpose()) / u.norm();
+  const Matrix3d dt_dn = dt_du * du_dn;
+  const Matrix3d do_dn = -Skew(t) + Skew(n) * dt_dn;
+  return {dn_dN, dt_dn * dn_dN, do_dn * dn_dN};
+}
+
+}  // namespace
+
+MncpLayout MakeLayout(const BodyProblem& problem) {
+  MncpLayout layout;
+  int next = 6;  // ν⁺ = (v⁺, ω⁺)
+  layout.contacts.resize(problem.contacts.size());
+  for (auto& c : layout.contacts) {
+    c.a1 = next;
+    c.a2 = next + 3;
+    c.s = next + 6;
+    c.p_t = next + 7;
+    c.p_o = next + 8;
+    c.p_r = next + 9;
+    next += 10;
+  }
+  layout.num_free = next;
+  for (size_t k = 0; k < problem.contacts.size(); ++k) {
+    auto& c = layout.contacts[k];
+    c.l = next;
+    c.l_count = static_cast<int>(problem.contacts[k].window.size());
+    next += c.l_count;
+    c.l_g = next;
+    c.l_g_count = problem.contacts[k].obstacle->NumConstraints();
+    next += c.l_g_count;
+    c.p_n = next++;
+    c.sigma = next++;
+  }
+  layout.size = next;
+  return layout;
+}
+
+EndPose PoseAfterStep(const BodyProblem& problem, const Vector3d& v, const Vector3d& w) {
+  return {problem.c + problem.h * v, ExpMap(problem.h * w) * problem.R};
+}
+
+ContactFrame MakeContactFrame(const Vector3d& N, const Vector3d& tangent_reference) {
+  ContactFrame frame;
+  frame.n = N / std::max(N.norm(), kMinNormalLength);
+  const Vector3d u = tangent_reference - frame.n * frame.n.dot(tangent_reference);
+  frame.t = u.normalized();
+  frame.o = frame.n.cross(frame.t);
+  return frame;
+}
+
+double MncpResidual(const MncpLayout& layout, const Eigen::VectorXd& z,
+                    const Eigen::VectorXd& F) {
+  double r = 0;
+  for (int i = 0; i < layout.size; ++i) {
+    const double e = i < layout.num_free ? std::abs(F[i]) : std::abs(std::min(z[i], F[i]));
+    r = std::max(r, std::isfinite(e) ? e : INFINITY);
+  }
+  return r;
+}
+
+void EvaluateMncp(const BodyProblem& problem, const MncpLayout& layout, const Eigen::VectorXd& z,
+                  Eigen::VectorXd* F_out, Eigen::MatrixXd* J_out) {
+  const double h = problem.h;
+  const Vector3d v = z.segment<3>(0);
+  const Vector3d w = z.segment<3>(3);
+  const EndPose end = PoseAfterStep(problem, v, w);
+  const Matrix3d& R_end = end.R;
+
+  Eigen::VectorXd& F = *F_out;
+  F.setZero(layout.size);
+  const bool with_jacobian = J_out != nullptr;
+  if (with_jacobian) J_out->setZero(layout.size, layout.size);
+  Eigen::MatrixXd dummy;
+  Eigen::MatrixXd& J = with_jacobian ? *J_out : dummy;
+
+  // Newton–Euler with impulses (paper eq. discrete_NE), contact terms added per contact below
+  F.segment<3>(0) = problem.mass * (v - problem.v) - problem.p_ext.head<3>();
+  F.segment<3>(3) = problem.inertia_world * (w - problem.w) - problem.p_ext.tail<3>();
+  if (with_jacobian) {
+    J.block<3, 3>(0, 0) = problem.mass * Matrix3d::Identity();
+    J.block<3, 3>(3, 3) = problem.inertia_world;
+  }
+
+  // rotation-rate derivatives of the end pose (left Jacobians of Exp at ±hω)
+  const Matrix3d Jl_plus = with_jacobian ? LeftJacobian(h * w) : Matrix3d();
+  const Matrix3d Rt_Jl_minus =
+      with_jacobian ? Matrix3d(problem.R.transpose() * LeftJacobian(-h * w)) : Matrix3d();
+
+  for (size_t k = 0; k < problem.contacts.size(); ++k) {
+    const ContactProblem& cp = problem.contacts[k];
+    const MncpLayout::Contact& L = layout.contacts[k];
+    const Vector3d a1 = z.segment<3>(L.a1);
+    const Vector3d a2 = z.segment<3>(L.a2);
+    const double s = z[L.s];
+    const double p_t = z[L.p_t], p_o = z[L.p_o], p_r = z[L.p_r];
+    const double p_n = z[L.p_n], sigma = z[L.sigma];
+    const Friction& fr = cp.friction;
+
+    // obstacle side: N = Σ l_G ∇g(a2), the normal-cone combination normalized by Σ l_G = 1
+    Vector3d N = Vector3d::Zero();
+    Matrix3d dN_da2 = Matrix3d::Zero();
+    double l_g_sum = 0;
+    for (int j = 0; j < L.l_g_count; ++j) {
+      const double l_g = z[L.l_g + j];
+      N += l_g * cp.obstacle->Gradient(j, a2);
+      if (!cp.obstacle->IsLinear(j)) dN_da2 += l_g * cp.obstacle->Hessian(j, a2);
+      l_g_sum += l_g;
+    }
+    const ContactFrame frame = MakeContactFrame(N, cp.tangent_reference);
+    const Vector3d& n = frame.n;
+    const Vector3d& t = frame.t;
+    const Vector3d& o = frame.o;
+
+    // the ECP's lever arm at the end of the step and the contact impulse
+    const Vector3d r = a1 - end.c;
+    const Vector3d force = n * p_n + t * p_t + o * p_o;
+    F.segment<3>(0) -= force;
+    F.segment<3>(3) -= r.cross(force) + n * p_r;
+
+    // contact constraints (paper eqs. re_contact_multiple_1..4, normalized on G's side)
+    const Vector3d y = R_end.transpose() * r;  // a1 in the body frame at q⁺
+    Vector3d cone = N;                          // N + Σ l_i ∇f_i(a1)
+    for (int i = 0; i < L.l_count; ++i) {
+      const int face = cp.window[i];
+      const Vector3d grad_world = R_end * cp.hull->Gradient(face, y);
+      cone += z[L.l + i] * grad_world;
+      F[L.l + i] = -cp.hull->Value(face, y);
+    }
+    F.segment<3>(L.a1) = a1 - a2 - s * N;
+    F.segment<3>(L.a2) = cone;
+    F[L.s] = l_g_sum - 1;
+    for (int j = 0; j < L.l_g_count; ++j) F[L.l_g + j] = -cp.obstacle->Value(j, a2);
+    // gap: a1 = a2 + s N with N in G's normal cone, so s has the sign of max_j g_j(a1)
+    F[L.p_n] = s;
+
+    // friction: Fritz-John conditions of maximum dissipation on the ellipsoid (paper eq. friction)
+    const Vector3d v_contact = v + w.cross(r);
+    const double v_t = t.dot(v_contact), v_o = o.dot(v_contact), v_r = n.dot(w);
+    const double et2 = fr.e_t * fr.e_t, eo2 = fr.e_o * fr.e_o, er2 = fr.e_r * fr.e_r;
+    F[L.p_t] = et2 * fr.mu * p_n * v_t + p_t * sigma;
+    F[L.p_o] = eo2 * fr.mu * p_n * v_o + p_o * sigma;
+    F[L.p_r] = er2 * fr.mu * p_n * v_r + p_r * sigma;
+    // the friction cone as μ p_n − ‖p̂‖ (see MncpResidual's note and engine/README.md)
+    const double p_hat = std::sqrt(p_t * p_t / et2 + p_o * p_o / eo2 + p_r * p_r / er2);
+    F[L.sigma] = fr.mu * p_n - p_hat;
+
+    if (!with_jacobian) continue;
+
+    // --- analytic Jacobian ---
+    const FrameDerivatives d = ContactFrameDerivatives(N, frame, cp.tangent_reference);
+    // ∂N/∂(a2, l_G) and the chain through the frame: X_N * dN for each consumer below
+    auto add_through_N = [&](int row, const Eigen::Matrix<double, Eigen::Dynamic, 3>& X_N) {
+      // X_N: rows × 3 derivative of some rows with respect to N
+      const int rows = static_cast<int>(X_N.rows());
+      J.block(row, L.a2, rows, 3) += X_N * dN_da2;
+      for (int j = 0; j < L.l_g_count; ++j)
+        J.block(row, L.l_g + j, rows, 1) += X_N * cp.obstacle->Gradient(j, a2);
+    };
+    const Matrix3d dforce_dN = p_n * d.dn_dN + p_t * d.dt_dN + p_o * d.do_dN;
+
+    // Newton–Euler linear rows
+    J.block<3, 1>(0, L.p_n) -= n;
+    J.block<3, 1>(0, L.p_t) -= t;
+    J.block<3, 1>(0, L.p_o) -= o;
+    add_through_N(0, -dforce_dN);
+
+    // Newton–Euler angular rows: −(r × force + n p_r), r = a1 − c − h v
+    J.block<3, 3>(3, L.a1) += Skew(force);
+    J.block<3, 3>(3, 0) += -h * Skew(force);
+    J.block<3, 1>(3, L.p_n) -= r.cross(n);
+    J.block<3, 1>(3, L.p_t) -= r.cross(t);
+    J.block<3, 1>(3, L.p_o) -= r.cross(o);
+    J.block<3, 1>(3, L.p_r) -= n;
+    add_through_N(3, -(Skew(r) * dforce_dN + p_r * d.dn_dN));
+
+    // hull constraints at the end pose: y = R⁺ᵀ(a1 − c − h v), R⁺ = Exp(hω) R
+    const Matrix3d dy_da1 = R_end.transpose();
+    const Matrix3d dy_dw = h * Skew(y) * Rt_Jl_minus;
+    Matrix3d dcone_da1 = Matrix3d::Zero();
+    Matrix3d dcone_dw = Matrix3d::Zero();
+    for (int i = 0; i < L.l_count; ++i) {
+      const int face = cp.window[i];
+      const double l = z[L.l + i];
+      const Vector3d grad_body = cp.hull->Gradient(face, y);
+      const Vector3d grad_world = R_end * grad_body;
+      // complementarity row −f_i(a1; q⁺)
+      const RowVector3d df_dy = grad_body.transpose();
+      J.block<1, 3>(L.l + i, L.a1) = -df_dy * dy_da1;
+      J.block<1, 3>(L.l + i, 0) = h * df_dy * dy_da1;
+      J.block<1, 3>(L.l + i, 3) = -df_dy * dy_dw;
+      // the normal-cone row: ∂(l R⁺ ∇f(y))
+      J.block<3, 1>(L.a2, L.l + i) = grad_world;
+      dcone_dw += l * (-h * Skew(grad_world) * Jl_plus);
+      if (!cp.hull->IsLinear(face)) {
+        const Matrix3d H_world = R_end * cp.hull->Hessian(face, y);
+        dcone_da1 += l * H_world * dy_da1;
+        dcone_dw += l * H_world * dy_dw;
+      }
+    }
+    J.block<3, 3>(L.a2, L.a1) += dcone_da1;
+    J.block<3, 3>(L.a2, 0) += -h * dcone_da1;
+    J.block<3, 3>(L.a2, 3) += dcone_dw;
+    add_through_N(L.a2, Matrix3d::Identity());
+
+    // a1 − a2 − s N
+    J.block<3, 3>(L.a1, L.a1) += Matrix3d::Identity();
+    J.block<3, 3>(L.a1, L.a2) -= Matrix3d::Identity();
+    J.block<3, 1>(L.a1, L.s) = -N;
+    add_through_N(L.a1, -s * Matrix3d::Identity());
+
+    // Σ l_G = 1, obstacle complementarity rows −g_j(a2), and the gap s
+    for (int j = 0; j < L.l_g_count; ++j) {
+      J(L.s, L.l_g + j) = 1;
+      J.block<1, 3>(L.l_g + j, L.a2) = -cp.obstacle->Gradient(j, a2).transpose();
+    }
+    J(L.p_n, L.s) = 1;
+
+    // friction rows: v_c = v + ω × r, v_t = t·v_c, v_o = o·v_c, v_r = n·ω
+    const Matrix3d dvc_da1 = Skew(w);
+    const Matrix3d dvc_dv = Matrix3d::Identity() - h * Skew(w);
+    const Matrix3d dvc_dw = -Skew(r);
+    struct Row {
+      int index;
+      double e2;
+      double p;
+      double speed;
+      const Vector3d* axis;
+      const Matrix3d* daxis_dN;
+    };
+    const Row rows[2] = {{L.p_t, et2, p_t, v_t, &t, &d.dt_dN}, {L.p_o, eo2, p_o, v_o, &o, &d.do_dN}};
+    for (const Row& row : rows) {
+      const double scale = row.e2 * fr.mu * p_n;
+      const RowVector3d axis_t = row.axis->transpose();
+      J.block<1, 3>(row.index, 0) += scale * axis_t * dvc_dv;
+      J.block<1, 3>(row.index, 3) += scale * axis_t * dvc_dw;
+      J.block<1, 3>(row.index, L.a1) += scale * axis_t * dvc_da1;
+      add_through_N(row.index, scale * v_contact.transpose() * *row.daxis_dN);
+      J(row.index, L.p_n) += row.e2 * fr.mu * row.speed;
+      J(row.index, row.index) += sigma;  // ∂/∂p_t (or p_o): the row index equals the unknown's
+      J(row.index, L.sigma) += row.p;
+    }
+    const double scale_r = er2 * fr.mu * p_n;
+    J.block<1, 3>(L.p_r, 3) += scale_r * n.transpose();
+    add_through_N(L.p_r, scale_r * w.transpose() * d.dn_dN);
+    J(L.p_r, L.p_n) += er2 * fr.mu * v_r;
+    J(L.p_r, L.p_r) += sigma;
+    J(L.p_r, L.sigma) += p_r;
+
+    // μ p_n − ‖p̂‖; at p̂ = 0 the norm's generalized gradient contains 0, which is used
+    J(L.sigma, L.p_n) = fr.mu;
+    if (p_hat > 0) {
+      J(L.sigma, L.p_t) = -p_t / (et2 * p_hat);
+      J(L.sigma, L.p_o) = -p_o / (eo2 * p_hat);
+      J(L.sigma, L.p_r) = -p_r / (er2 * p_hat);
+    }
+  }
+}
+
+}  // namespace ecpsim::engine

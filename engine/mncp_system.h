@@ -1,0 +1,81 @@
+#pragma once
+// The mixed nonlinear complementarity problem of one body for one time step: its unknowns, the
+// residual of the paper's "Summary of the discrete-time dynamic model" and its analytic Jacobian.
+// The equations, unknowns and the handling of the active facet are written out in engine/README.md.
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "engine/scene.h"
+#include "geometry/convex_shape.h"
+
+namespace ecpsim::engine {
+
+/// One contact of the body: its hull (body frame) against a fixed convex obstacle (world frame).
+struct ContactProblem {
+  const geometry::ConvexShape* hull = nullptr;      // body frame, origin at the CM
+  const geometry::ConvexShape* obstacle = nullptr;  // world frame
+  std::vector<int> window;           // hull constraints that enter the MNCP (all, or a window)
+  Friction friction;
+  Eigen::Vector3d tangent_reference = Eigen::Vector3d::UnitX();  // fixed during the step
+};
+
+/// Everything one body's MNCP needs from the start of the step.
+struct BodyProblem {
+  double h = 0.01;                      // s
+  double mass = 1;                      // kg
+  Eigen::Matrix3d inertia_world;        // kg·m², R I_B Rᵀ at the start of the step
+  Eigen::Vector3d c, v, w;              // CM position, velocity, spatial angular velocity
+  Eigen::Matrix3d R;                    // body → world at the start of the step
+  Eigen::Matrix<double, 6, 1> p_ext;    // N·s, N·m·s: gravity + applied + p_vp over the step
+  std::vector<ContactProblem> contacts;
+};
+
+/// Where each unknown of the MNCP lives in z. Free (equality) unknowns come first: ν⁺ and per
+/// contact (a1, a2, s, p_t, p_o, p_r); then the complementarity unknowns: per contact the hull
+/// multipliers l (one per window constraint), the obstacle multipliers l_G, p_n and σ. Row i of
+/// the residual is paired with unknown i.
+struct MncpLayout {
+  struct Contact {
+    int a1, a2, s, p_t, p_o, p_r;  // free
+    int l, l_count;                // hull multipliers
+    int l_g, l_g_count;            // obstacle multipliers
+    int p_n, sigma;
+  };
+  int num_free = 0;
+  int size = 0;
+  std::vector<Contact> contacts;
+};
+
+MncpLayout MakeLayout(const BodyProblem& problem);
+
+/// Position and orientation at the end of the step for velocities (v⁺, ω⁺).
+struct EndPose {
+  Eigen::Vector3d c;  // c + h v⁺
+  Eigen::Matrix3d R;  // Exp(h ω⁺) R
+};
+EndPose PoseAfterStep(const BodyProblem& problem, const Eigen::Vector3d& v,
+                      const Eigen::Vector3d& w);
+
+/// The contact frame (n, t, o) from the obstacle's normal-cone combination N = Σ l_G ∇g.
+struct ContactFrame {
+  Eigen::Vector3d n, t, o;
+};
+ContactFrame MakeContactFrame(const Eigen::Vector3d& N, const Eigen::Vector3d& tangent_reference);
+
+/// The unscaled residual of the MNCP conditions at (z, F): max over rows of |F_i| for equations
+/// and |min(z_i, F_i)| for complementarity pairs, each in its row's physical unit.
+double MncpResidual(const MncpLayout& layout, const Eigen::VectorXd& z, const Eigen::VectorXd& F);
+
+/// Residual F(z) in physical units (rows as in MncpLayout). The friction cone row is written as
+/// μ p_n − ‖(p_t/e_t, p_o/e_o, p_r/e_r)‖ instead of the paper's ζ = (μ p_n)² − ‖…‖²: for p_n ≥ 0
+/// both have the same sign and the same zeros, so 0 ≤ σ ⊥ · ≥ 0 has the same solutions, but ζ has
+/// a double root at p̂ = 0 (free flight: ζ = −‖p̂‖²), where Newton converges only linearly and
+/// an error ε in p̂ shows in ζ as ε²; the norm form converges in one step there.
+/// If `J` is not null also the analytic
+/// Jacobian ∂F/∂z, including the dependence of the hull geometry on q⁺ = q + h G(q) ν⁺.
+void EvaluateMncp(const BodyProblem& problem, const MncpLayout& layout, const Eigen::VectorXd& z,
+                  Eigen::VectorXd* F, Eigen::MatrixXd* J);
+
+}  // namespace ecpsim::engine
