@@ -11,4 +11,14 @@ void AddHullCommand(CLI::App& app);
 /// `ecpsim meshes [DIR]`: regenerates the paper's desk, T-bar and dumbbell meshes.
 void AddMeshesCommand(CLI::App& app);
 
+/// `ecpsim run SCENE -o DIR [--dt H] [--duration T] [--set key=value]...`
+void AddRunCommand(CLI::App& app);
+
+/// `ecpsim drop MESH -o DIR [--height H] [--tilt DEG] [--spin W] [--duration T] [--mass M]`
+void AddDropCommand(CLI::App& app);
+
+/// `ecpsim compare EXPECTED.png ACTUAL.png [--diff OUT.png] [--threshold N] [--max-fraction F]`
+/// (exit 0 same, 1 different, 2 bad input).
+void AddCompareCommand(CLI::App& app);
+
 }  // namespace ecpsim::app

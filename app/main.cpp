@@ -6,6 +6,7 @@
 #include <CLI/CLI.hpp>
 
 #include "app/commands.h"
+#include "engine/step_report.h"
 #include "geometry/errors.h"
 
 int main(int argc, char** argv) {
@@ -13,12 +14,18 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   ecpsim::app::AddHullCommand(app);
   ecpsim::app::AddMeshesCommand(app);
+  ecpsim::app::AddCompareCommand(app);
+  ecpsim::app::AddRunCommand(app);
+  ecpsim::app::AddDropCommand(app);
 
   // exit codes: 0 ok, 1 bad input (one line on stderr), 3 solver failure, 4 internal error
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
+  } catch (const ecpsim::engine::SolverFailure& e) {
+    std::fprintf(stderr, "ecpsim: solver failure: %s\n", e.what());
+    return 3;
   } catch (const ecpsim::InputError& e) {
     std::fprintf(stderr, "ecpsim: error: %s\n", e.what());
     return 1;

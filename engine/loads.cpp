@@ -1,1 +1,123 @@
 #include "engine/loads.h"
+
+#include <cmath>
+#include <memory>
+
+#include <Eigen/Geometry>
+#include <fmt/format.h>
+#include <muParser.h>
+
+#include "geometry/errors.h"
+
+namespace ecpsim::engine {
+
+// the parser keeps a pointer to `t`, so the pair lives at a fixed address behind a shared_ptr;
+// copies share it, so one TimeFunction must not be evaluated from two threads at once
+struct TimeFunction::Compiled {
+  std::unique_ptr<mu::Parser> parser;  // null for a constant
+  double t = 0;
+  double constant = 0;
+};
+
+TimeFunction::TimeFunction(const std::string& expression, const std::string& where)
+    : expression_(expression), where_(where), compiled_(std::make_shared<Compiled>()) {
+  compiled_->parser = std::make_unique<mu::Parser>();
+  mu::Parser& parser = *compiled_->parser;
+  try {
+    parser.DefineVar("t", &compiled_->t);
+    parser.DefineConst("pi", M_PI);
+    parser.SetExpr(expression);
+    // evaluating once forces the parse, so syntax errors and unknown variables surface here
+    compiled_->t = 0;
+    parser.Eval();
+  } catch (const mu::Parser::exception_type& e) {
+    throw InputError(
+        fmt::format("{} = \"{}\": {}; expected an expression of t (seconds) using "
+                    "numbers, pi and muparser's functions (sin, cos, exp, ...)",
+                    where, expression, e.GetMsg()));
+  }
+  // "1, 2" parses as two results; a load component is one number
+  if (parser.GetNumResults() != 1) {
+    throw InputError(
+        fmt::format("{} = \"{}\": {} comma-separated results; expected one "
+                    "expression of t",
+                    where, expression, parser.GetNumResults()));
+  }
+}
+
+TimeFunction::TimeFunction(double value)
+    : expression_(fmt::format("{}", value)), compiled_(std::make_shared<Compiled>()) {
+  if (!std::isfinite(value)) {
+    throw InputError(fmt::format("constant load value {}: expected a finite number", value));
+  }
+  // a constant needs no parser (Load default-constructs three of them)
+  compiled_->constant = value;
+}
+
+TimeFunction::~TimeFunction() = default;
+TimeFunction::TimeFunction(const TimeFunction&) = default;
+TimeFunction& TimeFunction::operator=(const TimeFunction&) = default;
+
+double TimeFunction::operator()(double t) const {
+  if (!compiled_->parser) {
+    return compiled_->constant;
+  }
+  compiled_->t = t;
+  double value = 0;
+  try {
+    value = compiled_->parser->Eval();
+  } catch (const mu::Parser::exception_type& e) {
+    throw InputError(
+        fmt::format("{} = \"{}\" at t = {} s: {}", where_, expression_, t, e.GetMsg()));
+  }
+  if (!std::isfinite(value)) {
+    throw InputError(
+        fmt::format("{} = \"{}\" at t = {} s evaluates to {}; expected a finite "
+                    "value",
+                    where_, expression_, t, value));
+  }
+  return value;
+}
+
+Eigen::Matrix<double, 6, 1> AppliedImpulse(const std::vector<Load>& loads,
+                                           const std::vector<Impulse>& impulses, int body, double t,
+                                           double h, const Eigen::Matrix3d& R_WB) {
+  Eigen::Vector3d linear = Eigen::Vector3d::Zero();
+  Eigen::Vector3d angular = Eigen::Vector3d::Zero();
+
+  // loads are sampled at the start of the step and held over it (explicit, like p_app^u)
+  for (const Load& load : loads) {
+    if (load.body != body || t < load.start || t >= load.end) {
+      continue;
+    }
+    const Eigen::Vector3d value(load.x(t), load.y(t), load.z(t));
+    const Eigen::Vector3d impulse = h * value;
+    if (load.kind == Load::Kind::kTorque) {
+      angular += impulse;
+      continue;
+    }
+    linear += impulse;
+    if (load.at_point) {
+      angular += (R_WB * load.point_B).cross(impulse);
+    }
+  }
+
+  // half-open window [t, t + h): consecutive steps tile time, so each impulse lands exactly once
+  const double t_end = t + h;
+  for (const Impulse& impulse : impulses) {
+    if (impulse.body != body || impulse.time < t || impulse.time >= t_end) {
+      continue;
+    }
+    linear += impulse.linear;
+    angular += impulse.angular;
+    if (impulse.at_point) {
+      angular += (R_WB * impulse.point_B).cross(impulse.linear);
+    }
+  }
+
+  Eigen::Matrix<double, 6, 1> result;
+  result << linear, angular;
+  return result;
+}
+
+}  // namespace ecpsim::engine

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 
 #include "engine/rotation.h"
 
@@ -81,9 +82,22 @@ ContactFrame MakeContactFrame(const Vector3d& N, const Vector3d& tangent_referen
 
 double MncpResidual(const MncpLayout& layout, const Eigen::VectorXd& z,
                     const Eigen::VectorXd& F) {
+  Eigen::VectorXd measured = F;
+  for (const MncpLayout::Contact& L : layout.contacts) {
+    // rows in metres (a1 − a2 − sN, f_i, g_j, s) carry the round-off of the coordinates
+    // (≈ 1e-16 × |x|): measured relative to max(1 m, |coordinates|), i.e. absolute near the
+    // origin and relative for a body 1 km away
+    const double magnitude = std::max({1.0, z.segment<3>(L.a1).cwiseAbs().maxCoeff(),
+                                       z.segment<3>(L.a2).cwiseAbs().maxCoeff(), std::abs(z[L.s])});
+    measured.segment<3>(L.a1) /= magnitude;
+    measured.segment(L.l, L.l_count) /= magnitude;
+    measured.segment(L.l_g, L.l_g_count) /= magnitude;
+    measured[L.p_n] /= magnitude;
+  }
   double r = 0;
   for (int i = 0; i < layout.size; ++i) {
-    const double e = i < layout.num_free ? std::abs(F[i]) : std::abs(std::min(z[i], F[i]));
+    const double e = i < layout.num_free ? std::abs(measured[i])
+                                         : std::abs(std::min(z[i], measured[i]));
     r = std::max(r, std::isfinite(e) ? e : INFINITY);
   }
   return r;
@@ -180,12 +194,12 @@ void EvaluateMncp(const BodyProblem& problem, const MncpLayout& layout, const Ei
     // --- analytic Jacobian ---
     const FrameDerivatives d = ContactFrameDerivatives(N, frame, cp.tangent_reference);
     // ∂N/∂(a2, l_G) and the chain through the frame: X_N * dN for each consumer below
-    auto add_through_N = [&](int row, const Eigen::Matrix<double, Eigen::Dynamic, 3>& X_N) {
-      // X_N: rows × 3 derivative of some rows with respect to N
-      const int rows = static_cast<int>(X_N.rows());
-      J.block(row, L.a2, rows, 3) += X_N * dN_da2;
+    // X_N (1×3 or 3×3): the derivative of some rows with respect to N, chained to (a2, l_G)
+    auto add_through_N = [&](int row, const auto& X_N) {
+      constexpr int kRows = std::decay_t<decltype(X_N)>::RowsAtCompileTime;
+      J.block<kRows, 3>(row, L.a2) += X_N * dN_da2;
       for (int j = 0; j < L.l_g_count; ++j)
-        J.block(row, L.l_g + j, rows, 1) += X_N * cp.obstacle->Gradient(j, a2);
+        J.block<kRows, 1>(row, L.l_g + j) += X_N * cp.obstacle->Gradient(j, a2);
     };
     const Matrix3d dforce_dN = p_n * d.dn_dN + p_t * d.dt_dN + p_o * d.do_dN;
 
@@ -193,7 +207,7 @@ void EvaluateMncp(const BodyProblem& problem, const MncpLayout& layout, const Ei
     J.block<3, 1>(0, L.p_n) -= n;
     J.block<3, 1>(0, L.p_t) -= t;
     J.block<3, 1>(0, L.p_o) -= o;
-    add_through_N(0, -dforce_dN);
+    add_through_N(0, Matrix3d(-dforce_dN));
 
     // Newton–Euler angular rows: −(r × force + n p_r), r = a1 − c − h v
     J.block<3, 3>(3, L.a1) += Skew(force);
@@ -202,7 +216,7 @@ void EvaluateMncp(const BodyProblem& problem, const MncpLayout& layout, const Ei
     J.block<3, 1>(3, L.p_t) -= r.cross(t);
     J.block<3, 1>(3, L.p_o) -= r.cross(o);
     J.block<3, 1>(3, L.p_r) -= n;
-    add_through_N(3, -(Skew(r) * dforce_dN + p_r * d.dn_dN));
+    add_through_N(3, Matrix3d(-(Skew(r) * dforce_dN + p_r * d.dn_dN)));
 
     // hull constraints at the end pose: y = R⁺ᵀ(a1 − c − h v), R⁺ = Exp(hω) R
     const Matrix3d dy_da1 = R_end.transpose();
@@ -231,13 +245,13 @@ void EvaluateMncp(const BodyProblem& problem, const MncpLayout& layout, const Ei
     J.block<3, 3>(L.a2, L.a1) += dcone_da1;
     J.block<3, 3>(L.a2, 0) += -h * dcone_da1;
     J.block<3, 3>(L.a2, 3) += dcone_dw;
-    add_through_N(L.a2, Matrix3d::Identity());
+    add_through_N(L.a2, Matrix3d(Matrix3d::Identity()));
 
     // a1 − a2 − s N
     J.block<3, 3>(L.a1, L.a1) += Matrix3d::Identity();
     J.block<3, 3>(L.a1, L.a2) -= Matrix3d::Identity();
     J.block<3, 1>(L.a1, L.s) = -N;
-    add_through_N(L.a1, -s * Matrix3d::Identity());
+    add_through_N(L.a1, Matrix3d(-s * Matrix3d::Identity()));
 
     // Σ l_G = 1, obstacle complementarity rows −g_j(a2), and the gap s
     for (int j = 0; j < L.l_g_count; ++j) {
@@ -265,14 +279,14 @@ void EvaluateMncp(const BodyProblem& problem, const MncpLayout& layout, const Ei
       J.block<1, 3>(row.index, 0) += scale * axis_t * dvc_dv;
       J.block<1, 3>(row.index, 3) += scale * axis_t * dvc_dw;
       J.block<1, 3>(row.index, L.a1) += scale * axis_t * dvc_da1;
-      add_through_N(row.index, scale * v_contact.transpose() * *row.daxis_dN);
+      add_through_N(row.index, RowVector3d(scale * v_contact.transpose() * *row.daxis_dN));
       J(row.index, L.p_n) += row.e2 * fr.mu * row.speed;
       J(row.index, row.index) += sigma;  // ∂/∂p_t (or p_o): the row index equals the unknown's
       J(row.index, L.sigma) += row.p;
     }
     const double scale_r = er2 * fr.mu * p_n;
     J.block<1, 3>(L.p_r, 3) += scale_r * n.transpose();
-    add_through_N(L.p_r, scale_r * w.transpose() * d.dn_dN);
+    add_through_N(L.p_r, RowVector3d(scale_r * w.transpose() * d.dn_dN));
     J(L.p_r, L.p_n) += er2 * fr.mu * v_r;
     J(L.p_r, L.p_r) += sigma;
     J(L.p_r, L.sigma) += p_r;

@@ -65,7 +65,9 @@ struct ContactFrame {
 ContactFrame MakeContactFrame(const Eigen::Vector3d& N, const Eigen::Vector3d& tangent_reference);
 
 /// The unscaled residual of the MNCP conditions at (z, F): max over rows of |F_i| for equations
-/// and |min(z_i, F_i)| for complementarity pairs, each in its row's physical unit.
+/// and |min(z_i, F_i)| for complementarity pairs, each in its row's physical unit; rows in metres
+/// are divided by max(1 m, the largest coordinate of a1, a2, s), since coordinates carry
+/// round-off relative to their size.
 double MncpResidual(const MncpLayout& layout, const Eigen::VectorXd& z, const Eigen::VectorXd& F);
 
 /// Residual F(z) in physical units (rows as in MncpLayout). The friction cone row is written as

@@ -52,10 +52,15 @@ struct ContactPair {
 };
 
 struct SolverSettings {
-  double tolerance = 1e-10;    // on the unscaled residual (see engine/README.md)
+  double tolerance = 1e-12;    // on the unscaled residual (see engine/README.md)
   int max_iterations = 60;
   int window_rings = 1;        // vertex rings of hull faces around the support vertex
   bool use_window = true;      // false: every hull face enters the MNCP
+};
+
+/// What `ecpsim run` writes (the engine ignores it).
+struct OutputSettings {
+  int every = 1;  // write every N-th step to trajectory.csv (plus the first and last state)
 };
 
 struct Scene {
@@ -69,6 +74,7 @@ struct Scene {
   std::vector<Load> loads;
   std::vector<Impulse> impulses;
   SolverSettings solver;
+  OutputSettings output;
 };
 
 }  // namespace ecpsim::engine

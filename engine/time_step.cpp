@@ -97,10 +97,35 @@ class BodyStepper {
                                scene_.solver.use_window);
     }
 
-    std::vector<Guess> ladder;
+    // free flight: if every hull ends the step strictly above its half-space obstacle when no
+    // contact acts, then p = 0 with ν⁺ = ν + M⁻¹ p_ext *is* the MNCP's solution (p_n = 0 ⊥ s > 0;
+    // a1, a2 the closest points), so it is taken in closed form — the reduced system of trap 2,
+    // exact, and free of the degenerate σ and of round-off in far-apart coordinates
+    {
+      const MncpLayout layout = MakeLayout(problem);
+      const VectorXd z = MakeGuess(Guess::kSeparated, problem, layout, body, contacts, scales);
+      if (AllContactsApart(problem, layout, z)) {
+        Commit(problem, layout, z, h, body, contacts);
+        return true;
+      }
+    }
+
+    // in contact (or about to be): the warm start, then the guesses that fit the body's motion
     const bool have_warm_start = contacts.empty() || contacts[0].warm_start.size() > 0;
-    if (have_warm_start) ladder.push_back(Guess::kWarm);
-    ladder.insert(ladder.end(), {Guess::kSeparated, Guess::kResting, Guess::kSliding});
+    const bool moving =
+        body.v_WB.norm() + body.w_WB.norm() * scales.length > 1e-3 * scales.velocity;
+    const Guess in_contact = moving ? Guess::kSliding : Guess::kResting;
+    const Guess other = moving ? Guess::kResting : Guess::kSliding;
+    // (a warm start from free flight is a poor guess for an impact: tried after the others)
+    const bool warm_in_contact =
+        have_warm_start && std::any_of(contacts.begin(), contacts.end(),
+                                       [](const ContactState& c) { return c.p_n > 0; });
+    std::vector<Guess> ladder = {in_contact, other, Guess::kSeparated};
+    if (warm_in_contact) {
+      ladder.insert(ladder.begin(), Guess::kWarm);
+    } else if (have_warm_start) {
+      ladder.insert(ladder.begin() + 2, Guess::kWarm);
+    }
 
     McpOptions options;
     options.tolerance = scene_.solver.tolerance;
@@ -178,6 +203,18 @@ class BodyStepper {
     return p;
   }
 
+  // true if every contact's obstacle is a half-space and the separated guess's a1 (the hull's
+  // support point at the free-flight end pose) lies strictly outside it
+  static bool AllContactsApart(const BodyProblem& problem, const MncpLayout& layout,
+                               const VectorXd& z) {
+    for (size_t k = 0; k < problem.contacts.size(); ++k) {
+      const geometry::ConvexShape& obstacle = *problem.contacts[k].obstacle;
+      if (obstacle.NumConstraints() != 1 || !obstacle.IsLinear(0)) return false;
+      if (!(obstacle.Value(0, z.segment<3>(layout.contacts[k].a1)) > 0)) return false;
+    }
+    return true;
+  }
+
   // fixes each contact's tangent reference: the world axis least aligned with the last normal
   static void ChooseTangentReference(ContactProblem& cp, const Vector3d& n) {
     int axis;
@@ -212,7 +249,7 @@ class BodyStepper {
         z[L.p_o] = previous.p_o;
         z[L.p_r] = previous.p_r;
         z[L.p_n] = previous.p_n;
-        z[L.sigma] = std::max(previous.sigma, sigma0);
+        z[L.sigma] = previous.sigma;
         const int k_g = L.l_g_count;
         for (int j = 0; j < k_g; ++j) z[L.l_g + j] = previous.warm_start[1 + j];
         // carry hull multipliers over by face index (the window may have moved)

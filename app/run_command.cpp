@@ -1,0 +1,119 @@
+// `ecpsim run SCENE -o DIR` and `ecpsim drop MESH -o DIR`: simulate and write the trajectory.
+
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "app/commands.h"
+#include "app/simulation_run.h"
+#include "engine/scene_yaml.h"
+
+namespace ecpsim::app {
+namespace {
+
+// CLI11 check: a finite number > 0 (CLI::PositiveNumber lets NaN through)
+const CLI::Validator kFinitePositive(
+    [](std::string& text) -> std::string {
+      double value = 0;
+      if (!CLI::detail::lexical_cast(text, value) || !std::isfinite(value) || !(value > 0)) {
+        return fmt::format("value {}: expected a finite number > 0", text);
+      }
+      return "";
+    },
+    "FINITE>0");
+
+const CLI::Validator kFinite(
+    [](std::string& text) -> std::string {
+      double value = 0;
+      if (!CLI::detail::lexical_cast(text, value) || !std::isfinite(value)) {
+        return fmt::format("value {}: expected a finite number", text);
+      }
+      return "";
+    },
+    "FINITE");
+
+void PrintResult(const RunSummary& summary, const std::string& out_dir) {
+  std::printf("%ld steps, %.2f Newton iterations per step (max %d), %ld retries, max "
+              "penetration %.3g m, median step %.1f us; wrote %s/trajectory.csv and "
+              "%s/summary.json\n",
+              summary.steps, summary.iterations_mean, summary.iterations_max, summary.retries,
+              summary.max_penetration, summary.median_step_us, out_dir.c_str(), out_dir.c_str());
+}
+
+struct RunOptions {
+  std::string scene;
+  std::string out_dir;
+  std::optional<double> h;
+  std::optional<double> duration;
+  std::vector<std::string> overrides;
+};
+
+}  // namespace
+
+void AddRunCommand(CLI::App& app) {
+  auto options = std::make_shared<RunOptions>();
+  CLI::App* run = app.add_subcommand(
+      "run", "Simulate a YAML scene (docs/scene_format.md); writes DIR/trajectory.csv and "
+             "DIR/summary.json");
+  run->add_option("scene", options->scene, "scene file (YAML)")->required();
+  run->add_option("-o,--out", options->out_dir, "output folder (created if missing)")->required();
+  run->add_option("--dt", options->h, "time step h in s (overrides the scene's h)")
+      ->check(kFinitePositive);
+  run->add_option("--duration", options->duration, "simulated time in s (overrides the scene's)")
+      ->check(kFinitePositive);
+  run->add_option("--set", options->overrides,
+                  "override a scene value, key=value with a dotted key, e.g. bodies.0.mass=3 "
+                  "(repeatable)");
+  run->callback([options] {
+    std::vector<std::string> overrides = options->overrides;
+    if (options->h) overrides.push_back(fmt::format("h={}", *options->h));
+    if (options->duration) overrides.push_back(fmt::format("duration={}", *options->duration));
+    const engine::Scene scene = engine::LoadScene(options->scene, overrides);
+    const RunSummary summary = RunSimulation(scene, options->out_dir, isatty(fileno(stderr)) == 1);
+    PrintResult(summary, options->out_dir);
+  });
+}
+
+void AddDropCommand(CLI::App& app) {
+  auto options = std::make_shared<engine::DropOptions>();
+  auto out_dir = std::make_shared<std::string>();
+  CLI::App* drop = app.add_subcommand(
+      "drop", "Drop a mesh onto the ground z = 0 (mu = 0.22, e = 1, 1, 0.1 m); writes "
+              "DIR/trajectory.csv and DIR/summary.json");
+  drop->add_option("mesh", options->mesh, "mesh file (any format assimp reads)")->required();
+  drop->add_option("-o,--out", *out_dir, "output folder (created if missing)")->required();
+  drop->add_option("--height", options->height,
+                   "m, of the hull's lowest point above the ground at t = 0")
+      ->capture_default_str()
+      ->check(kFinite);
+  drop->add_option("--tilt", options->tilt_deg, "initial rotation about x, degrees")
+      ->capture_default_str()
+      ->check(kFinite);
+  drop->add_option("--spin", options->spin, "initial angular velocity about z, rad/s")
+      ->capture_default_str()
+      ->check(kFinite);
+  drop->add_option("--duration", options->duration, "simulated time, s")
+      ->capture_default_str()
+      ->check(kFinitePositive);
+  drop->add_option("--dt", options->h, "time step, s")->capture_default_str()->check(
+      kFinitePositive);
+  drop->add_option("--mass", options->mass, "kg (default: density 1000 kg/m^3)")
+      ->check(kFinitePositive);
+  drop->add_option("--scale", options->scale, "mesh units to m, e.g. 0.001 for mm")
+      ->capture_default_str()
+      ->check(kFinitePositive);
+  drop->callback([options, out_dir] {
+    const engine::Scene scene = engine::MakeDropScene(*options);
+    const RunSummary summary = RunSimulation(scene, *out_dir, isatty(fileno(stderr)) == 1);
+    PrintResult(summary, *out_dir);
+  });
+}
+
+}  // namespace ecpsim::app

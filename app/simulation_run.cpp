@@ -1,0 +1,162 @@
+#include "app/simulation_run.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <exception>
+#include <filesystem>
+#include <vector>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "app/atomic_file.h"
+#include "app/trajectory_writer.h"
+#include "engine/penetration.h"
+#include "engine/state.h"
+#include "engine/time_step.h"
+#include "geometry/errors.h"
+
+namespace ecpsim::app {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+// duration / h within this relative slack of an integer counts as that integer, so 0.5 / 0.01
+// (49.999999999999993 or 50.000000000000007 in floating point) gives 50 steps, not 51
+constexpr double kStepCountSlack = 1e-9;
+// the progress bar is redrawn at most this often
+constexpr double kProgressInterval = 0.1;  // s of wall time
+constexpr int kProgressWidth = 40;         // characters
+
+long PlannedSteps(const engine::Scene& scene) {
+  const double ratio = scene.duration / scene.h;
+  return std::max(1L, static_cast<long>(std::ceil(ratio * (1 - kStepCountSlack))));
+}
+
+void DrawProgress(double fraction, double t) {
+  const int filled = static_cast<int>(fraction * kProgressWidth);
+  std::fprintf(stderr, "\r[%s%s] %3d%%  t = %.3f s", std::string(filled, '#').c_str(),
+               std::string(kProgressWidth - filled, ' ').c_str(),
+               static_cast<int>(fraction * 100), t);
+  std::fflush(stderr);
+}
+
+double Median(std::vector<double> values) {
+  if (values.empty()) return 0;
+  const size_t mid = values.size() / 2;
+  std::nth_element(values.begin(), values.begin() + mid, values.end());
+  if (values.size() % 2 == 1) return values[mid];
+  const double upper = values[mid];
+  return 0.5 * (upper + *std::max_element(values.begin(), values.begin() + mid));
+}
+
+void WriteSummary(const engine::Scene& scene, const RunSummary& s, double t_end, int rows,
+                  const std::string& path) {
+  nlohmann::json json = {
+      {"scene", scene.source},
+      {"h", scene.h},
+      {"duration", scene.duration},
+      {"t_end", t_end},
+      {"planned_steps", s.planned_steps},
+      {"steps", s.steps},
+      {"rows", rows},
+      {"converged", s.converged},
+      {"failures", s.failures},
+      {"retries", s.retries},
+      {"iterations_mean", s.iterations_mean},
+      {"iterations_max", s.iterations_max},
+      {"residual_max", s.residual_max},
+      {"substeps_max", s.substeps_max},
+      {"max_penetration", s.max_penetration},
+      {"wall_s", s.wall_s},
+      {"median_step_us", s.median_step_us},
+  };
+  if (!s.error.empty()) {
+    json["error"] = s.error;
+  }
+  WriteFileAtomically(path, json.dump(2) + "\n");
+}
+
+}  // namespace
+
+RunSummary RunSimulation(const engine::Scene& scene, const std::string& out_dir, bool progress) {
+  std::error_code error;
+  fs::create_directories(out_dir, error);
+  if (error || !fs::is_directory(out_dir)) {
+    throw InputError(fmt::format("output folder {}: cannot create it ({}); expected a writable "
+                                 "path",
+                                 out_dir, error.message()));
+  }
+  const Clock::time_point start = Clock::now();
+  RunSummary summary;
+  summary.planned_steps = PlannedSteps(scene);
+
+  engine::State state = engine::InitialState(scene);
+  TrajectoryWriter writer(scene, (fs::path(out_dir) / "trajectory.csv").string());
+  const engine::PenetrationProbe probe(scene);
+  std::vector<double> step_us;
+  step_us.reserve(summary.planned_steps);
+  long iterations_total = 0;
+  double last_drawn = -1;
+  std::exception_ptr failure;
+  bool every_step_converged = true;
+
+  try {
+    engine::StepReport initial;
+    initial.converged = true;
+    writer.Write(state, initial);
+    for (long k = 1; k <= summary.planned_steps; ++k) {
+      const Clock::time_point before = Clock::now();
+      const engine::StepReport report = engine::Step(scene, state);
+      step_us.push_back(std::chrono::duration<double, std::micro>(Clock::now() - before).count());
+
+      summary.steps = k;
+      every_step_converged = every_step_converged && report.converged;
+      summary.retries += report.retries;
+      iterations_total += report.iterations;
+      summary.iterations_max = std::max(summary.iterations_max, report.iterations);
+      summary.residual_max = std::max(summary.residual_max, report.residual);
+      summary.substeps_max = std::max(summary.substeps_max, report.substeps);
+      summary.max_penetration = std::max(summary.max_penetration, probe.MaxDepth(scene, state));
+      if (k % scene.output.every == 0 || k == summary.planned_steps) {
+        writer.Write(state, report);
+      }
+      if (progress) {
+        const double wall = std::chrono::duration<double>(Clock::now() - start).count();
+        if (wall - last_drawn >= kProgressInterval || k == summary.planned_steps) {
+          DrawProgress(static_cast<double>(k) / summary.planned_steps, state.t);
+          last_drawn = wall;
+        }
+      }
+    }
+    summary.converged = every_step_converged;
+  } catch (const engine::SolverFailure& e) {
+    summary.failures = 1;
+    summary.error = e.what();
+    failure = std::current_exception();
+  } catch (const std::exception& e) {
+    // bad input found mid-run (a load expression going non-finite): outputs stay valid too
+    summary.error = e.what();
+    failure = std::current_exception();
+  }
+  if (progress) {
+    std::fputc('\n', stderr);
+  }
+
+  writer.Finish();
+  summary.iterations_mean =
+      summary.steps > 0 ? static_cast<double>(iterations_total) / summary.steps : 0.0;
+  summary.median_step_us = Median(step_us);
+  summary.wall_s = std::chrono::duration<double>(Clock::now() - start).count();
+  WriteSummary(scene, summary, state.t, writer.rows(),
+               (fs::path(out_dir) / "summary.json").string());
+  if (failure) {
+    std::rethrow_exception(failure);
+  }
+  return summary;
+}
+
+}  // namespace ecpsim::app

@@ -1,0 +1,39 @@
+#pragma once
+// The loop shared by `ecpsim run` and `ecpsim drop`: step a scene to its duration, writing
+// DIR/trajectory.csv and DIR/summary.json.
+
+#include <string>
+
+#include "engine/scene.h"
+
+namespace ecpsim::app {
+
+/// What summary.json holds (see RunSimulation).
+struct RunSummary {
+  long steps = 0;              // steps completed
+  long planned_steps = 0;      // ceil(duration / h)
+  int failures = 0;            // 0, or 1 when a SolverFailure stopped the run
+  long retries = 0;            // Σ StepReport::retries
+  double iterations_mean = 0;  // Newton iterations per step
+  int iterations_max = 0;
+  double residual_max = 0;     // largest unscaled residual of any step
+  int substeps_max = 1;
+  double max_penetration = 0;  // m, deepest mesh vertex inside an obstacle after any step
+  double wall_s = 0;           // s, the whole loop including output
+  double median_step_us = 0;   // µs, median of engine::Step's wall time
+  bool converged = false;      // every step converged and the run reached the duration
+  std::string error;           // the failure's message, empty on success
+};
+
+/// Steps `scene` from engine::InitialState until `scene.duration` (ceil(duration / h) steps of h)
+/// and writes, in `out_dir` (created if missing):
+/// - trajectory.csv: the initial state, every `scene.output.every`-th step and the last step
+///   (columns: TrajectoryColumns), streamed to trajectory.csv.partial and renamed at the end,
+///   also when the run fails, so the rows written stay valid;
+/// - summary.json (atomically): RunSummary's fields plus `scene`, `h`, `duration`, `t_end`, `rows`.
+/// `progress` draws a progress bar on stderr (callers pass isatty(stderr)).
+/// @throws engine::SolverFailure (after writing both files) when a step cannot be solved or
+///         the state stops being finite; InputError if `out_dir` cannot be written.
+RunSummary RunSimulation(const engine::Scene& scene, const std::string& out_dir, bool progress);
+
+}  // namespace ecpsim::app

@@ -1,0 +1,113 @@
+#include "app/trajectory_writer.h"
+
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+
+#include <fmt/format.h>
+
+#include "geometry/errors.h"
+
+namespace ecpsim::app {
+
+std::vector<std::string> TrajectoryColumns(const engine::Scene& scene) {
+  std::vector<std::string> columns = {"t"};
+  const bool several_bodies = scene.bodies.size() > 1;
+  for (const engine::Body& body : scene.bodies) {
+    const std::string prefix = several_bodies ? body.name + "." : "";
+    for (const char* c : {"px", "py", "pz", "qw", "qx", "qy", "qz", "vx", "vy", "vz", "wx", "wy",
+                          "wz"}) {
+      columns.push_back(prefix + c);
+    }
+  }
+  const bool several_contacts = scene.contacts.size() > 1;
+  for (const engine::ContactPair& pair : scene.contacts) {
+    const std::string prefix =
+        several_contacts ? scene.bodies[pair.body].name + "." +
+                               scene.obstacles[pair.obstacle].name + "."
+                         : "";
+    for (const char* c : {"a1x", "a1y", "a1z", "a2x", "a2y", "a2z", "pn", "pt", "po", "pr",
+                          "sigma"}) {
+      columns.push_back(prefix + c);
+    }
+  }
+  columns.push_back("iters");
+  columns.push_back("residual");
+  return columns;
+}
+
+TrajectoryWriter::TrajectoryWriter(const engine::Scene& scene, const std::string& path)
+    : columns_(TrajectoryColumns(scene)), path_(path) {
+  const std::string partial = path_ + ".partial";
+  file_ = std::fopen(partial.c_str(), "wb");
+  if (file_ == nullptr) {
+    throw InputError(fmt::format("{}: cannot create it ({}); expected a writable folder", partial,
+                                 std::strerror(errno)));
+  }
+  std::string header;
+  for (size_t i = 0; i < columns_.size(); ++i) {
+    header += (i == 0 ? "" : ",") + columns_[i];
+  }
+  header += '\n';
+  std::fputs(header.c_str(), file_);
+  std::fflush(file_);
+}
+
+TrajectoryWriter::~TrajectoryWriter() {
+  if (file_ != nullptr) {
+    std::fclose(file_);
+  }
+}
+
+void TrajectoryWriter::Write(const engine::State& state, const engine::StepReport& report) {
+  std::vector<double> values = {state.t};
+  values.reserve(columns_.size());
+  for (const engine::BodyState& b : state.bodies) {
+    values.insert(values.end(), {b.p_WB.x(), b.p_WB.y(), b.p_WB.z(), b.Q_WB.w(), b.Q_WB.x(),
+                                 b.Q_WB.y(), b.Q_WB.z(), b.v_WB.x(), b.v_WB.y(), b.v_WB.z(),
+                                 b.w_WB.x(), b.w_WB.y(), b.w_WB.z()});
+  }
+  for (const engine::ContactState& c : state.contacts) {
+    values.insert(values.end(), {c.a1.x(), c.a1.y(), c.a1.z(), c.a2.x(), c.a2.y(), c.a2.z(),
+                                 c.p_n, c.p_t, c.p_o, c.p_r, c.sigma});
+  }
+  values.push_back(report.iterations);
+  values.push_back(report.residual);
+  ECPSIM_DEMAND(values.size() == columns_.size());
+
+  // never a NaN in an output: refuse the row and let the run stop as a failure
+  for (size_t i = 0; i < values.size(); ++i) {
+    if (!std::isfinite(values[i])) {
+      throw engine::SolverFailure(fmt::format("t = {} s: {} = {} is not finite; the trajectory "
+                                              "stops at the last finite row",
+                                              state.t, columns_[i], values[i]));
+    }
+  }
+  fmt::memory_buffer row;
+  for (size_t i = 0; i < values.size(); ++i) {
+    fmt::format_to(std::back_inserter(row), i == 0 ? "{}" : ",{}", values[i]);
+  }
+  row.push_back('\n');
+  if (std::fwrite(row.data(), 1, row.size(), file_) != row.size() || std::fflush(file_) != 0) {
+    throw InputError(fmt::format("{}.partial: cannot write it (disk full?)", path_));
+  }
+  ++rows_;
+}
+
+void TrajectoryWriter::Finish() {
+  if (file_ == nullptr) {
+    return;
+  }
+  const bool closed = std::fclose(file_) == 0;
+  file_ = nullptr;
+  const std::string partial = path_ + ".partial";
+  if (!closed) {
+    throw InputError(fmt::format("{}: cannot write it (disk full?)", partial));
+  }
+  if (std::rename(partial.c_str(), path_.c_str()) != 0) {
+    throw InputError(fmt::format("{}: cannot rename it to {} ({})", partial, path_,
+                                 std::strerror(errno)));
+  }
+}
+
+}  // namespace ecpsim::app

@@ -1,0 +1,48 @@
+#pragma once
+// trajectory.csv: one row per written step with every body's state and every contact's solution.
+
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "engine/scene.h"
+#include "engine/state.h"
+#include "engine/step_report.h"
+
+namespace ecpsim::app {
+
+/// The CSV header: `t`; per body (prefixed `<body>.` when there are several bodies)
+/// `px py pz qw qx qy qz vx vy vz wx wy wz`; per contact (prefixed `<body>.<obstacle>.` when there
+/// are several contacts) `a1x a1y a1z a2x a2y a2z pn pt po pr sigma`; then `iters residual`.
+std::vector<std::string> TrajectoryColumns(const engine::Scene& scene);
+
+/// Streams rows to `path + ".partial"` (flushed after every row) and renames the file onto `path`
+/// in Finish(), so that a run stopped by a solver failure still leaves a valid trajectory.csv
+/// holding the rows written so far. Numbers are written in shortest round-trip form.
+class TrajectoryWriter {
+ public:
+  /// @throws InputError if the file cannot be created.
+  TrajectoryWriter(const engine::Scene& scene, const std::string& path);
+  ~TrajectoryWriter();
+  TrajectoryWriter(const TrajectoryWriter&) = delete;
+  TrajectoryWriter& operator=(const TrajectoryWriter&) = delete;
+
+  /// Appends the row of `state` after a step that reported `report`.
+  /// @throws engine::SolverFailure naming the column and time if any value is not finite (the
+  ///         row is then not written: no NaN ever reaches the file).
+  void Write(const engine::State& state, const engine::StepReport& report);
+
+  /// Closes the file and renames it to its final name. Idempotent.
+  /// @throws InputError if it cannot be written or renamed.
+  void Finish();
+
+  int rows() const { return rows_; }
+
+ private:
+  std::vector<std::string> columns_;
+  std::string path_;
+  std::FILE* file_ = nullptr;
+  int rows_ = 0;
+};
+
+}  // namespace ecpsim::app

@@ -1,0 +1,211 @@
+// Runs the built `ecpsim` binary (run and drop) and checks its files: trajectory.csv and
+// summary.json.
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+namespace ecpsim {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+// the slide's deceleration μ g (m/s²) and its closed-form velocity; implicit Euler with a
+// constant deceleration reproduces v(t) = v0 − μ g t to round-off, and the solver's tolerance
+// (1e-10 on the residual) bounds the error far below 1e-8 m/s
+constexpr double kMuG = 0.22 * 9.8;
+constexpr double kVelocityTolerance = 1e-8;  // m/s
+
+struct Result {
+  int exit_code = -1;
+  std::string output;  // stdout and stderr
+};
+
+class RunCommandTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::temp_directory_path() / fmt::format("ecpsim_run_{}_{}", getpid(), info->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    binary_ = fs::path(ECPSIM_BINARY_DIR) / "app" / "ecpsim";
+    ASSERT_TRUE(fs::exists(binary_)) << binary_ << " is missing: build the ecpsim target";
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  Result Run(const std::string& arguments) {
+    const fs::path log = dir_ / "log.txt";
+    const std::string command =
+        fmt::format("'{}' {} > '{}' 2>&1", binary_.string(), arguments, log.string());
+    const int status = std::system(command.c_str());
+    Result result;
+    result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    std::ifstream in(log);
+    std::stringstream text;
+    text << in.rdbuf();
+    result.output = text.str();
+    return result;
+  }
+
+  static std::vector<std::vector<std::string>> ReadCsv(const fs::path& path) {
+    std::vector<std::vector<std::string>> rows;
+    std::ifstream in(path);
+    for (std::string line; std::getline(in, line);) {
+      std::vector<std::string> fields;
+      std::stringstream stream(line);
+      for (std::string field; std::getline(stream, field, ',');) fields.push_back(field);
+      rows.push_back(fields);
+    }
+    return rows;
+  }
+
+  static nlohmann::json ReadJson(const fs::path& path) {
+    std::ifstream in(path);
+    return nlohmann::json::parse(in);
+  }
+
+  // every data field parses completely as a finite double
+  static void ExpectAllFinite(const std::vector<std::vector<std::string>>& rows) {
+    for (size_t r = 1; r < rows.size(); ++r) {
+      ASSERT_EQ(rows[r].size(), rows[0].size()) << "row " << r;
+      for (const std::string& field : rows[r]) {
+        size_t used = 0;
+        const double value = std::stod(field, &used);
+        EXPECT_EQ(used, field.size()) << field;
+        EXPECT_TRUE(std::isfinite(value)) << field;
+      }
+    }
+  }
+
+  fs::path dir_;
+  fs::path binary_;
+};
+
+TEST_F(RunCommandTest, SlideWritesTheTrajectoryAndSummary) {
+  const fs::path out = dir_ / "slide";
+  const Result result =
+      Run(fmt::format("run '{}/scenes/slide.yaml' -o '{}'", ECPSIM_SOURCE_DIR, out.string()));
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+
+  const auto rows = ReadCsv(out / "trajectory.csv");
+  EXPECT_FALSE(fs::exists(out / "trajectory.csv.partial"));
+  // one body and one contact: no name prefixes
+  const std::vector<std::string> expected = {
+      "t",   "px",  "py",  "pz",  "qw", "qx", "qy", "qz", "vx",    "vy",    "vz",      "wx", "wy",
+      "wz",  "a1x", "a1y", "a1z", "a2x", "a2y", "a2z", "pn", "pt",  "po",    "pr",      "sigma",
+      "iters", "residual"};
+  ASSERT_FALSE(rows.empty());
+  EXPECT_EQ(rows[0], expected);
+  // 0.5 s / 0.01 s = 50 steps plus the initial state
+  ASSERT_EQ(rows.size(), 1u + 51u);
+  ExpectAllFinite(rows);
+
+  // the closed form: v(t) = max(0, v0 − μ g t), the box stays flat at pz = 0.05 m
+  for (size_t r = 1; r < rows.size(); ++r) {
+    const double t = std::stod(rows[r][0]);
+    EXPECT_NEAR(t, 0.01 * (r - 1), 1e-12);
+    EXPECT_NEAR(std::stod(rows[r][8]), std::max(0.0, 0.5 - kMuG * t), kVelocityTolerance)
+        << "t = " << t;
+    EXPECT_NEAR(std::stod(rows[r][3]), 0.05, 1e-9) << "t = " << t;
+  }
+
+  const nlohmann::json summary = ReadJson(out / "summary.json");
+  for (const char* key : {"steps", "failures", "retries", "iterations_mean", "iterations_max",
+                          "max_penetration", "wall_s", "median_step_us", "scene", "h", "duration",
+                          "converged"}) {
+    EXPECT_TRUE(summary.contains(key)) << key;
+  }
+  EXPECT_EQ(summary["steps"], 50);
+  EXPECT_EQ(summary["failures"], 0);
+  EXPECT_EQ(summary["converged"], true);
+  EXPECT_EQ(summary["h"], 0.01);
+  EXPECT_EQ(summary["duration"], 0.5);
+  EXPECT_FALSE(summary.contains("error"));
+  // resting on its face: no vertex below the ground beyond the solver's position error
+  EXPECT_GE(summary["max_penetration"].get<double>(), 0);
+  EXPECT_LT(summary["max_penetration"].get<double>(), 1e-9);
+  // the mean of per-step counts lies between 0 and their maximum
+  EXPECT_GE(summary["iterations_mean"].get<double>(), 0);
+  EXPECT_LE(summary["iterations_mean"].get<double>(), summary["iterations_max"].get<double>());
+}
+
+TEST_F(RunCommandTest, OverridesChangeStepAndOutputCadence) {
+  const fs::path out = dir_ / "coarse";
+  const Result result = Run(fmt::format("run '{}/scenes/slide.yaml' -o '{}' --dt 0.02 --set "
+                                        "output.every=10 --set bodies.0.velocity=[0.25,0,0]",
+                                        ECPSIM_SOURCE_DIR, out.string()));
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  const auto rows = ReadCsv(out / "trajectory.csv");
+  // 25 steps of 0.02 s; rows at steps 0, 10, 20 and the last, 25
+  ASSERT_EQ(rows.size(), 1u + 4u);
+  EXPECT_NEAR(std::stod(rows[2][0]), 0.2, 1e-12);
+  EXPECT_NEAR(std::stod(rows[4][0]), 0.5, 1e-12);
+  // v0 = 0.25 m/s stops at 0.25 / (μ g) ≈ 0.116 s: at rest in every later row
+  EXPECT_NEAR(std::stod(rows[2][8]), 0, kVelocityTolerance);
+  EXPECT_EQ(ReadJson(out / "summary.json")["steps"], 25);
+}
+
+TEST_F(RunCommandTest, BadSceneExitsWithOneAndALocatedMessage) {
+  std::ofstream(dir_ / "bad.yaml") << "duration: 1\nbodies:\n  - shape: {sphere: {radius: 1}}\n"
+                                      "    mass: -2\n    position: [0, 0, 1]\n";
+  const Result result =
+      Run(fmt::format("run '{}' -o '{}'", (dir_ / "bad.yaml").string(), (dir_ / "o").string()));
+  EXPECT_EQ(result.exit_code, 1);
+  EXPECT_THAT(result.output,
+              HasSubstr("bad.yaml:4:11: bodies[0].mass = -2: expected a finite mass > 0 kg"));
+  EXPECT_FALSE(fs::exists(dir_ / "o" / "summary.json"));
+}
+
+TEST_F(RunCommandTest, SolverFailureExitsWithThreeAndLeavesValidFiles) {
+  // one Newton iteration cannot solve the first contact step from a cold start
+  const fs::path out = dir_ / "fail";
+  const Result result = Run(fmt::format("run '{}/scenes/tilted_box.yaml' -o '{}' --set "
+                                        "solver.max_iterations=1",
+                                        ECPSIM_SOURCE_DIR, out.string()));
+  EXPECT_EQ(result.exit_code, 3) << result.output;
+  EXPECT_THAT(result.output, HasSubstr("solver failure"));
+  EXPECT_FALSE(fs::exists(out / "trajectory.csv.partial"));
+  const auto rows = ReadCsv(out / "trajectory.csv");
+  const nlohmann::json summary = ReadJson(out / "summary.json");
+  EXPECT_EQ(summary["failures"], 1);
+  EXPECT_EQ(summary["converged"], false);
+  EXPECT_FALSE(summary["error"].get<std::string>().empty());
+  // the rows written before the failure: the initial state and every completed step
+  ASSERT_GE(rows.size(), 2u);
+  EXPECT_EQ(rows.size(), 2u + summary["steps"].get<size_t>());
+  ExpectAllFinite(rows);
+}
+
+TEST_F(RunCommandTest, DropLandsAMeshOnTheGround) {
+  // the fixture box [0,1]×[0,2]×[0,3] m (6000 kg at 1000 kg/m³), dropped from 0.05 m flat
+  const fs::path out = dir_ / "drop";
+  const Result result =
+      Run(fmt::format("drop '{}/tests/fixtures/meshes/box.obj' -o '{}' --height 0.05 "
+                      "--duration 0.3",
+                      ECPSIM_SOURCE_DIR, out.string()));
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  const auto rows = ReadCsv(out / "trajectory.csv");
+  ASSERT_EQ(rows.size(), 1u + 31u);
+  ExpectAllFinite(rows);
+  // starts with its CM 1.5 m + 0.05 m up; free fall lasts sqrt(2 · 0.05 / g) ≈ 0.10 s, and the
+  // box ends resting on its face at pz = 1.5 m
+  EXPECT_NEAR(std::stod(rows[1][3]), 1.55, 1e-12);
+  EXPECT_NEAR(std::stod(rows.back()[3]), 1.5, 1e-6);
+  EXPECT_LT(ReadJson(out / "summary.json")["max_penetration"].get<double>(), 1e-6);
+}
+
+}  // namespace
+}  // namespace ecpsim
