@@ -6,6 +6,7 @@
 #include <CLI/CLI.hpp>
 
 #include "app/commands.h"
+#include "engine/planar_model.h"
 #include "engine/step_report.h"
 #include "geometry/errors.h"
 
@@ -17,8 +18,10 @@ int main(int argc, char** argv) {
   ecpsim::app::AddCompareCommand(app);
   ecpsim::app::AddRunCommand(app);
   ecpsim::app::AddDropCommand(app);
+  ecpsim::app::AddPlotCommand(app);
 
-  // exit codes: 0 ok, 1 bad input (one line on stderr), 3 solver failure, 4 internal error
+  // exit codes: 0 ok, 1 bad input (one line on stderr), 3 solver failure, 4 internal error,
+  // 5 the selected contact model does not apply (the outputs so far stay valid)
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -26,6 +29,9 @@ int main(int argc, char** argv) {
   } catch (const ecpsim::engine::SolverFailure& e) {
     std::fprintf(stderr, "ecpsim: solver failure: %s\n", e.what());
     return 3;
+  } catch (const ecpsim::engine::ModelInvalid& e) {
+    std::fprintf(stderr, "ecpsim: model invalid: %s\n", e.what());
+    return 5;
   } catch (const ecpsim::InputError& e) {
     std::fprintf(stderr, "ecpsim: error: %s\n", e.what());
     return 1;

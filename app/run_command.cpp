@@ -53,6 +53,7 @@ struct RunOptions {
   std::optional<double> h;
   std::optional<double> duration;
   std::vector<std::string> overrides;
+  std::string model;
 };
 
 }  // namespace
@@ -71,8 +72,13 @@ void AddRunCommand(CLI::App& app) {
   run->add_option("--set", options->overrides,
                   "override a scene value, key=value with a dotted key, e.g. bodies.0.mass=3 "
                   "(repeatable)");
+  run->add_option("--model", options->model,
+                  "contact model: hull (the paper's, default) or planar (sliding only; stops "
+                  "with exit code 5 where it does not apply)")
+      ->check(CLI::IsMember({"hull", "planar"}));
   run->callback([options] {
     std::vector<std::string> overrides = options->overrides;
+    if (!options->model.empty()) overrides.push_back("model=" + options->model);
     if (options->h) overrides.push_back(fmt::format("h={}", *options->h));
     if (options->duration) overrides.push_back(fmt::format("duration={}", *options->duration));
     const engine::Scene scene = engine::LoadScene(options->scene, overrides);

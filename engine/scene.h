@@ -23,6 +23,13 @@ struct Friction {
   double e_r = 0.1;   // ... and torsion (m)
 };
 
+/// Which contact model steps the scene (`model:` in the scene file, `ecpsim run --model`).
+enum class ContactModel {
+  kHull,        // the paper's model: one ECP per body–obstacle pair on the body's convex hull
+  kPlanar,      // planar sliding (WAFR 2018): flat on a horizontal plane, no vertical motion
+};
+const char* ContactModelName(ContactModel model);
+
 /// A rigid body F: its mesh and convex hull in the body frame (origin at the centre of mass).
 struct Body {
   std::string name;
@@ -75,6 +82,7 @@ struct Scene {
   std::vector<Impulse> impulses;
   SolverSettings solver;
   OutputSettings output;
+  ContactModel model = ContactModel::kHull;
 };
 
 }  // namespace ecpsim::engine

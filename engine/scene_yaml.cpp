@@ -257,6 +257,13 @@ bool ReadBool(const Context& ctx, const YAML::Node& node, const std::string& key
   return value;
 }
 
+ContactModel ReadModel(const Context& ctx, const YAML::Node& node, const std::string& key) {
+  for (ContactModel model : {ContactModel::kHull, ContactModel::kPlanar}) {
+    if (node.IsScalar() && node.Scalar() == ContactModelName(model)) return model;
+  }
+  Fail(ctx, node, key, "one of hull, planar");
+}
+
 std::string ReadName(const Context& ctx, const YAML::Node& node, const std::string& key) {
   const std::string expected = "a name of letters, digits, '_' and '-' (it prefixes CSV columns)";
   if (!node.IsScalar() || node.Scalar().empty() ||
@@ -902,9 +909,10 @@ Scene LoadScene(const std::string& path, const std::vector<std::string>& overrid
 
   const MapNode map(ctx, root, "",
                     {"gravity", "h", "duration", "ground", "obstacles", "bodies", "loads",
-                     "impulses", "solver", "output"});
+                     "impulses", "solver", "output", "model"});
   Scene scene;
   scene.source = path;
+  if (map.Has("model")) scene.model = ReadModel(ctx, map.Get("model"), "model");
   if (map.Has("gravity")) {
     scene.gravity = ReadVector3(ctx, map.Get("gravity"), "gravity", "m/s², world frame");
   }

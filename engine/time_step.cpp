@@ -10,6 +10,7 @@
 #include "engine/complementarity_solver.h"
 #include "engine/contact_window.h"
 #include "engine/mncp_system.h"
+#include "engine/planar_model.h"
 #include "engine/rotation.h"
 
 namespace ecpsim::engine {
@@ -420,6 +421,7 @@ class BodyStepper {
 }  // namespace
 
 StepReport Step(const Scene& scene, State& state) {
+  if (scene.model == ContactModel::kPlanar) return StepPlanarSliding(scene, state);
   StepReport report;
   report.converged = true;
   std::vector<BodyState> next_bodies = state.bodies;

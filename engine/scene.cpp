@@ -1,0 +1,15 @@
+#include "engine/scene.h"
+
+namespace ecpsim::engine {
+
+const char* ContactModelName(ContactModel model) {
+  switch (model) {
+    case ContactModel::kHull:
+      return "hull";
+    case ContactModel::kPlanar:
+      return "planar";
+  }
+  return "unknown";
+}
+
+}  // namespace ecpsim::engine
