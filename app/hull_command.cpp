@@ -1,1 +1,171 @@
+// `ecpsim hull MESH`: mass properties and the body-frame convex hull (n·y ≤ d) of a mesh file.
+
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
 #include "app/commands.h"
+#include "geometry/convex_hull.h"
+#include "geometry/errors.h"
+#include "geometry/mass_properties.h"
+#include "geometry/mesh_io.h"
+#include "geometry/mesh_topology.h"
+
+namespace ecpsim::app {
+namespace {
+
+// kg/m³, water: the density when neither --mass nor --density is given
+constexpr double kDefaultDensity = 1000.0;
+
+struct HullOptions {
+  std::string mesh;
+  bool json = false;
+  double scale = 1.0;
+  std::optional<double> mass;
+  std::optional<double> density;
+};
+
+void RequireFinitePositive(const char* option, double value, const char* expected) {
+  if (!std::isfinite(value) || value <= 0.0) {
+    throw InputError(fmt::format("{} = {}: expected {}", option, value, expected));
+  }
+}
+
+nlohmann::json ToJson(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
+
+nlohmann::json RowsToJson(const Eigen::Matrix3d& m) {
+  return {ToJson(m.row(0).transpose()), ToJson(m.row(1).transpose()), ToJson(m.row(2).transpose())};
+}
+
+std::string Format(const Eigen::Vector3d& v) {
+  // + 0.0 turns −0 into 0 in the printout
+  return fmt::format("({:.9g}, {:.9g}, {:.9g})", v.x() + 0.0, v.y() + 0.0, v.z() + 0.0);
+}
+
+void RunHull(const HullOptions& options) {
+  RequireFinitePositive("--scale", options.scale, "a finite scale factor > 0");
+  if (options.mass) RequireFinitePositive("--mass", *options.mass, "a finite mass > 0 kg");
+  if (options.density) {
+    RequireFinitePositive("--density", *options.density, "a finite density > 0 kg/m³");
+  }
+  const std::string& path = options.mesh;
+
+  const geometry::TriangleMesh mesh = geometry::LoadMesh(path, options.scale);
+  const geometry::MeshTopology topology = geometry::AnalyzeTopology(mesh);
+  // the hull first: a flat mesh fails here with the hull's "coplanar" message
+  const geometry::ConvexHull hull = geometry::ComputeConvexHull(mesh.vertices, path);
+
+  // mass properties of the mesh itself when it bounds a solid; otherwise, explicitly, those of
+  // its convex hull (an open scan or a surface patch still gets a usable, documented estimate)
+  const bool solid = topology.closed && topology.consistently_oriented;
+  std::string mass_source = "mesh";
+  geometry::TriangleMesh source_mesh = mesh;
+  if (!solid) {
+    mass_source = topology.closed ? "convex hull (mesh is inconsistently oriented)"
+                                  : "convex hull (mesh is open)";
+    std::fprintf(stderr, "%s\n",
+                 fmt::format("ecpsim: warning: {}: the mesh is not a closed, consistently oriented "
+                             "surface ({} boundary edges, {} non-manifold edges); using the mass "
+                             "properties of its convex hull",
+                             path, topology.boundary_edges, topology.non_manifold_edges)
+                     .c_str());
+    source_mesh = geometry::TriangulateHull(hull);
+  }
+  const double density = options.density.value_or(kDefaultDensity);
+  const geometry::MassProperties props =
+      options.mass ? geometry::ComputeMassPropertiesForMass(source_mesh, *options.mass, path)
+                   : geometry::ComputeMassProperties(source_mesh, density, path);
+  const geometry::ConvexHull body_hull = geometry::TranslateHull(hull, -props.center_of_mass);
+
+  if (options.json) {
+    nlohmann::json hull_json;
+    hull_json["vertices"] = nlohmann::json::array();
+    for (const Eigen::Vector3d& v : body_hull.vertices) hull_json["vertices"].push_back(ToJson(v));
+    hull_json["faces"] = body_hull.faces;
+    hull_json["halfspaces"] = nlohmann::json::array();
+    for (std::size_t i = 0; i < body_hull.normals.size(); ++i) {
+      const Eigen::Vector3d& n = body_hull.normals[i];
+      hull_json["halfspaces"].push_back({n.x(), n.y(), n.z(), body_hull.offsets[i]});
+    }
+    nlohmann::json axes = nlohmann::json::array();
+    for (int a = 0; a < 3; ++a) axes.push_back(ToJson(props.principal_axes.col(a)));
+
+    nlohmann::json out;
+    out["mesh"] = path;
+    out["scale"] = options.scale;
+    out["vertices"] = mesh.vertices.size();
+    out["triangles"] = mesh.triangles.size();
+    out["closed"] = topology.closed;
+    out["oriented"] = topology.consistently_oriented;
+    out["boundary_edges"] = topology.boundary_edges;
+    out["non_manifold_edges"] = topology.non_manifold_edges;
+    out["mass_source"] = mass_source;
+    out["volume"] = props.volume;
+    out["mass"] = props.mass;
+    out["density"] = props.mass / props.volume;
+    out["center_of_mass"] = ToJson(props.center_of_mass);
+    out["inertia"] = RowsToJson(props.inertia);
+    out["principal_moments"] = ToJson(props.principal_moments);
+    out["principal_axes"] = axes;
+    out["hull"] = hull_json;
+    std::printf("%s\n", out.dump(2).c_str());
+    return;
+  }
+
+  std::string text = fmt::format("mesh {} (scale {})\n", path, options.scale);
+  text += fmt::format(
+      "  {} vertices, {} triangles; {}, {}\n", mesh.vertices.size(), mesh.triangles.size(),
+      topology.closed ? "closed"
+                      : fmt::format("open ({} boundary edges, {} "
+                                    "non-manifold edges)",
+                                    topology.boundary_edges, topology.non_manifold_edges),
+      topology.consistently_oriented ? "consistently oriented" : "inconsistently oriented");
+  text += fmt::format("mass properties from the {}\n", mass_source);
+  text += fmt::format("  volume           {:.9g} m³\n", props.volume);
+  text += fmt::format("  mass             {:.9g} kg (density {:.9g} kg/m³)\n", props.mass,
+                      props.mass / props.volume);
+  text += fmt::format("  centre of mass   {} m (mesh frame)\n", Format(props.center_of_mass));
+  text += "  inertia about the centre of mass, mesh axes (kg·m²):\n";
+  for (int r = 0; r < 3; ++r) {
+    text += fmt::format("    {}\n", Format(props.inertia.row(r).transpose()));
+  }
+  text += fmt::format("  principal moments {} kg·m²\n", Format(props.principal_moments));
+  for (int a = 0; a < 3; ++a) {
+    text += fmt::format("    axis {}        {}\n", a + 1, Format(props.principal_axes.col(a)));
+  }
+  text += fmt::format(
+      "convex hull: {} vertices, {} faces; body frame (origin at the centre of "
+      "mass, mesh axes), n·y ≤ d:\n",
+      body_hull.vertices.size(), body_hull.faces.size());
+  for (std::size_t i = 0; i < body_hull.normals.size(); ++i) {
+    text +=
+        fmt::format("  n = {}  d = {:.9g} m\n", Format(body_hull.normals[i]), body_hull.offsets[i]);
+  }
+  std::fputs(text.c_str(), stdout);
+}
+
+}  // namespace
+
+void AddHullCommand(CLI::App& app) {
+  CLI::App* command = app.add_subcommand(
+      "hull",
+      "Mass properties and convex hull of a mesh; the hull as n·y ≤ d in the body frame (origin at "
+      "the centre of mass). An open mesh falls back to its convex hull's mass properties.");
+  auto options = std::make_shared<HullOptions>();
+  command->add_option("MESH", options->mesh, "mesh file (any format assimp reads)")->required();
+  command->add_flag("--json", options->json, "print JSON instead of text");
+  command->add_option("--scale", options->scale, "multiply coordinates by S (e.g. 0.001 for mm)")
+      ->capture_default_str();
+  CLI::Option* mass = command->add_option("--mass", options->mass, "total mass M, kg");
+  CLI::Option* density = command->add_option("--density", options->density,
+                                             "uniform density RHO, kg/m³ (default 1000)");
+  mass->excludes(density);
+  command->callback([options] { RunHull(*options); });
+}
+
+}  // namespace ecpsim::app

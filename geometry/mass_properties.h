@@ -9,6 +9,9 @@
 
 namespace ecpsim::geometry {
 
+/// m³; a closed mesh enclosing no more than this (a 0.1 mm cube) is flat or degenerate, not a body.
+inline constexpr double kMinVolume = 1e-12;
+
 struct MassProperties {
   double volume = 0;                   // m³
   double mass = 0;                     // kg

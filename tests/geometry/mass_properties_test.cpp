@@ -1,0 +1,210 @@
+#include "geometry/mass_properties.h"
+
+#include <cmath>
+
+#include <Eigen/Geometry>
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "geometry/errors.h"
+#include "tests/geometry/test_meshes.h"
+
+namespace ecpsim::geometry {
+namespace {
+
+using ::testing::AllOf;
+using ::testing::HasSubstr;
+using testing::MakeBoxMesh;
+using testing::MakePrismMesh;
+using testing::MakeUnitTetrahedron;
+using ::testing::ThrowsMessage;
+
+constexpr double kPi = 3.14159265358979323846;
+
+// relative error of sums of ~10² terms of size ~1 in double precision: a few hundred ulps
+constexpr double kRoundOff = 1e-12;
+
+TEST(MassPropertiesTest, UnitTetrahedronMatchesClosedForm) {
+  // volume 1/6, CM (1/4, 1/4, 1/4); about the CM: ∫x² = 1/60 − (1/6)(1/16) = 1/160 and
+  // ∫xy = 1/120 − 1/96 = −1/480, so I_xx = 2/160 = 1/80 and I_xy = +1/480 (density 1)
+  const MassProperties p = ComputeMassProperties(MakeUnitTetrahedron(), 1.0);
+  EXPECT_NEAR(p.volume, 1.0 / 6.0, kRoundOff);
+  EXPECT_NEAR(p.mass, 1.0 / 6.0, kRoundOff);
+  for (int a = 0; a < 3; ++a) {
+    EXPECT_NEAR(p.center_of_mass[a], 0.25, kRoundOff);
+    for (int b = 0; b < 3; ++b) {
+      EXPECT_NEAR(p.inertia(a, b), a == b ? 1.0 / 80.0 : 1.0 / 480.0, kRoundOff) << a << b;
+    }
+  }
+  // the principal moments of that matrix: 1/80 + 2/480 = 1/60 along (1, 1, 1) and, twice,
+  // 1/80 − 1/480 = 1/96 across it
+  EXPECT_NEAR(p.principal_moments[0], 1.0 / 96.0, kRoundOff);
+  EXPECT_NEAR(p.principal_moments[1], 1.0 / 96.0, kRoundOff);
+  EXPECT_NEAR(p.principal_moments[2], 1.0 / 60.0, kRoundOff);
+  EXPECT_NEAR(std::abs(p.principal_axes.col(2).dot(Eigen::Vector3d::Ones().normalized())), 1.0,
+              kRoundOff);
+}
+
+TEST(MassPropertiesTest, BoxMatchesClosedFormFarFromOrigin) {
+  // a 1 × 2 × 3 box centred at (1e3, −2e3, 5e2): integrating about the bounding-box centre keeps
+  // the error at round-off, where integrating about the origin would lose ~6 digits
+  const Eigen::Vector3d size(1.0, 2.0, 3.0);
+  const Eigen::Vector3d centre(1e3, -2e3, 5e2);
+  const double density = 7800.0;
+  const MassProperties p =
+      ComputeMassProperties(MakeBoxMesh(centre - size / 2, centre + size / 2), density);
+  const double mass = density * 6.0;
+  // box inertia about its centre: m/12 (b² + c², a² + c², a² + b²)
+  const Eigen::Vector3d expected(mass / 12 * (4 + 9), mass / 12 * (1 + 9), mass / 12 * (1 + 4));
+  EXPECT_LE(std::abs(p.volume - 6.0) / 6.0, 1e-9);
+  EXPECT_LE(std::abs(p.mass - mass) / mass, 1e-9);
+  EXPECT_LE((p.center_of_mass - centre).norm() / centre.norm(), 1e-12);
+  for (int a = 0; a < 3; ++a) {
+    EXPECT_LE(std::abs(p.inertia(a, a) - expected[a]) / expected[a], 1e-9) << a;
+    for (int b = 0; b < 3; ++b) {
+      if (a != b) EXPECT_LE(std::abs(p.inertia(a, b)) / expected.minCoeff(), 1e-9);
+    }
+  }
+  // ascending principal moments: z (a² + b² = 5), y (10), x (13)
+  EXPECT_LE(std::abs(p.principal_moments[0] - expected[2]) / expected[2], 1e-9);
+  EXPECT_LE(std::abs(p.principal_moments[1] - expected[1]) / expected[1], 1e-9);
+  EXPECT_LE(std::abs(p.principal_moments[2] - expected[0]) / expected[0], 1e-9);
+}
+
+TEST(MassPropertiesTest, PrismMatchesPolygonAndBoundsCylinder) {
+  // inscribed regular n-gon prism, α = 2π/n: area A = (n/2) R² sin α (the cylinder's πR² times
+  // n sin α / (2π)), polar moment J = n R⁴ sin α (2 + cos α) / 12 (n triangles from the centre,
+  // each (area/6)(|a|² + a·b + |b|²)); a regular polygon's second moment is isotropic, so
+  // I_axis = ρ L J and I_transverse = ρ L (J/2 + A L²/12)
+  const int n = 64;
+  const double radius = 0.1;
+  const double length = 0.3;
+  const double density = 1000.0;
+  const double alpha = 2.0 * kPi / n;
+  const double area = 0.5 * n * radius * radius * std::sin(alpha);
+  const double polar = n * std::pow(radius, 4) * std::sin(alpha) * (2.0 + std::cos(alpha)) / 12.0;
+  const double volume = area * length;
+  const double axial = density * length * polar;
+  const double transverse = density * length * (polar / 2 + area * length * length / 12);
+
+  const MassProperties p = ComputeMassProperties(MakePrismMesh(n, radius, length), density);
+  EXPECT_LE(std::abs(p.volume - volume) / volume, 1e-9);
+  EXPECT_LE(std::abs(p.inertia(2, 2) - axial) / axial, 1e-9);
+  EXPECT_LE(std::abs(p.inertia(0, 0) - transverse) / transverse, 1e-9);
+  EXPECT_LE(std::abs(p.inertia(1, 1) - transverse) / transverse, 1e-9);
+  EXPECT_NEAR(p.center_of_mass.z(), length / 2, 1e-15);
+  EXPECT_NEAR(p.center_of_mass.head<2>().norm(), 0.0, 1e-15);
+
+  // against the true cylinder: the polygon misses the fractions 1 − n sin α/(2π) of the volume
+  // (1.6e-3 at n = 64) and 1 − n sin α (2 + cos α)/(6π) of J (3.2e-3), both from below
+  const double cylinder_volume = kPi * radius * radius * length;
+  const double cylinder_mass = density * cylinder_volume;
+  const double cylinder_axial = cylinder_mass * radius * radius / 2;
+  const double volume_deficit = 1.0 - n * std::sin(alpha) / (2 * kPi);
+  const double polar_deficit = 1.0 - n * std::sin(alpha) * (2 + std::cos(alpha)) / (6 * kPi);
+  EXPECT_LT(p.volume, cylinder_volume);
+  EXPECT_LE((cylinder_volume - p.volume) / cylinder_volume, volume_deficit * (1 + 1e-9));
+  EXPECT_LT(p.inertia(2, 2), cylinder_axial);
+  EXPECT_LE((cylinder_axial - p.inertia(2, 2)) / cylinder_axial, polar_deficit * (1 + 1e-9));
+  EXPECT_LT(volume_deficit, 2e-3);
+  EXPECT_LT(polar_deficit, 4e-3);
+}
+
+TEST(MassPropertiesTest, RigidMotionMovesCentreAndRotatesInertia) {
+  const TriangleMesh mesh = MakePrismMesh(12, 0.2, 0.7);
+  const Eigen::Matrix3d rotation =
+      Eigen::AngleAxisd(0.7, Eigen::Vector3d(1.0, -2.0, 0.5).normalized()).toRotationMatrix();
+  const Eigen::Vector3d translation(0.3, -1.2, 2.5);
+  TriangleMesh moved = mesh;
+  for (Eigen::Vector3d& v : moved.vertices) v = rotation * v + translation;
+
+  const MassProperties a = ComputeMassProperties(mesh, 500.0);
+  const MassProperties b = ComputeMassProperties(moved, 500.0);
+  // sizes ~1 m and ~1 kg·m²: differences are round-off
+  EXPECT_NEAR(b.volume, a.volume, kRoundOff);
+  EXPECT_LE((b.center_of_mass - (rotation * a.center_of_mass + translation)).norm(), kRoundOff);
+  EXPECT_LE((b.inertia - rotation * a.inertia * rotation.transpose()).norm(),
+            kRoundOff * a.inertia.norm());
+  EXPECT_LE((b.principal_moments - a.principal_moments).norm(),
+            kRoundOff * a.principal_moments.norm());
+}
+
+TEST(MassPropertiesTest, PrincipalAxesAreARightHandedEigenbasis) {
+  TriangleMesh mesh = MakeBoxMesh(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1.0, 2.0, 3.0));
+  const Eigen::Matrix3d rotation =
+      Eigen::AngleAxisd(1.1, Eigen::Vector3d(0.3, 0.4, -0.8).normalized()).toRotationMatrix();
+  for (Eigen::Vector3d& v : mesh.vertices) v = rotation * v;
+  const MassProperties p = ComputeMassProperties(mesh, 1.0);
+  const Eigen::Matrix3d& axes = p.principal_axes;
+  EXPECT_NEAR(axes.determinant(), 1.0, kRoundOff);
+  EXPECT_LE((axes.transpose() * axes - Eigen::Matrix3d::Identity()).norm(), kRoundOff);
+  EXPECT_LE((p.inertia * axes - axes * p.principal_moments.asDiagonal()).norm(),
+            kRoundOff * p.inertia.norm());
+  EXPECT_LT(p.principal_moments[0], p.principal_moments[1]);
+  EXPECT_LT(p.principal_moments[1], p.principal_moments[2]);
+}
+
+TEST(MassPropertiesTest, InwardWoundMeshGivesTheSameSolid) {
+  const TriangleMesh mesh = MakeBoxMesh(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1.0, 2.0, 3.0));
+  TriangleMesh inward = mesh;
+  for (Eigen::Vector3i& t : inward.triangles) std::swap(t[1], t[2]);
+  const MassProperties a = ComputeMassProperties(mesh, 2.0);
+  const MassProperties b = ComputeMassProperties(inward, 2.0);
+  EXPECT_NEAR(b.volume, 6.0, kRoundOff);
+  EXPECT_LE((b.center_of_mass - a.center_of_mass).norm(), kRoundOff);
+  EXPECT_LE((b.inertia - a.inertia).norm(), kRoundOff * a.inertia.norm());
+}
+
+TEST(MassPropertiesTest, ForMassScalesDensity) {
+  const TriangleMesh mesh = MakeBoxMesh(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1.0, 2.0, 3.0));
+  const MassProperties by_density = ComputeMassProperties(mesh, 2.5);
+  const MassProperties by_mass = ComputeMassPropertiesForMass(mesh, 15.0);
+  EXPECT_DOUBLE_EQ(by_mass.mass, 15.0);
+  EXPECT_NEAR(by_mass.volume, 6.0, kRoundOff);
+  // 15 kg over 6 m³ is density 2.5
+  EXPECT_LE((by_mass.inertia - by_density.inertia).norm(), kRoundOff * by_density.inertia.norm());
+  EXPECT_LE((by_mass.principal_moments - by_density.principal_moments).norm(),
+            kRoundOff * by_density.principal_moments.norm());
+}
+
+TEST(MassPropertiesTest, RejectsOpenMeshNamingSource) {
+  TriangleMesh open = MakeBoxMesh(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, 1, 1));
+  open.triangles.pop_back();
+  EXPECT_THAT([&] { ComputeMassProperties(open, 1.0, "parts/lid.stl"); },
+              ThrowsMessage<InputError>(
+                  AllOf(HasSubstr("parts/lid.stl"), HasSubstr("open"), HasSubstr("3 boundary"))));
+}
+
+TEST(MassPropertiesTest, RejectsInconsistentWinding) {
+  TriangleMesh mesh = MakeBoxMesh(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, 1, 1));
+  std::swap(mesh.triangles[0][1], mesh.triangles[0][2]);
+  std::swap(mesh.triangles[1][1], mesh.triangles[1][2]);
+  EXPECT_THAT([&] { ComputeMassProperties(mesh, 1.0, "box"); },
+              ThrowsMessage<InputError>(AllOf(HasSubstr("box"), HasSubstr("inconsistently"))));
+}
+
+TEST(MassPropertiesTest, RejectsFlatAndTinyMeshes) {
+  // a closed, consistently wound tetrahedron with all vertices in z = 0
+  TriangleMesh flat = MakeUnitTetrahedron();
+  flat.vertices[3] = Eigen::Vector3d(1.0, 1.0, 0.0);
+  EXPECT_THAT([&] { ComputeMassProperties(flat, 1.0, "flat.obj"); },
+              ThrowsMessage<InputError>(AllOf(HasSubstr("flat.obj"), HasSubstr("flat"))));
+  // a 1e-5 m cube: 1e-15 m³ ≤ kMinVolume
+  const TriangleMesh tiny =
+      MakeBoxMesh(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1e-5, 1e-5, 1e-5));
+  EXPECT_THAT([&] { ComputeMassProperties(tiny, 1.0, "tiny"); },
+              ThrowsMessage<InputError>(HasSubstr("degenerate")));
+}
+
+TEST(MassPropertiesTest, RejectsBadDensityAndMass) {
+  const TriangleMesh mesh = MakeUnitTetrahedron();
+  for (double bad : {0.0, -1.0, std::nan(""), HUGE_VAL}) {
+    EXPECT_THAT([&] { ComputeMassProperties(mesh, bad, "tet"); },
+                ThrowsMessage<InputError>(AllOf(HasSubstr("tet"), HasSubstr("density"))));
+    EXPECT_THAT([&] { ComputeMassPropertiesForMass(mesh, bad, "tet"); },
+                ThrowsMessage<InputError>(AllOf(HasSubstr("tet"), HasSubstr("mass"))));
+  }
+}
+
+}  // namespace
+}  // namespace ecpsim::geometry
