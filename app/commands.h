@@ -21,4 +21,7 @@ void AddDropCommand(CLI::App& app);
 /// (exit 0 same, 1 different, 2 bad input).
 void AddCompareCommand(CLI::App& app);
 
+/// `ecpsim plot DIR [--scene desk|tbar|dumbbell|generic|auto]`: PNG plots of a run via gnuplot.
+void AddPlotCommand(CLI::App& app);
+
 }  // namespace ecpsim::app
