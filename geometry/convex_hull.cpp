@@ -1,1 +1,447 @@
 #include "geometry/convex_hull.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <limits>
+#include <numeric>
+#include <utility>
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Surface_mesh.h>
+#include <CGAL/convex_hull_2.h>
+#include <CGAL/convex_hull_3.h>
+#include <Eigen/Geometry>
+#include <fmt/format.h>
+
+#include "geometry/errors.h"
+
+namespace ecpsim::geometry {
+namespace {
+
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Point3 = Kernel::Point_3;
+using Point2 = Kernel::Point_2;
+using HullMesh = CGAL::Surface_mesh<Point3>;
+using VertexIndex = HullMesh::Vertex_index;
+using FaceIndex = HullMesh::Face_index;
+using HalfedgeIndex = HullMesh::Halfedge_index;
+
+// the flatness test looks at the normals of this many of the largest hull triangles
+constexpr int kFlatnessProbes = 16;
+
+Eigen::Vector3d ToEigen(const Point3& p) { return {p.x(), p.y(), p.z()}; }
+
+// rejects point sets that cannot bound a volume, with exact predicates, before CGAL sees them
+void CheckFullDimensional(const std::vector<Point3>& points, const std::string& source) {
+  const std::size_t n = points.size();
+  std::size_t second = 1;
+  while (second < n && points[second] == points[0]) ++second;
+  if (second == n) {
+    throw InputError(fmt::format(
+        "convex hull of {}: all {} points coincide (volume 0); a hull needs a 3-D point set", source,
+        n));
+  }
+  std::size_t third = second + 1;
+  while (third < n && CGAL::collinear(points[0], points[second], points[third])) ++third;
+  if (third == n) {
+    throw InputError(fmt::format(
+        "convex hull of {}: all {} points are collinear (volume 0); a hull needs a 3-D point set",
+        source, n));
+  }
+  std::size_t fourth = third + 1;
+  while (fourth < n && CGAL::coplanar(points[0], points[second], points[third], points[fourth])) {
+    ++fourth;
+  }
+  if (fourth == n) {
+    throw InputError(fmt::format(
+        "convex hull of {}: all {} points are coplanar (volume 0); a hull needs a 3-D point set",
+        source, n));
+  }
+}
+
+// the error for a point set whose thickness is below the merge tolerance somewhere
+[[noreturn]] void ThrowFlatWithinTolerance(const std::string& source, double tolerance,
+                                           double diagonal) {
+  throw InputError(fmt::format(
+      "convex hull of {}: the points are flat within the coplanar tolerance ({:.3g} m over a "
+      "{:.6g} m bounding-box diagonal); a hull needs a 3-D point set",
+      source, tolerance, diagonal));
+}
+
+// The exact hull as plain arrays, which are much faster to walk than the Surface_mesh CGAL
+// builds: triangles (outward), the triangle across each edge (k, k + 1), and per vertex the
+// triangles around it and the vertices joined to it (compressed rows).
+struct TriangulatedHull {
+  std::vector<Eigen::Vector3d> points;
+  std::vector<std::array<int, 3>> triangles;
+  std::vector<std::array<int, 3>> across;
+  std::vector<int> fan_start;
+  std::vector<int> fan;
+  std::vector<int> ring_start;
+  std::vector<int> ring;
+};
+
+// compressed rows from (row, value) pairs given per row count
+void FillRows(int rows, const std::vector<std::pair<int, int>>& entries, std::vector<int>& start,
+              std::vector<int>& values) {
+  start.assign(rows + 1, 0);
+  for (const auto& [row, value] : entries) ++start[row + 1];
+  std::partial_sum(start.begin(), start.end(), start.begin());
+  values.resize(entries.size());
+  std::vector<int> cursor(start.begin(), start.end() - 1);
+  for (const auto& [row, value] : entries) values[cursor[row]++] = value;
+}
+
+TriangulatedHull ExactHull(const std::vector<Point3>& points) {
+  HullMesh mesh;
+  CGAL::convex_hull_3(points.begin(), points.end(), mesh);
+  ECPSIM_DEMAND(mesh.number_of_faces() >= 4 && !mesh.has_garbage());
+  TriangulatedHull hull;
+  hull.points.resize(mesh.number_of_vertices());
+  for (VertexIndex v : mesh.vertices()) hull.points[v.idx()] = ToEigen(mesh.point(v));
+  hull.triangles.resize(mesh.number_of_faces());
+  hull.across.resize(mesh.number_of_faces());
+  for (FaceIndex f : mesh.faces()) {
+    HalfedgeIndex h = mesh.halfedge(f);
+    for (int k = 0; k < 3; ++k, h = mesh.next(h)) {
+      hull.triangles[f.idx()][k] = static_cast<int>(mesh.source(h).idx());
+      hull.across[f.idx()][k] = static_cast<int>(mesh.face(mesh.opposite(h)).idx());
+    }
+  }
+  const int num_vertices = static_cast<int>(hull.points.size());
+  std::vector<std::pair<int, int>> fan_entries;
+  std::vector<std::pair<int, int>> ring_entries;
+  fan_entries.reserve(3 * hull.triangles.size());
+  ring_entries.reserve(3 * hull.triangles.size());
+  for (int t = 0; t < static_cast<int>(hull.triangles.size()); ++t) {
+    const std::array<int, 3>& tri = hull.triangles[t];
+    for (int k = 0; k < 3; ++k) {
+      fan_entries.emplace_back(tri[k], t);
+      // each directed edge occurs once on a closed surface, so each neighbour is listed once
+      ring_entries.emplace_back(tri[k], tri[(k + 1) % 3]);
+    }
+  }
+  FillRows(num_vertices, fan_entries, hull.fan_start, hull.fan);
+  FillRows(num_vertices, ring_entries, hull.ring_start, hull.ring);
+  return hull;
+}
+
+// Grows planar groups from the largest triangles first (their normals are the most accurate):
+// a neighbour joins when all its vertices lie within `tolerance` of the seed's plane. Testing
+// distances to the group's plane, not normals of neighbours pairwise, keeps a finely tessellated
+// curved surface from drifting into one face. Returns the group of each triangle.
+std::vector<int> GrowCoplanarGroups(const TriangulatedHull& hull,
+                                    const std::vector<Eigen::Vector3d>& area_normals,
+                                    const std::vector<int>& order, double tolerance,
+                                    int& num_groups) {
+  std::vector<int> group_of(hull.triangles.size(), -1);
+  num_groups = 0;
+  std::vector<int> queue;
+  for (int seed : order) {
+    if (group_of[seed] >= 0) continue;
+    const int group = num_groups++;
+    group_of[seed] = group;
+    const double norm = area_normals[seed].norm();
+    // a zero-area seed cannot define a plane: it stays a group of its own
+    if (norm == 0) continue;
+    const Eigen::Vector3d n = area_normals[seed] / norm;
+    const double d = n.dot(hull.points[hull.triangles[seed][0]]);
+    queue.assign(1, seed);
+    while (!queue.empty()) {
+      const int t = queue.back();
+      queue.pop_back();
+      for (int u : hull.across[t]) {
+        if (group_of[u] >= 0 || n.dot(area_normals[u]) <= 0) continue;
+        const bool coplanar = std::all_of(
+            hull.triangles[u].begin(), hull.triangles[u].end(),
+            [&](int v) { return std::abs(n.dot(hull.points[v]) - d) <= tolerance; });
+        if (!coplanar) continue;
+        group_of[u] = group;
+        queue.push_back(u);
+      }
+    }
+  }
+  return group_of;
+}
+
+// The boundary of a group of triangles as one loop, counter-clockwise seen from outside, appended
+// to `loop`; false if the group is not a disk (several loops or a pinched vertex).
+bool AppendBoundaryLoop(const TriangulatedHull& hull, const std::vector<int>& group_of,
+                        const int* first, const int* last,
+                        std::vector<std::pair<int, int>>& edges, std::vector<int>& loop) {
+  // a single triangle is its own loop
+  if (last - first == 1) {
+    loop.insert(loop.end(), hull.triangles[*first].begin(), hull.triangles[*first].end());
+    return true;
+  }
+  edges.clear();
+  for (const int* t = first; t != last; ++t) {
+    for (int k = 0; k < 3; ++k) {
+      if (group_of[hull.across[*t][k]] == group_of[*t]) continue;
+      edges.emplace_back(hull.triangles[*t][k], hull.triangles[*t][(k + 1) % 3]);
+    }
+  }
+  std::sort(edges.begin(), edges.end());
+  for (std::size_t k = 1; k < edges.size(); ++k) {
+    if (edges[k].first == edges[k - 1].first) return false;
+  }
+  if (edges.empty()) return false;
+  const std::size_t begin = loop.size();
+  int v = edges.front().first;
+  do {
+    loop.push_back(v);
+    const auto it = std::lower_bound(edges.begin(), edges.end(), std::make_pair(v, -1));
+    if (it == edges.end() || it->first != v || loop.size() - begin > edges.size()) {
+      loop.resize(begin);
+      return false;
+    }
+    v = it->second;
+  } while (v != edges.front().first);
+  if (loop.size() - begin != edges.size()) {
+    loop.resize(begin);
+    return false;
+  }
+  return true;
+}
+
+// Largest n · v over the hull's vertices by climbing the (exactly convex) triangulated hull from
+// `start`: on a convex polytope a local maximum of a linear function is the global one.
+double MaxAlong(const TriangulatedHull& hull, const Eigen::Vector3d& n, int start) {
+  int v = start;
+  double best = n.dot(hull.points[v]);
+  for (bool improved = true; improved;) {
+    improved = false;
+    for (int k = hull.ring_start[v]; k < hull.ring_start[v + 1]; ++k) {
+      const double value = n.dot(hull.points[hull.ring[k]]);
+      if (value > best) {
+        best = value;
+        v = hull.ring[k];
+        improved = true;
+      }
+    }
+  }
+  return best;
+}
+
+}  // namespace
+
+ConvexHull ComputeConvexHull(const std::vector<Eigen::Vector3d>& points,
+                             const std::string& source) {
+  // validate before any work
+  if (points.size() < 4) {
+    throw InputError(fmt::format(
+        "convex hull of {}: {} points given; a hull needs at least 4 points that are not coplanar",
+        source, points.size()));
+  }
+  std::vector<Point3> cgal_points;
+  cgal_points.reserve(points.size());
+  Eigen::Vector3d lower = points.front();
+  Eigen::Vector3d upper = points.front();
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Eigen::Vector3d& p = points[i];
+    if (!p.allFinite()) {
+      throw InputError(fmt::format(
+          "convex hull of {}: point {} = ({}, {}, {}) is not finite; expected finite coordinates",
+          source, i, p.x(), p.y(), p.z()));
+    }
+    lower = lower.cwiseMin(p);
+    upper = upper.cwiseMax(p);
+    cgal_points.emplace_back(p.x(), p.y(), p.z());
+  }
+  CheckFullDimensional(cgal_points, source);
+  const double diagonal = (upper - lower).norm();
+  const double tolerance = kCoplanarTolerance * diagonal;
+
+  // exact-predicate hull as outward triangles
+  const TriangulatedHull exact = ExactHull(cgal_points);
+  const int num_triangles = static_cast<int>(exact.triangles.size());
+  const int num_points = static_cast<int>(exact.points.size());
+
+  // triangle area vectors, largest first
+  std::vector<Eigen::Vector3d> area_normals(num_triangles);
+  for (int t = 0; t < num_triangles; ++t) {
+    const std::array<int, 3>& tri = exact.triangles[t];
+    area_normals[t] = (exact.points[tri[1]] - exact.points[tri[0]])
+                          .cross(exact.points[tri[2]] - exact.points[tri[0]]);
+  }
+  std::vector<int> order(num_triangles);
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    const double area_a = area_normals[a].squaredNorm();
+    const double area_b = area_normals[b].squaredNorm();
+    return area_a != area_b ? area_a > area_b : a < b;
+  });
+
+  // a set flat within the tolerance has its largest triangles on the flat sides
+  for (int k = 0; k < std::min<int>(kFlatnessProbes, num_triangles); ++k) {
+    const Eigen::Vector3d n = area_normals[order[k]].normalized();
+    double lowest = std::numeric_limits<double>::infinity();
+    double highest = -lowest;
+    for (const Eigen::Vector3d& p : exact.points) {
+      lowest = std::min(lowest, n.dot(p));
+      highest = std::max(highest, n.dot(p));
+    }
+    if (highest - lowest <= tolerance) ThrowFlatWithinTolerance(source, tolerance, diagonal);
+  }
+
+  // Merge coplanar triangles, then check that every merged face keeps three corners (vertices
+  // on three or more faces; the others sit inside a face or on a straight edge between two).
+  // Where the tolerance merged a sliver between two nearly parallel faces that check fails: the
+  // offending groups and their neighbours fall back to single triangles until it holds, which
+  // it does at the latest for the plain triangulation.
+  int num_groups = 0;
+  std::vector<int> group_of = GrowCoplanarGroups(exact, area_normals, order, tolerance, num_groups);
+  std::vector<int> group_start;
+  std::vector<int> group_triangles;
+  std::vector<int> loop_start;
+  std::vector<int> loops;
+  std::vector<char> corner(num_points, 0);
+  std::vector<std::pair<int, int>> edges;
+  std::vector<int> incident;
+  for (;;) {
+    std::vector<std::pair<int, int>> members(num_triangles);
+    for (int t = 0; t < num_triangles; ++t) members[t] = {group_of[t], t};
+    FillRows(num_groups, members, group_start, group_triangles);
+    std::vector<int> to_split;
+    loop_start.assign(1, 0);
+    loops.clear();
+    for (int g = 0; g < num_groups; ++g) {
+      const int* first = group_triangles.data() + group_start[g];
+      const int* last = group_triangles.data() + group_start[g + 1];
+      if (!AppendBoundaryLoop(exact, group_of, first, last, edges, loops)) to_split.push_back(g);
+      loop_start.push_back(static_cast<int>(loops.size()));
+    }
+    if (to_split.empty()) {
+      for (int v = 0; v < num_points; ++v) {
+        incident.clear();
+        for (int k = exact.fan_start[v]; k < exact.fan_start[v + 1]; ++k) {
+          incident.push_back(group_of[exact.fan[k]]);
+        }
+        std::sort(incident.begin(), incident.end());
+        corner[v] = std::unique(incident.begin(), incident.end()) - incident.begin() >= 3;
+      }
+      for (int g = 0; g < num_groups; ++g) {
+        const auto corners = std::count_if(loops.begin() + loop_start[g],
+                                           loops.begin() + loop_start[g + 1],
+                                           [&](int v) { return corner[v] != 0; });
+        if (corners >= 3) continue;
+        to_split.push_back(g);
+        for (int j = loop_start[g]; j < loop_start[g + 1]; ++j) {
+          const int v = loops[j];
+          for (int k = exact.fan_start[v]; k < exact.fan_start[v + 1]; ++k) {
+            to_split.push_back(group_of[exact.fan[k]]);
+          }
+        }
+      }
+    }
+    if (to_split.empty()) break;
+    std::sort(to_split.begin(), to_split.end());
+    to_split.erase(std::unique(to_split.begin(), to_split.end()), to_split.end());
+    for (int g : to_split) {
+      for (int k = group_start[g] + 1; k < group_start[g + 1]; ++k) {
+        group_of[group_triangles[k]] = num_groups++;
+      }
+    }
+  }
+  std::vector<int> new_index(num_points, -1);
+  ConvexHull hull;
+  for (int v = 0; v < num_points; ++v) {
+    if (!corner[v]) continue;
+    new_index[v] = static_cast<int>(hull.vertices.size());
+    hull.vertices.push_back(exact.points[v]);
+  }
+
+  // per face: corner polygon, area-weighted normal, offset over every hull vertex
+  hull.faces.resize(num_groups);
+  hull.normals.resize(num_groups);
+  hull.offsets.resize(num_groups);
+  std::vector<int> occurrences(hull.vertices.size(), 0);
+  for (int g = 0; g < num_groups; ++g) {
+    std::vector<int>& polygon = hull.faces[g];
+    for (int j = loop_start[g]; j < loop_start[g + 1]; ++j) {
+      if (new_index[loops[j]] < 0) continue;
+      polygon.push_back(new_index[loops[j]]);
+      ++occurrences[polygon.back()];
+    }
+    ECPSIM_DEMAND(polygon.size() >= 3);
+    Eigen::Vector3d area_normal = Eigen::Vector3d::Zero();
+    for (int k = group_start[g]; k < group_start[g + 1]; ++k) {
+      area_normal += area_normals[group_triangles[k]];
+    }
+    const double norm = area_normal.norm();
+    ECPSIM_DEMAND(norm > 0);
+    const Eigen::Vector3d n = area_normal / norm;
+    int start = loops[loop_start[g]];
+    for (int j = loop_start[g]; j < loop_start[g + 1]; ++j) {
+      if (n.dot(exact.points[loops[j]]) > n.dot(exact.points[start])) start = loops[j];
+    }
+    hull.normals[g] = n;
+    // an unmerged triangle's plane supports the exact hull already; a merged face's normal is
+    // an average, so its outermost vertex is searched for
+    const bool single = group_start[g + 1] - group_start[g] == 1;
+    hull.offsets[g] = single ? n.dot(exact.points[start]) : MaxAlong(exact, n, start);
+  }
+
+  // adjacency from the polygons: each hull edge is walked once in each direction, so the
+  // outgoing edges list every neighbour once; faces arrive in increasing order
+  hull.vertex_faces.resize(hull.vertices.size());
+  hull.vertex_neighbors.resize(hull.vertices.size());
+  for (std::size_t v = 0; v < hull.vertices.size(); ++v) {
+    hull.vertex_faces[v].reserve(occurrences[v]);
+    hull.vertex_neighbors[v].reserve(occurrences[v]);
+  }
+  for (int f = 0; f < num_groups; ++f) {
+    const std::vector<int>& polygon = hull.faces[f];
+    for (std::size_t k = 0; k < polygon.size(); ++k) {
+      hull.vertex_faces[polygon[k]].push_back(f);
+      hull.vertex_neighbors[polygon[k]].push_back(polygon[(k + 1) % polygon.size()]);
+    }
+  }
+  for (std::size_t v = 0; v < hull.vertices.size(); ++v) {
+    std::sort(hull.vertex_neighbors[v].begin(), hull.vertex_neighbors[v].end());
+    ECPSIM_DEMAND(hull.vertex_faces[v].size() >= 3);
+  }
+  return hull;
+}
+
+ConvexHull TranslateHull(const ConvexHull& hull, const Eigen::Vector3d& offset) {
+  ConvexHull moved = hull;
+  for (Eigen::Vector3d& v : moved.vertices) v += offset;
+  for (std::size_t i = 0; i < moved.offsets.size(); ++i) {
+    moved.offsets[i] += moved.normals[i].dot(offset);
+  }
+  return moved;
+}
+
+TriangleMesh TriangulateHull(const ConvexHull& hull) {
+  TriangleMesh mesh;
+  mesh.vertices = hull.vertices;
+  // a fan from the first corner is valid because every face is a convex polygon
+  for (const std::vector<int>& polygon : hull.faces) {
+    for (std::size_t k = 1; k + 1 < polygon.size(); ++k) {
+      mesh.triangles.emplace_back(polygon[0], polygon[k], polygon[k + 1]);
+    }
+  }
+  return mesh;
+}
+
+std::vector<Eigen::Vector2d> ComputeConvexHull2D(const std::vector<Eigen::Vector2d>& points) {
+  std::vector<Point2> input;
+  input.reserve(points.size());
+  for (const Eigen::Vector2d& p : points) {
+    ECPSIM_DEMAND(p.allFinite());
+    input.emplace_back(p.x(), p.y());
+  }
+  // convex_hull_2 returns the extreme points counter-clockwise: one point if all coincide, the
+  // two ends if all are collinear
+  std::vector<Point2> extreme;
+  CGAL::convex_hull_2(input.begin(), input.end(), std::back_inserter(extreme));
+  std::vector<Eigen::Vector2d> hull;
+  hull.reserve(extreme.size());
+  for (const Point2& p : extreme) hull.emplace_back(p.x(), p.y());
+  return hull;
+}
+
+}  // namespace ecpsim::geometry

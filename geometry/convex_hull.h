@@ -21,6 +21,14 @@ struct ConvexHull {
   std::vector<std::vector<int>> vertex_neighbors;  // vertices joined to each vertex by a hull edge
 };
 
+/// Relative tolerance for merging coplanar hull triangles, as a fraction of the bounding-box
+/// diagonal: float-exported meshes carry ~6e-8 relative rounding per coordinate (up to ~2e-7 in a
+/// vertex's distance to a plane through others), so 1e-6 merges that noise with margin while
+/// staying far below any modelled feature (1 µm on a 1 m body). A merged face's plane is its
+/// area-weighted normal at the outermost vertex, so its corners may lie up to a few tolerances
+/// inside it; exactly coplanar input keeps exact planes.
+inline constexpr double kCoplanarTolerance = 1e-6;  // dimensionless, × bounding-box diagonal
+
 /// Convex hull of `points` with exact predicates. Triangles whose planes agree within
 /// kCoplanarTolerance × (bounding-box diagonal) are merged into one polygonal face, so a cube read
 /// from a file with float noise has exactly 6 faces. Offsets are taken as max_v n_i · v over the

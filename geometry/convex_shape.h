@@ -49,7 +49,7 @@ class PolyhedralShape final : public ConvexShape {
   double Value(int i, const Eigen::Vector3d& y) const override;
   Eigen::Vector3d Gradient(int i, const Eigen::Vector3d& y) const override;
   Eigen::Matrix3d Hessian(int i, const Eigen::Vector3d& y) const override;
-  bool IsLinear(int i) const override { return true; }
+  bool IsLinear(int) const override { return true; }
   Eigen::Vector3d Support(const Eigen::Vector3d& direction) const override;
   /// Support by hill climbing over vertex_neighbors from the last support vertex found (amortized
   /// O(1) per query for slowly moving directions), then the faces of `rings` rings around it.
@@ -66,8 +66,12 @@ class PolyhedralShape final : public ConvexShape {
 /// Axis-aligned box centred at the origin with the given half extents (6 linear constraints).
 std::shared_ptr<PolyhedralShape> MakeBox(const Eigen::Vector3d& half_extents);
 
-/// A half-space n · x ≤ d (one linear constraint); `normal` is normalized. Used for the ground and
-/// tilted planes as the convex body G.
+/// A half-space n · x ≤ d (one linear constraint); `normal` is normalized and `offset` is d for the
+/// unit normal (metres). Used for the ground and tilted planes as the convex body G. Its hull()
+/// has one normal and offset and no vertices or faces; Support returns the foot point d · n for
+/// every direction (the set is unbounded in all but n); Tessellate returns a 10 m square slab,
+/// 0.1 m thick, under the plane, centred on the foot point.
+/// @throws InputError for a non-finite or zero normal or a non-finite offset.
 std::shared_ptr<PolyhedralShape> MakeHalfSpace(const Eigen::Vector3d& normal, double offset);
 
 /// Sphere of `radius` centred at the origin: f = (|y|² − R²)/(2R).

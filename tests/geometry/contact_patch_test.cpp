@@ -1,0 +1,277 @@
+#include "geometry/contact_patch.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+#include <gtest/gtest.h>
+
+#include "geometry/paper_bodies.h"
+#include "tests/geometry/test_meshes.h"
+
+namespace ecpsim::geometry {
+namespace {
+
+using testing::MakeBoxMesh;
+
+const Plane kGround;  // z = 0, normal +z
+
+// area of a planar polygon in 3-D, positive when counter-clockwise about +z
+double AreaAboutZ(const std::vector<Eigen::Vector3d>& polygon) {
+  Eigen::Vector3d twice = Eigen::Vector3d::Zero();
+  for (std::size_t k = 0; k < polygon.size(); ++k) {
+    twice += polygon[k].cross(polygon[(k + 1) % polygon.size()]);
+  }
+  return twice.z() / 2;
+}
+
+// the pose that puts the mesh's lowest vertex (after `R`) on z = 0
+Eigen::Isometry3d RestOnGround(const TriangleMesh& mesh, const Eigen::Matrix3d& R) {
+  double lowest = 1e300;
+  for (const Eigen::Vector3d& v : mesh.vertices) lowest = std::min(lowest, (R * v).z());
+  Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+  X.linear() = R;
+  X.translation() = Eigen::Vector3d(0, 0, -lowest);
+  return X;
+}
+
+// The desk on its four feet: four 0.06 m squares, their hull the 0.5 m top outline.
+TEST(ContactPatchTest, DeskFlatIsFourSquaresInASquareHull) {
+  const ContactPatch patch = ExtractContactPatch(MakeDeskMesh(), Eigen::Isometry3d::Identity(), kGround);
+  ASSERT_EQ(patch.polygons.size(), 4u);
+  for (const auto& foot : patch.polygons) {
+    EXPECT_EQ(foot.size(), 4u);
+    EXPECT_NEAR(AreaAboutZ(foot), 0.0036, 1e-15);
+  }
+  EXPECT_TRUE(patch.segments.empty());
+  EXPECT_TRUE(patch.points.empty());
+  ASSERT_EQ(patch.hull.size(), 4u);
+  for (const Eigen::Vector3d& corner : patch.hull) {
+    EXPECT_NEAR(std::abs(corner.x()), 0.25, 1e-12);
+    EXPECT_NEAR(std::abs(corner.y()), 0.25, 1e-12);
+    EXPECT_EQ(corner.z(), 0.0);
+  }
+  EXPECT_GT(AreaAboutZ(patch.hull), 0.0);
+  EXPECT_NEAR(patch.area, 0.25, 1e-12);
+  EXPECT_NEAR(patch.feature_area, 4 * 0.0036, 1e-15);
+  EXPECT_EQ(patch.mode, ContactMode::kNonConvexPatch);
+  EXPECT_STREQ(ContactModeName(patch.mode), "non-convex patch");
+}
+
+// The dumbbell on its side (axis along x, centre at height R): each end disc touches along a
+// 0.06 m line; together they span the 0.3 m length with a 0.18 m gap.
+TEST(ContactPatchTest, DumbbellOnItsSideIsTwoCollinearSegments) {
+  const DumbbellParams params;
+  Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+  X.translation() = Eigen::Vector3d(0, 0, params.radius);
+  const ContactPatch patch = ExtractContactPatch(MakeDumbbellMesh(params), X, kGround);
+  EXPECT_TRUE(patch.polygons.empty());
+  EXPECT_TRUE(patch.points.empty());
+  ASSERT_EQ(patch.segments.size(), 2u);
+  for (const auto& segment : patch.segments) {
+    EXPECT_NEAR((segment[1] - segment[0]).norm(), 0.06, 1e-12);
+  }
+  ASSERT_EQ(patch.hull.size(), 2u);
+  EXPECT_NEAR((patch.hull[1] - patch.hull[0]).norm(), 0.3, 1e-12);
+  EXPECT_EQ(patch.area, 0.0);
+  EXPECT_EQ(patch.mode, ContactMode::kNonConvexLine);
+  // the middle of the gap is in the hull, a point beside the line is not
+  EXPECT_TRUE(PatchHullContains(patch, kGround, {0, 0, 0}, 1e-9));
+  EXPECT_FALSE(PatchHullContains(patch, kGround, {0, 2e-6, 0}, 1e-6));
+  EXPECT_FALSE(PatchHullContains(patch, kGround, {0.15 + 2e-6, 0, 0}, 1e-6));
+  EXPECT_TRUE(PatchHullContains(patch, kGround, {0.15 + 0.5e-6, 0, 0}, 1e-6));
+}
+
+TEST(ContactPatchTest, BoxFlatOnEdgeAndOnCorner) {
+  const TriangleMesh box = MakeBoxMesh({-0.1, -0.2, 0}, {0.1, 0.2, 0.3});
+  const ContactPatch flat = ExtractContactPatch(box, Eigen::Isometry3d::Identity(), kGround);
+  ASSERT_EQ(flat.polygons.size(), 1u);
+  EXPECT_EQ(flat.polygons[0].size(), 4u);
+  EXPECT_NEAR(flat.area, 0.08, 1e-15);
+  EXPECT_NEAR(flat.feature_area, 0.08, 1e-15);
+  EXPECT_EQ(flat.mode, ContactMode::kConvexPatch);
+
+  // on the edge x ∈ [−0.1, 0.1] after a 45° roll about x
+  const Eigen::Matrix3d roll = Eigen::AngleAxisd(0.25 * EIGEN_PI, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  const ContactPatch edge = ExtractContactPatch(box, RestOnGround(box, roll), kGround);
+  EXPECT_TRUE(edge.polygons.empty());
+  ASSERT_EQ(edge.segments.size(), 1u);
+  EXPECT_NEAR((edge.segments[0][1] - edge.segments[0][0]).norm(), 0.2, 1e-12);
+  EXPECT_EQ(edge.hull.size(), 2u);
+  EXPECT_EQ(edge.mode, ContactMode::kLine);
+
+  // on a corner after a generic rotation
+  const Eigen::Matrix3d tilt = (Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitX()) *
+                                Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitY()))
+                                   .toRotationMatrix();
+  const Eigen::Isometry3d X_corner = RestOnGround(box, tilt);
+  const ContactPatch corner = ExtractContactPatch(box, X_corner, kGround);
+  ASSERT_EQ(corner.points.size(), 1u);
+  EXPECT_EQ(corner.hull.size(), 1u);
+  EXPECT_EQ(corner.mode, ContactMode::kPoint);
+  EXPECT_TRUE(PatchHullContains(corner, kGround, corner.points[0], 1e-9));
+  EXPECT_FALSE(PatchHullContains(corner, kGround, corner.points[0] + Eigen::Vector3d(2e-6, 0, 0), 1e-6));
+  EXPECT_FALSE(PatchHullContains(corner, kGround, corner.points[0] + Eigen::Vector3d(0, 0, 2e-6), 1e-6));
+}
+
+// The T-bar flat is its T outline (area 0.4 × 0.1 + 0.3 × 0.1 = 0.07) in a hexagonal hull
+// (bar 0.04 + trapezoid (0.4 + 0.1)/2 × 0.3 = 0.075, total 0.115); tilted about the hull edge
+// from a bar corner to a stem-tip corner it rests on those two corners only.
+TEST(ContactPatchTest, TBarFlatAndOnTwoCorners) {
+  const TriangleMesh tbar = MakeTBarMesh();
+  const ContactPatch flat = ExtractContactPatch(tbar, Eigen::Isometry3d::Identity(), kGround);
+  ASSERT_EQ(flat.polygons.size(), 1u);
+  EXPECT_EQ(flat.polygons[0].size(), 8u);
+  EXPECT_NEAR(AreaAboutZ(flat.polygons[0]), 0.07, 1e-15);
+  EXPECT_NEAR(flat.feature_area, 0.07, 1e-15);
+  EXPECT_EQ(flat.hull.size(), 6u);
+  EXPECT_NEAR(flat.area, 0.115, 1e-15);
+  EXPECT_EQ(flat.mode, ContactMode::kNonConvexPatch);
+
+  // the bar's bottom-right corner and the stem tip's right corner (lowest y, largest x)
+  Eigen::Vector3d bar_corner(-1e300, 1e300, 0);
+  Eigen::Vector3d stem_corner(-1e300, 1e300, 0);
+  double y_min = 1e300;
+  for (const Eigen::Vector3d& v : tbar.vertices) y_min = std::min(y_min, v.y());
+  for (const Eigen::Vector3d& v : tbar.vertices) {
+    if (v.z() != 0) continue;
+    if (v.x() == 0.2 && v.y() < bar_corner.y()) bar_corner = v;
+    if (v.y() == y_min && v.x() > stem_corner.x()) stem_corner = v;
+  }
+  ASSERT_EQ(bar_corner.x(), 0.2);
+  const Eigen::Vector3d axis = (stem_corner - bar_corner).normalized();
+  for (double angle : {0.1, -0.1}) {
+    Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+    X.translate(bar_corner).rotate(Eigen::AngleAxisd(angle, axis)).translate(-bar_corner);
+    // the sense of rotation that lifts the rest of the bar
+    double lowest = 1e300;
+    for (const Eigen::Vector3d& v : tbar.vertices) {
+      if ((v - bar_corner).norm() > 1e-12 && (v - stem_corner).norm() > 1e-12) {
+        lowest = std::min(lowest, (X * v).z());
+      }
+    }
+    if (lowest < 0) continue;
+    const ContactPatch two = ExtractContactPatch(tbar, X, kGround);
+    EXPECT_EQ(two.points.size(), 2u);
+    EXPECT_TRUE(two.segments.empty());
+    ASSERT_EQ(two.hull.size(), 2u);
+    EXPECT_NEAR((two.hull[1] - two.hull[0]).norm(), (stem_corner - bar_corner).norm(), 1e-12);
+    EXPECT_EQ(two.mode, ContactMode::kTwoPoint);
+    EXPECT_TRUE(PatchHullContains(two, kGround, 0.5 * (X * bar_corner + X * stem_corner), 1e-9));
+    return;
+  }
+  FAIL() << "no rotation about the hull edge lifts the T-bar";
+}
+
+// A box tilted about its near bottom edge: the far edge 0.5 × tolerance up still touches (a
+// convex patch), 2 × tolerance up it does not (a line).
+TEST(ContactPatchTest, ToleranceDecidesWhatTouches) {
+  const TriangleMesh box = MakeBoxMesh({-0.1, -0.2, 0}, {0.1, 0.2, 0.3});
+  for (const double rise : {0.5, 2.0}) {
+    const double angle = std::asin(rise * kContactPatchTolerance / 0.4);
+    Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+    X.translate(Eigen::Vector3d(0, -0.2, 0))
+        .rotate(Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitX()))
+        .translate(Eigen::Vector3d(0, 0.2, 0));
+    const ContactPatch patch = ExtractContactPatch(box, X, kGround);
+    if (rise < 1) {
+      EXPECT_EQ(patch.mode, ContactMode::kConvexPatch);
+      EXPECT_NEAR(patch.area, 0.08, 1e-9);
+    } else {
+      EXPECT_EQ(patch.mode, ContactMode::kLine);
+      EXPECT_EQ(patch.area, 0.0);
+    }
+  }
+  // lifted clear of the plane: nothing
+  Eigen::Isometry3d above = Eigen::Isometry3d::Identity();
+  above.translation().z() = 2 * kContactPatchTolerance;
+  const ContactPatch none = ExtractContactPatch(box, above, kGround);
+  EXPECT_EQ(none.mode, ContactMode::kNone);
+  EXPECT_TRUE(none.hull.empty());
+  EXPECT_FALSE(PatchHullContains(none, kGround, Eigen::Vector3d::Zero(), 1.0));
+}
+
+// Tetrahedra standing on their tips: isolated points, classified by number and layout.
+TEST(ContactPatchTest, IsolatedTipsArePointContacts) {
+  const auto tips = [](const std::vector<Eigen::Vector2d>& where) {
+    TriangleMesh mesh;
+    for (const Eigen::Vector2d& p : where) {
+      const int base = static_cast<int>(mesh.vertices.size());
+      mesh.vertices.emplace_back(p.x(), p.y(), 0);
+      mesh.vertices.emplace_back(p.x() + 0.05, p.y(), 0.1);
+      mesh.vertices.emplace_back(p.x(), p.y() + 0.05, 0.1);
+      mesh.vertices.emplace_back(p.x() - 0.05, p.y() - 0.05, 0.1);
+      mesh.triangles.emplace_back(base, base + 2, base + 1);
+      mesh.triangles.emplace_back(base, base + 3, base + 2);
+      mesh.triangles.emplace_back(base, base + 1, base + 3);
+      mesh.triangles.emplace_back(base + 1, base + 2, base + 3);
+    }
+    return ExtractContactPatch(mesh, Eigen::Isometry3d::Identity(), kGround);
+  };
+  EXPECT_EQ(tips({{0, 0}}).mode, ContactMode::kPoint);
+  EXPECT_EQ(tips({{0, 0}, {1, 0}}).mode, ContactMode::kTwoPoint);
+  const ContactPatch three = tips({{0, 0}, {1, 0}, {0, 1}});
+  EXPECT_EQ(three.mode, ContactMode::kMultiPoint);
+  EXPECT_NEAR(three.area, 0.5, 1e-15);
+  EXPECT_TRUE(PatchHullContains(three, kGround, {0.25, 0.25, 0}, 1e-9));
+  EXPECT_TRUE(PatchHullContains(three, kGround, {0.5, 0.5 + 0.5e-6, 0}, 1e-6));
+  EXPECT_FALSE(PatchHullContains(three, kGround, {0.5, 0.5 + 2e-6, 0}, 1e-6));
+  EXPECT_EQ(tips({{0, 0}, {1, 0}, {2, 0}}).mode, ContactMode::kNonConvexLine);
+  // two tips closer than the tolerance are one point
+  const ContactPatch close = tips({{0, 0}, {0.5e-6, 0}});
+  EXPECT_EQ(close.points.size(), 1u);
+  EXPECT_EQ(close.mode, ContactMode::kPoint);
+}
+
+// A triangle soup (every triangle with its own corners, as STL stores them) welds into the same
+// single square.
+TEST(ContactPatchTest, UnweldedSoupGivesTheSamePatch) {
+  const TriangleMesh box = MakeBoxMesh({-0.1, -0.2, 0}, {0.1, 0.2, 0.3});
+  TriangleMesh soup;
+  for (const Eigen::Vector3i& t : box.triangles) {
+    const int base = static_cast<int>(soup.vertices.size());
+    for (int k = 0; k < 3; ++k) soup.vertices.push_back(box.vertices[t[k]]);
+    soup.triangles.emplace_back(base, base + 1, base + 2);
+  }
+  const ContactPatch patch = ExtractContactPatch(soup, Eigen::Isometry3d::Identity(), kGround);
+  ASSERT_EQ(patch.polygons.size(), 1u);
+  EXPECT_EQ(patch.polygons[0].size(), 4u);
+  EXPECT_EQ(patch.mode, ContactMode::kConvexPatch);
+}
+
+// A tilted plane: the box resting on x + z = 0.1 (normal (1, 0, 1)/√2) gives its face there.
+TEST(ContactPatchTest, TiltedPlaneUsesItsOwnFrame) {
+  const TriangleMesh box = MakeBoxMesh({-0.1, -0.2, 0}, {0.1, 0.2, 0.3});
+  Plane plane;
+  plane.normal = Eigen::Vector3d(-1, 0, 1).normalized();
+  plane.offset = 0.0;
+  // the box's bottom face (normal −z in B) turned onto −n: rotate −45° about y
+  Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+  X.linear() = Eigen::AngleAxisd(-0.25 * EIGEN_PI, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  const ContactPatch patch = ExtractContactPatch(box, X, plane);
+  EXPECT_EQ(patch.mode, ContactMode::kConvexPatch);
+  EXPECT_NEAR(patch.area, 0.08, 1e-12);
+  for (const Eigen::Vector3d& corner : patch.hull) {
+    EXPECT_NEAR(plane.normal.dot(corner) - plane.offset, 0.0, 1e-15);
+  }
+  EXPECT_TRUE(PatchHullContains(patch, plane, X * Eigen::Vector3d(0, 0, 0), 1e-12));
+  EXPECT_FALSE(PatchHullContains(patch, plane, X * Eigen::Vector3d(0.1 + 2e-6, 0, 0), 1e-6));
+}
+
+TEST(ContactPatchTest, ModeNames) {
+  const std::vector<std::pair<ContactMode, std::string>> names = {
+      {ContactMode::kNone, "none"},
+      {ContactMode::kPoint, "point"},
+      {ContactMode::kTwoPoint, "two-point"},
+      {ContactMode::kMultiPoint, "multi-point"},
+      {ContactMode::kLine, "line"},
+      {ContactMode::kNonConvexLine, "non-convex line"},
+      {ContactMode::kConvexPatch, "convex patch"},
+      {ContactMode::kNonConvexPatch, "non-convex patch"}};
+  for (const auto& [mode, name] : names) EXPECT_EQ(ContactModeName(mode), name);
+}
+
+}  // namespace
+}  // namespace ecpsim::geometry
