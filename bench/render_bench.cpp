@@ -1,0 +1,135 @@
+// Frames per second of render + PNG (and + MP4) at 1280×720 and 1920×1080, for the desk and a
+// 100k-triangle mesh. Meshes stay in GPU buffers across frames; PNGs encode on a worker thread.
+// Run: build/bench/ecpsim_bench_render --benchmark_repetitions=5 --benchmark_report_aggregates_only
+
+#include <cmath>
+#include <filesystem>
+#include <memory>
+#include <string>
+
+#include <benchmark/benchmark.h>
+#include <fmt/format.h>
+
+#include "render/ffmpeg_pipe.h"
+#include "render/png_sequence_writer.h"
+#include "render/renderer.h"
+#include "tests/render/canonical_frames.h"
+
+namespace ecpsim::render {
+namespace {
+
+constexpr int kDesk = 0, kTorus = 1;
+
+// a torus of 250 × 200 quads = 100 000 triangles (R = 0.3 m, r = 0.08 m) lying on the ground
+geometry::TriangleMesh MakeTorusMesh(int around, int tube) {
+  geometry::TriangleMesh mesh;
+  const double R = 0.3, r = 0.08;
+  for (int i = 0; i < around; ++i) {
+    const double u = 2 * M_PI * i / around;
+    for (int j = 0; j < tube; ++j) {
+      const double v = 2 * M_PI * j / tube;
+      mesh.vertices.emplace_back((R + r * std::cos(v)) * std::cos(u),
+                                 (R + r * std::cos(v)) * std::sin(u), r + r * std::sin(v));
+    }
+  }
+  for (int i = 0; i < around; ++i) {
+    for (int j = 0; j < tube; ++j) {
+      const int a = i * tube + j, b = ((i + 1) % around) * tube + j;
+      const int c = ((i + 1) % around) * tube + (j + 1) % tube, d = i * tube + (j + 1) % tube;
+      mesh.triangles.emplace_back(a, b, c);
+      mesh.triangles.emplace_back(a, c, d);
+    }
+  }
+  return mesh;
+}
+
+const FrameInput& Frame(int scene) {
+  static const FrameInput desk = testing::DeskRestingFlat();
+  static const FrameInput torus = [] {
+    FrameInput frame = testing::GroundFrame();
+    frame.title = "torus, 100k triangles";
+    frame.bodies.push_back(testing::MakeBody(MakeTorusMesh(250, 200),
+                                             Eigen::Isometry3d::Identity()));
+    frame.contacts.push_back(testing::GroundContact(frame.bodies[0]));
+    return frame;
+  }();
+  return scene == kDesk ? desk : torus;
+}
+
+std::string OutputDir(const std::string& name) {
+  const std::string dir =
+      (std::filesystem::temp_directory_path() / "ecpsim_render_bench" / name).string();
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+RenderSettings Settings(const benchmark::State& state) {
+  RenderSettings settings;
+  settings.width = static_cast<int>(state.range(1));
+  settings.height = static_cast<int>(state.range(2));
+  settings.supersample = 2;
+  return settings;
+}
+
+void Label(benchmark::State& state, const char* what) {
+  state.SetLabel(fmt::format("{} {} {}x{} SSAA 2x2", what,
+                             state.range(0) == kDesk ? "desk" : "torus100k", state.range(1),
+                             state.range(2)));
+  state.counters["fps"] = benchmark::Counter(static_cast<double>(state.iterations()),
+                                             benchmark::Counter::kIsRate);
+}
+
+// rendering alone (draw + MSAA resolve + read-back)
+void BM_Render(benchmark::State& state) {
+  Renderer renderer(Settings(state));
+  const FrameInput& frame = Frame(static_cast<int>(state.range(0)));
+  renderer.Render(frame);  // warm-up: shaders, GPU buffers
+  for (auto _ : state) benchmark::DoNotOptimize(renderer.Render(frame));
+  Label(state, "render");
+}
+
+// render + PNG (zlib level 1) on a worker thread: the `--frames` pipeline
+void BM_RenderPng(benchmark::State& state) {
+  Renderer renderer(Settings(state));
+  const FrameInput& frame = Frame(static_cast<int>(state.range(0)));
+  renderer.Render(frame);
+  PngSequenceWriter writer(OutputDir("png"), 1, 2);
+  for (auto _ : state) writer.Add(renderer.Render(frame));
+  writer.Finish();
+  Label(state, "render+png");
+}
+
+// render + PNG + H.264 through ffmpeg: the `--frames --video` pipeline
+void BM_RenderPngVideo(benchmark::State& state) {
+  const RenderSettings settings = Settings(state);
+  Renderer renderer(settings);
+  const FrameInput& frame = Frame(static_cast<int>(state.range(0)));
+  renderer.Render(frame);
+  const std::string dir = OutputDir("video");
+  PngSequenceWriter writer(dir + "/frames", 1, 2);
+  FfmpegPipe video(dir + "/video.mp4", settings.width, settings.height, 30);
+  for (auto _ : state) {
+    Image image = renderer.Render(frame);
+    video.Write(image);
+    writer.Add(std::move(image));
+  }
+  writer.Finish();
+  video.Finish();
+  Label(state, "render+png+mp4");
+}
+
+void Sizes(benchmark::internal::Benchmark* b) {
+  for (int scene : {kDesk, kTorus}) {
+    b->Args({scene, 1280, 720});
+    b->Args({scene, 1920, 1080});
+  }
+  b->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
+}
+
+BENCHMARK(BM_Render)->Apply(Sizes);
+BENCHMARK(BM_RenderPng)->Apply(Sizes);
+BENCHMARK(BM_RenderPngVideo)->Apply(Sizes);
+
+}  // namespace
+}  // namespace ecpsim::render

@@ -1,0 +1,282 @@
+// The 3-D passes of a frame: ground sheets with a metric grid, shaded bodies, translucent hulls.
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "render/draw_context.h"
+#include "render/gl_api.h"
+
+namespace ecpsim::render {
+namespace {
+
+// key light from above, behind the default camera's left shoulder (world, towards the light)
+const Eigen::Vector3f kLightDirection = Eigen::Vector3f(-0.35f, -0.55f, 1.0f).normalized();
+const Rgba kHullFace(0.45f, 0.62f, 0.95f, 0.22f);
+// hull edges between faces closer than this to coplanar (a tessellated cylinder's facets) are
+// drawn only on the silhouette
+constexpr double kSmoothEdgeCos = 0.94;  // cos(20°)
+
+void SetMatrix(const ShaderProgram& program, const char* name, const Eigen::Matrix4d& m) {
+  const Eigen::Matrix4f f = m.cast<float>();
+  glUniformMatrix4fv(program.Uniform(name), 1, GL_FALSE, f.data());
+}
+
+void SetVector(const ShaderProgram& program, const char* name, const Eigen::Vector3d& v) {
+  glUniform3f(program.Uniform(name), static_cast<float>(v.x()), static_cast<float>(v.y()),
+              static_cast<float>(v.z()));
+}
+
+void UseMeshProgram(DrawContext& context) {
+  const ShaderProgram& program = context.mesh_program;
+  program.Use();
+  SetMatrix(program, "u_view_projection", context.camera.view_projection);
+  SetVector(program, "u_eye", context.camera.eye);
+  glUniform3fv(program.Uniform("u_light_dir"), 1, kLightDirection.data());
+}
+
+void DrawPosedMesh(DrawContext& context, const GpuMesh& mesh, const Eigen::Isometry3d& X_WB,
+                   const Rgba& colour) {
+  const ShaderProgram& program = context.mesh_program;
+  SetMatrix(program, "u_model", X_WB.matrix());
+  const Eigen::Matrix3f R = X_WB.linear().cast<float>();
+  glUniformMatrix3fv(program.Uniform("u_normal_matrix"), 1, GL_FALSE, R.data());
+  glUniform4fv(program.Uniform("u_color"), 1, colour.data());
+  mesh.Draw();
+}
+
+// a unit vector in the plane, along world x where possible so the grid lines up with the axes
+Eigen::Vector3d PlaneAxis(const Eigen::Vector3d& n) {
+  const Eigen::Vector3d seed =
+      std::abs(n.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
+  return (seed - seed.dot(n) * n).normalized();
+}
+
+// the ground's look: sheet and line colours, grid spacings (m) and line widths (image pixels at
+// the camera target's distance)
+const Eigen::Vector3f kSheetColour(0.86f, 0.87f, 0.89f);
+const Eigen::Vector3f kMinorColour(0.74f, 0.76f, 0.80f);
+const Eigen::Vector3f kMajorColour(0.52f, 0.55f, 0.62f);
+constexpr double kMinorSpacing = 0.1;  // m
+constexpr double kMajorSpacing = 1.0;  // m
+constexpr double kMinorWidth = 1.0;    // pixels
+constexpr double kMajorWidth = 1.8;    // pixels
+// minor lines fade out between these on-screen spacings (pixels), before they turn into moiré
+constexpr double kMinorFadeStart = 10, kMinorFadeEnd = 4;
+// the sheet fades into the background from this fraction of its half extent (squared radius)
+constexpr double kFadeStart = 0.3;
+// grid lines are cut into pieces this long so their opacity follows the fades smoothly
+constexpr double kLinePiece = 0.5;  // m
+constexpr int kSheetCells = 16;     // per side
+
+// vertices of position (3 floats) + colour (4 floats)
+class GroundMesh {
+ public:
+  void Vertex(const Eigen::Vector3d& p, const Eigen::Vector3f& rgb, float alpha) {
+    data_.insert(data_.end(), {float(p.x()), float(p.y()), float(p.z()), rgb.x(), rgb.y(),
+                               rgb.z(), alpha});
+  }
+  const std::vector<float>& data() const { return data_; }
+
+ private:
+  std::vector<float> data_;
+};
+
+void DrawGroundMesh(const GroundMesh& mesh) {
+  if (mesh.data().empty()) return;
+  GLuint vao = 0, vbo = 0;
+  glGenVertexArrays(1, &vao);
+  glBindVertexArray(vao);
+  glGenBuffers(1, &vbo);
+  glBindBuffer(GL_ARRAY_BUFFER, vbo);
+  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(mesh.data().size() * sizeof(float)),
+               mesh.data().data(), GL_STREAM_DRAW);
+  glEnableVertexAttribArray(0);
+  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 7 * sizeof(float), nullptr);
+  glEnableVertexAttribArray(1);
+  glVertexAttribPointer(1, 4, GL_FLOAT, GL_FALSE, 7 * sizeof(float),
+                        reinterpret_cast<const void*>(3 * sizeof(float)));
+  glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(mesh.data().size() / 7));
+  glBindVertexArray(0);
+  glDeleteBuffers(1, &vbo);
+  glDeleteVertexArrays(1, &vao);
+}
+
+}  // namespace
+
+void DrawPlanes(const FrameInput& frame, DrawContext& context) {
+  if (frame.planes.empty()) return;
+  const Camera& camera = context.camera;
+  const ShaderProgram& program = context.ground_program;
+  program.Use();
+  SetMatrix(program, "u_view_projection", camera.view_projection);
+  const Eigen::Vector3f background(kBackground[0], kBackground[1], kBackground[2]);
+  // metres per drawing pixel per metre of distance from the eye: 2 tan(fov/2) / height
+  const double pixel_per_distance = 2.0 / (camera.projection(1, 1) * camera.height);
+  const double target_distance = (camera.target - camera.eye).norm();
+  const double pixel_at_target = context.pixel_scale * target_distance * pixel_per_distance;  // m
+
+  for (const PlaneVisual& visual : frame.planes) {
+    const Eigen::Vector3d n = visual.plane.normal.normalized();
+    const Eigen::Vector3d u = PlaneAxis(n);
+    const Eigen::Vector3d v = n.cross(u);
+    // the sheet is centred under the camera target; grid lines are anchored at the world
+    // origin's projection so the grid stays fixed in space
+    const Eigen::Vector3d origin = visual.plane.offset * n;
+    const Eigen::Vector3d centre =
+        camera.target - (n.dot(camera.target) - visual.plane.offset) * n;
+    const double R = visual.half_extent;
+    const auto point = [&](double a, double b) { return Eigen::Vector3d(centre + a * u + b * v); };
+    const auto fade = [&](const Eigen::Vector3d& p) {
+      const double r2 = (p - centre).squaredNorm() / (R * R);
+      return static_cast<float>(std::clamp((r2 - kFadeStart) / (1 - kFadeStart), 0.0, 1.0));
+    };
+
+    // the sheet: a grid of cells whose vertex colours fade into the background
+    GroundMesh sheet;
+    for (int i = 0; i < kSheetCells; ++i) {
+      for (int j = 0; j < kSheetCells; ++j) {
+        const double a0 = -R + 2 * R * i / kSheetCells, a1 = -R + 2 * R * (i + 1) / kSheetCells;
+        const double b0 = -R + 2 * R * j / kSheetCells, b1 = -R + 2 * R * (j + 1) / kSheetCells;
+        const Eigen::Vector3d corners[4] = {point(a0, b0), point(a1, b0), point(a1, b1),
+                                            point(a0, b1)};
+        for (int k : {0, 1, 2, 0, 2, 3}) {
+          const float f = fade(corners[k]);
+          const Eigen::Vector3f colour = kSheetColour * (1 - f) + background * f;
+          sheet.Vertex(corners[k], colour, 1.0f);
+        }
+      }
+    }
+    glEnable(GL_DEPTH_TEST);
+    glDepthMask(GL_TRUE);
+    glDisable(GL_BLEND);
+    // the sheet lies slightly behind its grid lines and behind faces resting on it
+    glEnable(GL_POLYGON_OFFSET_FILL);
+    glPolygonOffset(1.0f, 4.0f);
+    DrawGroundMesh(sheet);
+    glDisable(GL_POLYGON_OFFSET_FILL);
+
+    // grid lines: quads on the plane, a few pixels wide at the target's distance, cut in pieces
+    // whose opacity follows the rim fade and, for minor lines, the on-screen spacing
+    GroundMesh lines;
+    const Eigen::Vector2d c(u.dot(centre - origin), v.dot(centre - origin));
+    const int pieces = static_cast<int>(std::ceil(2 * R / kLinePiece));
+    const auto add_lines = [&](double spacing, double width_px, const Eigen::Vector3f& colour,
+                               bool minor) {
+      const double half_width = 0.5 * width_px * pixel_at_target;
+      for (int axis = 0; axis < 2; ++axis) {
+        const double c_across = axis == 0 ? c.x() : c.y();
+        const Eigen::Vector3d across = axis == 0 ? u : v, along = axis == 0 ? v : u;
+        const long first = static_cast<long>(std::ceil((c_across - R) / spacing));
+        const long last = static_cast<long>(std::floor((c_across + R) / spacing));
+        for (long k = first; k <= last; ++k) {
+          // major lines belong to the major pass only
+          const double at = static_cast<double>(k) * spacing;
+          if (minor && std::abs(std::remainder(at, kMajorSpacing)) < 1e-6) continue;
+          const double offset = at - c_across;
+          const auto alpha = [&](const Eigen::Vector3d& q) {
+            double opacity = 1 - fade(q);
+            if (minor) {
+              const double spacing_px = spacing / ((q - camera.eye).norm() * pixel_per_distance *
+                                                   context.pixel_scale);
+              opacity *= std::clamp(
+                  (spacing_px - kMinorFadeEnd) / (kMinorFadeStart - kMinorFadeEnd), 0.0, 1.0);
+            }
+            return static_cast<float>(opacity);
+          };
+          for (int p = 0; p < pieces; ++p) {
+            const double s0 = -R + 2 * R * p / pieces, s1 = -R + 2 * R * (p + 1) / pieces;
+            const Eigen::Vector3d a = centre + offset * across + s0 * along;
+            const Eigen::Vector3d b = centre + offset * across + s1 * along;
+            const float alpha_a = alpha(a), alpha_b = alpha(b);
+            if (alpha_a <= 0 && alpha_b <= 0) continue;
+            const Eigen::Vector3d w = half_width * across;
+            lines.Vertex(a - w, colour, alpha_a);
+            lines.Vertex(b - w, colour, alpha_b);
+            lines.Vertex(b + w, colour, alpha_b);
+            lines.Vertex(a - w, colour, alpha_a);
+            lines.Vertex(b + w, colour, alpha_b);
+            lines.Vertex(a + w, colour, alpha_a);
+          }
+        }
+      }
+    };
+    add_lines(kMinorSpacing, kMinorWidth, kMinorColour, true);
+    add_lines(kMajorSpacing, kMajorWidth, kMajorColour, false);
+    glDepthMask(GL_FALSE);
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+    glDepthFunc(GL_LEQUAL);
+    DrawGroundMesh(lines);
+    glDepthFunc(GL_LESS);
+    glDepthMask(GL_TRUE);
+    glDisable(GL_BLEND);
+  }
+}
+
+void DrawBodies(const FrameInput& frame, DrawContext& context) {
+  UseMeshProgram(context);
+  glEnable(GL_DEPTH_TEST);
+  glDepthMask(GL_TRUE);
+  glDisable(GL_BLEND);
+  // meshes from files may be wound either way: no culling
+  glDisable(GL_CULL_FACE);
+  for (const BodyVisual& body : frame.bodies) {
+    if (!body.mesh) continue;
+    const Rgba colour(body.colour.x(), body.colour.y(), body.colour.z(), 1.0f);
+    DrawPosedMesh(context, context.meshes.Get(body.mesh), body.X_WB, colour);
+  }
+}
+
+void DrawHulls(const FrameInput& frame, DrawContext& context) {
+  if (!frame.show.hull) return;
+
+  // translucent faces: tested against the bodies but not hiding each other; pulled slightly
+  // towards the camera so that hull faces lying on body faces (the desk's top) win cleanly
+  // instead of fighting over depth
+  UseMeshProgram(context);
+  glEnable(GL_DEPTH_TEST);
+  glDepthMask(GL_FALSE);
+  glEnable(GL_POLYGON_OFFSET_FILL);
+  glPolygonOffset(-1.0f, -4.0f);
+  glEnable(GL_BLEND);
+  glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+  for (const BodyVisual& body : frame.bodies) {
+    if (!body.hull || body.hull->mesh.triangles.empty()) continue;
+    // the aliasing pointer shares the hull's ownership, so the cache tracks the hull's lifetime
+    const std::shared_ptr<const geometry::TriangleMesh> mesh(body.hull, &body.hull->mesh);
+    DrawPosedMesh(context, context.meshes.Get(mesh), body.X_WB, kHullFace);
+  }
+  glDisable(GL_POLYGON_OFFSET_FILL);
+  glDepthMask(GL_TRUE);
+
+  // feature edges (sharp, or on the silhouette) on top; edges whose faces both turn away from
+  // the camera fainter and thinner
+  OverlayBatch back, front;
+  const double width = 1.5 * context.pixel_scale;
+  for (const BodyVisual& body : frame.bodies) {
+    if (!body.hull) continue;
+    for (const HullEdge& edge : body.hull->edges) {
+      const Eigen::Vector3d a = body.X_WB * edge.a, b = body.X_WB * edge.b;
+      const Eigen::Vector3d to_eye = context.camera.eye - 0.5 * (a + b);
+      const bool left = (body.X_WB.linear() * edge.n_left).dot(to_eye) > 0;
+      const bool right = (body.X_WB.linear() * edge.n_right).dot(to_eye) > 0;
+      const bool sharp = edge.n_left.dot(edge.n_right) < kSmoothEdgeCos;
+      if (!sharp && left == right) continue;
+      const bool visible = left || right;
+      Pixel pa, pb;
+      if (!context.camera.ToPixel(a, &pa) || !context.camera.ToPixel(b, &pb)) continue;
+      pa.z() = pb.z() = 0;
+      if (visible) {
+        front.Segment(pa, pb, width, palette::kHullEdge);
+      } else {
+        back.Segment(pa, pb, 0.7 * width, palette::kHullBackEdge);
+      }
+    }
+  }
+  UseOverlayProgram(context, false);
+  context.overlay.Draw(back);
+  context.overlay.Draw(front);
+}
+
+}  // namespace ecpsim::render

@@ -1,0 +1,125 @@
+#include "render/png_writer.h"
+
+#include <atomic>
+#include <cerrno>
+#include <csetjmp>
+#include <cstdio>
+#include <cstring>
+#include <string>
+
+#include <png.h>
+#include <unistd.h>
+#include <fmt/format.h>
+
+#include "geometry/errors.h"
+
+namespace ecpsim::render {
+namespace {
+
+// distinguishes temporary files of concurrent writers in one process (threads) and across processes
+std::atomic<unsigned long> temp_counter{0};
+
+struct ErrorState {
+  std::jmp_buf jump;
+  char message[256] = "";
+};
+
+void OnPngError(png_structp png, png_const_charp message) {
+  auto* state = static_cast<ErrorState*>(png_get_error_ptr(png));
+  std::snprintf(state->message, sizeof(state->message), "%s", message);
+  std::longjmp(state->jump, 1);
+}
+
+void OnPngWarning(png_structp, png_const_charp) {}
+
+// writes with libpng's classic API (the simplified API has no compression level); returns an error
+// message, empty on success. No C++ objects with destructors live across the setjmp.
+std::string WriteFile(std::FILE* file, const Image& image, int compression) {
+  ErrorState state;
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &state, OnPngError, OnPngWarning);
+  if (png == nullptr) return "libpng could not allocate a writer";
+  png_infop info = png_create_info_struct(png);
+  if (info == nullptr) {
+    png_destroy_write_struct(&png, nullptr);
+    return "libpng could not allocate a writer";
+  }
+  if (setjmp(state.jump)) {
+    png_destroy_write_struct(&png, &info);
+    return state.message;
+  }
+  png_init_io(png, file);
+  png_set_compression_level(png, compression);
+  // the "sub" filter alone is nearly as small as adaptive filtering for renders, and much faster
+  png_set_filter(png, PNG_FILTER_TYPE_BASE, compression <= kFastPngCompression ? PNG_FILTER_SUB
+                                                                               : PNG_ALL_FILTERS);
+  png_set_IHDR(png, info, static_cast<png_uint_32>(image.width),
+               static_cast<png_uint_32>(image.height), 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
+               PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  png_write_info(png, info);
+  for (int y = 0; y < image.height; ++y) {
+    png_write_row(png, image.rgb.data() + static_cast<size_t>(y) * image.width * 3);
+  }
+  png_write_end(png, nullptr);
+  png_destroy_write_struct(&png, &info);
+  return "";
+}
+
+}  // namespace
+
+void WritePng(const std::string& path, const Image& image, int compression) {
+  if (image.width <= 0 || image.height <= 0 ||
+      image.rgb.size() != static_cast<size_t>(image.width) * image.height * 3) {
+    throw InputError(fmt::format("PNG '{}': image {}x{} with {} bytes: expected a non-empty "
+                                 "image of width × height × 3 bytes",
+                                 path, image.width, image.height, image.rgb.size()));
+  }
+  if (compression < 0 || compression > 9) {
+    throw InputError(fmt::format("PNG '{}': compression = {}: expected a zlib level 0 to 9", path,
+                                 compression));
+  }
+  // the temporary file sits next to the target so that rename() stays on one file system
+  const std::string temp =
+      fmt::format("{}.tmp-{}-{}", path, static_cast<long>(::getpid()), temp_counter++);
+  std::FILE* file = std::fopen(temp.c_str(), "wb");
+  if (file == nullptr) {
+    throw InputError(fmt::format("cannot write PNG '{}': {}", path, std::strerror(errno)));
+  }
+  std::string error = WriteFile(file, image, compression);
+  if (std::fclose(file) != 0 && error.empty()) error = std::strerror(errno);
+  if (error.empty() && std::rename(temp.c_str(), path.c_str()) != 0) error = std::strerror(errno);
+  if (!error.empty()) {
+    std::remove(temp.c_str());
+    throw InputError(fmt::format("cannot write PNG '{}': {}", path, error));
+  }
+}
+
+Image ReadPng(const std::string& path) {
+  // the system's reason for a missing or unreadable file is clearer than libpng's
+  std::FILE* probe = std::fopen(path.c_str(), "rb");
+  if (probe == nullptr) {
+    throw InputError(fmt::format("cannot read PNG '{}': {}", path, std::strerror(errno)));
+  }
+  std::fclose(probe);
+
+  png_image png;
+  std::memset(&png, 0, sizeof(png));
+  png.version = PNG_IMAGE_VERSION;
+  if (!png_image_begin_read_from_file(&png, path.c_str())) {
+    const std::string reason = png.message;
+    png_image_free(&png);
+    throw InputError(fmt::format("cannot read PNG '{}': {}", path, reason));
+  }
+  png.format = PNG_FORMAT_RGB;
+  Image image;
+  image.width = static_cast<int>(png.width);
+  image.height = static_cast<int>(png.height);
+  image.rgb.resize(PNG_IMAGE_SIZE(png));
+  if (!png_image_finish_read(&png, nullptr, image.rgb.data(), 0, nullptr)) {
+    const std::string reason = png.message;
+    png_image_free(&png);
+    throw InputError(fmt::format("cannot read PNG '{}': {}", path, reason));
+  }
+  return image;
+}
+
+}  // namespace ecpsim::render

@@ -1,0 +1,215 @@
+#include "render/render_target.h"
+
+#include <algorithm>
+#include <stdexcept>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "geometry/errors.h"
+#include "render/gl_api.h"
+
+namespace ecpsim::render {
+namespace {
+
+// beyond 4 × 4 supersamples the cost grows faster than the edges improve
+constexpr int kMaxSupersample = 4;
+
+void CheckComplete(const char* which, int width, int height, int samples) {
+  const GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
+  if (status != GL_FRAMEBUFFER_COMPLETE) {
+    throw std::runtime_error(fmt::format(
+        "the {} framebuffer of {}x{} pixels with {} samples is incomplete (status 0x{:x})", which,
+        width, height, samples, status));
+  }
+}
+
+// Each image pixel (w × h, RGB, top row first) is the rounded mean of its S × S drawing pixels
+// in `bottom_up` (RGBA, bottom row first). S is a template parameter so the loops unroll and
+// vectorize, and the division by S² becomes a multiply (an integer division per byte would cost
+// ~20 ms per 1280×720 frame).
+template <int S>
+void Downsample(const std::uint8_t* bottom_up, int w, int h, std::uint8_t* rgb) {
+  constexpr int kCount = S * S;
+  const size_t row_bytes = static_cast<size_t>(w) * S * 4;
+  const int drawing_rows = h * S;
+  if constexpr (S == 2) {
+    // the default: one pass over each pair of rows, no accumulator
+    for (int y = 0; y < h; ++y) {
+      const std::uint8_t* a = bottom_up + (drawing_rows - 1 - 2 * y) * row_bytes;
+      const std::uint8_t* b = a - row_bytes;
+      std::uint8_t* dst = rgb + static_cast<size_t>(y) * w * 3;
+      for (int x = 0; x < w; ++x) {
+        for (int c = 0; c < 3; ++c) {
+          dst[3 * x + c] = static_cast<std::uint8_t>(
+              (a[8 * x + c] + a[8 * x + 4 + c] + b[8 * x + c] + b[8 * x + 4 + c] + 2) >> 2);
+        }
+      }
+    }
+    return;
+  }
+  std::vector<int> sums(static_cast<size_t>(w) * 3);
+  for (int y = 0; y < h; ++y) {
+    std::fill(sums.begin(), sums.end(), kCount / 2);
+    int* sum = sums.data();
+    for (int r = 0; r < S; ++r) {
+      const std::uint8_t* src = bottom_up + (drawing_rows - 1 - (y * S + r)) * row_bytes;
+      for (int x = 0; x < w; ++x) {
+        for (int c = 0; c < S; ++c) {
+          const std::uint8_t* p = src + 4 * (x * S + c);
+          sum[3 * x] += p[0];
+          sum[3 * x + 1] += p[1];
+          sum[3 * x + 2] += p[2];
+        }
+      }
+    }
+    std::uint8_t* dst = rgb + static_cast<size_t>(y) * w * 3;
+    for (int i = 0; i < 3 * w; ++i) dst[i] = static_cast<std::uint8_t>(sum[i] / kCount);
+  }
+}
+
+}  // namespace
+
+RenderTarget::RenderTarget(int width, int height, int samples, int supersample)
+    : width_(width), height_(height), samples_(samples), supersample_(supersample) {
+  GLint max_size = 0, max_samples = 0;
+  glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_size);
+  glGetIntegerv(GL_MAX_SAMPLES, &max_samples);
+  if (supersample < 1 || supersample > kMaxSupersample) {
+    throw std::runtime_error(fmt::format("supersampling {}x: expected 1 to {}", supersample,
+                                         kMaxSupersample));
+  }
+  if (width < 1 || height < 1 || width * supersample > max_size ||
+      height * supersample > max_size) {
+    throw std::runtime_error(fmt::format(
+        "image size {}x{} with {}x supersampling is not supported: expected 1..{} drawing "
+        "pixels per side", width, height, supersample, max_size));
+  }
+  // from here on the buffers have the drawing size
+  width *= supersample;
+  height *= supersample;
+  if (samples < 1 || samples > max_samples) {
+    throw std::runtime_error(fmt::format(
+        "{} samples per pixel are not supported: expected 1..{}", samples, max_samples));
+  }
+
+  // the multisampled buffer every frame is drawn into
+  glGenFramebuffers(1, &draw_fbo_);
+  glBindFramebuffer(GL_FRAMEBUFFER, draw_fbo_);
+  glGenRenderbuffers(1, &draw_color_);
+  glBindRenderbuffer(GL_RENDERBUFFER, draw_color_);
+  // samples = 1 must be a plain buffer: a one-sample multisampled one cannot be read back
+  if (samples > 1) {
+    glRenderbufferStorageMultisample(GL_RENDERBUFFER, samples, GL_RGBA8, width, height);
+  } else {
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, width, height);
+  }
+  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, draw_color_);
+  glGenRenderbuffers(1, &draw_depth_);
+  glBindRenderbuffer(GL_RENDERBUFFER, draw_depth_);
+  if (samples > 1) {
+    glRenderbufferStorageMultisample(GL_RENDERBUFFER, samples, GL_DEPTH24_STENCIL8, width,
+                                     height);
+  } else {
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH24_STENCIL8, width, height);
+  }
+  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER,
+                            draw_depth_);
+  CheckComplete("multisampled", width, height, samples);
+
+  // the single-sample buffer the samples are averaged into before reading
+  glGenFramebuffers(1, &resolve_fbo_);
+  glBindFramebuffer(GL_FRAMEBUFFER, resolve_fbo_);
+  glGenRenderbuffers(1, &resolve_color_);
+  glBindRenderbuffer(GL_RENDERBUFFER, resolve_color_);
+  glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, width, height);
+  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER,
+                            resolve_color_);
+  CheckComplete("resolve", width, height, 1);
+  Bind();
+}
+
+RenderTarget::~RenderTarget() {
+  glDeleteFramebuffers(1, &resolve_fbo_);
+  glDeleteRenderbuffers(1, &resolve_color_);
+  glDeleteFramebuffers(1, &draw_fbo_);
+  glDeleteRenderbuffers(1, &draw_color_);
+  glDeleteRenderbuffers(1, &draw_depth_);
+}
+
+void RenderTarget::Bind() const {
+  glBindFramebuffer(GL_FRAMEBUFFER, draw_fbo_);
+  glViewport(0, 0, width(), height());
+}
+
+void RenderTarget::Clear(const std::array<float, 4>& rgba) const {
+  Bind();
+  glDisable(GL_SCISSOR_TEST);
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  glDepthMask(GL_TRUE);
+  glStencilMask(0xff);
+  glClearColor(rgba[0], rgba[1], rgba[2], rgba[3]);
+  glClearDepth(1.0);
+  glClearStencil(0);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
+}
+
+void RenderTarget::ClearRect(int x, int y, int w, int h, const std::array<float, 4>& rgba) const {
+  Bind();
+  // OpenGL counts rows from the bottom: the image's row y is GL row height − 1 − y
+  glEnable(GL_SCISSOR_TEST);
+  glScissor(x, height() - y - h, w, h);
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  glDepthMask(GL_TRUE);
+  glStencilMask(0xff);
+  glClearColor(rgba[0], rgba[1], rgba[2], rgba[3]);
+  glClearDepth(1.0);
+  glClearStencil(0);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
+  glDisable(GL_SCISSOR_TEST);
+}
+
+Image RenderTarget::Read() const {
+  const int W = width(), H = height();
+  // resolve the samples; a single-sample buffer is read directly
+  if (samples_ > 1) {
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, draw_fbo_);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, resolve_fbo_);
+    glBlitFramebuffer(0, 0, W, H, 0, 0, W, H, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, resolve_fbo_);
+  } else {
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, draw_fbo_);
+  }
+  // RGBA matches the buffer's format, so Mesa copies it without a per-pixel conversion path
+  // (measured 0.5 ms against 3.6 ms for GL_RGB at 1280×720)
+  glPixelStorei(GL_PACK_ALIGNMENT, 4);
+  readback_.resize(static_cast<size_t>(W) * H * 4);
+  glReadPixels(0, 0, W, H, GL_RGBA, GL_UNSIGNED_BYTE, readback_.data());
+  const std::uint8_t* bottom_up = readback_.data();
+  Bind();
+
+  // glReadPixels returns the bottom row first; Image rows run top to bottom, RGB
+  Image image;
+  image.width = width_;
+  image.height = height_;
+  image.rgb.resize(static_cast<size_t>(width_) * height_ * 3);
+  switch (supersample_) {
+    case 1:
+      Downsample<1>(bottom_up, width_, height_, image.rgb.data());
+      break;
+    case 2:
+      Downsample<2>(bottom_up, width_, height_, image.rgb.data());
+      break;
+    case 3:
+      Downsample<3>(bottom_up, width_, height_, image.rgb.data());
+      break;
+    case 4:
+      Downsample<4>(bottom_up, width_, height_, image.rgb.data());
+      break;
+    default:
+      ECPSIM_DEMAND(false);
+  }
+  return image;
+}
+
+}  // namespace ecpsim::render

@@ -1,0 +1,161 @@
+#include "render/renderer.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "geometry/errors.h"
+#include "render/draw_context.h"
+#include "render/gl_api.h"
+#include "render/gl_context.h"
+
+namespace ecpsim::render {
+namespace {
+
+// limits of the settings: below 16 pixels nothing is legible; 8192 is the common GL maximum
+constexpr int kMinSize = 16, kMaxSize = 8192;
+constexpr int kMaxSamples = 16;
+constexpr int kMaxSupersample = 4;
+// overlays are sized for 480 rows and grow with the image, never shrink below that size
+constexpr double kReferenceHeight = 480;
+constexpr double kFontPixels = 12;  // at pixel_scale 1
+
+void CheckFinite(const Eigen::Vector3d& v, const std::string& what) {
+  if (!v.allFinite()) {
+    throw InputError(fmt::format("frame: {} = ({}, {}, {}): expected finite coordinates", what,
+                                 v.x(), v.y(), v.z()));
+  }
+}
+
+// every value that reaches a vertex buffer must be finite
+void CheckFrame(const FrameInput& frame) {
+  for (size_t i = 0; i < frame.bodies.size(); ++i) {
+    if (!frame.bodies[i].X_WB.matrix().allFinite()) {
+      throw InputError(fmt::format("frame: bodies[{}].X_WB: expected a finite pose", i));
+    }
+  }
+  for (size_t i = 0; i < frame.contacts.size(); ++i) {
+    const ContactVisual& c = frame.contacts[i];
+    const std::string where = fmt::format("contacts[{}]", i);
+    if (c.a1) CheckFinite(*c.a1, where + ".a1");
+    if (c.cm_projection) CheckFinite(*c.cm_projection, where + ".cm_projection");
+    if (c.force) CheckFinite(*c.force, where + ".force");
+    for (const auto& polygon : c.patch.polygons) {
+      for (const auto& p : polygon) CheckFinite(p, where + ".patch.polygons");
+    }
+    for (const auto& s : c.patch.segments) {
+      CheckFinite(s[0], where + ".patch.segments");
+      CheckFinite(s[1], where + ".patch.segments");
+    }
+    for (const auto& p : c.patch.points) CheckFinite(p, where + ".patch.points");
+    for (const auto& p : c.patch.hull) CheckFinite(p, where + ".patch.hull");
+  }
+  if (!std::isfinite(frame.force_scale) || frame.force_scale < 0) {
+    throw InputError(fmt::format("frame: force_scale = {}: expected a finite value ≥ 0 m/N",
+                                 frame.force_scale));
+  }
+  if (!std::isfinite(frame.time)) {
+    throw InputError(fmt::format("frame: time = {}: expected a finite time", frame.time));
+  }
+}
+
+const RenderSettings& Checked(const RenderSettings& settings) {
+  if (settings.width < kMinSize || settings.width > kMaxSize || settings.height < kMinSize ||
+      settings.height > kMaxSize) {
+    throw InputError(fmt::format("resolution {}x{}: expected {} to {} pixels per side",
+                                 settings.width, settings.height, kMinSize, kMaxSize));
+  }
+  if (settings.supersample < 1 || settings.supersample > kMaxSupersample) {
+    throw InputError(fmt::format("supersample = {}: expected 1 (no anti-aliasing) to {}",
+                                 settings.supersample, kMaxSupersample));
+  }
+  if (settings.samples < 1 || settings.samples > kMaxSamples) {
+    throw InputError(fmt::format("samples = {}: expected 1 (no anti-aliasing) to {}",
+                                 settings.samples, kMaxSamples));
+  }
+  return settings;
+}
+
+// drawing pixels per reference pixel: overlays keep their size in the image when supersampled
+double PixelScale(const RenderSettings& settings) {
+  return std::max(1.0, settings.height / kReferenceHeight) * settings.supersample;
+}
+
+}  // namespace
+
+struct Renderer::Impl {
+  explicit Impl(const RenderSettings& s)
+      : settings(Checked(s)),
+        target(settings.width, settings.height, settings.samples, settings.supersample),
+        mesh_program(MakeMeshProgram()),
+        ground_program(MakeGroundProgram()),
+        overlay_program(MakeOverlayProgram()),
+        font(settings.font_path,
+             static_cast<int>(std::lround(kFontPixels * PixelScale(settings)))) {}
+
+  RenderSettings settings;
+  GlContext context;  // constructed before, destroyed after, every GL object below
+  RenderTarget target;
+  ShaderProgram mesh_program;
+  ShaderProgram ground_program;
+  ShaderProgram overlay_program;
+  OverlayDrawer overlay;
+  MeshCache meshes;
+  FontAtlas font;
+};
+
+Renderer::Renderer(const RenderSettings& settings) : impl_(std::make_unique<Impl>(settings)) {}
+
+Renderer::~Renderer() = default;
+
+const RenderSettings& Renderer::settings() const { return impl_->settings; }
+
+std::string Renderer::Description() const {
+  return fmt::format("{}, OpenGL {}", impl_->context.renderer(), impl_->context.version());
+}
+
+int Renderer::CachedMeshCount() const { return impl_->meshes.size(); }
+
+Camera Renderer::FrameCamera(const FrameInput& frame) {
+  CheckFrame(frame);
+  Impl& impl = *impl_;
+  impl.context.MakeCurrent();
+  // automatic framing follows each body's bounding sphere
+  std::vector<BoundingSphere> spheres;
+  for (const BodyVisual& body : frame.bodies) {
+    if (!body.mesh || body.fixed) continue;
+    const GpuMesh& mesh = impl.meshes.Get(body.mesh);
+    spheres.push_back({body.X_WB * mesh.centre(), mesh.radius()});
+  }
+  return MakeCamera(frame.camera, spheres, impl.settings.width, impl.settings.height);
+}
+
+Image Renderer::Render(const FrameInput& frame) {
+  Impl& impl = *impl_;
+  // the same view in drawing pixels (supersampled)
+  Camera camera = FrameCamera(frame);
+  camera.width = impl.target.width();
+  camera.height = impl.target.height();
+  impl.target.Clear(kBackground);
+
+  DrawContext context{camera,
+                      impl.target,
+                      impl.mesh_program,
+                      impl.ground_program,
+                      impl.overlay_program,
+                      impl.overlay,
+                      impl.meshes,
+                      impl.font,
+                      PixelScale(impl.settings)};
+  DrawPlanes(frame, context);
+  DrawBodies(frame, context);
+  DrawHulls(frame, context);
+  DrawContactOverlay(frame, context);
+  DrawContactInset(frame, context);
+  DrawTextOverlay(frame, context);
+  impl.meshes.EndFrame();
+  return impl.target.Read();
+}
+
+}  // namespace ecpsim::render

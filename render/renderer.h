@@ -1,0 +1,55 @@
+#pragma once
+// The offscreen renderer: turns a FrameInput into an Image (bodies, hulls, contact patches, ECPs,
+// inset and text), with meshes kept in GPU buffers across frames.
+
+#include <memory>
+#include <string>
+
+#include "render/camera.h"
+#include "render/font_atlas.h"
+#include "render/frame_input.h"
+#include "render/image.h"
+
+namespace ecpsim::render {
+
+struct RenderSettings {
+  int width = 1280;     // pixels
+  int height = 720;     // pixels
+  int supersample = 2;  // anti-aliasing by drawing at 2× width and height, box-filtered (1 = off)
+  int samples = 1;      // MSAA samples per drawing pixel (1 = off; slow on llvmpipe)
+  std::string font_path = kDefaultFontPath;
+};
+
+/// Owns an OpenGL context and everything on it; render frames of one size with it. Output is a
+/// deterministic function of the FrameInput on a given machine and Mesa build. Not thread-safe:
+/// construct, use and destroy on one thread.
+class Renderer {
+ public:
+  /// @throws InputError for a size outside 16..8192 pixels, supersample outside 1..4, samples
+  ///         outside 1..16, or a missing font; std::runtime_error if no OpenGL context can be
+  ///         made.
+  explicit Renderer(const RenderSettings& settings);
+  ~Renderer();
+  Renderer(const Renderer&) = delete;
+  Renderer& operator=(const Renderer&) = delete;
+
+  /// Draws one frame.
+  /// @throws InputError for non-finite poses, points or camera values in `frame`.
+  Image Render(const FrameInput& frame);
+
+  /// The camera Render would use for `frame`, in image pixels (e.g. to find where a world point
+  /// lands in the image).
+  Camera FrameCamera(const FrameInput& frame);
+
+  const RenderSettings& settings() const;
+  /// "llvmpipe (LLVM 15.0.6, 256 bits), OpenGL 4.5 (Core Profile) Mesa 22.3.6"
+  std::string Description() const;
+  /// Meshes currently held in GPU buffers.
+  int CachedMeshCount() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace ecpsim::render

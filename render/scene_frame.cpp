@@ -1,0 +1,131 @@
+#include "render/scene_frame.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "geometry/errors.h"
+
+namespace ecpsim::render {
+namespace {
+
+// body colours, cycled: warm wood, steel blue, grey, plum, sage
+const Eigen::Vector3f kBodyColours[] = {{0.80f, 0.62f, 0.42f}, {0.55f, 0.70f, 0.85f},
+                                        {0.62f, 0.62f, 0.66f}, {0.70f, 0.55f, 0.75f},
+                                        {0.60f, 0.75f, 0.55f}};
+const Eigen::Vector3f kObstacleColour(0.70f, 0.70f, 0.72f);
+// the heaviest body's weight is drawn as an arrow this many of its bounding radii long
+constexpr double kWeightArrowRadii = 1.0;
+// standard gravity, for the arrow scale of a scene without gravity
+constexpr double kStandardGravity = 9.80665;  // m/s²
+// the ground sheet's half extent
+constexpr double kPlaneHalfExtent = 10;  // m
+// tessellation of smooth obstacles and hulls
+constexpr int kSegments = 48;
+
+std::optional<geometry::Plane> AsPlane(const geometry::ConvexShape& shape) {
+  if (shape.NumConstraints() != 1 || !shape.IsLinear(0)) return std::nullopt;
+  // f(y) = n · y − d with |n| = 1: the gradient is n and f(0) = −d
+  geometry::Plane plane;
+  plane.normal = shape.Gradient(0, Eigen::Vector3d::Zero()).normalized();
+  plane.offset = -shape.Value(0, Eigen::Vector3d::Zero());
+  return plane;
+}
+
+}  // namespace
+
+SceneFrameBuilder::SceneFrameBuilder(const engine::Scene& scene) : scene_(scene) {
+  double max_weight = 0, radius_of_heaviest = 0.1;
+  const double g = scene.gravity.norm() > 0 ? scene.gravity.norm() : kStandardGravity;
+  for (const engine::Body& body : scene.bodies) {
+    meshes_.push_back(std::make_shared<const geometry::TriangleMesh>(body.mesh));
+    hulls_.push_back(body.hull ? std::make_shared<const HullGeometry>(
+                                     MakeHullGeometry(*body.hull, kSegments))
+                               : nullptr);
+    double radius = 0;
+    for (const auto& v : body.mesh.vertices) radius = std::max(radius, v.norm());
+    if (body.mass * g > max_weight) {
+      max_weight = body.mass * g;
+      radius_of_heaviest = std::max(radius, 1e-3);
+    }
+  }
+  if (max_weight > 0) force_scale_ = kWeightArrowRadii * radius_of_heaviest / max_weight;
+  for (const engine::Obstacle& obstacle : scene.obstacles) {
+    planes_.push_back(obstacle.shape ? AsPlane(*obstacle.shape) : std::nullopt);
+    obstacle_meshes_.push_back(
+        obstacle.shape && !planes_.back()
+            ? std::make_shared<const geometry::TriangleMesh>(obstacle.shape->Tessellate(kSegments))
+            : nullptr);
+  }
+}
+
+FrameInput SceneFrameBuilder::Build(const engine::State& state, int iterations) const {
+  if (state.bodies.size() != scene_.bodies.size() ||
+      state.contacts.size() != scene_.contacts.size()) {
+    throw InputError(fmt::format("{}: state with {} bodies and {} contacts: expected {} and {}",
+                                 scene_.source, state.bodies.size(), state.contacts.size(),
+                                 scene_.bodies.size(), scene_.contacts.size()));
+  }
+  FrameInput frame;
+  frame.title = scene_.source;
+  frame.time = state.t;
+  frame.iterations = iterations;
+  frame.force_scale = force_scale_;
+
+  for (size_t i = 0; i < scene_.bodies.size(); ++i) {
+    const engine::BodyState& b = state.bodies[i];
+    if (!b.p_WB.allFinite() || !b.Q_WB.coeffs().allFinite()) {
+      throw InputError(fmt::format("{}: t = {}: body '{}' has a non-finite pose", scene_.source,
+                                   state.t, scene_.bodies[i].name));
+    }
+    BodyVisual body;
+    body.mesh = meshes_[i];
+    body.hull = hulls_[i];
+    body.X_WB = Eigen::Isometry3d::Identity();
+    body.X_WB.linear() = b.Q_WB.normalized().toRotationMatrix();
+    body.X_WB.translation() = b.p_WB;
+    body.colour = kBodyColours[i % (sizeof(kBodyColours) / sizeof(kBodyColours[0]))];
+    frame.bodies.push_back(body);
+  }
+  for (size_t j = 0; j < scene_.obstacles.size(); ++j) {
+    if (planes_[j]) {
+      frame.planes.push_back(PlaneVisual{*planes_[j], kPlaneHalfExtent});
+    } else if (obstacle_meshes_[j]) {
+      BodyVisual obstacle;
+      obstacle.mesh = obstacle_meshes_[j];
+      obstacle.colour = kObstacleColour;
+      obstacle.fixed = true;
+      frame.bodies.push_back(obstacle);
+    }
+  }
+
+  for (size_t k = 0; k < scene_.contacts.size(); ++k) {
+    const engine::ContactPair& pair = scene_.contacts[k];
+    // the scene loader checked the indices
+    ECPSIM_DEMAND(pair.body >= 0 && pair.body < static_cast<int>(scene_.bodies.size()));
+    ECPSIM_DEMAND(pair.obstacle >= 0 && pair.obstacle < static_cast<int>(scene_.obstacles.size()));
+    const engine::ContactState& c = state.contacts[k];
+    const Eigen::Isometry3d& X_WB = frame.bodies[pair.body].X_WB;
+    ContactVisual contact;
+    const auto& plane = planes_[pair.obstacle];
+    if (plane) {
+      contact.plane = *plane;
+      contact.patch = geometry::ExtractContactPatch(*meshes_[pair.body], X_WB, *plane);
+      const Eigen::Vector3d p = X_WB.translation();
+      contact.cm_projection = p - (plane->normal.dot(p) - plane->offset) * plane->normal;
+    } else {
+      // no plane to extract a patch on: the contact frame's plane through a2, for the inset
+      contact.plane.normal = c.n;
+      contact.plane.offset = c.n.dot(c.a2);
+    }
+    if (c.p_n > 0 || contact.patch.mode != geometry::ContactMode::kNone) {
+      contact.a1 = c.a1;
+      contact.force = (c.p_n * c.n + c.p_t * c.t + c.p_o * c.o) / scene_.h;
+    }
+    frame.contacts.push_back(contact);
+  }
+  return frame;
+}
+
+}  // namespace ecpsim::render

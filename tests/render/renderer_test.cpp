@@ -1,0 +1,152 @@
+// The renderer as a whole: determinism, the comparator catching a moved ECP, the pixel path on a
+// known frame, the mesh cache, and bad input.
+
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <string>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "geometry/errors.h"
+#include "render/image_compare.h"
+#include "render/renderer.h"
+#include "tests/render/canonical_frames.h"
+
+namespace ecpsim::render {
+namespace {
+
+using ::testing::HasSubstr;
+using ::testing::ThrowsMessage;
+
+// the golden tests' tolerance (renderer_golden_test.cpp explains the numbers)
+const CompareTolerance kGoldenTolerance{24, 0.0005};
+
+class RendererTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    RenderSettings settings;
+    settings.width = 320;
+    settings.height = 240;
+    renderer_ = std::make_unique<Renderer>(settings);
+  }
+  static void TearDownTestSuite() { renderer_.reset(); }
+  static std::unique_ptr<Renderer> renderer_;
+};
+std::unique_ptr<Renderer> RendererTest::renderer_;
+
+TEST_F(RendererTest, SameInputGivesIdenticalPixels) {
+  const FrameInput frame = testing::DeskRestingFlat();
+  const Image first = renderer_->Render(frame);
+  renderer_->Render(testing::TBarTwoPoint());  // other state in between must not leak
+  const Image second = renderer_->Render(frame);
+  const ImageComparison comparison = CompareImages(first, second, {0, 0.0});
+  EXPECT_EQ(comparison.max_channel_difference, 0);
+  EXPECT_EQ(comparison.differing_pixels, 0);
+}
+
+TEST_F(RendererTest, ComparisonCatchesEcpMovedByAFewPixels) {
+  FrameInput frame = testing::DeskRestingFlat();
+  const Image original = renderer_->Render(frame);
+
+  // move the ECP 1.5 cm along x: check that this is a few pixels in the main view
+  const Camera camera = renderer_->FrameCamera(frame);
+  const Eigen::Vector3d a1 = *frame.contacts[0].a1;
+  const Eigen::Vector3d moved = a1 + Eigen::Vector3d(0.015, 0, 0);
+  Eigen::Vector3d p0, p1;
+  ASSERT_TRUE(camera.ToPixel(a1, &p0));
+  ASSERT_TRUE(camera.ToPixel(moved, &p1));
+  const double shift = (p1 - p0).head<2>().norm();
+  ASSERT_GT(shift, 2.0);
+  ASSERT_LT(shift, 4.0);
+
+  frame.contacts[0].a1 = moved;
+  const ImageComparison comparison =
+      CompareImages(original, renderer_->Render(frame), kGoldenTolerance);
+  RecordProperty("ecp_shift_pixels", std::to_string(shift));
+  RecordProperty("differing", comparison.Summary(kGoldenTolerance));
+  EXPECT_FALSE(comparison.match) << comparison.Summary(kGoldenTolerance);
+  // not just barely: the marker change is at least twice the allowed count of pixels
+  EXPECT_GT(comparison.differing_pixels, 2 * kGoldenTolerance.max_fraction * 320 * 240);
+}
+
+TEST_F(RendererTest, EmptyFrameIsBackgroundEverywhere) {
+  // nothing drawn but the clear colour: every pixel is (0.95, 0.96, 0.97) × 255 rounded
+  FrameInput frame;
+  frame.show.text = false;
+  const Image image = renderer_->Render(frame);
+  ASSERT_EQ(image.width, 320);
+  ASSERT_EQ(image.height, 240);
+  ASSERT_EQ(image.rgb.size(), 320u * 240u * 3u);
+  for (size_t i = 0; i < image.rgb.size(); i += 3) {
+    ASSERT_EQ(image.rgb[i], 242);
+    ASSERT_EQ(image.rgb[i + 1], 245);
+    ASSERT_EQ(image.rgb[i + 2], 247);
+  }
+}
+
+TEST_F(RendererTest, TextOverlayIsTopLeft) {
+  // the text panel is drawn in the top-left corner: rows near the top differ from an empty
+  // frame there, the bottom-left corner does not (a row-order check on the whole render path)
+  FrameInput blank;
+  blank.show.text = false;
+  FrameInput text;
+  text.title = "row order";
+  const Image a = renderer_->Render(blank), b = renderer_->Render(text);
+  const auto differs = [&](int x, int y) {
+    return std::abs(int(a.Pixel(x, y)[0]) - int(b.Pixel(x, y)[0])) > 0;
+  };
+  EXPECT_TRUE(differs(12, 12));    // inside the panel, 8 px margin
+  EXPECT_FALSE(differs(12, 227));  // mirrored position near the bottom
+}
+
+TEST_F(RendererTest, MeshesStayInGpuBuffersAndAreFreedWithTheirBodies) {
+  const FrameInput frame = testing::DeskRestingFlat();
+  renderer_->Render(frame);
+  // the desk mesh and its hull mesh
+  const int before = renderer_->CachedMeshCount();
+  renderer_->Render(frame);
+  EXPECT_EQ(renderer_->CachedMeshCount(), before);
+  {
+    const FrameInput other = testing::TBarTwoPoint();
+    renderer_->Render(other);
+    EXPECT_EQ(renderer_->CachedMeshCount(), before + 2);
+  }
+  // the T-bar's meshes died with `other`; the next frame frees their buffers
+  renderer_->Render(frame);
+  EXPECT_EQ(renderer_->CachedMeshCount(), before);
+}
+
+TEST_F(RendererTest, NonFinitePoseIsAnInputError) {
+  FrameInput frame = testing::DeskRestingFlat();
+  frame.bodies[0].X_WB.translation().x() = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THAT([&] { renderer_->Render(frame); },
+              ThrowsMessage<InputError>(HasSubstr("bodies[0].X_WB")));
+}
+
+TEST_F(RendererTest, NonFiniteEcpIsAnInputError) {
+  FrameInput frame = testing::DeskRestingFlat();
+  frame.contacts[0].a1 = Eigen::Vector3d(0, std::numeric_limits<double>::infinity(), 0);
+  EXPECT_THAT([&] { renderer_->Render(frame); },
+              ThrowsMessage<InputError>(HasSubstr("contacts[0].a1")));
+}
+
+TEST(RendererSettings, BadResolutionIsAnInputError) {
+  RenderSettings settings;
+  settings.width = 0;
+  EXPECT_THAT([&] { Renderer renderer(settings); },
+              ThrowsMessage<InputError>(HasSubstr("resolution 0x720")));
+}
+
+TEST(RendererSettings, MissingFontIsAnInputError) {
+  RenderSettings settings;
+  settings.width = 64;
+  settings.height = 48;
+  settings.font_path = "/nonexistent/font.ttf";
+  EXPECT_THAT([&] { Renderer renderer(settings); },
+              ThrowsMessage<InputError>(HasSubstr("/nonexistent/font.ttf")));
+}
+
+}  // namespace
+}  // namespace ecpsim::render
