@@ -24,4 +24,7 @@ void AddCompareCommand(CLI::App& app);
 /// `ecpsim plot DIR [--scene desk|tbar|dumbbell|generic|auto]`: PNG plots of a run via gnuplot.
 void AddPlotCommand(CLI::App& app);
 
+/// `ecpsim render SCENE --time T -o frame.png`: one frame, simulated up to T.
+void AddRenderCommand(CLI::App& app);
+
 }  // namespace ecpsim::app

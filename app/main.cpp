@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
   ecpsim::app::AddCompareCommand(app);
   ecpsim::app::AddRunCommand(app);
   ecpsim::app::AddDropCommand(app);
+  ecpsim::app::AddRenderCommand(app);
   ecpsim::app::AddPlotCommand(app);
 
   // exit codes: 0 ok, 1 bad input (one line on stderr), 3 solver failure, 4 internal error,

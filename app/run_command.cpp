@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <optional>
 #include <string>
@@ -12,6 +13,7 @@
 #include <fmt/format.h>
 
 #include "app/commands.h"
+#include "app/frame_recorder.h"
 #include "app/simulation_run.h"
 #include "engine/scene_yaml.h"
 
@@ -54,7 +56,39 @@ struct RunOptions {
   std::optional<double> duration;
   std::vector<std::string> overrides;
   std::string model;
+  bool frames = false;
+  bool video = false;
+  std::optional<double> fps;
+  std::optional<int> width, height;
 };
+
+// runs the scene, recording frames when asked; frames and video are finished also when the
+// run stops on a failure, so what was rendered stays valid
+RunSummary RunWithFrames(const engine::Scene& scene, const std::string& out_dir, bool frames,
+                         bool video) {
+  if (!frames && !video) return RunSimulation(scene, out_dir, isatty(fileno(stderr)) == 1);
+  std::error_code error;
+  std::filesystem::create_directories(out_dir, error);
+  FrameRecorder recorder(scene, out_dir, video);
+  RunSummary summary;
+  try {
+    summary = RunSimulation(scene, out_dir, isatty(fileno(stderr)) == 1,
+                            [&](const engine::State& state, int iterations) {
+                              recorder.Observe(state, iterations);
+                            });
+  } catch (...) {
+    try {
+      recorder.Finish();
+    } catch (const std::exception&) {
+      // the run's own error is the one to report
+    }
+    throw;
+  }
+  recorder.Finish();
+  std::printf("%d frames in %s/frames%s\n", recorder.frames(), out_dir.c_str(),
+              video ? fmt::format(" and {}/video.mp4", out_dir).c_str() : "");
+  return summary;
+}
 
 }  // namespace
 
@@ -76,13 +110,26 @@ void AddRunCommand(CLI::App& app) {
                   "contact model: hull (the paper's, default) or planar (sliding only; stops "
                   "with exit code 5 where it does not apply)")
       ->check(CLI::IsMember({"hull", "planar"}));
+  run->add_flag("--frames", options->frames, "also render DIR/frames/frame_NNNNNN.png");
+  run->add_flag("--video", options->video,
+                "also render the frames into DIR/video.mp4 (H.264; needs the ffmpeg program)");
+  run->add_option("--fps", options->fps, "frames per simulated second (default 30)")
+      ->check(kFinitePositive);
+  run->add_option("--width", options->width, "frame width in pixels (default 1280)")
+      ->check(CLI::Range(16, 8192));
+  run->add_option("--height", options->height, "frame height in pixels (default 720)")
+      ->check(CLI::Range(16, 8192));
   run->callback([options] {
     std::vector<std::string> overrides = options->overrides;
     if (!options->model.empty()) overrides.push_back("model=" + options->model);
+    if (options->fps) overrides.push_back(fmt::format("output.fps={}", *options->fps));
+    if (options->width) overrides.push_back(fmt::format("output.width={}", *options->width));
+    if (options->height) overrides.push_back(fmt::format("output.height={}", *options->height));
     if (options->h) overrides.push_back(fmt::format("h={}", *options->h));
     if (options->duration) overrides.push_back(fmt::format("duration={}", *options->duration));
     const engine::Scene scene = engine::LoadScene(options->scene, overrides);
-    const RunSummary summary = RunSimulation(scene, options->out_dir, isatty(fileno(stderr)) == 1);
+    const RunSummary summary =
+        RunWithFrames(scene, options->out_dir, options->frames || options->video, options->video);
     PrintResult(summary, options->out_dir);
   });
 }
@@ -90,6 +137,8 @@ void AddRunCommand(CLI::App& app) {
 void AddDropCommand(CLI::App& app) {
   auto options = std::make_shared<engine::DropOptions>();
   auto out_dir = std::make_shared<std::string>();
+  auto frames = std::make_shared<bool>(false);
+  auto video = std::make_shared<bool>(false);
   CLI::App* drop = app.add_subcommand(
       "drop", "Drop a mesh onto the ground z = 0 (mu = 0.22, e = 1, 1, 0.1 m); writes "
               "DIR/trajectory.csv and DIR/summary.json");
@@ -115,9 +164,11 @@ void AddDropCommand(CLI::App& app) {
   drop->add_option("--scale", options->scale, "mesh units to m, e.g. 0.001 for mm")
       ->capture_default_str()
       ->check(kFinitePositive);
-  drop->callback([options, out_dir] {
+  drop->add_flag("--frames", *frames, "also render DIR/frames/frame_NNNNNN.png");
+  drop->add_flag("--video", *video, "also render DIR/video.mp4 (needs the ffmpeg program)");
+  drop->callback([options, out_dir, frames, video] {
     const engine::Scene scene = engine::MakeDropScene(*options);
-    const RunSummary summary = RunSimulation(scene, *out_dir, isatty(fileno(stderr)) == 1);
+    const RunSummary summary = RunWithFrames(scene, *out_dir, *frames || *video, *video);
     PrintResult(summary, *out_dir);
   });
 }

@@ -82,7 +82,8 @@ void WriteSummary(const engine::Scene& scene, const RunSummary& s, double t_end,
 
 }  // namespace
 
-RunSummary RunSimulation(const engine::Scene& scene, const std::string& out_dir, bool progress) {
+RunSummary RunSimulation(const engine::Scene& scene, const std::string& out_dir, bool progress,
+                         const StepObserver& observer) {
   std::error_code error;
   fs::create_directories(out_dir, error);
   if (error || !fs::is_directory(out_dir)) {
@@ -108,6 +109,7 @@ RunSummary RunSimulation(const engine::Scene& scene, const std::string& out_dir,
     engine::StepReport initial;
     initial.converged = true;
     writer.Write(state, initial);
+    if (observer) observer(state, 0);
     for (long k = 1; k <= summary.planned_steps; ++k) {
       const Clock::time_point before = Clock::now();
       const engine::StepReport report = engine::Step(scene, state);
@@ -124,6 +126,7 @@ RunSummary RunSimulation(const engine::Scene& scene, const std::string& out_dir,
       if (k % scene.output.every == 0 || k == summary.planned_steps) {
         writer.Write(state, report);
       }
+      if (observer) observer(state, report.iterations);
       if (progress) {
         const double wall = std::chrono::duration<double>(Clock::now() - start).count();
         if (wall - last_drawn >= kProgressInterval || k == summary.planned_steps) {

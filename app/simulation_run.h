@@ -2,9 +2,11 @@
 // The loop shared by `ecpsim run` and `ecpsim drop`: step a scene to its duration, writing
 // DIR/trajectory.csv and DIR/summary.json.
 
+#include <functional>
 #include <string>
 
 #include "engine/scene.h"
+#include "engine/state.h"
 
 namespace ecpsim::app {
 
@@ -34,6 +36,10 @@ struct RunSummary {
 /// `progress` draws a progress bar on stderr (callers pass isatty(stderr)).
 /// @throws engine::SolverFailure (after writing both files) when a step cannot be solved or
 ///         the state stops being finite; InputError if `out_dir` cannot be written.
-RunSummary RunSimulation(const engine::Scene& scene, const std::string& out_dir, bool progress);
+/// `observer`, if set, sees the initial state and the state after every step (e.g. to record
+/// frames); an exception from it stops the run like a solver failure.
+using StepObserver = std::function<void(const engine::State& state, int iterations)>;
+RunSummary RunSimulation(const engine::Scene& scene, const std::string& out_dir, bool progress,
+                         const StepObserver& observer = {});
 
 }  // namespace ecpsim::app

@@ -68,6 +68,14 @@ struct SolverSettings {
 /// What `ecpsim run` writes (the engine ignores it).
 struct OutputSettings {
   int every = 1;  // write every N-th step to trajectory.csv (plus the first and last state)
+  // frames (`ecpsim run --frames/--video`, `ecpsim render`)
+  double fps = 30;     // frames per simulated second, independent of h
+  int width = 1280;    // pixels
+  int height = 720;    // pixels
+  bool camera_fixed = false;  // false: automatic framing that follows the bodies
+  Eigen::Vector3d camera_position = Eigen::Vector3d(1.2, -1.8, 1.1);  // m, world
+  Eigen::Vector3d camera_target = Eigen::Vector3d::Zero();            // m, world
+  double camera_fov_deg = 35;  // vertical field of view, degrees
 };
 
 struct Scene {

@@ -1003,10 +1003,47 @@ Scene LoadScene(const std::string& path, const std::vector<std::string>& overrid
     scene.solver = ReadSolver(ctx, map.Get("solver"), "solver");
   }
   if (map.Has("output")) {
-    const MapNode output(ctx, map.Get("output"), "output", {"every"});
+    const MapNode output(ctx, map.Get("output"), "output",
+                         {"every", "fps", "width", "height", "camera"});
     if (output.Has("every")) {
       scene.output.every = ReadInt(ctx, output.Get("every"), "output.every", 1,
                                    "an integer >= 1 (write every N-th step)");
+    }
+    if (output.Has("fps")) {
+      scene.output.fps = ReadPositive(ctx, output.Get("fps"), "output.fps",
+                                      "a finite frame rate > 0 frames per simulated second");
+    }
+    if (output.Has("width")) {
+      scene.output.width = ReadInt(ctx, output.Get("width"), "output.width", 16,
+                                   "an integer width >= 16 pixels");
+    }
+    if (output.Has("height")) {
+      scene.output.height = ReadInt(ctx, output.Get("height"), "output.height", 16,
+                                    "an integer height >= 16 pixels");
+    }
+    if (output.Has("camera")) {
+      const MapNode camera(ctx, output.Get("camera"), "output.camera",
+                           {"position", "target", "fov"});
+      scene.output.camera_fixed = true;
+      scene.output.camera_position =
+          ReadVector3(ctx, camera.Require("position", "[x, y, z] m, world"),
+                      "output.camera.position", "m, world");
+      if (camera.Has("target")) {
+        scene.output.camera_target = ReadVector3(ctx, camera.Get("target"),
+                                                 "output.camera.target", "m, world");
+      }
+      if (camera.Has("fov")) {
+        scene.output.camera_fov_deg = ReadPositive(ctx, camera.Get("fov"), "output.camera.fov",
+                                                   "a vertical field of view in (0, 180) degrees");
+        if (scene.output.camera_fov_deg >= 180) {
+          Fail(ctx, camera.Get("fov"), "output.camera.fov",
+               "a vertical field of view in (0, 180) degrees");
+        }
+      }
+      if ((scene.output.camera_position - scene.output.camera_target).norm() == 0) {
+        Fail(ctx, camera.Get("position"), "output.camera.position",
+             "a camera position different from its target");
+      }
     }
   }
   return scene;

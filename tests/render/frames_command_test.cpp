@@ -1,0 +1,122 @@
+// Runs the built `ecpsim` binary with --frames/--video and `ecpsim render`, and checks the images.
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include "render/png_writer.h"
+
+namespace ecpsim::render {
+namespace {
+
+namespace fs = std::filesystem;
+
+class FramesCommandTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::temp_directory_path() / fmt::format("ecpsim_frames_{}_{}", getpid(), info->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    binary_ = fs::path(ECPSIM_BINARY_DIR) / "app" / "ecpsim";
+    ASSERT_TRUE(fs::exists(binary_)) << binary_ << " is missing: build the ecpsim target";
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  // exit code of `ecpsim ARGUMENTS` run from the source tree; output in log_
+  int Run(const std::string& arguments, const std::string& environment = "") {
+    const fs::path log = dir_ / "log.txt";
+    const std::string command = fmt::format("cd '{}' && {} '{}' {} > '{}' 2>&1", ECPSIM_SOURCE_DIR,
+                                            environment, binary_.string(), arguments, log.string());
+    const int status = std::system(command.c_str());
+    std::ifstream in(log);
+    std::stringstream text;
+    text << in.rdbuf();
+    log_ = text.str();
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  }
+
+  fs::path dir_, binary_;
+  std::string log_;
+};
+
+TEST_F(FramesCommandTest, FramesFollowTheFrameRateNotTheStep) {
+  // slide.yaml: 0.5 s at h = 0.01; at 10 frames/s the frames are t = 0, 0.1, ..., 0.5
+  const fs::path out = dir_ / "out";
+  ASSERT_EQ(Run(fmt::format("run scenes/slide.yaml -o '{}' --frames --fps 10 --width 64 "
+                            "--height 48",
+                            out.string())),
+            0)
+      << log_;
+  int count = 0;
+  for (const auto& entry : fs::directory_iterator(out / "frames")) {
+    const Image image = ReadPng(entry.path().string());
+    EXPECT_EQ(image.width, 64);
+    EXPECT_EQ(image.height, 48);
+    ++count;
+  }
+  EXPECT_EQ(count, 6);
+  EXPECT_TRUE(fs::exists(out / "frames" / "frame_000005.png"));
+  EXPECT_FALSE(fs::exists(out / "video.mp4"));
+}
+
+TEST_F(FramesCommandTest, VideoIsWrittenNextToTheFrames) {
+  const fs::path out = dir_ / "out";
+  ASSERT_EQ(Run(fmt::format("run scenes/slide.yaml -o '{}' --video --fps 20 --width 64 "
+                            "--height 48",
+                            out.string())),
+            0)
+      << log_;
+  ASSERT_TRUE(fs::exists(out / "video.mp4"));
+  // an MP4 starts with an ftyp box; 11 frames of H.264 are more than a header
+  std::ifstream video(out / "video.mp4", std::ios::binary);
+  char head[8] = {};
+  video.read(head, 8);
+  EXPECT_EQ(std::string(head + 4, 4), "ftyp");
+  EXPECT_GT(fs::file_size(out / "video.mp4"), 1000u);
+  EXPECT_TRUE(fs::exists(out / "frames" / "frame_000010.png"));
+}
+
+TEST_F(FramesCommandTest, MissingFfmpegIsAClearErrorAndTheFramesStay) {
+  const fs::path out = dir_ / "out";
+  // PATH without ffmpeg (the binary itself is started by its full path)
+  EXPECT_EQ(Run(fmt::format("run scenes/slide.yaml -o '{}' --video --fps 10 --width 64 "
+                            "--height 48",
+                            out.string()),
+                "PATH=/nonexistent"),
+            1)
+      << log_;
+  EXPECT_NE(log_.find("ffmpeg"), std::string::npos) << log_;
+  EXPECT_TRUE(fs::exists(out / "frames" / "frame_000005.png"));
+  EXPECT_TRUE(fs::exists(out / "trajectory.csv"));
+  EXPECT_FALSE(fs::exists(out / "video.mp4"));
+}
+
+TEST_F(FramesCommandTest, RenderIsDeterministic) {
+  const fs::path a = dir_ / "a.png", b = dir_ / "b.png";
+  const std::string args = "render scenes/tilted_box.yaml --time 0.3 --width 160 --height 120";
+  ASSERT_EQ(Run(fmt::format("{} -o '{}'", args, a.string())), 0) << log_;
+  ASSERT_EQ(Run(fmt::format("{} -o '{}'", args, b.string())), 0) << log_;
+  const Image first = ReadPng(a.string()), second = ReadPng(b.string());
+  ASSERT_EQ(first.rgb.size(), second.rgb.size());
+  EXPECT_TRUE(first.rgb == second.rgb);
+  EXPECT_EQ(Run(fmt::format("compare '{}' '{}'", a.string(), b.string())), 0) << log_;
+}
+
+TEST_F(FramesCommandTest, RenderRejectsANegativeTime) {
+  EXPECT_NE(Run(fmt::format("render scenes/slide.yaml --time -1 -o '{}'",
+                            (dir_ / "x.png").string())),
+            0);
+  EXPECT_FALSE(fs::exists(dir_ / "x.png"));
+}
+
+}  // namespace
+}  // namespace ecpsim::render
