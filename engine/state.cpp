@@ -4,10 +4,7 @@
 
 namespace ecpsim::engine {
 
-Eigen::Vector3d ObstacleNormalToward(const geometry::ConvexShape& obstacle,
-                                     const Eigen::Vector3d& point) {
-  // the gradient of the most violated (largest) constraint at the point: for a plane its normal,
-  // for a box the face the point is in front of
+int LargestConstraint(const geometry::ConvexShape& obstacle, const Eigen::Vector3d& point) {
   int best = 0;
   double best_value = obstacle.Value(0, point);
   for (int j = 1; j < obstacle.NumConstraints(); ++j) {
@@ -17,7 +14,12 @@ Eigen::Vector3d ObstacleNormalToward(const geometry::ConvexShape& obstacle,
       best = j;
     }
   }
-  return obstacle.Gradient(best, point).normalized();
+  return best;
+}
+
+Eigen::Vector3d ObstacleNormalToward(const geometry::ConvexShape& obstacle,
+                                     const Eigen::Vector3d& point) {
+  return obstacle.Gradient(LargestConstraint(obstacle, point), point).normalized();
 }
 
 State InitialState(const Scene& scene) {

@@ -40,8 +40,11 @@ struct State {
 /// The state at t = 0 from the bodies' initial conditions; contacts start without a warm start.
 State InitialState(const Scene& scene);
 
-/// Unit outward normal of the obstacle constraint with the largest value at `point` (world): the
-/// side of G a body at `point` faces.
+/// Index of the obstacle constraint with the largest value at `point` (world): the face of G a
+/// body at `point` is in front of (for a half-space, 0).
+int LargestConstraint(const geometry::ConvexShape& obstacle, const Eigen::Vector3d& point);
+
+/// Unit outward normal of that constraint at `point`: the side of G a body at `point` faces.
 Eigen::Vector3d ObstacleNormalToward(const geometry::ConvexShape& obstacle,
                                      const Eigen::Vector3d& point);
 

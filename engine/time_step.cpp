@@ -10,6 +10,7 @@
 #include "engine/complementarity_solver.h"
 #include "engine/contact_window.h"
 #include "engine/mncp_system.h"
+#include "engine/multipatch_model.h"
 #include "engine/planar_model.h"
 #include "engine/rotation.h"
 
@@ -64,17 +65,9 @@ const char* GuessName(Guess guess) {
 // linear constraints, a Newton step for smooth ones), and that constraint's index
 std::pair<Vector3d, int> ProjectOntoObstacle(const geometry::ConvexShape& obstacle,
                                              const Vector3d& point) {
-  int best = 0;
-  double best_value = obstacle.Value(0, point);
-  for (int j = 1; j < obstacle.NumConstraints(); ++j) {
-    const double value = obstacle.Value(j, point);
-    if (value > best_value) {
-      best_value = value;
-      best = j;
-    }
-  }
+  const int best = LargestConstraint(obstacle, point);
   const Vector3d grad = obstacle.Gradient(best, point);
-  return {point - best_value * grad / grad.squaredNorm(), best};
+  return {point - obstacle.Value(best, point) * grad / grad.squaredNorm(), best};
 }
 
 class BodyStepper {
@@ -422,6 +415,7 @@ class BodyStepper {
 
 StepReport Step(const Scene& scene, State& state) {
   if (scene.model == ContactModel::kPlanar) return StepPlanarSliding(scene, state);
+  if (scene.model == ContactModel::kMultiPatch) return StepMultiPatch(scene, state);
   StepReport report;
   report.converged = true;
   std::vector<BodyState> next_bodies = state.bodies;

@@ -15,6 +15,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "tests/cli_test.h"
+
 namespace ecpsim {
 namespace {
 
@@ -27,44 +29,14 @@ constexpr unsigned char kPngSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1
 // 10 kB; a blank or truncated image is far smaller
 constexpr std::uintmax_t kMinPlotBytes = 10000;
 
-struct Result {
-  int exit_code = -1;
-  std::string output;
-};
-
-class PlotCommandTest : public ::testing::Test {
+class PlotCommandTest : public testing::CliTest {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() / fmt::format("ecpsim_plot_{}_{}", getpid(), info->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-    binary_ = fs::path(ECPSIM_BINARY_DIR) / "app" / "ecpsim";
-    ASSERT_TRUE(fs::exists(binary_)) << binary_ << " is missing: build the ecpsim target";
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  // runs `ecpsim ARGUMENTS` with an optional environment prefix (e.g. "PATH=/x")
-  Result Run(const std::string& arguments, const std::string& environment = "") {
-    const fs::path log = dir_ / "log.txt";
-    const std::string command = fmt::format("{} '{}' {} > '{}' 2>&1", environment,
-                                            binary_.string(), arguments, log.string());
-    const int status = std::system(command.c_str());
-    Result result;
-    result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    std::ifstream in(log);
-    std::stringstream text;
-    text << in.rdbuf();
-    result.output = text.str();
-    return result;
-  }
-
   // a short run of scenes/NAME.yaml into dir_/NAME (the scene path absolute, as summary.json
   // then names it, so that `ecpsim plot` finds it from any folder)
   fs::path RunScene(const std::string& name, double duration) {
     const fs::path out = dir_ / name;
     const std::string scene = std::string(ECPSIM_SOURCE_DIR) + "/scenes/" + name + ".yaml";
-    const Result run = Run(fmt::format("run '{}' -o '{}' --duration {}", scene, out.string(),
+    const testing::CliResult run = Run(fmt::format("run '{}' -o '{}' --duration {}", scene, out.string(),
                                        duration));
     EXPECT_EQ(run.exit_code, 0) << run.output;
     return out;
@@ -90,13 +62,11 @@ class PlotCommandTest : public ::testing::Test {
     }
   }
 
-  fs::path dir_;
-  fs::path binary_;
 };
 
 TEST_F(PlotCommandTest, DumbbellRunGivesCmPlotAndPatchSnapshots) {
   const fs::path out = RunScene("dumbbell", 0.6);
-  const Result plot = Run(fmt::format("plot '{}'", out.string()));
+  const testing::CliResult plot = Run(fmt::format("plot '{}'", out.string()));
   ASSERT_EQ(plot.exit_code, 0) << plot.output;
   EXPECT_THAT(plot.output, HasSubstr("dumbbell_cm.png"));
   ExpectValidPng(out / "dumbbell_cm.png");
@@ -106,7 +76,7 @@ TEST_F(PlotCommandTest, DumbbellRunGivesCmPlotAndPatchSnapshots) {
 
 TEST_F(PlotCommandTest, TBarRunGivesEcpHeightModeAndSnapshotPlots) {
   const fs::path out = RunScene("tbar", 0.5);
-  const Result plot = Run(fmt::format("plot '{}' --scene tbar", out.string()));
+  const testing::CliResult plot = Run(fmt::format("plot '{}' --scene tbar", out.string()));
   ASSERT_EQ(plot.exit_code, 0) << plot.output;
   for (const char* png : {"tbar_ecp.png", "tbar_qz.png", "tbar_vz_ax.png", "tbar_patches.png"}) {
     ExpectValidPng(out / png);
@@ -118,7 +88,7 @@ TEST_F(PlotCommandTest, DeskPlotsTheOtherModelsWhenTheirTrajectoriesAreThere) {
   const fs::path out = RunScene("desk", 0.2);
   // a stand-in for another model's run of the same scene: the same trajectory
   fs::copy_file(out / "trajectory.csv", out / "trajectory_planar.csv");
-  const Result plot = Run(fmt::format("plot '{}'", out.string()));
+  const testing::CliResult plot = Run(fmt::format("plot '{}'", out.string()));
   ASSERT_EQ(plot.exit_code, 0) << plot.output;
   ExpectValidPng(out / "desk_velocity.png");
   ExpectValidPng(out / "desk_patches.png");
@@ -127,13 +97,13 @@ TEST_F(PlotCommandTest, DeskPlotsTheOtherModelsWhenTheirTrajectoriesAreThere) {
 TEST_F(PlotCommandTest, SiblingTrajectoryWithOtherTimesIsRejected) {
   const fs::path out = RunScene("desk", 0.2);
   std::ofstream(out / "trajectory_multipatch.csv") << "t,vx,wz\n0,0,0\n";
-  const Result plot = Run(fmt::format("plot '{}' --scene desk", out.string()));
+  const testing::CliResult plot = Run(fmt::format("plot '{}' --scene desk", out.string()));
   EXPECT_EQ(plot.exit_code, 1);
   EXPECT_THAT(plot.output, HasSubstr("trajectory_multipatch.csv: 1 rows"));
 }
 
 TEST_F(PlotCommandTest, MissingTrajectoryIsAOneLineError) {
-  const Result plot = Run(fmt::format("plot '{}'", (dir_ / "nothing").string()));
+  const testing::CliResult plot = Run(fmt::format("plot '{}'", (dir_ / "nothing").string()));
   EXPECT_EQ(plot.exit_code, 1);
   EXPECT_THAT(plot.output, HasSubstr("trajectory.csv: cannot read it"));
 }
@@ -141,21 +111,21 @@ TEST_F(PlotCommandTest, MissingTrajectoryIsAOneLineError) {
 TEST_F(PlotCommandTest, BadCsvFieldIsNamed) {
   fs::create_directories(dir_ / "bad");
   std::ofstream(dir_ / "bad" / "trajectory.csv") << "t,px\n0,0\n0.01,nan\n";
-  const Result plot = Run(fmt::format("plot '{}' --scene generic", (dir_ / "bad").string()));
+  const testing::CliResult plot = Run(fmt::format("plot '{}' --scene generic", (dir_ / "bad").string()));
   EXPECT_EQ(plot.exit_code, 1);
   EXPECT_THAT(plot.output, HasSubstr("trajectory.csv:3: px = \"nan\": expected a finite number"));
 }
 
 TEST_F(PlotCommandTest, MissingGnuplotIsAClearError) {
   const fs::path out = RunScene("dumbbell", 0.05);
-  const Result plot = Run(fmt::format("plot '{}'", out.string()), "PATH=/nonexistent");
+  const testing::CliResult plot = Run(fmt::format("plot '{}'", out.string()), "PATH=/nonexistent");
   EXPECT_EQ(plot.exit_code, 1);
   EXPECT_THAT(plot.output, HasSubstr("gnuplot: not found on PATH"));
   EXPECT_FALSE(fs::exists(out / "dumbbell_cm.png"));
 }
 
 TEST_F(PlotCommandTest, UnknownSceneKindIsRejected) {
-  const Result plot = Run(fmt::format("plot '{}' --scene chair", dir_.string()));
+  const testing::CliResult plot = Run(fmt::format("plot '{}' --scene chair", dir_.string()));
   EXPECT_EQ(plot.exit_code, 1);
   EXPECT_THAT(plot.output, HasSubstr("--scene = chair: expected desk, tbar, dumbbell"));
 }

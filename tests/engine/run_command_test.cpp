@@ -17,6 +17,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "tests/cli_test.h"
+
 namespace ecpsim {
 namespace {
 
@@ -25,41 +27,12 @@ using ::testing::HasSubstr;
 
 // the slide's deceleration μ g (m/s²) and its closed-form velocity; implicit Euler with a
 // constant deceleration reproduces v(t) = v0 − μ g t to round-off, and the solver's tolerance
-// (1e-10 on the residual) bounds the error far below 1e-8 m/s
+// (1e-12 on the residual) bounds the error far below 1e-8 m/s
 constexpr double kMuG = 0.22 * 9.8;
 constexpr double kVelocityTolerance = 1e-8;  // m/s
 
-struct Result {
-  int exit_code = -1;
-  std::string output;  // stdout and stderr
-};
-
-class RunCommandTest : public ::testing::Test {
+class RunCommandTest : public testing::CliTest {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() / fmt::format("ecpsim_run_{}_{}", getpid(), info->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-    binary_ = fs::path(ECPSIM_BINARY_DIR) / "app" / "ecpsim";
-    ASSERT_TRUE(fs::exists(binary_)) << binary_ << " is missing: build the ecpsim target";
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  Result Run(const std::string& arguments) {
-    const fs::path log = dir_ / "log.txt";
-    const std::string command =
-        fmt::format("'{}' {} > '{}' 2>&1", binary_.string(), arguments, log.string());
-    const int status = std::system(command.c_str());
-    Result result;
-    result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    std::ifstream in(log);
-    std::stringstream text;
-    text << in.rdbuf();
-    result.output = text.str();
-    return result;
-  }
-
   static std::vector<std::vector<std::string>> ReadCsv(const fs::path& path) {
     std::vector<std::vector<std::string>> rows;
     std::ifstream in(path);
@@ -90,13 +63,11 @@ class RunCommandTest : public ::testing::Test {
     }
   }
 
-  fs::path dir_;
-  fs::path binary_;
 };
 
 TEST_F(RunCommandTest, SlideWritesTheTrajectoryAndSummary) {
   const fs::path out = dir_ / "slide";
-  const Result result =
+  const testing::CliResult result =
       Run(fmt::format("run '{}/scenes/slide.yaml' -o '{}'", ECPSIM_SOURCE_DIR, out.string()));
   ASSERT_EQ(result.exit_code, 0) << result.output;
 
@@ -144,7 +115,7 @@ TEST_F(RunCommandTest, SlideWritesTheTrajectoryAndSummary) {
 
 TEST_F(RunCommandTest, OverridesChangeStepAndOutputCadence) {
   const fs::path out = dir_ / "coarse";
-  const Result result = Run(fmt::format("run '{}/scenes/slide.yaml' -o '{}' --dt 0.02 --set "
+  const testing::CliResult result = Run(fmt::format("run '{}/scenes/slide.yaml' -o '{}' --dt 0.02 --set "
                                         "output.every=10 --set bodies.0.velocity=[0.25,0,0]",
                                         ECPSIM_SOURCE_DIR, out.string()));
   ASSERT_EQ(result.exit_code, 0) << result.output;
@@ -161,7 +132,7 @@ TEST_F(RunCommandTest, OverridesChangeStepAndOutputCadence) {
 TEST_F(RunCommandTest, BadSceneExitsWithOneAndALocatedMessage) {
   std::ofstream(dir_ / "bad.yaml") << "duration: 1\nbodies:\n  - shape: {sphere: {radius: 1}}\n"
                                       "    mass: -2\n    position: [0, 0, 1]\n";
-  const Result result =
+  const testing::CliResult result =
       Run(fmt::format("run '{}' -o '{}'", (dir_ / "bad.yaml").string(), (dir_ / "o").string()));
   EXPECT_EQ(result.exit_code, 1);
   EXPECT_THAT(result.output,
@@ -172,7 +143,7 @@ TEST_F(RunCommandTest, BadSceneExitsWithOneAndALocatedMessage) {
 TEST_F(RunCommandTest, SolverFailureExitsWithThreeAndLeavesValidFiles) {
   // one Newton iteration cannot solve the first contact step from a cold start
   const fs::path out = dir_ / "fail";
-  const Result result = Run(fmt::format("run '{}/scenes/tilted_box.yaml' -o '{}' --set "
+  const testing::CliResult result = Run(fmt::format("run '{}/scenes/tilted_box.yaml' -o '{}' --set "
                                         "solver.max_iterations=1",
                                         ECPSIM_SOURCE_DIR, out.string()));
   EXPECT_EQ(result.exit_code, 3) << result.output;
@@ -192,7 +163,7 @@ TEST_F(RunCommandTest, SolverFailureExitsWithThreeAndLeavesValidFiles) {
 TEST_F(RunCommandTest, DropLandsAMeshOnTheGround) {
   // the fixture box [0,1]×[0,2]×[0,3] m (6000 kg at 1000 kg/m³), dropped from 0.05 m flat
   const fs::path out = dir_ / "drop";
-  const Result result =
+  const testing::CliResult result =
       Run(fmt::format("drop '{}/tests/fixtures/meshes/box.obj' -o '{}' --height 0.05 "
                       "--duration 0.3",
                       ECPSIM_SOURCE_DIR, out.string()));

@@ -1,50 +1,29 @@
 // Runs the built `ecpsim` binary with --frames/--video and `ecpsim render`, and checks the images.
 
-#include <sys/wait.h>
-#include <unistd.h>
-
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <string>
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include "render/png_writer.h"
+#include "tests/cli_test.h"
 
 namespace ecpsim::render {
 namespace {
 
 namespace fs = std::filesystem;
 
-class FramesCommandTest : public ::testing::Test {
+class FramesCommandTest : public testing::CliTest {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() / fmt::format("ecpsim_frames_{}_{}", getpid(), info->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-    binary_ = fs::path(ECPSIM_BINARY_DIR) / "app" / "ecpsim";
-    ASSERT_TRUE(fs::exists(binary_)) << binary_ << " is missing: build the ecpsim target";
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  // exit code of `ecpsim ARGUMENTS` run from the source tree; output in log_
+  // exit code of `ecpsim ARGUMENTS`; its output in log_
   int Run(const std::string& arguments, const std::string& environment = "") {
-    const fs::path log = dir_ / "log.txt";
-    const std::string command = fmt::format("cd '{}' && {} '{}' {} > '{}' 2>&1", ECPSIM_SOURCE_DIR,
-                                            environment, binary_.string(), arguments, log.string());
-    const int status = std::system(command.c_str());
-    std::ifstream in(log);
-    std::stringstream text;
-    text << in.rdbuf();
-    log_ = text.str();
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    const testing::CliResult result = CliTest::Run(arguments, environment);
+    log_ = result.output;
+    return result.exit_code;
   }
 
-  fs::path dir_, binary_;
   std::string log_;
 };
 
