@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <utility>
 
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
@@ -141,9 +142,13 @@ McpResult SolveMcp(const McpFunction& f, int num_free, const Eigen::VectorXd& ro
     double step = 1;
     bool accepted = false;
     Eigen::VectorXd x_trial;
+    bool trial_has_jacobian = false;
     while (step >= kMinStep) {
       x_trial = x + step * direction;
-      problem.Evaluate(x_trial, &F_trial, &trial, false);
+      // the full step is usually accepted: evaluate it with its Jacobian, ready for the next
+      // iteration
+      trial_has_jacobian = step == 1;
+      problem.Evaluate(x_trial, &F_trial, &trial, trial_has_jacobian);
       const double trial_merit = 0.5 * trial.phi.squaredNorm();
       if (AllFinite(trial.phi) && trial_merit <= reference + kArmijo * step * slope) {
         accepted = true;
@@ -157,6 +162,7 @@ McpResult SolveMcp(const McpFunction& f, int num_free, const Eigen::VectorXd& ro
       step = 1;
       while (step >= kMinStep) {
         x_trial = x + step * direction;
+        trial_has_jacobian = false;
         problem.Evaluate(x_trial, &F_trial, &trial, false);
         if (AllFinite(trial.phi) && 0.5 * trial.phi.squaredNorm() < merit) {
           accepted = true;
@@ -168,7 +174,12 @@ McpResult SolveMcp(const McpFunction& f, int num_free, const Eigen::VectorXd& ro
     if (!accepted) break;  // stalled: report unconverged at the last finite iterate
 
     x = x_trial;
-    problem.Evaluate(x, &F, &current, true);
+    if (trial_has_jacobian) {
+      std::swap(current, trial);
+      std::swap(F, F_trial);
+    } else {
+      problem.Evaluate(x, &F, &current, true);
+    }
     z = var_scale.cwiseProduct(x);
     result.residual = measure(z, F);
     recent_merits.push_back(0.5 * current.phi.squaredNorm());
