@@ -107,9 +107,10 @@ void AddRunCommand(CLI::App& app) {
                   "override a scene value, key=value with a dotted key, e.g. bodies.0.mass=3 "
                   "(repeatable)");
   run->add_option("--model", options->model,
-                  "contact model: hull (the paper's, default) or planar (sliding only; stops "
-                  "with exit code 5 where it does not apply)")
-      ->check(CLI::IsMember({"hull", "planar"}));
+                  "contact model: hull (the paper's, default), planar (sliding only; stops "
+                  "with exit code 5 where it does not apply) or multipatch (one ECP per convex "
+                  "part of each body's `parts`)")
+      ->check(CLI::IsMember({"hull", "planar", "multipatch"}));
   run->add_flag("--frames", options->frames, "also render DIR/frames/frame_NNNNNN.png");
   run->add_flag("--video", options->video,
                 "also render the frames into DIR/video.mp4 (H.264; needs the ffmpeg program)");

@@ -8,6 +8,8 @@ const char* ContactModelName(ContactModel model) {
       return "hull";
     case ContactModel::kPlanar:
       return "planar";
+    case ContactModel::kMultiPatch:
+      return "multipatch";
   }
   return "unknown";
 }

@@ -27,6 +27,7 @@ struct Friction {
 enum class ContactModel {
   kHull,        // the paper's model: one ECP per body–obstacle pair on the body's convex hull
   kPlanar,      // planar sliding (WAFR 2018): flat on a horizontal plane, no vertical motion
+  kMultiPatch,  // multi-convex-patch (IDETC 2018): one ECP per convex part, friction combined
 };
 const char* ContactModelName(ContactModel model);
 
@@ -35,6 +36,9 @@ struct Body {
   std::string name;
   geometry::TriangleMesh mesh;                        // body frame, for patches/penetration/display
   std::shared_ptr<const geometry::ConvexShape> hull;  // body frame: the CGAL hull or a primitive
+  // body frame: the convex parts whose union is the body's contact geometry (ContactModel::
+  // kMultiPatch only; empty: the hull is the one part)
+  std::vector<std::shared_ptr<const geometry::ConvexShape>> parts;
   double mass = 1;                                    // kg
   Eigen::Matrix3d inertia = Eigen::Matrix3d::Identity();  // kg·m², about the CM, body axes
   // initial state

@@ -258,10 +258,11 @@ bool ReadBool(const Context& ctx, const YAML::Node& node, const std::string& key
 }
 
 ContactModel ReadModel(const Context& ctx, const YAML::Node& node, const std::string& key) {
-  for (ContactModel model : {ContactModel::kHull, ContactModel::kPlanar}) {
+  for (ContactModel model :
+       {ContactModel::kHull, ContactModel::kPlanar, ContactModel::kMultiPatch}) {
     if (node.IsScalar() && node.Scalar() == ContactModelName(model)) return model;
   }
-  Fail(ctx, node, key, "one of hull, planar");
+  Fail(ctx, node, key, "one of hull, planar, multipatch");
 }
 
 std::string ReadName(const Context& ctx, const YAML::Node& node, const std::string& key) {
@@ -532,12 +533,55 @@ Eigen::Matrix3d ReadInertia(const Context& ctx, const YAML::Node& node, const st
   return inertia;
 }
 
+// `parts: [{box: {size}, at, rpy | quaternion}]`: the convex pieces of the multipatch model, each
+// a box whose centre `at` is in the mesh's frame (like loads' `at`), moved to the CM frame; every
+// part must lie inside the body's hull (its vertices within `tolerance` m), since the parts
+// stand for pieces of the body
+std::vector<std::shared_ptr<const ConvexShape>> ReadParts(const Context& ctx,
+                                                          const YAML::Node& node,
+                                                          const std::string& key,
+                                                          const Eigen::Vector3d& center_of_mass,
+                                                          const ConvexShape& hull,
+                                                          double tolerance) {
+  if (!node.IsSequence() || node.size() == 0) {
+    Fail(ctx, node, key, "a list of at least one part {box: {size: [x, y, z]}, at: [x, y, z]}");
+  }
+  std::vector<std::shared_ptr<const ConvexShape>> parts;
+  for (size_t i = 0; i < node.size(); ++i) {
+    const MapNode part(ctx, node[i], Index(key, i), {"box", "at", "rpy", "quaternion"});
+    const MapNode box(ctx, part.Require("box", "a box part {size: [x, y, z]}"), part.Key("box"),
+                      {"size"});
+    const Eigen::Vector3d size =
+        ReadPositive3(ctx, box.Require("size", "[x, y, z] edge lengths > 0 m"), box.Key("size"),
+                      "a list of 3 edge lengths > 0 m [x, y, z]");
+    const Eigen::Vector3d at =
+        part.Has("at") ? ReadVector3(ctx, part.Get("at"), part.Key("at"), "m, mesh frame")
+                       : Eigen::Vector3d::Zero();
+    auto shape = PosedBox(size, ReadOrientation(ctx, part), at - center_of_mass);
+    const auto& polyhedron = static_cast<const geometry::PolyhedralShape&>(*shape);
+    for (const Eigen::Vector3d& v : polyhedron.hull().vertices) {
+      for (int c = 0; c < hull.NumConstraints(); ++c) {
+        const double outside = hull.Value(c, v);
+        if (outside > tolerance) {
+          const Eigen::Vector3d v_mesh = v + center_of_mass;
+          Fail(ctx, node[i], Index(key, i),
+               fmt::format("a part inside the body; its corner ({:.6g}, {:.6g}, {:.6g}) m (mesh "
+                           "frame) lies {:.3g} m outside the body's hull",
+                           v_mesh.x(), v_mesh.y(), v_mesh.z(), outside));
+        }
+      }
+    }
+    parts.push_back(std::move(shape));
+  }
+  return parts;
+}
+
 Body ReadBody(const Context& ctx, const YAML::Node& node, const std::string& key,
               const std::string& default_name, BodyExtras& extras) {
   const MapNode map(ctx, node, key,
                     {"name", "mesh", "scale", "shape", "hull", "mass", "density", "inertia",
                      "position", "quaternion", "rpy", "lowest_point_height", "on_ground",
-                     "velocity", "angular_velocity", "friction"});
+                     "velocity", "angular_velocity", "friction", "parts"});
   Body body;
   body.name = map.Has("name") ? ReadName(ctx, map.Get("name"), map.Key("name")) : default_name;
 
@@ -627,6 +671,11 @@ Body ReadBody(const Context& ctx, const YAML::Node& node, const std::string& key
       }
     }
     body.hull = hull.shape;
+  }
+
+  if (map.Has("parts")) {
+    body.parts = ReadParts(ctx, map.Get("parts"), map.Key("parts"), extras.center_of_mass,
+                           *body.hull, kHullContainmentTolerance * BoundingBoxDiagonal(body.mesh));
   }
 
   // initial pose: `position` is where the CM starts

@@ -1,0 +1,632 @@
+#include "engine/multipatch_model.h"
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <numeric>
+#include <string>
+
+#include <fmt/format.h>
+
+#include "engine/complementarity_solver.h"
+#include "engine/planar_model.h"
+#include "engine/rotation.h"
+#include "geometry/errors.h"
+
+namespace ecpsim::engine {
+namespace {
+
+using Eigen::Matrix3d;
+using Eigen::Vector3d;
+using Eigen::VectorXd;
+using RowVector3d = Eigen::Matrix<double, 1, 3>;
+
+// a guess's slip multiplier starts slightly positive: (σ, ζ) = (0, 0) is the kink of φ_FB
+constexpr double kInitialSigmaFraction = 1e-3;  // of the velocity scale
+// a part whose lowest point at the predicted pose is within this fraction of the body's length
+// scale of the lowest part's is taken as touching in the in-contact guesses (the feet of a flat
+// desk: exactly level; a tilted body: only its lowest part)
+constexpr double kTouchingRelTol = 1e-6;
+// the multi-patch MNCP's solutions are not isolated (each flat foot's a1_i is free on its face,
+// and four feet share the normal load statically indeterminately): semismooth Newton loses its
+// fast local convergence there and the Levenberg–Marquardt fallback needs more iterations. On the
+// desk, 4 × the scene's budget removed every sub-step (1 × left some, which differ from the hull
+// model by O(h²))
+constexpr int kIterationBudgetFactor = 4;
+// vertices this close to the support plane belong to the support feature (a face or an edge):
+// far above the hull's round-off, far below any part's size
+constexpr double kFeatureRelTol = 1e-9;  // of the support value
+constexpr double kFeatureAbsTol = 1e-9;  // m
+// the combined ECP's weight floor relative to the body's impulse scale: far below the solver
+// tolerance's effect on the ECP (it moves a1 by ≈ 1e-12 of the part spacing), far above 0 so
+// that a1 stays defined when no part carries load
+constexpr double kWeightFloorRel = 1e-12;
+
+// characteristic sizes of one body's step, for scaling the MNCP (FORMULATION.md trap 6); the
+// same as the hull model's (engine/time_step.cpp)
+struct Scales {
+  double length;    // m: radius of gyration
+  double velocity;  // m/s
+  double impulse;   // N·s
+};
+
+Scales BodyScales(const Body& body, const BodyState& state, const Vector3d& gravity, double h) {
+  Scales s;
+  s.length = std::sqrt(body.inertia.trace() / body.mass);
+  s.velocity = std::max({state.v_WB.norm() + state.w_WB.norm() * s.length, gravity.norm() * h,
+                         1e-3 * s.length / h});
+  s.impulse = body.mass * s.velocity;
+  return s;
+}
+
+enum class Guess { kWarm, kSeparated, kResting, kSliding };
+
+const char* GuessName(Guess guess) {
+  switch (guess) {
+    case Guess::kWarm:
+      return "warm start";
+    case Guess::kSeparated:
+      return "separated guess";
+    case Guess::kResting:
+      return "resting guess";
+    case Guess::kSliding:
+      return "sliding guess";
+  }
+  return "guess";
+}
+
+// the centroid of the part's support feature in `direction` (body frame): a face's vertex centroid,
+// an edge's midpoint, or the support point. A guess at a corner of a flat foot leaves the side
+// faces' pairs (f_i = 0, l_i = 0) degenerate at the solution, and since a1_i is free on the face
+// (the multi-patch MNCP has non-isolated solutions) Newton keeps it there and converges slowly
+Vector3d SupportFeatureCentroid(const geometry::ConvexShape& part, const Vector3d& direction) {
+  const auto* polyhedron = dynamic_cast<const geometry::PolyhedralShape*>(&part);
+  const Vector3d support = part.Support(direction);
+  if (polyhedron == nullptr) return support;
+  const double top = support.dot(direction);
+  Vector3d sum = Vector3d::Zero();
+  int count = 0;
+  for (const Vector3d& v : polyhedron->hull().vertices) {
+    if (v.dot(direction) >= top - kFeatureRelTol * direction.norm() * std::abs(top) -
+                                  kFeatureAbsTol * direction.norm()) {
+      sum += v;
+      ++count;
+    }
+  }
+  return count > 0 ? Vector3d(sum / count) : support;
+}
+
+// the number of unknowns of one block in the layout (its slice of a warm start)
+int BlockSize(const MncpLayout::Contact& L) { return 10 + L.l_count + L.l_g_count + 2; }
+
+// a block's unknowns in the order [a1, a2, s, p_t, p_o, p_r, l…, l_G…, p_n, σ]
+VectorXd PackBlock(const MncpLayout::Contact& L, const VectorXd& z) {
+  VectorXd block(BlockSize(L));
+  block.head<10>() = z.segment<10>(L.a1);
+  block.segment(10, L.l_count) = z.segment(L.l, L.l_count);
+  block.segment(10 + L.l_count, L.l_g_count) = z.segment(L.l_g, L.l_g_count);
+  block[10 + L.l_count + L.l_g_count] = z[L.p_n];
+  block[11 + L.l_count + L.l_g_count] = z[L.sigma];
+  return block;
+}
+
+void UnpackBlock(const MncpLayout::Contact& L, const VectorXd& block, VectorXd& z) {
+  z.segment<10>(L.a1) = block.head<10>();
+  z.segment(L.l, L.l_count) = block.segment(10, L.l_count);
+  z.segment(L.l_g, L.l_g_count) = block.segment(10 + L.l_count, L.l_g_count);
+  z[L.p_n] = block[10 + L.l_count + L.l_g_count];
+  z[L.sigma] = block[11 + L.l_count + L.l_g_count];
+}
+
+// the contact frame of a half-space obstacle: n its unit normal, t the tangent reference projected
+ContactFrame PlaneFrame(const ContactProblem& cp) {
+  const Vector3d normal = cp.obstacle->Gradient(0, Vector3d::Zero());
+  return MakeContactFrame(normal, cp.tangent_reference);
+}
+
+// the equivalent friction moment p_rE = p_r + n · (d × (t p_t + o p_o)) = p_r − p_t o·d + p_o t·d
+double EquivalentMoment(const ContactFrame& f, const Vector3d& d, double p_t, double p_o,
+                        double p_r) {
+  return p_r - p_t * f.o.dot(d) + p_o * f.t.dot(d);
+}
+
+class MultiPatchStepper {
+ public:
+  MultiPatchStepper(const Scene& scene, int body_index, std::vector<int> contact_ids)
+      : scene_(scene), body_index_(body_index), contact_ids_(std::move(contact_ids)) {
+    const Body& body = scene.bodies[body_index];
+    if (body.parts.empty()) {
+      parts_.push_back(body.hull.get());
+    } else {
+      for (const auto& part : body.parts) parts_.push_back(part.get());
+    }
+    for (int id : contact_ids_) {
+      const geometry::ConvexShape& shape = *scene.obstacles[scene.contacts[id].obstacle].shape;
+      if (shape.NumConstraints() != 1 || !shape.IsLinear(0)) {
+        throw ModelInvalid(fmt::format(
+            "multipatch model: body '{}' touches obstacle '{}', which is not a half-space; the "
+            "model combines the parts' ECPs on one plane; use --model hull",
+            body.name, scene.obstacles[scene.contacts[id].obstacle].name));
+      }
+    }
+  }
+
+  // one step of length h; returns false if every guess failed
+  bool Advance(double t, double h, BodyState& body, std::vector<ContactState>& contacts,
+               StepReport& report, double& residual, std::string& tried) const {
+    const Body& model = scene_.bodies[body_index_];
+    const Scales scales = BodyScales(model, body, scene_.gravity, h);
+    const MultiPatchProblem problem = MakeProblem(t, h, body, scales);
+    const MncpLayout layout = MakeLayout(problem.body);
+
+    // free flight: every part ends the step strictly above its plane when no contact acts, so
+    // p = 0 with ν⁺ = ν + M⁻¹ p_ext is the MNCP's solution (as in the hull model)
+    {
+      const VectorXd z = MakeGuess(Guess::kSeparated, problem, layout, body, contacts, scales);
+      bool apart = true;
+      for (size_t i = 0; i < problem.body.contacts.size(); ++i) {
+        const auto& cp = problem.body.contacts[i];
+        if (!(cp.obstacle->Value(0, z.segment<3>(layout.contacts[i].a1)) > 0)) apart = false;
+      }
+      if (apart) {
+        Commit(problem, layout, z, h, body, contacts);
+        return true;
+      }
+    }
+
+    // in contact: the warm start, then the guesses that fit the body's motion
+    bool have_warm_start = true;
+    for (int g = 0; g < problem.num_groups; ++g)
+      have_warm_start &= contacts[g].warm_start.size() == WarmStartSize(layout, problem, g);
+    const bool warm_in_contact =
+        have_warm_start && std::any_of(contacts.begin(), contacts.end(),
+                                       [](const ContactState& c) { return c.p_n > 0; });
+    const bool moving =
+        body.v_WB.norm() + body.w_WB.norm() * scales.length > 1e-3 * scales.velocity;
+    const Guess in_contact = moving ? Guess::kSliding : Guess::kResting;
+    const Guess other = moving ? Guess::kResting : Guess::kSliding;
+    std::vector<Guess> ladder = {in_contact, other, Guess::kSeparated};
+    if (warm_in_contact) {
+      ladder.insert(ladder.begin(), Guess::kWarm);
+    } else if (have_warm_start) {
+      ladder.insert(ladder.begin() + 2, Guess::kWarm);
+    }
+
+    McpOptions options;
+    options.tolerance = scene_.solver.tolerance;
+    options.max_iterations = kIterationBudgetFactor * scene_.solver.max_iterations;
+    options.measure = [&](const VectorXd& zz, const VectorXd& F) {
+      return MncpResidual(layout, zz, F);
+    };
+    const McpFunction f = [&](const VectorXd& zz, VectorXd* F, Eigen::MatrixXd* J) {
+      EvaluateMultiPatch(problem, layout, zz, F, J);
+    };
+    const VectorXd row_scale = RowScales(problem, layout, scales);
+    const VectorXd var_scale = VariableScales(problem, layout, scales);
+    for (Guess guess : ladder) {
+      VectorXd z = MakeGuess(guess, problem, layout, body, contacts, scales);
+      const McpResult result = SolveMcp(f, layout.num_free, row_scale, var_scale, z, options);
+      report.iterations += result.iterations;
+      residual = result.residual;
+      if (result.converged && z.allFinite()) {
+        Commit(problem, layout, z, h, body, contacts);
+        return true;
+      }
+      tried += fmt::format("{}{} (h = {:g} s): residual {:.3g} after {} iterations",
+                           tried.empty() ? "" : "; ", GuessName(guess), h, result.residual,
+                           result.iterations);
+      ++report.retries;
+    }
+    return false;
+  }
+
+ private:
+  MultiPatchProblem MakeProblem(double t, double h, const BodyState& body,
+                                const Scales& scales) const {
+    const Body& model = scene_.bodies[body_index_];
+    MultiPatchProblem problem;
+    problem.weight_floor = kWeightFloorRel * scales.impulse;
+    BodyProblem& p = problem.body;
+    p.h = h;
+    p.mass = model.mass;
+    p.R = body.Q_WB.toRotationMatrix();
+    p.inertia_world = p.R * model.inertia * p.R.transpose();
+    p.c = body.p_WB;
+    p.v = body.v_WB;
+    p.w = body.w_WB;
+    // gravity, applied loads and the gyroscopic impulse, all at the start of the step (trap 4)
+    p.p_ext = AppliedImpulse(scene_.loads, scene_.impulses, body_index_, t, h, p.R);
+    p.p_ext.head<3>() += h * model.mass * scene_.gravity;
+    p.p_ext.tail<3>() -= h * body.w_WB.cross(p.inertia_world * body.w_WB);
+    for (size_t g = 0; g < contact_ids_.size(); ++g) {
+      const ContactPair& pair = scene_.contacts[contact_ids_[g]];
+      const geometry::ConvexShape* plane = scene_.obstacles[pair.obstacle].shape.get();
+      // the tangent reference: the world axis least aligned with the plane's normal
+      int axis;
+      plane->Gradient(0, Vector3d::Zero()).cwiseAbs().minCoeff(&axis);
+      for (const geometry::ConvexShape* part : parts_) {
+        ContactProblem cp;
+        cp.hull = part;
+        cp.obstacle = plane;
+        cp.friction = pair.friction;
+        cp.tangent_reference = Vector3d::Unit(axis);
+        cp.window.resize(part->NumConstraints());
+        std::iota(cp.window.begin(), cp.window.end(), 0);
+        p.contacts.push_back(cp);
+        problem.group.push_back(static_cast<int>(g));
+      }
+    }
+    problem.num_groups = static_cast<int>(contact_ids_.size());
+    return problem;
+  }
+
+  // the length of group g's warm start: its blocks' unknowns
+  static int WarmStartSize(const MncpLayout& layout, const MultiPatchProblem& problem, int g) {
+    int size = 0;
+    for (size_t i = 0; i < problem.group.size(); ++i)
+      if (problem.group[i] == g) size += BlockSize(layout.contacts[i]);
+    return size;
+  }
+
+  VectorXd MakeGuess(Guess guess, const MultiPatchProblem& problem, const MncpLayout& layout,
+                     const BodyState& body, const std::vector<ContactState>& contacts,
+                     const Scales& scales) const {
+    const BodyProblem& bp = problem.body;
+    VectorXd z = VectorXd::Zero(layout.size);
+    const Vector3d v_free = body.v_WB + bp.p_ext.head<3>() / bp.mass;
+    const Vector3d w_free =
+        body.w_WB + bp.inertia_world.ldlt().solve(Vector3d(bp.p_ext.tail<3>()));
+
+    // warm start: the last step's velocities and every block's unknowns
+    if (guess == Guess::kWarm) {
+      z.segment<3>(0) = body.v_WB;
+      z.segment<3>(3) = body.w_WB;
+      std::vector<int> offset(problem.num_groups, 0);
+      for (size_t i = 0; i < bp.contacts.size(); ++i) {
+        const MncpLayout::Contact& L = layout.contacts[i];
+        const int g = problem.group[i];
+        UnpackBlock(L, contacts[g].warm_start.segment(offset[g], BlockSize(L)), z);
+        offset[g] += BlockSize(L);
+      }
+      return z;
+    }
+
+    // each part's lowest point on its plane at the free-flight pose
+    z.segment<3>(0) = v_free;
+    z.segment<3>(3) = w_free;
+    const EndPose pose = PoseAfterStep(bp, v_free, w_free);
+    const int blocks = static_cast<int>(bp.contacts.size());
+    std::vector<Vector3d> support(blocks);
+    std::vector<double> gap(blocks);
+    std::vector<double> lowest(problem.num_groups, INFINITY);
+    for (int i = 0; i < blocks; ++i) {
+      const ContactProblem& cp = bp.contacts[i];
+      const Vector3d n = PlaneFrame(cp).n;
+      support[i] = pose.c + pose.R * SupportFeatureCentroid(*cp.hull, pose.R.transpose() * -n);
+      gap[i] = cp.obstacle->Value(0, support[i]) / cp.obstacle->Gradient(0, support[i]).norm();
+      lowest[problem.group[i]] = std::min(lowest[problem.group[i]], gap[i]);
+    }
+    const bool separated = guess == Guess::kSeparated;
+    std::vector<int> touching(problem.num_groups, 0);
+    for (int i = 0; i < blocks; ++i)
+      if (gap[i] <= lowest[problem.group[i]] + kTouchingRelTol * scales.length)
+        ++touching[problem.group[i]];
+
+    const double sigma0 = kInitialSigmaFraction * scales.velocity;
+    Vector3d v_guess = v_free;
+    for (int i = 0; i < blocks; ++i) {
+      const ContactProblem& cp = bp.contacts[i];
+      const MncpLayout::Contact& L = layout.contacts[i];
+      const int g = problem.group[i];
+      const ContactFrame frame = PlaneFrame(cp);
+      const Vector3d& n = frame.n;
+      z.segment<3>(L.a1) = support[i];
+      z.segment<3>(L.a2) = support[i] - gap[i] * n;
+      z[L.l_g] = 1;
+      const Vector3d N = cp.obstacle->Gradient(0, support[i]);
+      z[L.s] = separated ? std::max(0.0, gap[i] / N.norm()) : gap[i] / N.norm();
+      // the part's constraint whose world normal is most opposed to N carries the cone
+      const Vector3d y = pose.R.transpose() * (support[i] - pose.c);
+      int best = 0;
+      double best_alignment = -INFINITY;
+      for (int k = 0; k < L.l_count; ++k) {
+        const double alignment = -(pose.R * cp.hull->Gradient(cp.window[k], y)).dot(N);
+        if (alignment > best_alignment) {
+          best_alignment = alignment;
+          best = k;
+        }
+      }
+      z[L.l + best] = 1;
+      z[L.sigma] = sigma0;
+      const bool touches = gap[i] <= lowest[g] + kTouchingRelTol * scales.length;
+      if (separated || !touches) continue;
+
+      // in contact: the group's normal impulse cancels gravity and the approach, shared evenly
+      const double p_n_total = std::max(bp.mass * (-n.dot(v_free)), 0.0) +
+                               std::max(-bp.mass * scene_.gravity.dot(n) * bp.h, 0.0);
+      const double p_n = p_n_total / touching[g];
+      z[L.p_n] = p_n;
+      v_guess = body.v_WB - n * n.dot(body.v_WB);
+      if (guess == Guess::kSliding) {
+        const Friction& fr = cp.friction;
+        const double v_t = frame.t.dot(v_guess), v_o = frame.o.dot(v_guess);
+        const double v_r = n.dot(body.w_WB);
+        const double sigma = std::sqrt(fr.e_t * fr.e_t * v_t * v_t + fr.e_o * fr.e_o * v_o * v_o +
+                                       fr.e_r * fr.e_r * v_r * v_r);
+        if (sigma > sigma0) {
+          z[L.sigma] = sigma;
+          z[L.p_t] = -fr.e_t * fr.e_t * fr.mu * p_n * v_t / sigma;
+          z[L.p_o] = -fr.e_o * fr.e_o * fr.mu * p_n * v_o / sigma;
+          z[L.p_r] = -fr.e_r * fr.e_r * fr.mu * p_n * v_r / sigma;
+        }
+      }
+    }
+    z.segment<3>(0) = v_guess;
+    return z;
+  }
+
+  // unknowns divided by and rows multiplied by these (as the hull model, trap 6)
+  static VectorXd VariableScales(const MultiPatchProblem& problem, const MncpLayout& layout,
+                                 const Scales& s) {
+    VectorXd scale = VectorXd::Ones(layout.size);
+    scale.segment<3>(0).setConstant(s.velocity);
+    scale.segment<3>(3).setConstant(s.velocity / s.length);
+    for (size_t k = 0; k < layout.contacts.size(); ++k) {
+      const MncpLayout::Contact& L = layout.contacts[k];
+      scale.segment<7>(L.a1).setConstant(s.length);  // a1, a2, s
+      scale[L.p_t] = scale[L.p_o] = scale[L.p_n] = s.impulse;
+      scale[L.p_r] = s.impulse * problem.body.contacts[k].friction.e_r;
+      scale[L.sigma] = s.velocity;
+    }
+    return scale;
+  }
+
+  static VectorXd RowScales(const MultiPatchProblem& problem, const MncpLayout& layout,
+                            const Scales& s) {
+    VectorXd scale = VectorXd::Ones(layout.size);
+    scale.segment<3>(0).setConstant(1 / s.impulse);
+    scale.segment<3>(3).setConstant(1 / (s.impulse * s.length));
+    for (size_t k = 0; k < layout.contacts.size(); ++k) {
+      const MncpLayout::Contact& L = layout.contacts[k];
+      const double e_r = problem.body.contacts[k].friction.e_r;
+      scale.segment<3>(L.a1).setConstant(1 / s.length);
+      scale[L.p_t] = scale[L.p_o] = 1 / (s.impulse * s.velocity);
+      scale[L.p_r] = 1 / (s.impulse * s.velocity * e_r);
+      scale.segment(L.l, L.l_count).setConstant(1 / s.length);
+      scale.segment(L.l_g, L.l_g_count).setConstant(1 / s.length);
+      scale[L.p_n] = 1 / s.length;
+      scale[L.sigma] = 1 / s.impulse;
+    }
+    return scale;
+  }
+
+  void Commit(const MultiPatchProblem& problem, const MncpLayout& layout, const VectorXd& z,
+              double h, BodyState& body, std::vector<ContactState>& contacts) const {
+    const Vector3d v = z.segment<3>(0);
+    const Vector3d w = z.segment<3>(3);
+    body.p_WB += h * v;
+    body.Q_WB = IntegrateOrientation(body.Q_WB, w, h);
+    body.v_WB = v;
+    body.w_WB = w;
+    for (int g = 0; g < problem.num_groups; ++g) {
+      ContactState& c = contacts[g];
+      c.a1 = CombinedEcp(problem, layout, z, g);
+      c.a2 = CombinedEcp(problem, layout, z, g, true);
+      c.p_n = c.p_t = c.p_o = c.p_r = c.sigma = 0;
+      c.window.clear();
+      c.warm_start.resize(0);
+      double weighted_sigma = 0;
+      for (size_t i = 0; i < problem.group.size(); ++i) {
+        if (problem.group[i] != g) continue;
+        const MncpLayout::Contact& L = layout.contacts[i];
+        const ContactFrame frame = PlaneFrame(problem.body.contacts[i]);
+        c.n = frame.n;
+        c.t = frame.t;
+        c.o = frame.o;
+        // complementarity unknowns are ≥ 0 up to the tolerance; reported clamped
+        const double p_n = std::max(z[L.p_n], 0.0);
+        c.p_n += p_n;
+        c.p_t += z[L.p_t];
+        c.p_o += z[L.p_o];
+        c.p_r += EquivalentMoment(frame, z.segment<3>(L.a1) - c.a1, z[L.p_t], z[L.p_o], z[L.p_r]);
+        weighted_sigma += p_n * std::max(z[L.sigma], 0.0);
+        const VectorXd block = PackBlock(L, z);
+        VectorXd joined(c.warm_start.size() + block.size());
+        joined << c.warm_start, block;
+        c.warm_start = joined;
+      }
+      // without a normal impulse any σ ≥ 0 solves the MNCP (trap 2); report the canonical 0
+      c.sigma = c.p_n > 0 ? weighted_sigma / c.p_n : 0.0;
+    }
+  }
+
+  const Scene& scene_;
+  int body_index_;
+  std::vector<int> contact_ids_;
+  std::vector<const geometry::ConvexShape*> parts_;
+};
+
+}  // namespace
+
+Vector3d CombinedEcp(const MultiPatchProblem& problem, const MncpLayout& layout, const VectorXd& z,
+                     int g, bool which_a2) {
+  Vector3d sum = Vector3d::Zero();
+  double weight = 0;
+  for (size_t i = 0; i < problem.group.size(); ++i) {
+    if (problem.group[i] != g) continue;
+    const MncpLayout::Contact& L = layout.contacts[i];
+    const double w = std::max(z[L.p_n], 0.0) + problem.weight_floor;
+    sum += w * z.segment<3>(which_a2 ? L.a2 : L.a1);
+    weight += w;
+  }
+  return sum / weight;
+}
+
+void EvaluateMultiPatch(const MultiPatchProblem& problem, const MncpLayout& layout,
+                        const VectorXd& z, VectorXd* F_out, Eigen::MatrixXd* J_out) {
+  ECPSIM_DEMAND(problem.weight_floor > 0);
+  ECPSIM_DEMAND(problem.group.size() == problem.body.contacts.size());
+  // the geometry, Newton–Euler and the per-block friction rows of the hull model's MNCP; the
+  // friction rows are replaced below
+  EvaluateMncp(problem.body, layout, z, F_out, J_out);
+  VectorXd& F = *F_out;
+  const bool with_jacobian = J_out != nullptr;
+  const double h = problem.body.h;
+  const Vector3d v = z.segment<3>(0);
+  const Vector3d w = z.segment<3>(3);
+  const EndPose end = PoseAfterStep(problem.body, v, w);
+
+  for (int g = 0; g < problem.num_groups; ++g) {
+    std::vector<int> blocks;
+    double weight = 0;
+    for (size_t i = 0; i < problem.group.size(); ++i) {
+      if (problem.group[i] != g) continue;
+      blocks.push_back(static_cast<int>(i));
+      weight += std::max(z[layout.contacts[i].p_n], 0.0) + problem.weight_floor;
+    }
+    if (blocks.empty()) continue;
+    const Vector3d a1 = CombinedEcp(problem, layout, z, g);
+    // ∂a1/∂a1_j = (w_j / W) I and ∂a1/∂p_n,j = (a1_j − a1) / W while p_n,j > 0
+    std::vector<double> da1_da1j(blocks.size());
+    std::vector<Vector3d> da1_dpnj(blocks.size());
+    for (size_t j = 0; j < blocks.size(); ++j) {
+      const MncpLayout::Contact& Lj = layout.contacts[blocks[j]];
+      da1_da1j[j] = (std::max(z[Lj.p_n], 0.0) + problem.weight_floor) / weight;
+      da1_dpnj[j] =
+          z[Lj.p_n] > 0 ? Vector3d((z.segment<3>(Lj.a1) - a1) / weight) : Vector3d::Zero();
+    }
+
+    // the sliding velocity at the combined ECP at the end of the step
+    const ContactFrame frame = PlaneFrame(problem.body.contacts[blocks[0]]);
+    const Vector3d& n = frame.n;
+    const Vector3d& t = frame.t;
+    const Vector3d& o = frame.o;
+    const Vector3d r = a1 - end.c;
+    const Vector3d v_contact = v + w.cross(r);
+    const double v_t = t.dot(v_contact), v_o = o.dot(v_contact), v_r = n.dot(w);
+
+    for (size_t bi = 0; bi < blocks.size(); ++bi) {
+      const int i = blocks[bi];
+      const MncpLayout::Contact& L = layout.contacts[i];
+      const Friction& fr = problem.body.contacts[i].friction;
+      const double p_t = z[L.p_t], p_o = z[L.p_o], p_r = z[L.p_r];
+      const double p_n = z[L.p_n], sigma = z[L.sigma];
+      const Vector3d d = z.segment<3>(L.a1) - a1;
+      const double p_rE = EquivalentMoment(frame, d, p_t, p_o, p_r);
+      const double et2 = fr.e_t * fr.e_t, eo2 = fr.e_o * fr.e_o, er2 = fr.e_r * fr.e_r;
+
+      // maximum dissipation of patch i in (p_t, p_o, p_rE) at the combined ECP's velocity
+      F[L.p_t] = et2 * fr.mu * p_n * v_t + p_t * sigma;
+      F[L.p_o] = eo2 * fr.mu * p_n * v_o + p_o * sigma;
+      F[L.p_r] = er2 * fr.mu * p_n * v_r + p_rE * sigma;
+      const double p_hat = std::sqrt(p_t * p_t / et2 + p_o * p_o / eo2 + p_rE * p_rE / er2);
+      F[L.sigma] = fr.mu * p_n - p_hat;
+
+      if (!with_jacobian) continue;
+      Eigen::MatrixXd& J = *J_out;
+      for (int row : {L.p_t, L.p_o, L.p_r, L.sigma}) J.row(row).setZero();
+
+      // ∂p_rE/∂d, and d = a1_i − a1 depends on every a1_j and p_n,j of the group
+      const RowVector3d drE_dd = (-p_t * o + p_o * t).transpose();
+      const auto add_through_d = [&](int row, double factor) {
+        for (size_t j = 0; j < blocks.size(); ++j) {
+          const MncpLayout::Contact& Lj = layout.contacts[blocks[j]];
+          const double dd_da1j = (j == bi ? 1.0 : 0.0) - da1_da1j[j];
+          J.block<1, 3>(row, Lj.a1) += factor * dd_da1j * drE_dd;
+          J(row, Lj.p_n) -= factor * drE_dd.dot(da1_dpnj[j]);
+        }
+      };
+      // v_c = v + ω × (a1 − c − h v): ∂/∂v = I − h[ω]×, ∂/∂ω = −[r]×, ∂/∂a1 = [ω]×
+      const Matrix3d dvc_dv = Matrix3d::Identity() - h * Skew(w);
+      const Matrix3d dvc_dw = -Skew(r);
+      const Matrix3d dvc_da1 = Skew(w);
+      const auto add_speed = [&](int row, const Vector3d& axis, double scale) {
+        const RowVector3d axis_t = axis.transpose();
+        J.block<1, 3>(row, 0) += scale * axis_t * dvc_dv;
+        J.block<1, 3>(row, 3) += scale * axis_t * dvc_dw;
+        const RowVector3d through_a1 = scale * axis_t * dvc_da1;
+        for (size_t j = 0; j < blocks.size(); ++j) {
+          const MncpLayout::Contact& Lj = layout.contacts[blocks[j]];
+          J.block<1, 3>(row, Lj.a1) += da1_da1j[j] * through_a1;
+          J(row, Lj.p_n) += through_a1.dot(da1_dpnj[j]);
+        }
+      };
+
+      add_speed(L.p_t, t, et2 * fr.mu * p_n);
+      J(L.p_t, L.p_n) += et2 * fr.mu * v_t;
+      J(L.p_t, L.p_t) += sigma;
+      J(L.p_t, L.sigma) += p_t;
+
+      add_speed(L.p_o, o, eo2 * fr.mu * p_n);
+      J(L.p_o, L.p_n) += eo2 * fr.mu * v_o;
+      J(L.p_o, L.p_o) += sigma;
+      J(L.p_o, L.sigma) += p_o;
+
+      J.block<1, 3>(L.p_r, 3) += er2 * fr.mu * p_n * n.transpose();
+      J(L.p_r, L.p_n) += er2 * fr.mu * v_r;
+      J(L.p_r, L.p_r) += sigma;
+      J(L.p_r, L.p_t) += -sigma * o.dot(d);
+      J(L.p_r, L.p_o) += sigma * t.dot(d);
+      J(L.p_r, L.sigma) += p_rE;
+      add_through_d(L.p_r, sigma);
+
+      // μ p_n − ‖p̂‖; at p̂ = 0 the norm's generalized gradient contains 0, which is used
+      J(L.sigma, L.p_n) = fr.mu;
+      if (p_hat > 0) {
+        const double c_r = p_rE / (er2 * p_hat);
+        J(L.sigma, L.p_t) += -(p_t / (et2 * p_hat) - c_r * o.dot(d));
+        J(L.sigma, L.p_o) += -(p_o / (eo2 * p_hat) + c_r * t.dot(d));
+        J(L.sigma, L.p_r) += -c_r;
+        add_through_d(L.sigma, -c_r);
+      }
+    }
+  }
+}
+
+StepReport StepMultiPatch(const Scene& scene, State& state) {
+  StepReport report;
+  report.converged = true;
+  std::vector<BodyState> next_bodies = state.bodies;
+  std::vector<ContactState> next_contacts = state.contacts;
+
+  for (int b = 0; b < static_cast<int>(scene.bodies.size()); ++b) {
+    std::vector<int> contact_ids;
+    for (int k = 0; k < static_cast<int>(scene.contacts.size()); ++k)
+      if (scene.contacts[k].body == b) contact_ids.push_back(k);
+    const MultiPatchStepper stepper(scene, b, contact_ids);
+
+    // the ladder at h, then 2 sub-steps of h/2, then 4 of h/4 (engine/README.md)
+    std::string tried;
+    double residual = 0;
+    bool solved = false;
+    for (int substeps : {1, 2, 4}) {
+      BodyState body = state.bodies[b];
+      std::vector<ContactState> contacts;
+      for (int id : contact_ids) contacts.push_back(state.contacts[id]);
+      const double h = scene.h / substeps;
+      bool ok = true;
+      for (int i = 0; i < substeps && ok; ++i)
+        ok = stepper.Advance(state.t + i * h, h, body, contacts, report, residual, tried);
+      if (!ok) continue;
+      next_bodies[b] = body;
+      for (size_t k = 0; k < contact_ids.size(); ++k) next_contacts[contact_ids[k]] = contacts[k];
+      report.substeps = std::max(report.substeps, substeps);
+      report.residual = std::max(report.residual, residual);
+      solved = true;
+      break;
+    }
+    if (!solved) {
+      throw SolverFailure(fmt::format(
+          "multipatch model: solver failed at t = {:.6g} s on body '{}': residual {:.3g} > "
+          "tolerance {:.3g}; tried {}",
+          state.t, scene.bodies[b].name, residual, scene.solver.tolerance, tried));
+    }
+  }
+
+  state.bodies = std::move(next_bodies);
+  state.contacts = std::move(next_contacts);
+  state.t += scene.h;
+  return report;
+}
+
+}  // namespace ecpsim::engine

@@ -1,0 +1,56 @@
+#pragma once
+// The multi-convex-patch contact model of Xie & Chakraborty (IDETC 2018): one ECP, wrench and
+// complementarity block per convex part of a body, friction about the parts' combined ECP.
+// The equations are written out in engine/README.md, "The multi-patch model".
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "engine/mncp_system.h"
+#include "engine/scene.h"
+#include "engine/state.h"
+#include "engine/step_report.h"
+
+namespace ecpsim::engine {
+
+/// One body's multi-patch MNCP for one step. `body.contacts` holds one block per (scene contact,
+/// part): the part's convex shape (body frame) against the scene contact's obstacle, which must
+/// be a half-space; `group[i]` is the scene contact (0-based among this body's contacts) that
+/// block i belongs to. The parts of one group share one combined ECP and one sliding velocity.
+struct MultiPatchProblem {
+  BodyProblem body;
+  std::vector<int> group;
+  int num_groups = 0;
+  // N·s: every part's weight in the combined ECP is max(p_n_i, 0) + weight_floor, so that the
+  // combined ECP stays defined while no part carries load (see engine/README.md)
+  double weight_floor = 1e-12;
+};
+
+/// The combined ECP of group `g`: a1 = Σ w_i a1_i / Σ w_i over the group's blocks, w_i =
+/// max(p_n_i, 0) + weight_floor (world frame, m). With `which_a2` the same mean of the a2_i.
+Eigen::Vector3d CombinedEcp(const MultiPatchProblem& problem, const MncpLayout& layout,
+                            const Eigen::VectorXd& z, int g, bool which_a2 = false);
+
+/// Residual F(z) and, if `J` is not null, its analytic Jacobian. Rows and unknowns are those of
+/// EvaluateMncp on `problem.body` (MakeLayout(problem.body)), except the friction rows of each
+/// block i, which are the paper's multi-patch friction model (the IDETC 2018 "friction model for
+/// multiple patches"): with the group's combined ECP a1, v_c = v⁺ + ω⁺ × (a1 − c⁺),
+/// v_t = t·v_c, v_o = o·v_c, v_r = n·ω⁺, and the equivalent moment about a1
+/// p_rE,i = p_r,i + n · ((a1_i − a1) × (t p_t,i + o p_o,i)):
+///     e_t² μ p_n,i v_t + p_t,i σ_i = 0,  e_o² μ p_n,i v_o + p_o,i σ_i = 0,
+///     e_r² μ p_n,i v_r + p_rE,i σ_i = 0,  0 ≤ σ_i ⊥ μ p_n,i − ‖(p_t,i/e_t, p_o,i/e_o, p_rE,i/e_r)‖ ≥ 0.
+void EvaluateMultiPatch(const MultiPatchProblem& problem, const MncpLayout& layout,
+                        const Eigen::VectorXd& z, Eigen::VectorXd* F, Eigen::MatrixXd* J);
+
+/// One step of the multi-patch model for every body (ContactModel::kMultiPatch). A body's parts
+/// are Body::parts, or its hull alone when it has none (then the model is the hull model). Each
+/// scene contact's ContactState reports the combined solution: a1, a2 the p_n-weighted mean ECPs,
+/// p_n, p_t, p_o the sums over the parts, p_r = Σ p_rE,i (the friction moment about a1 along n),
+/// σ the p_n-weighted mean of the σ_i; its warm_start holds the parts' unknowns.
+/// @throws ModelInvalid (engine/planar_model.h) if a contact's obstacle is not a half-space;
+///         SolverFailure naming time, body and residual when the step (also as 2 × h/2 and
+///         4 × h/4) cannot be solved; `state` is then unchanged.
+StepReport StepMultiPatch(const Scene& scene, State& state);
+
+}  // namespace ecpsim::engine
