@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <fmt/format.h>
 
@@ -60,6 +61,23 @@ SceneFrameBuilder::SceneFrameBuilder(const engine::Scene& scene) : scene_(scene)
   }
 }
 
+double SceneFrameBuilder::PatchTolerance(int body, const Eigen::Isometry3d& X_WB,
+                                         const geometry::Plane& plane) const {
+  // a declared hull primitive (the dumbbell's cylinder) touches the plane where the tessellated
+  // mesh stays up to its sagitta above it: the features within that gap of the mesh's lowest
+  // point carry the contact. For the polyhedral hull of the mesh the gap is 0 (its vertices are
+  // mesh vertices) and the tolerance is the plain one.
+  const geometry::ConvexShape* hull = scene_.bodies[body].hull.get();
+  if (hull == nullptr) return geometry::kContactPatchTolerance;
+  const Eigen::Matrix3d& R = X_WB.linear();
+  const Eigen::Vector3d support = X_WB * hull->Support(R.transpose() * -plane.normal);
+  double mesh_lowest = std::numeric_limits<double>::infinity();
+  for (const Eigen::Vector3d& v : meshes_[body]->vertices)
+    mesh_lowest = std::min(mesh_lowest, plane.normal.dot(X_WB * v));
+  const double gap = std::max(0.0, mesh_lowest - plane.normal.dot(support));
+  return geometry::kContactPatchTolerance + gap;
+}
+
 FrameInput SceneFrameBuilder::Build(const engine::State& state, int iterations) const {
   if (state.bodies.size() != scene_.bodies.size() ||
       state.contacts.size() != scene_.contacts.size()) {
@@ -111,7 +129,8 @@ FrameInput SceneFrameBuilder::Build(const engine::State& state, int iterations) 
     const auto& plane = planes_[pair.obstacle];
     if (plane) {
       contact.plane = *plane;
-      contact.patch = geometry::ExtractContactPatch(*meshes_[pair.body], X_WB, *plane);
+      contact.patch = geometry::ExtractContactPatch(*meshes_[pair.body], X_WB, *plane,
+                                                    PatchTolerance(pair.body, X_WB, *plane));
       const Eigen::Vector3d p = X_WB.translation();
       contact.cm_projection = p - (plane->normal.dot(p) - plane->offset) * plane->normal;
     } else {

@@ -29,6 +29,11 @@ class SceneFrameBuilder {
   FrameInput Build(const engine::State& state, int iterations = -1) const;
 
  private:
+  // the patch tolerance for `body` at pose X_WB: geometry::kContactPatchTolerance plus the gap
+  // between its hull's and its mesh's lowest points
+  double PatchTolerance(int body, const Eigen::Isometry3d& X_WB,
+                        const geometry::Plane& plane) const;
+
   const engine::Scene& scene_;
   std::vector<std::shared_ptr<const geometry::TriangleMesh>> meshes_;  // per body, body frame
   std::vector<std::shared_ptr<const HullGeometry>> hulls_;             // per body, body frame

@@ -126,3 +126,43 @@ TEST(SceneFrameBuilder, EcpMarkerLandsOnItsProjectedPixel) {
 
 }  // namespace
 }  // namespace ecpsim::render
+
+namespace ecpsim::render {
+namespace {
+
+// the dumbbell (a 96-gon mesh) whose declared hull is the exact cylinder R = 0.1, L = 0.3
+engine::Scene DumbbellOnItsSide() {
+  engine::Scene scene = DeskScene();
+  engine::Body& body = scene.bodies[0];
+  body.name = "dumbbell";
+  body.mesh = geometry::MakeDumbbellMesh();  // centred at its CM, axis x
+  body.hull = geometry::MakeCylinder(0.1, 0.3, 0);
+  body.p0 = Eigen::Vector3d(0, 0, 0.1);  // the cylinder touches the ground along a line
+  return scene;
+}
+
+TEST(SceneFrameBuilder, TessellatedMeshUnderAPrimitiveHullShowsItsLowestFeatures) {
+  // rolled by half a segment, a flat facet of each rim faces down, R (1 − cos(π/96)) = 5.4e-5 m
+  // above the ground where the cylinder touches: that gap, not the plain 1e-6 m tolerance,
+  // decides which mesh features carry the contact — the two rim facets
+  const engine::Scene scene = DumbbellOnItsSide();
+  engine::State state = RestingState(scene);
+  state.bodies[0].Q_WB = Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 96, Eigen::Vector3d::UnitX()));
+  const FrameInput frame = SceneFrameBuilder(scene).Build(state);
+  const geometry::ContactPatch& patch = frame.contacts[0].patch;
+  EXPECT_EQ(patch.mode, geometry::ContactMode::kNonConvexPatch);
+  EXPECT_EQ(patch.polygons.size(), 2u);
+  EXPECT_NEAR(patch.area, 0.3 * 2 * 0.1 * std::sin(M_PI / 96), 1e-9);
+}
+
+TEST(SceneFrameBuilder, PolyhedralHullKeepsThePlainTolerance) {
+  // the desk lifted by 2 µm: above the 1 µm tolerance, no contact
+  const engine::Scene scene = DeskScene();
+  engine::State state = RestingState(scene);
+  state.bodies[0].p_WB.z() += 2e-6;
+  const FrameInput frame = SceneFrameBuilder(scene).Build(state);
+  EXPECT_EQ(frame.contacts[0].patch.mode, geometry::ContactMode::kNone);
+}
+
+}  // namespace
+}  // namespace ecpsim::render
