@@ -141,7 +141,7 @@ class BodyStepper {
         report.iterations += result.iterations;
         residual = result.residual;
         if (!result.converged || !z.allFinite()) {
-          tried += fmt::format("{}{} (h = {:g} s): residual {:.3g} after {} iterations", 
+          tried += fmt::format("{}{} (h = {:g} s): residual {:.3g} after {} iterations",
                                tried.empty() ? "" : "; ", GuessName(guess), h, result.residual,
                                result.iterations);
           ++report.retries;
