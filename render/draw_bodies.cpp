@@ -13,6 +13,10 @@ namespace {
 // key light from above, behind the default camera's left shoulder (world, towards the light)
 const Eigen::Vector3f kLightDirection = Eigen::Vector3f(-0.35f, -0.55f, 1.0f).normalized();
 const Rgba kHullFace(0.45f, 0.62f, 0.95f, 0.22f);
+// a closed hull is drawn with its back faces culled: one layer of this opacity covers its
+// silhouette between one layer of kHullFace (what tints a body inside it) and the two that
+// tinted the ground around the body before culling (1 − (1 − 0.22)² = 0.39)
+constexpr float kHullFrontAlpha = 0.3f;
 // hull edges between faces closer than this to coplanar (a tessellated cylinder's facets) are
 // drawn only on the silhouette
 constexpr double kSmoothEdgeCos = 0.94;  // cos(20°)
@@ -82,6 +86,21 @@ class GroundMesh {
   std::vector<float> data_;
 };
 
+// true if the convex quad a, b, c, d lies wholly outside one plane of the view frustum (clip-space
+// half-spaces are linear in homogeneous coordinates, so the test holds for points behind the eye
+// too): such a grid piece would only cost vertex work
+bool OutsideFrustum(const Eigen::Matrix4d& view_projection, const Eigen::Vector3d& a,
+                    const Eigen::Vector3d& b, const Eigen::Vector3d& c, const Eigen::Vector3d& d) {
+  Eigen::Matrix4d corners;
+  corners << a, b, c, d, Eigen::RowVector4d::Ones();
+  const Eigen::Matrix4d clip = view_projection * corners;
+  for (int axis = 0; axis < 3; ++axis) {
+    if ((clip.row(axis).array() > clip.row(3).array()).all()) return true;
+    if ((clip.row(axis).array() < -clip.row(3).array()).all()) return true;
+  }
+  return false;
+}
+
 void DrawGroundMesh(const GroundMesh& mesh) {
   if (mesh.data().empty()) return;
   GLuint vao = 0, vbo = 0;
@@ -140,6 +159,10 @@ void DrawPlanes(const FrameInput& frame, DrawContext& context) {
         const double b0 = -R + 2 * R * j / kSheetCells, b1 = -R + 2 * R * (j + 1) / kSheetCells;
         const Eigen::Vector3d corners[4] = {point(a0, b0), point(a1, b0), point(a1, b1),
                                             point(a0, b1)};
+        if (OutsideFrustum(camera.view_projection, corners[0], corners[1], corners[2],
+                           corners[3])) {
+          continue;
+        }
         for (int k : {0, 1, 2, 0, 2, 3}) {
           const float f = fade(corners[k]);
           const Eigen::Vector3f colour = kSheetColour * (1 - f) + background * f;
@@ -188,9 +211,10 @@ void DrawPlanes(const FrameInput& frame, DrawContext& context) {
             const double s0 = -R + 2 * R * p / pieces, s1 = -R + 2 * R * (p + 1) / pieces;
             const Eigen::Vector3d a = centre + offset * across + s0 * along;
             const Eigen::Vector3d b = centre + offset * across + s1 * along;
+            const Eigen::Vector3d w = half_width * across;
+            if (OutsideFrustum(camera.view_projection, a - w, b - w, b + w, a + w)) continue;
             const float alpha_a = alpha(a), alpha_b = alpha(b);
             if (alpha_a <= 0 && alpha_b <= 0) continue;
-            const Eigen::Vector3d w = half_width * across;
             lines.Vertex(a - w, colour, alpha_a);
             lines.Vertex(b - w, colour, alpha_b);
             lines.Vertex(b + w, colour, alpha_b);
@@ -219,8 +243,8 @@ void DrawBodies(const FrameInput& frame, DrawContext& context) {
   glEnable(GL_DEPTH_TEST);
   glDepthMask(GL_TRUE);
   glDisable(GL_BLEND);
-  // meshes from files may be wound either way: no culling
-  glDisable(GL_CULL_FACE);
+  // meshes from files may be wound either way: GpuMesh culls back faces only of closed,
+  // outward-wound meshes
   for (const BodyVisual& body : frame.bodies) {
     if (!body.mesh) continue;
     const Rgba colour(body.colour.x(), body.colour.y(), body.colour.z(), 1.0f);
@@ -245,7 +269,10 @@ void DrawHulls(const FrameInput& frame, DrawContext& context) {
     if (!body.hull || body.hull->mesh.triangles.empty()) continue;
     // the aliasing pointer shares the hull's ownership, so the cache tracks the hull's lifetime
     const std::shared_ptr<const geometry::TriangleMesh> mesh(body.hull, &body.hull->mesh);
-    DrawPosedMesh(context, context.meshes.Get(mesh), body.X_WB, kHullFace);
+    const GpuMesh& gpu = context.meshes.Get(mesh);
+    Rgba colour = kHullFace;
+    if (gpu.closed_outward()) colour[3] = kHullFrontAlpha;
+    DrawPosedMesh(context, gpu, body.X_WB, colour);
   }
   glDisable(GL_POLYGON_OFFSET_FILL);
   glDepthMask(GL_TRUE);

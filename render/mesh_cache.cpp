@@ -18,6 +18,27 @@ namespace {
 // (the desk's 90° edges are sharp, the dumbbell's 3.75° facets are smooth)
 constexpr double kCreaseCos = 0.8;  // cos(≈ 37°)
 
+// True if each directed edge occurs once and its reverse once (a closed, consistently wound
+// surface) and the signed volume is positive (outward winding).
+bool IsClosedOutward(const geometry::TriangleMesh& mesh) {
+  if (mesh.triangles.empty()) return false;
+  std::vector<std::pair<int, int>> directed;
+  directed.reserve(mesh.triangles.size() * 3);
+  double six_volume = 0;
+  for (const auto& t : mesh.triangles) {
+    for (int k = 0; k < 3; ++k) directed.emplace_back(t[k], t[(k + 1) % 3]);
+    six_volume += mesh.vertices[t[0]].dot(mesh.vertices[t[1]].cross(mesh.vertices[t[2]]));
+  }
+  std::sort(directed.begin(), directed.end());
+  if (std::adjacent_find(directed.begin(), directed.end()) != directed.end()) return false;
+  for (const auto& [a, b] : directed) {
+    if (a == b || !std::binary_search(directed.begin(), directed.end(), std::make_pair(b, a))) {
+      return false;
+    }
+  }
+  return six_volume > 0;
+}
+
 }  // namespace
 
 GpuMesh::GpuMesh(const geometry::TriangleMesh& mesh) {
@@ -66,6 +87,7 @@ GpuMesh::GpuMesh(const geometry::TriangleMesh& mesh) {
     }
   }
   index_count_ = static_cast<int>(indices.size());
+  closed_outward_ = IsClosedOutward(mesh);
 
   // bounding sphere about the box centre
   if (!V.empty()) {
@@ -104,9 +126,17 @@ GpuMesh::~GpuMesh() {
 }
 
 void GpuMesh::Draw() const {
+  if (closed_outward_) {
+    glEnable(GL_CULL_FACE);
+    glCullFace(GL_BACK);
+    glFrontFace(GL_CCW);
+  } else {
+    glDisable(GL_CULL_FACE);
+  }
   glBindVertexArray(vao_);
   glDrawElements(GL_TRIANGLES, index_count_, GL_UNSIGNED_INT, nullptr);
   glBindVertexArray(0);
+  glDisable(GL_CULL_FACE);
 }
 
 const GpuMesh& MeshCache::Get(const std::shared_ptr<const geometry::TriangleMesh>& mesh) {

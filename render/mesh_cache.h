@@ -20,8 +20,15 @@ class GpuMesh {
   GpuMesh(const GpuMesh&) = delete;
   GpuMesh& operator=(const GpuMesh&) = delete;
 
-  /// Draws the triangles with the current program (attributes 0 = position, 1 = normal).
+  /// Draws the triangles with the current program (attributes 0 = position, 1 = normal). A
+  /// closed, outward-wound mesh is drawn with back faces culled (they are hidden by its front
+  /// faces from any eye outside it, and skipping them halves the triangle setup); any other mesh
+  /// is drawn two-sided.
   void Draw() const;
+
+  /// Whether every edge joins exactly two triangles that traverse it in opposite directions and
+  /// the enclosed volume is positive (counter-clockwise seen from outside).
+  bool closed_outward() const { return closed_outward_; }
 
   /// A sphere around all vertices, in the mesh's frame (m).
   const Eigen::Vector3d& centre() const { return centre_; }
@@ -30,6 +37,7 @@ class GpuMesh {
  private:
   unsigned vao_ = 0, vbo_ = 0, ibo_ = 0;
   int index_count_ = 0;
+  bool closed_outward_ = false;
   Eigen::Vector3d centre_ = Eigen::Vector3d::Zero();
   double radius_ = 0;
 };

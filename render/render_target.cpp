@@ -1,6 +1,8 @@
 #include "render/render_target.h"
 
 #include <algorithm>
+#include <cmath>
+#include <iterator>
 #include <stdexcept>
 #include <vector>
 
@@ -12,8 +14,21 @@
 namespace ecpsim::render {
 namespace {
 
-// beyond 4 × 4 supersamples the cost grows faster than the edges improve
-constexpr int kMaxSupersample = 4;
+// the supported supersampling factors: integers, whose footprints are whole blocks, and 1.5,
+// whose 3 × 3 drawing blocks split into 2 × 2 image pixels; beyond 4 × 4 supersamples the cost
+// grows faster than the edges improve
+constexpr double kSupersampleFactors[] = {1, 1.5, 2, 3, 4};
+
+bool IsSupportedFactor(double supersample) {
+  return std::find(std::begin(kSupersampleFactors), std::end(kSupersampleFactors), supersample) !=
+         std::end(kSupersampleFactors);
+}
+
+// drawing pixels along an image side of `pixels` at `supersample`, rounded up so that the last
+// image pixel's footprint is inside the drawing
+int DrawingSize(int pixels, double supersample) {
+  return static_cast<int>(std::ceil(pixels * supersample));
+}
 
 void CheckComplete(const char* which, int width, int height, int samples) {
   const GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
@@ -68,26 +83,70 @@ void Downsample(const std::uint8_t* bottom_up, int w, int h, std::uint8_t* rgb) 
   }
 }
 
+// 1.5× supersampling: image pixel i spans drawing pixels [1.5 i, 1.5 i + 1.5), i.e. all of one
+// drawing pixel and half of a neighbour: for even i = 2k drawing pixels 3k (weight 2) and
+// 3k + 1 (weight 1); for odd i = 2k + 1 drawing pixels 3k + 1 (1) and 3k + 2 (2). The 2-D
+// weights are products (4, 2, 2, 1), summing to 9; the rounded division by the constant 9
+// compiles to a multiply.
+struct Tap {
+  int first, second;  // drawing pixel indices
+  int first_weight, second_weight;
+};
+
+Tap ThreeHalvesTap(int i) {
+  const int k = i / 2;
+  return i % 2 == 0 ? Tap{3 * k, 3 * k + 1, 2, 1} : Tap{3 * k + 1, 3 * k + 2, 1, 2};
+}
+
+void DownsampleThreeHalves(const std::uint8_t* bottom_up, int drawing_width, int drawing_height,
+                           int w, int h, std::uint8_t* rgb) {
+  const size_t row_bytes = static_cast<size_t>(drawing_width) * 4;
+  std::vector<Tap> columns(static_cast<size_t>(w));
+  for (int x = 0; x < w; ++x) columns[x] = ThreeHalvesTap(x);
+  for (int y = 0; y < h; ++y) {
+    // image rows run top down; drawing rows bottom up
+    const Tap rows = ThreeHalvesTap(y);
+    const std::uint8_t* a = bottom_up + (drawing_height - 1 - rows.first) * row_bytes;
+    const std::uint8_t* b = bottom_up + (drawing_height - 1 - rows.second) * row_bytes;
+    std::uint8_t* dst = rgb + static_cast<size_t>(y) * w * 3;
+    for (int x = 0; x < w; ++x) {
+      const Tap& t = columns[x];
+      const int w00 = rows.first_weight * t.first_weight, w01 = rows.first_weight * t.second_weight;
+      const int w10 = rows.second_weight * t.first_weight;
+      const int w11 = rows.second_weight * t.second_weight;
+      for (int c = 0; c < 3; ++c) {
+        const int sum = w00 * a[4 * t.first + c] + w01 * a[4 * t.second + c] +
+                        w10 * b[4 * t.first + c] + w11 * b[4 * t.second + c];
+        dst[3 * x + c] = static_cast<std::uint8_t>((sum + 4) / 9);
+      }
+    }
+  }
+}
+
 }  // namespace
 
-RenderTarget::RenderTarget(int width, int height, int samples, int supersample)
-    : width_(width), height_(height), samples_(samples), supersample_(supersample) {
+RenderTarget::RenderTarget(int width, int height, int samples, double supersample)
+    : width_(width),
+      height_(height),
+      samples_(samples),
+      supersample_(supersample),
+      draw_width_(DrawingSize(width, supersample)),
+      draw_height_(DrawingSize(height, supersample)) {
   GLint max_size = 0, max_samples = 0;
   glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_size);
   glGetIntegerv(GL_MAX_SAMPLES, &max_samples);
-  if (supersample < 1 || supersample > kMaxSupersample) {
-    throw std::runtime_error(fmt::format("supersampling {}x: expected 1 to {}", supersample,
-                                         kMaxSupersample));
+  if (!IsSupportedFactor(supersample)) {
+    throw std::runtime_error(
+        fmt::format("supersampling {}x: expected 1, 1.5, 2, 3 or 4", supersample));
   }
-  if (width < 1 || height < 1 || width * supersample > max_size ||
-      height * supersample > max_size) {
+  if (width < 1 || height < 1 || draw_width_ > max_size || draw_height_ > max_size) {
     throw std::runtime_error(fmt::format(
         "image size {}x{} with {}x supersampling is not supported: expected 1..{} drawing "
         "pixels per side", width, height, supersample, max_size));
   }
   // from here on the buffers have the drawing size
-  width *= supersample;
-  height *= supersample;
+  width = draw_width_;
+  height = draw_height_;
   if (samples < 1 || samples > max_samples) {
     throw std::runtime_error(fmt::format(
         "{} samples per pixel are not supported: expected 1..{}", samples, max_samples));
@@ -193,21 +252,17 @@ Image RenderTarget::Read() const {
   image.width = width_;
   image.height = height_;
   image.rgb.resize(static_cast<size_t>(width_) * height_ * 3);
-  switch (supersample_) {
-    case 1:
-      Downsample<1>(bottom_up, width_, height_, image.rgb.data());
-      break;
-    case 2:
-      Downsample<2>(bottom_up, width_, height_, image.rgb.data());
-      break;
-    case 3:
-      Downsample<3>(bottom_up, width_, height_, image.rgb.data());
-      break;
-    case 4:
-      Downsample<4>(bottom_up, width_, height_, image.rgb.data());
-      break;
-    default:
-      ECPSIM_DEMAND(false);
+  if (supersample_ == 1.5) {
+    DownsampleThreeHalves(bottom_up, W, H, width_, height_, image.rgb.data());
+  } else if (supersample_ == 1) {
+    Downsample<1>(bottom_up, width_, height_, image.rgb.data());
+  } else if (supersample_ == 2) {
+    Downsample<2>(bottom_up, width_, height_, image.rgb.data());
+  } else if (supersample_ == 3) {
+    Downsample<3>(bottom_up, width_, height_, image.rgb.data());
+  } else {
+    ECPSIM_DEMAND(supersample_ == 4);
+    Downsample<4>(bottom_up, width_, height_, image.rgb.data());
   }
   return image;
 }

@@ -11,28 +11,33 @@ namespace ecpsim::render {
 
 /// RGBA8 colour + 24-bit depth + 8-bit stencil for an image of `width` × `height` pixels, with
 /// two kinds of anti-aliasing:
-/// - supersampling: drawing happens at `supersample` × the image size and Read() averages each
-///   supersample × supersample block on the CPU (an exact box filter). On llvmpipe this is the
-///   fast way: 2×2 supersampling costs ~3× a plain frame where 4× MSAA costs ~15×, because Mesa's
-///   multisample clear and resolve blit dominate;
+/// - supersampling: drawing happens at `supersample` × the image size (1, 1.5, 2, 3 or 4) and
+///   Read() box-filters each image pixel's footprint on the CPU: the mean of its S × S block for
+///   integer S; for 1.5, each 2 × 2 image block covers a 3 × 3 drawing block and each image
+///   pixel is the area-weighted mean of the 2 × 2 drawing pixels it overlaps (weights 4, 2, 2, 1
+///   ninths). On llvmpipe this is the fast way: 2×2 supersampling costs ~3× a plain frame where
+///   4× MSAA costs more, because Mesa's multisample clear and resolve blit dominate;
 /// - `samples` > 1: multisampling, resolved with glBlitFramebuffer (cheap on real GPUs).
 /// Needs a current GlContext for its whole life.
 class RenderTarget {
  public:
   /// @throws std::runtime_error if the size or sample count is not supported by the context
   ///         (the message gives both and the limits).
-  RenderTarget(int width, int height, int samples, int supersample = 1);
+  /// @throws std::runtime_error also for a `supersample` other than 1, 1.5, 2, 3 or 4.
+  RenderTarget(int width, int height, int samples, double supersample = 1);
   ~RenderTarget();
   RenderTarget(const RenderTarget&) = delete;
   RenderTarget& operator=(const RenderTarget&) = delete;
 
-  /// The drawing size: the image size × supersample. Drawing coordinates are in these pixels.
-  int width() const { return width_ * supersample_; }
-  int height() const { return height_ * supersample_; }
+  /// The drawing size: the image size × supersample, rounded up (an odd image side at 1.5 has a
+  /// last image pixel made of one and a half drawing pixels). Drawing coordinates are in these
+  /// pixels.
+  int width() const { return draw_width_; }
+  int height() const { return draw_height_; }
   int image_width() const { return width_; }
   int image_height() const { return height_; }
   int samples() const { return samples_; }
-  int supersample() const { return supersample_; }
+  double supersample() const { return supersample_; }
 
   /// Binds the drawing framebuffer and sets the viewport to all of it.
   void Bind() const;
@@ -48,7 +53,9 @@ class RenderTarget {
   Image Read() const;
 
  private:
-  int width_, height_, samples_, supersample_;
+  int width_, height_, samples_;
+  double supersample_;
+  int draw_width_, draw_height_;
   mutable std::vector<std::uint8_t> readback_;  // reused: zeroing 15 MB per frame costs ~2 ms
   unsigned draw_fbo_ = 0, draw_color_ = 0, draw_depth_ = 0;
   unsigned resolve_fbo_ = 0, resolve_color_ = 0;

@@ -16,7 +16,6 @@ namespace {
 // limits of the settings: below 16 pixels nothing is legible; 8192 is the common GL maximum
 constexpr int kMinSize = 16, kMaxSize = 8192;
 constexpr int kMaxSamples = 16;
-constexpr int kMaxSupersample = 4;
 // overlays are sized for 480 rows and grow with the image, never shrink below that size
 constexpr double kReferenceHeight = 480;
 constexpr double kFontPixels = 12;  // at pixel_scale 1
@@ -66,9 +65,10 @@ const RenderSettings& Checked(const RenderSettings& settings) {
     throw InputError(fmt::format("resolution {}x{}: expected {} to {} pixels per side",
                                  settings.width, settings.height, kMinSize, kMaxSize));
   }
-  if (settings.supersample < 1 || settings.supersample > kMaxSupersample) {
-    throw InputError(fmt::format("supersample = {}: expected 1 (no anti-aliasing) to {}",
-                                 settings.supersample, kMaxSupersample));
+  const double s = settings.supersample;
+  if (s != 1 && s != 1.5 && s != 2 && s != 3 && s != 4) {
+    throw InputError(fmt::format(
+        "supersample = {}: expected 1 (no anti-aliasing), 1.5, 2, 3 or 4", settings.supersample));
   }
   if (settings.samples < 1 || settings.samples > kMaxSamples) {
     throw InputError(fmt::format("samples = {}: expected 1 (no anti-aliasing) to {}",

@@ -2,6 +2,7 @@
 // read-back, with row 0 at the top.
 
 #include <cstdio>
+#include <stdexcept>
 
 #include <gtest/gtest.h>
 
@@ -53,6 +54,42 @@ TEST(RenderTarget, SupersamplesAreAveragedExactly) {
   EXPECT_EQ(image.Pixel(0, 1)[0], 0);  // the row below: all blue
   EXPECT_EQ(image.Pixel(0, 1)[2], 255);
   EXPECT_EQ(image.Pixel(3, 2)[2], 255);
+}
+
+TEST(RenderTarget, ThreeHalvesSupersamplesAreAreaWeighted) {
+  // a 4 × 3 image drawn at 6 × 5 (3 × 3 drawing pixels per 2 × 2 image pixels, the odd last row
+  // from 1.5 drawing rows): image pixel (0, 0) covers drawing pixels (0, 0) with weight 4,
+  // (1, 0) and (0, 1) with 2 and (1, 1) with 1, ninths. Red drawing columns 0..1 on rows 0..1:
+  // image (0, 0) is all red; image (1, 0) overlaps red column 1 with weights 1 + ½ of 9/4 ...
+  // exactly: its taps are columns 1 (weight 1) and 2 (weight 2), rows 0 (2) and 1 (1), so red
+  // weight 1·2 + 1·1 = 3 of 9: (3·255 + 4) / 9 = 85, blue (6·255 + 4) / 9 = 170
+  GlContext context;
+  RenderTarget target(4, 3, 1, 1.5);
+  EXPECT_EQ(target.width(), 6);
+  EXPECT_EQ(target.height(), 5);
+  target.Clear({0, 0, 1, 1});
+  target.ClearRect(0, 0, 2, 2, {1, 0, 0, 1});
+  const Image image = target.Read();
+  ASSERT_EQ(image.width, 4);
+  ASSERT_EQ(image.height, 3);
+  EXPECT_EQ(image.Pixel(0, 0)[0], 255);
+  EXPECT_EQ(image.Pixel(0, 0)[2], 0);
+  EXPECT_EQ(image.Pixel(1, 0)[0], 85);
+  EXPECT_EQ(image.Pixel(1, 0)[2], 170);
+  // image row 1 takes drawing rows 1 (weight 1) and 2 (2): red weight 1·(2 + 1) = 3 of 9 at
+  // x = 0, and 1·1 = 1 of 9 at x = 1: (255 + 4) / 9 = 28
+  EXPECT_EQ(image.Pixel(0, 1)[0], 85);
+  EXPECT_EQ(image.Pixel(1, 1)[0], 28);
+  EXPECT_EQ(image.Pixel(1, 1)[2], (8 * 255 + 4) / 9);
+  // the last row (drawing rows 3 and 4) and column (drawing columns 4 and 5) are all blue
+  EXPECT_EQ(image.Pixel(3, 2)[0], 0);
+  EXPECT_EQ(image.Pixel(3, 2)[2], 255);
+}
+
+TEST(RenderTarget, UnsupportedSupersampleIsRejected) {
+  GlContext context;
+  EXPECT_THROW(RenderTarget(4, 3, 1, 2.5), std::runtime_error);
+  EXPECT_THROW(RenderTarget(4, 3, 1, 5), std::runtime_error);
 }
 
 TEST(RenderTarget, ContextIsOpenGl33OrNewer) {
