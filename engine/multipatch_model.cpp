@@ -9,8 +9,10 @@
 #include <fmt/format.h>
 
 #include "engine/complementarity_solver.h"
+#include "engine/mncp_scaling.h"
 #include "engine/planar_model.h"
 #include "engine/rotation.h"
+#include "engine/step_driver.h"
 #include "geometry/errors.h"
 
 namespace ecpsim::engine {
@@ -41,39 +43,6 @@ constexpr double kFeatureAbsTol = 1e-9;  // m
 // tolerance's effect on the ECP (it moves a1 by ≈ 1e-12 of the part spacing), far above 0 so
 // that a1 stays defined when no part carries load
 constexpr double kWeightFloorRel = 1e-12;
-
-// characteristic sizes of one body's step, for scaling the MNCP (FORMULATION.md trap 6); the
-// same as the hull model's (engine/time_step.cpp)
-struct Scales {
-  double length;    // m: radius of gyration
-  double velocity;  // m/s
-  double impulse;   // N·s
-};
-
-Scales BodyScales(const Body& body, const BodyState& state, const Vector3d& gravity, double h) {
-  Scales s;
-  s.length = std::sqrt(body.inertia.trace() / body.mass);
-  s.velocity = std::max({state.v_WB.norm() + state.w_WB.norm() * s.length, gravity.norm() * h,
-                         1e-3 * s.length / h});
-  s.impulse = body.mass * s.velocity;
-  return s;
-}
-
-enum class Guess { kWarm, kSeparated, kResting, kSliding };
-
-const char* GuessName(Guess guess) {
-  switch (guess) {
-    case Guess::kWarm:
-      return "warm start";
-    case Guess::kSeparated:
-      return "separated guess";
-    case Guess::kResting:
-      return "resting guess";
-    case Guess::kSliding:
-      return "sliding guess";
-  }
-  return "guess";
-}
 
 // the centroid of the part's support feature in `direction` (body frame): a face's vertex centroid,
 // an edge's midpoint, or the support point. A guess at a corner of a flat foot leaves the side
@@ -178,19 +147,11 @@ class MultiPatchStepper {
     bool have_warm_start = true;
     for (int g = 0; g < problem.num_groups; ++g)
       have_warm_start &= contacts[g].warm_start.size() == WarmStartSize(layout, problem, g);
-    const bool warm_in_contact =
-        have_warm_start && std::any_of(contacts.begin(), contacts.end(),
-                                       [](const ContactState& c) { return c.p_n > 0; });
+    const bool was_in_contact = std::any_of(contacts.begin(), contacts.end(),
+                                            [](const ContactState& c) { return c.p_n > 0; });
     const bool moving =
         body.v_WB.norm() + body.w_WB.norm() * scales.length > 1e-3 * scales.velocity;
-    const Guess in_contact = moving ? Guess::kSliding : Guess::kResting;
-    const Guess other = moving ? Guess::kResting : Guess::kSliding;
-    std::vector<Guess> ladder = {in_contact, other, Guess::kSeparated};
-    if (warm_in_contact) {
-      ladder.insert(ladder.begin(), Guess::kWarm);
-    } else if (have_warm_start) {
-      ladder.insert(ladder.begin() + 2, Guess::kWarm);
-    }
+    const std::vector<Guess> ladder = RestartLadder(have_warm_start, was_in_contact, moving);
 
     McpOptions options;
     options.tolerance = scene_.solver.tolerance;
@@ -201,8 +162,8 @@ class MultiPatchStepper {
     const McpFunction f = [&](const VectorXd& zz, VectorXd* F, Eigen::MatrixXd* J) {
       EvaluateMultiPatch(problem, layout, zz, F, J);
     };
-    const VectorXd row_scale = RowScales(problem, layout, scales);
-    const VectorXd var_scale = VariableScales(problem, layout, scales);
+    const VectorXd row_scale = RowScales(problem.body, layout, scales);
+    const VectorXd var_scale = VariableScales(problem.body, layout, scales);
     for (Guess guess : ladder) {
       VectorXd z = MakeGuess(guess, problem, layout, body, contacts, scales);
       const McpResult result = SolveMcp(f, layout.num_free, row_scale, var_scale, z, options);
@@ -363,41 +324,6 @@ class MultiPatchStepper {
     }
     z.segment<3>(0) = v_guess;
     return z;
-  }
-
-  // unknowns divided by and rows multiplied by these (as the hull model, trap 6)
-  static VectorXd VariableScales(const MultiPatchProblem& problem, const MncpLayout& layout,
-                                 const Scales& s) {
-    VectorXd scale = VectorXd::Ones(layout.size);
-    scale.segment<3>(0).setConstant(s.velocity);
-    scale.segment<3>(3).setConstant(s.velocity / s.length);
-    for (size_t k = 0; k < layout.contacts.size(); ++k) {
-      const MncpLayout::Contact& L = layout.contacts[k];
-      scale.segment<7>(L.a1).setConstant(s.length);  // a1, a2, s
-      scale[L.p_t] = scale[L.p_o] = scale[L.p_n] = s.impulse;
-      scale[L.p_r] = s.impulse * problem.body.contacts[k].friction.e_r;
-      scale[L.sigma] = s.velocity;
-    }
-    return scale;
-  }
-
-  static VectorXd RowScales(const MultiPatchProblem& problem, const MncpLayout& layout,
-                            const Scales& s) {
-    VectorXd scale = VectorXd::Ones(layout.size);
-    scale.segment<3>(0).setConstant(1 / s.impulse);
-    scale.segment<3>(3).setConstant(1 / (s.impulse * s.length));
-    for (size_t k = 0; k < layout.contacts.size(); ++k) {
-      const MncpLayout::Contact& L = layout.contacts[k];
-      const double e_r = problem.body.contacts[k].friction.e_r;
-      scale.segment<3>(L.a1).setConstant(1 / s.length);
-      scale[L.p_t] = scale[L.p_o] = 1 / (s.impulse * s.velocity);
-      scale[L.p_r] = 1 / (s.impulse * s.velocity * e_r);
-      scale.segment(L.l, L.l_count).setConstant(1 / s.length);
-      scale.segment(L.l_g, L.l_g_count).setConstant(1 / s.length);
-      scale[L.p_n] = 1 / s.length;
-      scale[L.sigma] = 1 / s.impulse;
-    }
-    return scale;
   }
 
   void Commit(const MultiPatchProblem& problem, const MncpLayout& layout, const VectorXd& z,
@@ -584,49 +510,13 @@ void EvaluateMultiPatch(const MultiPatchProblem& problem, const MncpLayout& layo
 }
 
 StepReport StepMultiPatch(const Scene& scene, State& state) {
-  StepReport report;
-  report.converged = true;
-  std::vector<BodyState> next_bodies = state.bodies;
-  std::vector<ContactState> next_contacts = state.contacts;
-
-  for (int b = 0; b < static_cast<int>(scene.bodies.size()); ++b) {
-    std::vector<int> contact_ids;
-    for (int k = 0; k < static_cast<int>(scene.contacts.size()); ++k)
-      if (scene.contacts[k].body == b) contact_ids.push_back(k);
-    const MultiPatchStepper stepper(scene, b, contact_ids);
-
-    // the ladder at h, then 2 sub-steps of h/2, then 4 of h/4 (engine/README.md)
-    std::string tried;
-    double residual = 0;
-    bool solved = false;
-    for (int substeps : {1, 2, 4}) {
-      BodyState body = state.bodies[b];
-      std::vector<ContactState> contacts;
-      for (int id : contact_ids) contacts.push_back(state.contacts[id]);
-      const double h = scene.h / substeps;
-      bool ok = true;
-      for (int i = 0; i < substeps && ok; ++i)
-        ok = stepper.Advance(state.t + i * h, h, body, contacts, report, residual, tried);
-      if (!ok) continue;
-      next_bodies[b] = body;
-      for (size_t k = 0; k < contact_ids.size(); ++k) next_contacts[contact_ids[k]] = contacts[k];
-      report.substeps = std::max(report.substeps, substeps);
-      report.residual = std::max(report.residual, residual);
-      solved = true;
-      break;
-    }
-    if (!solved) {
-      throw SolverFailure(fmt::format(
-          "multipatch model: solver failed at t = {:.6g} s on body '{}': residual {:.3g} > "
-          "tolerance {:.3g}; tried {}",
-          state.t, scene.bodies[b].name, residual, scene.solver.tolerance, tried));
-    }
-  }
-
-  state.bodies = std::move(next_bodies);
-  state.contacts = std::move(next_contacts);
-  state.t += scene.h;
-  return report;
+  return StepEveryBody(scene, state, "multipatch model: ",
+                       [&scene](int body, const std::vector<int>& contact_ids, double t, double h,
+                                BodyState& b, std::vector<ContactState>& contacts,
+                                StepReport& report, double& residual, std::string& tried) {
+                         return MultiPatchStepper(scene, body, contact_ids)
+                             .Advance(t, h, b, contacts, report, residual, tried);
+                       });
 }
 
 }  // namespace ecpsim::engine

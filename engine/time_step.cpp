@@ -9,10 +9,12 @@
 
 #include "engine/complementarity_solver.h"
 #include "engine/contact_window.h"
+#include "engine/mncp_scaling.h"
 #include "engine/mncp_system.h"
 #include "engine/multipatch_model.h"
 #include "engine/planar_model.h"
 #include "engine/rotation.h"
+#include "engine/step_driver.h"
 
 namespace ecpsim::engine {
 namespace {
@@ -27,39 +29,6 @@ constexpr double kInitialSigmaFraction = 1e-3;  // of the velocity scale
 constexpr double kWindowCheckRelTol = 1e-9;
 // growing the window this many times (one vertex ring each) before using every hull face
 constexpr int kMaxWindowGrowth = 3;
-
-// characteristic sizes of one body's step, for scaling the MNCP (FORMULATION.md trap 6)
-struct Scales {
-  double length;    // m: radius of gyration
-  double velocity;  // m/s
-  double impulse;   // N·s
-};
-
-Scales BodyScales(const Body& body, const BodyState& state, const Vector3d& gravity, double h) {
-  Scales s;
-  s.length = std::sqrt(body.inertia.trace() / body.mass);
-  s.velocity = std::max({state.v_WB.norm() + state.w_WB.norm() * s.length, gravity.norm() * h,
-                         1e-3 * s.length / h});
-  s.impulse = body.mass * s.velocity;
-  return s;
-}
-
-// which alternative initial guess to build (FORMULATION.md, the restart ladder)
-enum class Guess { kWarm, kSeparated, kResting, kSliding };
-
-const char* GuessName(Guess guess) {
-  switch (guess) {
-    case Guess::kWarm:
-      return "warm start";
-    case Guess::kSeparated:
-      return "separated guess";
-    case Guess::kResting:
-      return "resting guess";
-    case Guess::kSliding:
-      return "sliding guess";
-  }
-  return "guess";
-}
 
 // the closest point of G to `point` along the gradient of its largest constraint (exact for
 // linear constraints, a Newton step for smooth ones), and that constraint's index
@@ -106,20 +75,11 @@ class BodyStepper {
 
     // in contact (or about to be): the warm start, then the guesses that fit the body's motion
     const bool have_warm_start = contacts.empty() || contacts[0].warm_start.size() > 0;
+    const bool was_in_contact = std::any_of(contacts.begin(), contacts.end(),
+                                            [](const ContactState& c) { return c.p_n > 0; });
     const bool moving =
         body.v_WB.norm() + body.w_WB.norm() * scales.length > 1e-3 * scales.velocity;
-    const Guess in_contact = moving ? Guess::kSliding : Guess::kResting;
-    const Guess other = moving ? Guess::kResting : Guess::kSliding;
-    // (a warm start from free flight is a poor guess for an impact: tried after the others)
-    const bool warm_in_contact =
-        have_warm_start && std::any_of(contacts.begin(), contacts.end(),
-                                       [](const ContactState& c) { return c.p_n > 0; });
-    std::vector<Guess> ladder = {in_contact, other, Guess::kSeparated};
-    if (warm_in_contact) {
-      ladder.insert(ladder.begin(), Guess::kWarm);
-    } else if (have_warm_start) {
-      ladder.insert(ladder.begin() + 2, Guess::kWarm);
-    }
+    const std::vector<Guess> ladder = RestartLadder(have_warm_start, was_in_contact, moving);
 
     McpOptions options;
     options.tolerance = scene_.solver.tolerance;
@@ -309,41 +269,6 @@ class BodyStepper {
     return z;
   }
 
-  static VectorXd VariableScales(const BodyProblem& problem, const MncpLayout& layout,
-                                 const Scales& s) {
-    VectorXd scale = VectorXd::Ones(layout.size);
-    scale.segment<3>(0).setConstant(s.velocity);
-    scale.segment<3>(3).setConstant(s.velocity / s.length);
-    for (size_t k = 0; k < problem.contacts.size(); ++k) {
-      const MncpLayout::Contact& L = layout.contacts[k];
-      scale.segment<7>(L.a1).setConstant(s.length);  // a1, a2, s
-      scale[L.p_t] = scale[L.p_o] = scale[L.p_n] = s.impulse;
-      scale[L.p_r] = s.impulse * problem.contacts[k].friction.e_r;
-      scale[L.sigma] = s.velocity;
-    }
-    return scale;
-  }
-
-  static VectorXd RowScales(const BodyProblem& problem, const MncpLayout& layout,
-                            const Scales& s) {
-    VectorXd scale = VectorXd::Ones(layout.size);
-    scale.segment<3>(0).setConstant(1 / s.impulse);
-    scale.segment<3>(3).setConstant(1 / (s.impulse * s.length));
-    for (size_t k = 0; k < problem.contacts.size(); ++k) {
-      const MncpLayout::Contact& L = layout.contacts[k];
-      const double e_r = problem.contacts[k].friction.e_r;
-      scale.segment<3>(L.a1).setConstant(1 / s.length);  // a1 − a2 − s N
-      // the cone rows and Σ l_G = 1 are dimensionless
-      scale[L.p_t] = scale[L.p_o] = 1 / (s.impulse * s.velocity);
-      scale[L.p_r] = 1 / (s.impulse * s.velocity * e_r);
-      scale.segment(L.l, L.l_count).setConstant(1 / s.length);
-      scale.segment(L.l_g, L.l_g_count).setConstant(1 / s.length);
-      scale[L.p_n] = 1 / s.length;
-      scale[L.sigma] = 1 / s.impulse;
-    }
-    return scale;
-  }
-
   static Vector3d SolutionNormal(const BodyProblem& problem, const MncpLayout& layout,
                                  const VectorXd& z, int k) {
     const MncpLayout::Contact& L = layout.contacts[k];
@@ -416,48 +341,13 @@ class BodyStepper {
 StepReport Step(const Scene& scene, State& state) {
   if (scene.model == ContactModel::kPlanar) return StepPlanarSliding(scene, state);
   if (scene.model == ContactModel::kMultiPatch) return StepMultiPatch(scene, state);
-  StepReport report;
-  report.converged = true;
-  std::vector<BodyState> next_bodies = state.bodies;
-  std::vector<ContactState> next_contacts = state.contacts;
-
-  for (int b = 0; b < static_cast<int>(scene.bodies.size()); ++b) {
-    std::vector<int> contact_ids;
-    for (int k = 0; k < static_cast<int>(scene.contacts.size()); ++k)
-      if (scene.contacts[k].body == b) contact_ids.push_back(k);
-    BodyStepper stepper(scene, b, contact_ids);
-
-    // the ladder at h, then 2 sub-steps of h/2, then 4 of h/4 (engine/README.md)
-    std::string tried;
-    double residual = 0;
-    bool solved = false;
-    for (int substeps : {1, 2, 4}) {
-      BodyState body = state.bodies[b];
-      std::vector<ContactState> contacts;
-      for (int id : contact_ids) contacts.push_back(state.contacts[id]);
-      const double h = scene.h / substeps;
-      bool ok = true;
-      for (int i = 0; i < substeps && ok; ++i)
-        ok = stepper.Advance(state.t + i * h, h, body, contacts, report, residual, tried);
-      if (!ok) continue;
-      next_bodies[b] = body;
-      for (size_t k = 0; k < contact_ids.size(); ++k) next_contacts[contact_ids[k]] = contacts[k];
-      report.substeps = std::max(report.substeps, substeps);
-      report.residual = std::max(report.residual, residual);
-      solved = true;
-      break;
-    }
-    if (!solved) {
-      throw SolverFailure(fmt::format(
-          "solver failed at t = {:.6g} s on body '{}': residual {:.3g} > tolerance {:.3g}; tried {}",
-          state.t, scene.bodies[b].name, residual, scene.solver.tolerance, tried));
-    }
-  }
-
-  state.bodies = std::move(next_bodies);
-  state.contacts = std::move(next_contacts);
-  state.t += scene.h;
-  return report;
+  return StepEveryBody(scene, state, "",
+                       [&scene](int body, const std::vector<int>& contact_ids, double t, double h,
+                                BodyState& b, std::vector<ContactState>& contacts,
+                                StepReport& report, double& residual, std::string& tried) {
+                         return BodyStepper(scene, body, contact_ids)
+                             .Advance(t, h, b, contacts, report, residual, tried);
+                       });
 }
 
 }  // namespace ecpsim::engine

@@ -1,0 +1,77 @@
+#include "engine/mncp_scaling.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace ecpsim::engine {
+
+Scales BodyScales(const Body& body, const BodyState& state, const Eigen::Vector3d& gravity,
+                  double h) {
+  Scales s;
+  s.length = std::sqrt(body.inertia.trace() / body.mass);
+  s.velocity = std::max({state.v_WB.norm() + state.w_WB.norm() * s.length, gravity.norm() * h,
+                         1e-3 * s.length / h});
+  s.impulse = body.mass * s.velocity;
+  return s;
+}
+
+Eigen::VectorXd VariableScales(const BodyProblem& problem, const MncpLayout& layout,
+                               const Scales& s) {
+  Eigen::VectorXd scale = Eigen::VectorXd::Ones(layout.size);
+  scale.segment<3>(0).setConstant(s.velocity);
+  scale.segment<3>(3).setConstant(s.velocity / s.length);
+  for (size_t k = 0; k < layout.contacts.size(); ++k) {
+    const MncpLayout::Contact& L = layout.contacts[k];
+    scale.segment<7>(L.a1).setConstant(s.length);  // a1, a2, s
+    scale[L.p_t] = scale[L.p_o] = scale[L.p_n] = s.impulse;
+    scale[L.p_r] = s.impulse * problem.contacts[k].friction.e_r;
+    scale[L.sigma] = s.velocity;
+  }
+  return scale;
+}
+
+Eigen::VectorXd RowScales(const BodyProblem& problem, const MncpLayout& layout, const Scales& s) {
+  Eigen::VectorXd scale = Eigen::VectorXd::Ones(layout.size);
+  scale.segment<3>(0).setConstant(1 / s.impulse);
+  scale.segment<3>(3).setConstant(1 / (s.impulse * s.length));
+  for (size_t k = 0; k < layout.contacts.size(); ++k) {
+    const MncpLayout::Contact& L = layout.contacts[k];
+    const double e_r = problem.contacts[k].friction.e_r;
+    scale.segment<3>(L.a1).setConstant(1 / s.length);  // a1 − a2 − s N
+    scale[L.p_t] = scale[L.p_o] = 1 / (s.impulse * s.velocity);
+    scale[L.p_r] = 1 / (s.impulse * s.velocity * e_r);
+    scale.segment(L.l, L.l_count).setConstant(1 / s.length);
+    scale.segment(L.l_g, L.l_g_count).setConstant(1 / s.length);
+    scale[L.p_n] = 1 / s.length;
+    scale[L.sigma] = 1 / s.impulse;
+  }
+  return scale;
+}
+
+const char* GuessName(Guess guess) {
+  switch (guess) {
+    case Guess::kWarm:
+      return "warm start";
+    case Guess::kSeparated:
+      return "separated guess";
+    case Guess::kResting:
+      return "resting guess";
+    case Guess::kSliding:
+      return "sliding guess";
+  }
+  return "guess";
+}
+
+std::vector<Guess> RestartLadder(bool have_warm_start, bool was_in_contact, bool moving) {
+  const Guess in_contact = moving ? Guess::kSliding : Guess::kResting;
+  const Guess other = moving ? Guess::kResting : Guess::kSliding;
+  std::vector<Guess> ladder = {in_contact, other, Guess::kSeparated};
+  if (have_warm_start && was_in_contact) {
+    ladder.insert(ladder.begin(), Guess::kWarm);
+  } else if (have_warm_start) {
+    ladder.insert(ladder.begin() + 2, Guess::kWarm);
+  }
+  return ladder;
+}
+
+}  // namespace ecpsim::engine

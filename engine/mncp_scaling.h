@@ -1,0 +1,41 @@
+#pragma once
+// Characteristic sizes of one body's step and the row/unknown scaling of its MNCP
+// (FORMULATION.md trap 6), shared by the hull and multi-patch models.
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "engine/mncp_system.h"
+#include "engine/scene.h"
+#include "engine/state.h"
+
+namespace ecpsim::engine {
+
+struct Scales {
+  double length;    // m: radius of gyration
+  double velocity;  // m/s: of the body, at least g h
+  double impulse;   // N·s: mass × velocity
+};
+
+Scales BodyScales(const Body& body, const BodyState& state, const Eigen::Vector3d& gravity,
+                  double h);
+
+/// Unknowns are divided by these: velocities by V (angular by V/L), points and gaps by L,
+/// impulses by P (torsion by P e_r), σ by V; multipliers are dimensionless.
+Eigen::VectorXd VariableScales(const BodyProblem& problem, const MncpLayout& layout,
+                               const Scales& s);
+
+/// Rows are multiplied by these: Newton–Euler by 1/P (1/(P L)), lengths by 1/L, friction rows by
+/// 1/(P V) (1/(P V e_r)), the cone by 1/P; the normal-cone rows are dimensionless.
+Eigen::VectorXd RowScales(const BodyProblem& problem, const MncpLayout& layout, const Scales& s);
+
+/// Which initial guess a solve starts from (FORMULATION.md, the restart ladder).
+enum class Guess { kWarm, kSeparated, kResting, kSliding };
+const char* GuessName(Guess guess);
+
+/// The order to try them in: the warm start first when the body was in contact, else after the
+/// guesses that fit its motion (a free-flight warm start is a poor guess for an impact).
+std::vector<Guess> RestartLadder(bool have_warm_start, bool was_in_contact, bool moving);
+
+}  // namespace ecpsim::engine
