@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <deque>
 #include <utility>
+#include <vector>
 
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
@@ -43,43 +43,185 @@ void PenalizedFb(double a, double b, double lambda, double* phi, double* da, dou
   }
 }
 
+// ScaledProblem's storage, kept from call to call
+struct ScaledStorage {
+  Eigen::VectorXd z, row_factor, diagonal;
+  Eigen::MatrixXd J;
+};
+
 class ScaledProblem {
  public:
   ScaledProblem(const McpFunction& f, int num_free, const Eigen::VectorXd& row_scale,
-                const Eigen::VectorXd& var_scale, double lambda)
-      : f_(f), num_free_(num_free), row_scale_(row_scale), var_scale_(var_scale), lambda_(lambda) {}
+                const Eigen::VectorXd& var_scale, double lambda, ScaledStorage& storage)
+      : f_(f),
+        num_free_(num_free),
+        row_scale_(row_scale),
+        var_scale_(var_scale),
+        lambda_(lambda),
+        z_(storage.z),
+        row_factor_(storage.row_factor),
+        diagonal_(storage.diagonal),
+        J_(storage.J) {}
 
   // Φ and (optionally) its Jacobian at scaled x; F is the unscaled residual at z = var_scale ⊙ x
   void Evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* F, Reformulation* out, bool jacobian) {
-    const Eigen::VectorXd z = var_scale_.cwiseProduct(x);
-    f_(z, F, jacobian ? &J_ : nullptr);
-    const Eigen::VectorXd Fs = row_scale_.cwiseProduct(*F);
+    // z_, J_ and out's members keep their storage from call to call: no allocation per iterate
+    z_ = var_scale_.cwiseProduct(x);
+    f_(z_, F, jacobian ? &J_ : nullptr);
     const int n = static_cast<int>(x.size());
     out->phi.resize(n);
-    if (jacobian) out->H = row_scale_.asDiagonal() * J_ * var_scale_.asDiagonal();
+    // H = diag(row_factor) J diag(var_scale) + diag(diagonal): row_factor is row_scale times
+    // ∂φ/∂F̃ on complementarity rows, diagonal is ∂φ/∂x there, formed in one pass over J
+    row_factor_.resize(n);
+    diagonal_.setZero(n);
     for (int i = 0; i < n; ++i) {
+      const double Fs = row_scale_[i] * (*F)[i];
       if (i < num_free_) {
-        out->phi[i] = Fs[i];
+        out->phi[i] = Fs;
+        row_factor_[i] = row_scale_[i];
         continue;
       }
       double da, db;
-      PenalizedFb(x[i], Fs[i], lambda_, &out->phi[i], &da, &db);
-      if (jacobian) {
-        out->H.row(i) *= db;
-        out->H(i, i) += da;
-      }
+      PenalizedFb(x[i], Fs, lambda_, &out->phi[i], &da, &db);
+      row_factor_[i] = row_scale_[i] * db;
+      diagonal_[i] = da;
     }
+    if (!jacobian) return;
+    out->H.resize(n, n);
+    for (int j = 0; j < n; ++j)
+      out->H.col(j) = (var_scale_[j] * row_factor_).cwiseProduct(J_.col(j));
+    out->H.diagonal() += diagonal_;
   }
 
  private:
   const McpFunction& f_;
   int num_free_;
-  Eigen::VectorXd row_scale_, var_scale_;
+  const Eigen::VectorXd& row_scale_;
+  const Eigen::VectorXd& var_scale_;
   double lambda_;
-  Eigen::MatrixXd J_;
+  Eigen::VectorXd& z_;
+  Eigen::VectorXd& row_factor_;
+  Eigen::VectorXd& diagonal_;
+  Eigen::MatrixXd& J_;
+};
+
+// LU with partial pivoting, unblocked (right-looking), on a workspace kept across iterations:
+// Eigen's PartialPivLU switches to its blocked GEMM path above 16×16, whose packing costs more
+// than it saves at the ≈ 25×25 of one body's MNCP, and cannot use the Newton matrix's sparsity
+// (most entries are structurally zero: the update skips columns whose pivot-row entry is 0 and
+// rows below the last non-zero multiplier, which changes no result, since x − l·0 = x for
+// finite l). Large systems (a whole big hull, many patches) go to Eigen's blocked LU, which is
+// the faster one there.
+class SmallLu {
+ public:
+  // factors A (square); an exactly zero pivot is kept, so that Solve returns a non-finite
+  // direction that the caller rejects, as Eigen's PartialPivLU does
+  void Compute(const Eigen::MatrixXd& A) {
+    blocked_ = A.rows() > kMaxUnblockedSize;
+    if (blocked_) {
+      blocked_lu_.compute(A);
+      return;
+    }
+    lu_ = A;
+    const Eigen::Index n = lu_.rows();
+    pivots_.resize(n);
+    double* const a = lu_.data();  // column-major, leading dimension n
+    for (Eigen::Index k = 0; k < n; ++k) {
+      double* const col_k = a + k * n;
+      Eigen::Index pivot = k;
+      for (Eigen::Index i = k + 1; i < n; ++i)
+        if (std::abs(col_k[i]) > std::abs(col_k[pivot])) pivot = i;
+      pivots_[k] = pivot;
+      if (col_k[pivot] != 0) {
+        if (pivot != k)
+          for (Eigen::Index j = 0; j < n; ++j) std::swap(a[j * n + k], a[j * n + pivot]);
+        // divided, not multiplied by the reciprocal, as Eigen does: the multi-patch model's
+        // ill-conditioned systems take other Newton paths on the reciprocal's round-off
+        for (Eigen::Index i = k + 1; i < n; ++i) col_k[i] /= col_k[k];
+      }
+      // rows below the last non-zero multiplier are not updated either
+      Eigen::Index end = n;
+      while (end > k + 1 && col_k[end - 1] == 0) --end;
+      for (Eigen::Index j = k + 1; j < n; ++j) {
+        double* const col_j = a + j * n;
+        const double u = col_j[k];
+        if (u == 0) continue;
+        for (Eigen::Index i = k + 1; i < end; ++i) col_j[i] -= col_k[i] * u;
+      }
+    }
+  }
+
+  // x ← A⁻¹ x: the row interchanges, then the unit lower and the upper triangular solves,
+  // column-oriented (Eigen's triangular solve allocates a temporary for dynamic vectors)
+  void SolveInPlace(Eigen::VectorXd& x) const {
+    if (blocked_) {
+      x = blocked_lu_.solve(Eigen::VectorXd(x));
+      return;
+    }
+    const Eigen::Index n = lu_.rows();
+    const double* const a = lu_.data();
+    for (Eigen::Index k = 0; k < n; ++k) std::swap(x[k], x[pivots_[k]]);
+    for (Eigen::Index j = 0; j < n; ++j) {
+      const double xj = x[j];
+      if (xj == 0) continue;
+      for (Eigen::Index i = j + 1; i < n; ++i) x[i] -= a[j * n + i] * xj;
+    }
+    for (Eigen::Index j = n - 1; j >= 0; --j) {
+      x[j] /= a[j * n + j];
+      const double xj = x[j];
+      if (xj == 0) continue;
+      for (Eigen::Index i = 0; i < j; ++i) x[i] -= a[j * n + i] * xj;
+    }
+  }
+
+ private:
+  // the unblocked loops were measured on one contact's MNCP (≈ 25) and the desk's multi-patch
+  // one (82); far beyond, the blocked LU's cache blocking is expected to win
+  static constexpr Eigen::Index kMaxUnblockedSize = 128;
+
+  bool blocked_ = false;
+  Eigen::MatrixXd lu_;
+  std::vector<Eigen::Index> pivots_;
+  Eigen::PartialPivLU<Eigen::MatrixXd> blocked_lu_;
 };
 
 bool AllFinite(const Eigen::VectorXd& v) { return v.allFinite(); }
+
+// the storage of one solve, kept from solve to solve (one per thread), so that a time step
+// allocates nothing once its sizes have been seen
+struct Workspace {
+  ScaledStorage scaled;
+  Eigen::VectorXd x, F, F_trial, gradient, direction, linear_residual, x_trial;
+  Reformulation current, trial;
+  SmallLu lu;
+  std::vector<double> recent_merits;
+};
+
+// lends the thread's shared workspace to one solve of n unknowns for its lifetime; a solve
+// nested in a callback's evaluation, or one so large that its matrices should not stay
+// allocated after it (a whole big hull), uses a workspace of its own
+class WorkspaceLease {
+ public:
+  explicit WorkspaceLease(int n)
+      : shared_was_taken_(shared_taken_), own_used_(shared_taken_ || n > kMaxSharedSize) {
+    if (!own_used_) shared_taken_ = true;
+  }
+  ~WorkspaceLease() { shared_taken_ = shared_was_taken_; }
+  WorkspaceLease(const WorkspaceLease&) = delete;
+  WorkspaceLease& operator=(const WorkspaceLease&) = delete;
+  Workspace& Get() { return own_used_ ? own_ : shared_; }
+
+ private:
+  // unknowns: the kept matrices are then at most a few hundred kB
+  static constexpr int kMaxSharedSize = 256;
+  static thread_local Workspace shared_;
+  static thread_local bool shared_taken_;
+  bool shared_was_taken_;
+  bool own_used_;
+  Workspace own_;
+};
+thread_local Workspace WorkspaceLease::shared_;
+thread_local bool WorkspaceLease::shared_taken_ = false;
 
 }  // namespace
 
@@ -96,22 +238,36 @@ McpResult SolveMcp(const McpFunction& f, int num_free, const Eigen::VectorXd& ro
                    const Eigen::VectorXd& var_scale, Eigen::VectorXd& z,
                    const McpOptions& options) {
   const int n = static_cast<int>(z.size());
-  ScaledProblem problem(f, num_free, row_scale, var_scale, options.fb_lambda);
-  Eigen::VectorXd x = z.cwiseQuotient(var_scale);
-  Eigen::VectorXd F(n), F_trial(n);
-  Reformulation current, trial;
+  WorkspaceLease lease(n);
+  Workspace& w = lease.Get();
+  ScaledProblem problem(f, num_free, row_scale, var_scale, options.fb_lambda, w.scaled);
+  Eigen::VectorXd& x = w.x;
+  Eigen::VectorXd& F = w.F;
+  Eigen::VectorXd& F_trial = w.F_trial;
+  Reformulation& current = w.current;
+  Reformulation& trial = w.trial;
+  x = z.cwiseQuotient(var_scale);
+  F.resize(n);
+  F_trial.resize(n);
   problem.Evaluate(x, &F, &current, true);
 
-  const McpMeasure measure = options.measure ? options.measure
-                                             : [num_free](const Eigen::VectorXd& zz,
-                                                          const Eigen::VectorXd& FF) {
-                                                 return McpResidual(zz, FF, num_free);
-                                               };
   McpResult result;
+  // the measure of (z, F): the problem's own, else McpResidual (no std::function in between)
+  auto measure = [&options, num_free](const Eigen::VectorXd& zz, const Eigen::VectorXd& FF) {
+    return options.measure ? options.measure(zz, FF) : McpResidual(zz, FF, num_free);
+  };
   result.residual = measure(z, F);
   if (!AllFinite(current.phi)) return result;
-  std::deque<double> recent_merits{0.5 * current.phi.squaredNorm()};
+  // the last few merit values, oldest first (a handful: erasing at the front is cheap)
+  std::vector<double>& recent_merits = w.recent_merits;
+  recent_merits.clear();
+  recent_merits.push_back(0.5 * current.phi.squaredNorm());
 
+  SmallLu& lu = w.lu;
+  Eigen::VectorXd& gradient = w.gradient;
+  Eigen::VectorXd& direction = w.direction;
+  Eigen::VectorXd& linear_residual = w.linear_residual;
+  Eigen::VectorXd& x_trial = w.x_trial;
   for (int iteration = 1; iteration <= options.max_iterations; ++iteration) {
     if (result.residual <= options.tolerance) {
       result.converged = true;
@@ -119,15 +275,21 @@ McpResult SolveMcp(const McpFunction& f, int num_free, const Eigen::VectorXd& ro
     }
     result.iterations = iteration;
     const double merit = 0.5 * current.phi.squaredNorm();
-    const Eigen::VectorXd gradient = current.H.transpose() * current.phi;
+    gradient.noalias() = current.H.transpose() * current.phi;
 
     // semismooth Newton direction, else Levenberg–Marquardt with μ = ‖Φ‖² (Yamashita–Fukushima:
     // fast local convergence even where solutions are not isolated), else steepest descent
-    Eigen::VectorXd direction = current.H.partialPivLu().solve(-current.phi);
-    const bool newton_ok =
-        AllFinite(direction) &&
-        (current.H * direction + current.phi).norm() <= kLinearSolveRelTol * current.phi.norm() &&
-        gradient.dot(direction) <= -kMinDescentCosine * gradient.norm() * direction.norm();
+    lu.Compute(current.H);
+    direction = -current.phi;
+    lu.SolveInPlace(direction);
+    bool newton_ok = AllFinite(direction);
+    if (newton_ok) {
+      linear_residual.noalias() = current.H * direction;
+      linear_residual += current.phi;
+      newton_ok =
+          linear_residual.norm() <= kLinearSolveRelTol * current.phi.norm() &&
+          gradient.dot(direction) <= -kMinDescentCosine * gradient.norm() * direction.norm();
+    }
     if (!newton_ok) {
       const double mu = std::max(current.phi.squaredNorm(), 1e-20);
       Eigen::MatrixXd normal = current.H.transpose() * current.H;
@@ -141,7 +303,6 @@ McpResult SolveMcp(const McpFunction& f, int num_free, const Eigen::VectorXd& ro
     const double slope = gradient.dot(direction);
     double step = 1;
     bool accepted = false;
-    Eigen::VectorXd x_trial;
     bool trial_has_jacobian = false;
     while (step >= kMinStep) {
       x_trial = x + step * direction;
@@ -173,7 +334,7 @@ McpResult SolveMcp(const McpFunction& f, int num_free, const Eigen::VectorXd& ro
     }
     if (!accepted) break;  // stalled: report unconverged at the last finite iterate
 
-    x = x_trial;
+    x.swap(x_trial);
     if (trial_has_jacobian) {
       std::swap(current, trial);
       std::swap(F, F_trial);
@@ -184,7 +345,7 @@ McpResult SolveMcp(const McpFunction& f, int num_free, const Eigen::VectorXd& ro
     result.residual = measure(z, F);
     recent_merits.push_back(0.5 * current.phi.squaredNorm());
     if (static_cast<int>(recent_merits.size()) > options.nonmonotone_memory)
-      recent_merits.pop_front();
+      recent_merits.erase(recent_merits.begin());
   }
   result.converged = result.residual <= options.tolerance;
   return result;

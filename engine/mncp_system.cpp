@@ -82,23 +82,28 @@ ContactFrame MakeContactFrame(const Vector3d& N, const Vector3d& tangent_referen
 
 double MncpResidual(const MncpLayout& layout, const Eigen::VectorXd& z,
                     const Eigen::VectorXd& F) {
-  Eigen::VectorXd measured = F;
+  // row by row (each row of the layout once), without a scaled copy of F: called every iterate
+  double r = 0;
+  const auto measure = [&](int i, double divisor) {
+    const double f = F[i] / divisor;
+    const double e = i < layout.num_free ? std::abs(f) : std::abs(std::min(z[i], f));
+    r = std::max(r, std::isfinite(e) ? e : INFINITY);
+  };
+  for (int i = 0; i < 6; ++i) measure(i, 1);  // Newton–Euler
   for (const MncpLayout::Contact& L : layout.contacts) {
     // rows in metres (a1 − a2 − sN, f_i, g_j, s) carry the round-off of the coordinates
     // (≈ 1e-16 × |x|): measured relative to max(1 m, |coordinates|), i.e. absolute near the
     // origin and relative for a body 1 km away
     const double magnitude = std::max({1.0, z.segment<3>(L.a1).cwiseAbs().maxCoeff(),
                                        z.segment<3>(L.a2).cwiseAbs().maxCoeff(), std::abs(z[L.s])});
-    measured.segment<3>(L.a1) /= magnitude;
-    measured.segment(L.l, L.l_count) /= magnitude;
-    measured.segment(L.l_g, L.l_g_count) /= magnitude;
-    measured[L.p_n] /= magnitude;
-  }
-  double r = 0;
-  for (int i = 0; i < layout.size; ++i) {
-    const double e = i < layout.num_free ? std::abs(measured[i])
-                                         : std::abs(std::min(z[i], measured[i]));
-    r = std::max(r, std::isfinite(e) ? e : INFINITY);
+    for (int i = 0; i < 3; ++i) {
+      measure(L.a1 + i, magnitude);
+      measure(L.a2 + i, 1);
+    }
+    for (int i : {L.s, L.p_t, L.p_o, L.p_r, L.sigma}) measure(i, 1);
+    for (int i = 0; i < L.l_count; ++i) measure(L.l + i, magnitude);
+    for (int i = 0; i < L.l_g_count; ++i) measure(L.l_g + i, magnitude);
+    measure(L.p_n, magnitude);
   }
   return r;
 }

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
 #include <string>
 
 #include <fmt/format.h>
@@ -206,13 +205,13 @@ class BodyStepper {
         z[L.sigma] = previous.sigma;
         const int k_g = L.l_g_count;
         for (int j = 0; j < k_g; ++j) z[L.l_g + j] = previous.warm_start[1 + j];
-        // carry hull multipliers over by face index (the window may have moved)
-        std::map<int, double> by_face;
-        for (size_t i = 0; i < previous.window.size(); ++i)
-          by_face[previous.window[i]] = previous.warm_start[1 + k_g + i];
+        // carry hull multipliers over by face index (the window may have moved); windows are
+        // sorted (SelectWindow), so a binary search does it without building a map every step
         for (int i = 0; i < L.l_count; ++i) {
-          const auto it = by_face.find(cp.window[i]);
-          if (it != by_face.end()) z[L.l + i] = it->second;
+          const auto it =
+              std::lower_bound(previous.window.begin(), previous.window.end(), cp.window[i]);
+          if (it != previous.window.end() && *it == cp.window[i])
+            z[L.l + i] = previous.warm_start[1 + k_g + (it - previous.window.begin())];
         }
         continue;
       }

@@ -1,0 +1,101 @@
+#include "engine/complementarity_solver.h"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+namespace ecpsim::engine {
+namespace {
+
+// a mixed linear complementarity problem F(z) = M z + q with a planted solution z*: the first
+// `num_free` rows are equations, of the rest every third is strictly complementary with z* = 0,
+// F* = 1 and the others have z* = 1 + i/n, F* = 0. M = 4 I + B with |B_ij| ≤ 1/n (a
+// deterministic pseudo-random pattern with about 80 % structural zeros, as in the MNCP's Newton
+// matrix): diagonally dominant, so z* is the unique solution and, once the active set is found,
+// ‖z − z*‖∞ ≤ ‖M⁻¹‖∞ · residual ≤ residual / (4 − 1)
+struct PlantedMcp {
+  Eigen::MatrixXd M;
+  Eigen::VectorXd q, z_star;
+};
+
+PlantedMcp MakePlantedMcp(int n, int num_free) {
+  PlantedMcp p;
+  p.M = 4 * Eigen::MatrixXd::Identity(n, n);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+      if (i != j && (7 * i + 13 * j) % 5 == 0) p.M(i, j) = std::sin(1.0 + i + 2.0 * j) / n;
+  p.z_star.resize(n);
+  Eigen::VectorXd F_star(n);
+  for (int i = 0; i < n; ++i) {
+    const bool inactive = i >= num_free && i % 3 == 0;
+    p.z_star[i] = inactive ? 0 : 1 + static_cast<double>(i) / n;
+    F_star[i] = inactive ? 1 : 0;
+  }
+  p.q = F_star - p.M * p.z_star;
+  return p;
+}
+
+void ExpectSolvesPlanted(int n, int num_free) {
+  const PlantedMcp p = MakePlantedMcp(n, num_free);
+  const McpFunction f = [&p](const Eigen::VectorXd& z, Eigen::VectorXd* F, Eigen::MatrixXd* J) {
+    *F = p.M * z + p.q;
+    if (J != nullptr) *J = p.M;
+  };
+  McpOptions options;
+  options.tolerance = 1e-12;
+  Eigen::VectorXd z = Eigen::VectorXd::Constant(n, 0.5);
+  const Eigen::VectorXd ones = Eigen::VectorXd::Ones(n);
+  const McpResult result = SolveMcp(f, num_free, ones, ones, z, options);
+  EXPECT_TRUE(result.converged) << "n = " << n;
+  EXPECT_LE(result.residual, 1e-12);
+  // semismooth Newton from a nearby start: the active set is found in a few iterations
+  EXPECT_LE(result.iterations, 10);
+  // residual ≤ 1e-12 bounds the error by 1e-12 / 3 (see PlantedMcp); 1e-12 leaves round-off room
+  EXPECT_LT((z - p.z_star).cwiseAbs().maxCoeff(), 1e-12) << "n = " << n;
+}
+
+TEST(ComplementaritySolverTest, SolvesPlantedMixedLcpOfOneContactsSize) {
+  // the size of one contact's MNCP (the unblocked LU)
+  ExpectSolvesPlanted(25, 16);
+}
+
+TEST(ComplementaritySolverTest, SolvesPlantedMixedLcpAboveTheUnblockedSize) {
+  // large enough for the blocked LU, then also for a workspace of the solve's own
+  ExpectSolvesPlanted(150, 40);
+  ExpectSolvesPlanted(300, 60);
+  // and the shared workspace again afterwards
+  ExpectSolvesPlanted(25, 16);
+}
+
+TEST(ComplementaritySolverTest, NestedSolveInTheCallbackKeepsTheOuterWorkspace) {
+  // the outer callback solves an inner problem on every evaluation: both must still converge
+  const PlantedMcp outer = MakePlantedMcp(25, 16);
+  const PlantedMcp inner = MakePlantedMcp(12, 3);
+  const Eigen::VectorXd ones_inner = Eigen::VectorXd::Ones(12);
+  int inner_failures = 0;
+  const McpFunction f_inner = [&inner](const Eigen::VectorXd& z, Eigen::VectorXd* F,
+                                       Eigen::MatrixXd* J) {
+    *F = inner.M * z + inner.q;
+    if (J != nullptr) *J = inner.M;
+  };
+  const McpFunction f = [&](const Eigen::VectorXd& z, Eigen::VectorXd* F, Eigen::MatrixXd* J) {
+    Eigen::VectorXd z_inner = Eigen::VectorXd::Constant(12, 0.5);
+    McpOptions options;
+    options.tolerance = 1e-12;
+    const McpResult r = SolveMcp(f_inner, 3, ones_inner, ones_inner, z_inner, options);
+    if (!r.converged || (z_inner - inner.z_star).cwiseAbs().maxCoeff() > 1e-12) ++inner_failures;
+    *F = outer.M * z + outer.q;
+    if (J != nullptr) *J = outer.M;
+  };
+  McpOptions options;
+  options.tolerance = 1e-12;
+  Eigen::VectorXd z = Eigen::VectorXd::Constant(25, 0.5);
+  const Eigen::VectorXd ones = Eigen::VectorXd::Ones(25);
+  const McpResult result = SolveMcp(f, 16, ones, ones, z, options);
+  EXPECT_TRUE(result.converged);
+  EXPECT_EQ(inner_failures, 0);
+  EXPECT_LT((z - outer.z_star).cwiseAbs().maxCoeff(), 1e-12);
+}
+
+}  // namespace
+}  // namespace ecpsim::engine
