@@ -1,13 +1,17 @@
 // Frames per second of render + PNG (and + MP4) at 1280×720 and 1920×1080, for the desk and a
 // 100k-triangle mesh. Meshes stay in GPU buffers across frames; PNGs encode on a worker thread.
 // Run: build/bench/ecpsim_bench_render --benchmark_repetitions=5 --benchmark_report_aggregates_only
-// (ECPSIM_BENCH_SUPERSAMPLE=2 measures 2×2 supersampling instead of the default 1.5×)
+// (ECPSIM_BENCH_SUPERSAMPLE=2 measures 2×2 supersampling instead of the default 1.5×).
+// BM_RenderParts renders with parts of the scene left out, to attribute a frame's CPU to passes.
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <memory>
 #include <string>
+
+#include <sys/resource.h>
 
 #include <benchmark/benchmark.h>
 #include <fmt/format.h>
@@ -77,12 +81,29 @@ RenderSettings Settings(const benchmark::State& state) {
   return settings;
 }
 
-void Label(benchmark::State& state, const char* what) {
+// CPU seconds of the whole process (every llvmpipe thread and the PNG workers): on a shared
+// machine wall time follows the load, CPU per frame much less
+double ProcessCpuSeconds() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  const auto seconds = [](const timeval& t) { return t.tv_sec + 1e-6 * t.tv_usec; };
+  return seconds(usage.ru_utime) + seconds(usage.ru_stime);
+}
+
+// counter cpu_ms: process CPU per frame (ms, every thread)
+void CountCpu(benchmark::State& state, double cpu_start) {
+  const auto frames = std::max<benchmark::IterationCount>(1, state.iterations());
+  state.counters["cpu_ms"] =
+      1e3 * (ProcessCpuSeconds() - cpu_start) / static_cast<double>(frames);
+}
+
+void Label(benchmark::State& state, const char* what, double cpu_start) {
   state.SetLabel(fmt::format("{} {} {}x{} SSAA {}x", what,
                              state.range(0) == kDesk ? "desk" : "torus100k", state.range(1),
                              state.range(2), Settings(state).supersample));
   state.counters["fps"] = benchmark::Counter(static_cast<double>(state.iterations()),
                                              benchmark::Counter::kIsRate);
+  CountCpu(state, cpu_start);
 }
 
 // rendering alone (draw + MSAA resolve + read-back)
@@ -90,8 +111,9 @@ void BM_Render(benchmark::State& state) {
   Renderer renderer(Settings(state));
   const FrameInput& frame = Frame(static_cast<int>(state.range(0)));
   renderer.Render(frame);  // warm-up: shaders, GPU buffers
+  const double cpu_start = ProcessCpuSeconds();
   for (auto _ : state) benchmark::DoNotOptimize(renderer.Render(frame));
-  Label(state, "render");
+  Label(state, "render", cpu_start);
 }
 
 // render + PNG (zlib level 1) on a worker thread: the `--frames` pipeline
@@ -100,9 +122,10 @@ void BM_RenderPng(benchmark::State& state) {
   const FrameInput& frame = Frame(static_cast<int>(state.range(0)));
   renderer.Render(frame);
   PngSequenceWriter writer(OutputDir("png"), 1, 2);
+  const double cpu_start = ProcessCpuSeconds();
   for (auto _ : state) writer.Add(renderer.Render(frame));
   writer.Finish();
-  Label(state, "render+png");
+  Label(state, "render+png", cpu_start);
 }
 
 // render + PNG + H.264 through ffmpeg: the `--frames --video` pipeline
@@ -114,6 +137,7 @@ void BM_RenderPngVideo(benchmark::State& state) {
   const std::string dir = OutputDir("video");
   PngSequenceWriter writer(dir + "/frames", 1, 2);
   FfmpegPipe video(dir + "/video.mp4", settings.width, settings.height, 30);
+  const double cpu_start = ProcessCpuSeconds();
   for (auto _ : state) {
     Image image = renderer.Render(frame);
     video.Write(image);
@@ -121,7 +145,7 @@ void BM_RenderPngVideo(benchmark::State& state) {
   }
   writer.Finish();
   video.Finish();
-  Label(state, "render+png+mp4");
+  Label(state, "render+png+mp4", cpu_start);
 }
 
 void Sizes(benchmark::internal::Benchmark* b) {
@@ -132,9 +156,44 @@ void Sizes(benchmark::internal::Benchmark* b) {
   b->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
 }
 
+// what a pass costs: render alone, 1280×720, with parts of the scene removed; the counter
+// cpu_ms (process CPU per frame) against the full scene's gives the part's cost
+enum Part { kFull, kNoPlanes, kNoHulls, kNoContacts, kPlanesOnly, kEmpty, kEmptyNoText };
+
+void BM_RenderParts(benchmark::State& state) {
+  RenderSettings settings;
+  settings.width = 1280;
+  settings.height = 720;
+  Renderer renderer(settings);
+  FrameInput frame = Frame(static_cast<int>(state.range(0)));
+  const auto part = static_cast<Part>(state.range(1));
+  if (part == kNoPlanes || part == kEmpty || part == kEmptyNoText) frame.planes.clear();
+  if (part == kNoHulls) frame.show.hull = false;
+  if (part >= kNoContacts) frame.contacts.clear();
+  if (part >= kPlanesOnly) frame.bodies.clear();
+  if (part == kEmptyNoText) {
+    frame.show.text = false;
+    frame.show.inset = false;
+    frame.title.clear();
+  }
+  renderer.Render(frame);
+  const double cpu_start = ProcessCpuSeconds();
+  for (auto _ : state) benchmark::DoNotOptimize(renderer.Render(frame));
+  static const char* const kNames[] = {"full",        "no planes", "no hulls",      "no contacts",
+                                       "planes only", "empty",     "empty, no text"};
+  state.SetLabel(fmt::format("{} {}", state.range(0) == kDesk ? "desk" : "torus100k",
+                             kNames[part]));
+  CountCpu(state, cpu_start);
+}
+
 BENCHMARK(BM_Render)->Apply(Sizes);
 BENCHMARK(BM_RenderPng)->Apply(Sizes);
 BENCHMARK(BM_RenderPngVideo)->Apply(Sizes);
+BENCHMARK(BM_RenderParts)
+    ->ArgsProduct({{kDesk, kTorus}, benchmark::CreateDenseRange(kFull, kEmptyNoText, 1)})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->MinTime(1.0);
 
 }  // namespace
 }  // namespace ecpsim::render

@@ -283,14 +283,17 @@ void DrawHulls(const FrameInput& frame, DrawContext& context) {
   const double width = 1.5 * context.pixel_scale;
   for (const BodyVisual& body : frame.bodies) {
     if (!body.hull) continue;
+    // facing is tested in the body frame, so only the drawn edges are posed: a 100k-triangle
+    // mesh's hull has ~75k edges, most of them smooth and off the silhouette
+    const Eigen::Vector3d eye_B = body.X_WB.inverse() * context.camera.eye;
     for (const HullEdge& edge : body.hull->edges) {
-      const Eigen::Vector3d a = body.X_WB * edge.a, b = body.X_WB * edge.b;
-      const Eigen::Vector3d to_eye = context.camera.eye - 0.5 * (a + b);
-      const bool left = (body.X_WB.linear() * edge.n_left).dot(to_eye) > 0;
-      const bool right = (body.X_WB.linear() * edge.n_right).dot(to_eye) > 0;
+      const Eigen::Vector3d to_eye = eye_B - 0.5 * (edge.a + edge.b);
+      const bool left = edge.n_left.dot(to_eye) > 0;
+      const bool right = edge.n_right.dot(to_eye) > 0;
       const bool sharp = edge.n_left.dot(edge.n_right) < kSmoothEdgeCos;
       if (!sharp && left == right) continue;
       const bool visible = left || right;
+      const Eigen::Vector3d a = body.X_WB * edge.a, b = body.X_WB * edge.b;
       Pixel pa, pb;
       if (!context.camera.ToPixel(a, &pa) || !context.camera.ToPixel(b, &pb)) continue;
       pa.z() = pb.z() = 0;

@@ -30,8 +30,9 @@ struct HullGeometry {
   std::vector<HullEdge> edges;  // body frame; empty for smooth primitives
 };
 
-/// The display geometry of a polyhedral hull: its polygon faces fanned into triangles and the
-/// edges between faces.
+/// The display geometry of a polyhedral hull: its polygon faces cut into triangles (ears cut
+/// round by round, not fans, so that no long slivers cross a many-cornered face) and the edges
+/// between faces.
 HullGeometry MakeHullGeometry(const geometry::ConvexHull& hull);
 
 /// The display geometry of any convex shape: a polyhedron's faces and edges, or a smooth

@@ -86,6 +86,28 @@ TEST(RenderTarget, ThreeHalvesSupersamplesAreAreaWeighted) {
   EXPECT_EQ(image.Pixel(3, 2)[2], 255);
 }
 
+TEST(RenderTarget, ThreeHalvesOddWidthTakesItsLastPixelFromTwoColumns) {
+  // a 5 × 2 image drawn at 8 × 3: image column 4 (even) takes drawing columns 6 (weight 2) and 7
+  // (weight 1); column 6 red over all rows, column 7 blue: red (6·255 + 4) / 9 = 170 and blue
+  // (3·255 + 4) / 9 = 85 in both image rows; column 3 (drawing columns 4 (1) and 5 (2)) is green
+  GlContext context;
+  RenderTarget target(5, 2, 1, 1.5);
+  ASSERT_EQ(target.width(), 8);
+  ASSERT_EQ(target.height(), 3);
+  target.Clear({0, 1, 0, 1});
+  target.ClearRect(6, 0, 1, 3, {1, 0, 0, 1});
+  target.ClearRect(7, 0, 1, 3, {0, 0, 1, 1});
+  const Image image = target.Read();
+  ASSERT_EQ(image.width, 5);
+  for (int y = 0; y < 2; ++y) {
+    EXPECT_EQ(image.Pixel(4, y)[0], 170);
+    EXPECT_EQ(image.Pixel(4, y)[1], 0);
+    EXPECT_EQ(image.Pixel(4, y)[2], 85);
+    EXPECT_EQ(image.Pixel(3, y)[0], 0);
+    EXPECT_EQ(image.Pixel(3, y)[1], 255);
+  }
+}
+
 TEST(RenderTarget, UnsupportedSupersampleIsRejected) {
   GlContext context;
   EXPECT_THROW(RenderTarget(4, 3, 1, 2.5), std::runtime_error);
