@@ -4,6 +4,9 @@
 #include <cmath>
 #include <type_traits>
 
+#include <Eigen/Cholesky>
+
+#include "engine/loads.h"
 #include "engine/rotation.h"
 
 namespace ecpsim::engine {
@@ -65,6 +68,28 @@ MncpLayout MakeLayout(const BodyProblem& problem) {
   }
   layout.size = next;
   return layout;
+}
+
+BodyProblem StartOfStep(const Scene& scene, int body, const BodyState& state, double t,
+                        double h) {
+  const Body& model = scene.bodies[body];
+  BodyProblem p;
+  p.h = h;
+  p.mass = model.mass;
+  p.R = state.Q_WB.toRotationMatrix();
+  p.inertia_world = p.R * model.inertia * p.R.transpose();
+  p.c = state.p_WB;
+  p.v = state.v_WB;
+  p.w = state.w_WB;
+  p.p_ext = AppliedImpulse(scene.loads, scene.impulses, body, t, h, p.R);
+  p.p_ext.head<3>() += h * model.mass * scene.gravity;
+  p.p_ext.tail<3>() -= h * state.w_WB.cross(p.inertia_world * state.w_WB);
+  return p;
+}
+
+FreeFlight FreeFlightVelocities(const BodyProblem& problem) {
+  return {problem.v + problem.p_ext.head<3>() / problem.mass,
+          problem.w + problem.inertia_world.ldlt().solve(Vector3d(problem.p_ext.tail<3>()))};
 }
 
 EndPose PoseAfterStep(const BodyProblem& problem, const Vector3d& v, const Vector3d& w) {

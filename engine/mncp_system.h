@@ -8,6 +8,7 @@
 #include <Eigen/Core>
 
 #include "engine/scene.h"
+#include "engine/state.h"
 #include "geometry/convex_shape.h"
 
 namespace ecpsim::engine {
@@ -49,6 +50,17 @@ struct MncpLayout {
 };
 
 MncpLayout MakeLayout(const BodyProblem& problem);
+
+/// The body part of a BodyProblem (no contacts yet) for body `body` of `scene` at `state`, for the
+/// step [t, t + h]: world inertia, and gravity, applied loads and the gyroscopic impulse
+/// p_vp = (0, −h ω × Iω), all at the start of the step (FORMULATION.md trap 4).
+BodyProblem StartOfStep(const Scene& scene, int body, const BodyState& state, double t, double h);
+
+/// Velocities at the end of the step if no contact acts: ν + M⁻¹ p_ext.
+struct FreeFlight {
+  Eigen::Vector3d v, w;
+};
+FreeFlight FreeFlightVelocities(const BodyProblem& problem);
 
 /// Position and orientation at the end of the step for velocities (v⁺, ω⁺).
 struct EndPose {

@@ -184,21 +184,10 @@ class MultiPatchStepper {
  private:
   MultiPatchProblem MakeProblem(double t, double h, const BodyState& body,
                                 const Scales& scales) const {
-    const Body& model = scene_.bodies[body_index_];
     MultiPatchProblem problem;
     problem.weight_floor = kWeightFloorRel * scales.impulse;
     BodyProblem& p = problem.body;
-    p.h = h;
-    p.mass = model.mass;
-    p.R = body.Q_WB.toRotationMatrix();
-    p.inertia_world = p.R * model.inertia * p.R.transpose();
-    p.c = body.p_WB;
-    p.v = body.v_WB;
-    p.w = body.w_WB;
-    // gravity, applied loads and the gyroscopic impulse, all at the start of the step (trap 4)
-    p.p_ext = AppliedImpulse(scene_.loads, scene_.impulses, body_index_, t, h, p.R);
-    p.p_ext.head<3>() += h * model.mass * scene_.gravity;
-    p.p_ext.tail<3>() -= h * body.w_WB.cross(p.inertia_world * body.w_WB);
+    p = StartOfStep(scene_, body_index_, body, t, h);
     for (size_t g = 0; g < contact_ids_.size(); ++g) {
       const ContactPair& pair = scene_.contacts[contact_ids_[g]];
       const geometry::ConvexShape* plane = scene_.obstacles[pair.obstacle].shape.get();
@@ -234,9 +223,7 @@ class MultiPatchStepper {
                      const Scales& scales) const {
     const BodyProblem& bp = problem.body;
     VectorXd z = VectorXd::Zero(layout.size);
-    const Vector3d v_free = body.v_WB + bp.p_ext.head<3>() / bp.mass;
-    const Vector3d w_free =
-        body.w_WB + bp.inertia_world.ldlt().solve(Vector3d(bp.p_ext.tail<3>()));
+    const auto [v_free, w_free] = FreeFlightVelocities(bp);
 
     // warm start: the last step's velocities and every block's unknowns
     if (guess == Guess::kWarm) {

@@ -132,19 +132,7 @@ class BodyStepper {
  private:
   BodyProblem MakeProblem(double t, double h, const BodyState& body) const {
     const Body& model = scene_.bodies[body_index_];
-    BodyProblem p;
-    p.h = h;
-    p.mass = model.mass;
-    p.R = body.Q_WB.toRotationMatrix();
-    p.inertia_world = p.R * model.inertia * p.R.transpose();
-    p.c = body.p_WB;
-    p.v = body.v_WB;
-    p.w = body.w_WB;
-    // gravity, applied loads and the gyroscopic impulse p_vp = (0, −h ω × Iω), all at the start
-    // of the step (FORMULATION.md trap 4)
-    p.p_ext = AppliedImpulse(scene_.loads, scene_.impulses, body_index_, t, h, p.R);
-    p.p_ext.head<3>() += h * model.mass * scene_.gravity;
-    p.p_ext.tail<3>() -= h * body.w_WB.cross(p.inertia_world * body.w_WB);
+    BodyProblem p = StartOfStep(scene_, body_index_, body, t, h);
     for (int id : contact_ids_) {
       const ContactPair& pair = scene_.contacts[id];
       ContactProblem cp;
@@ -180,9 +168,7 @@ class BodyStepper {
                      const Scales& scales) const {
     VectorXd z = VectorXd::Zero(layout.size);
     // free-flight velocities as the starting point of a fresh guess; the last ones for warm starts
-    const Vector3d v_free = body.v_WB + problem.p_ext.head<3>() / problem.mass;
-    const Vector3d w_free =
-        body.w_WB + problem.inertia_world.ldlt().solve(Vector3d(problem.p_ext.tail<3>()));
+    const auto [v_free, w_free] = FreeFlightVelocities(problem);
     z.segment<3>(0) = guess == Guess::kWarm ? body.v_WB : v_free;
     z.segment<3>(3) = guess == Guess::kWarm ? body.w_WB : w_free;
 
