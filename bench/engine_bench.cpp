@@ -31,19 +31,7 @@ void RunSteps(benchmark::State& bench, const Scene& scene, int steps) {
 // the paper's desk: pushed by f_x = 22.5 sin(2πt) + 22.5, f_y = 22.5 cos(2πt) + 22.5,
 // τ_z = 2.1 cos(2πt), v0 = (0.3, 0.2, 0), ω_z = 0.5, 4 s at h = 0.01
 void BM_DeskStep(benchmark::State& bench) {
-  Body desk = testing::MakeMeshBody(geometry::MakeDeskMesh(), 15, "desk");
-  desk.p0 = Eigen::Vector3d(0, 0, 0.45);
-  desk.v0 = Eigen::Vector3d(0.3, 0.2, 0);
-  desk.w0 = Eigen::Vector3d(0, 0, 0.5);
-  Scene scene = testing::MakeGroundScene({desk});
-  Load force;
-  force.x = TimeFunction("22.5*sin(2*pi*t)+22.5", "bench");
-  force.y = TimeFunction("22.5*cos(2*pi*t)+22.5", "bench");
-  Load torque;
-  torque.kind = Load::Kind::kTorque;
-  torque.z = TimeFunction("2.1*cos(2*pi*t)", "bench");
-  scene.loads = {force, torque};
-  RunSteps(bench, scene, 400);
+  RunSteps(bench, testing::PaperDeskScene(ContactModel::kHull), 400);
 }
 BENCHMARK(BM_DeskStep)->Unit(benchmark::kMicrosecond);
 

@@ -43,23 +43,10 @@ std::vector<std::shared_ptr<const geometry::ConvexShape>> DeskFeet(const Body& d
   return feet;
 }
 
-// the paper's desk (section 5), as tests/engine/planar_model_test.cpp's PaperDesk
+// the paper's desk (section 5) with its four feet as parts
 Scene PaperDesk(ContactModel model) {
-  Body desk = testing::MakeMeshBody(geometry::MakeDeskMesh(), 15, "desk");
-  desk.parts = DeskFeet(desk, 0.45);
-  desk.p0 = Vector3d(0, 0, 0.45);
-  desk.v0 = Vector3d(0.3, 0.2, 0);
-  desk.w0 = Vector3d(0, 0, 0.5);
-  Scene scene = testing::MakeGroundScene({desk});
-  Load force;
-  force.x = TimeFunction("22.5*sin(2*pi*t)+22.5", "test");
-  force.y = TimeFunction("22.5*cos(2*pi*t)+22.5", "test");
-  Load torque;
-  torque.kind = Load::Kind::kTorque;
-  torque.z = TimeFunction("2.1*cos(2*pi*t)", "test");
-  scene.loads = {force, torque};
-  scene.model = model;
-  scene.duration = 4;
+  Scene scene = testing::PaperDeskScene(model);
+  scene.bodies[0].parts = DeskFeet(scene.bodies[0], 0.45);
   return scene;
 }
 

@@ -13,24 +13,7 @@ namespace {
 using Eigen::Vector3d;
 using ::testing::HasSubstr;
 
-// the paper's desk: 15 kg, CM at 0.45 m, pushed by periodic forces and a torque for 4 s
-Scene PaperDesk(ContactModel model) {
-  Body desk = testing::MakeMeshBody(geometry::MakeDeskMesh(), 15, "desk");
-  desk.p0 = Vector3d(0, 0, 0.45);
-  desk.v0 = Vector3d(0.3, 0.2, 0);
-  desk.w0 = Vector3d(0, 0, 0.5);
-  Scene scene = testing::MakeGroundScene({desk});
-  Load force;
-  force.x = TimeFunction("22.5*sin(2*pi*t)+22.5", "test");
-  force.y = TimeFunction("22.5*cos(2*pi*t)+22.5", "test");
-  Load torque;
-  torque.kind = Load::Kind::kTorque;
-  torque.z = TimeFunction("2.1*cos(2*pi*t)", "test");
-  scene.loads = {force, torque};
-  scene.model = model;
-  scene.duration = 4;
-  return scene;
-}
+Scene PaperDesk(ContactModel model) { return testing::PaperDeskScene(model); }
 
 TEST(PlanarModelTest, AgreesWithTheHullModelOnThePaperDesk) {
   // the paper's claim: |Δv_x|, |Δω_z| < 1e-8 between the hull-ECP and planar sliding models

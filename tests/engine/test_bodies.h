@@ -12,6 +12,7 @@
 #include "geometry/convex_hull.h"
 #include "geometry/convex_shape.h"
 #include "geometry/mass_properties.h"
+#include "geometry/paper_bodies.h"
 #include "geometry/triangle_mesh.h"
 
 namespace ecpsim::engine::testing {
@@ -63,6 +64,27 @@ inline Scene MakeGroundScene(std::vector<Body> bodies, double h = 0.01,
     scene.contacts.push_back(ContactPair{static_cast<int>(b), 0, friction});
   }
   scene.bodies = std::move(bodies);
+  return scene;
+}
+
+/// The paper's desk (section 5): 15 kg, CM 0.45 m above its feet on z = 0, v0 = (0.3, 0.2, 0) m/s,
+/// ω_z = 0.5 rad/s, pushed by f_x = 22.5 sin(2πt) + 22.5 N, f_y = 22.5 cos(2πt) + 22.5 N and
+/// τ_z = 2.1 cos(2πt) N·m for 4 s, stepped with `model`.
+inline Scene PaperDeskScene(ContactModel model) {
+  Body desk = MakeMeshBody(geometry::MakeDeskMesh(), 15, "desk");
+  desk.p0 = Eigen::Vector3d(0, 0, 0.45);
+  desk.v0 = Eigen::Vector3d(0.3, 0.2, 0);
+  desk.w0 = Eigen::Vector3d(0, 0, 0.5);
+  Scene scene = MakeGroundScene({desk});
+  Load force;
+  force.x = TimeFunction("22.5*sin(2*pi*t)+22.5", "paper desk");
+  force.y = TimeFunction("22.5*cos(2*pi*t)+22.5", "paper desk");
+  Load torque;
+  torque.kind = Load::Kind::kTorque;
+  torque.z = TimeFunction("2.1*cos(2*pi*t)", "paper desk");
+  scene.loads = {force, torque};
+  scene.model = model;
+  scene.duration = 4;
   return scene;
 }
 

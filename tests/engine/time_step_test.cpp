@@ -65,7 +65,9 @@ TEST(SpinTest, TorsionalFrictionDeceleratesAtMuErMgOverIzz) {
   for (int i = 0; i < 50; ++i) {
     ASSERT_TRUE(Step(scene, state).converged);
     const double expected = std::max(0.0, 5 - rate * state.t);
-    if (expected > 0) EXPECT_NEAR(state.bodies[0].w_WB.z(), expected, 1e-9) << state.t;
+    if (expected > 0) {
+      EXPECT_NEAR(state.bodies[0].w_WB.z(), expected, 1e-9) << state.t;
+    }
     EXPECT_LE(state.bodies[0].v_WB.norm(), 1e-10);
     EXPECT_GE(LowestVertexHeight(scene.bodies[0], state.bodies[0]), -kPenetrationTol);
   }
