@@ -6,6 +6,7 @@
 
 #include "engine/rotation.h"
 #include "geometry/convex_shape.h"
+#include "tests/engine/jacobian_check.h"
 
 namespace ecpsim::engine {
 namespace {
@@ -69,29 +70,12 @@ Fixture MakeFixture(std::shared_ptr<const geometry::ConvexShape> hull,
   return f;
 }
 
-// max |J_analytic − J_central| relative to max(1, |J|) per entry
 double JacobianError(const Fixture& f) {
-  VectorXd F;
-  Eigen::MatrixXd J;
-  EvaluateMncp(f.problem, f.layout, f.z, &F, &J);
-  double worst = 0;
-  for (int k = 0; k < f.layout.size; ++k) {
-    // central differences: truncation O(eps²·F''') ≈ 1e-12 and round-off O(1e-16/eps) ≈ 1e-10
-    const double eps = 1e-6;
-    VectorXd zp = f.z, zm = f.z, Fp, Fm;
-    zp[k] += eps;
-    zm[k] -= eps;
-    EvaluateMncp(f.problem, f.layout, zp, &Fp, nullptr);
-    EvaluateMncp(f.problem, f.layout, zm, &Fm, nullptr);
-    const VectorXd numeric = (Fp - Fm) / (2 * eps);
-    for (int i = 0; i < f.layout.size; ++i) {
-      const double error = std::abs(numeric[i] - J(i, k)) / std::max(1.0, std::abs(J(i, k)));
-      EXPECT_LT(error, 1e-7) << "row " << i << " column " << k << ": analytic " << J(i, k)
-                             << ", numeric " << numeric[i];
-      worst = std::max(worst, error);
-    }
-  }
-  return worst;
+  return testing::JacobianError(
+      [&f](const VectorXd& z, VectorXd* F, Eigen::MatrixXd* J) {
+        EvaluateMncp(f.problem, f.layout, z, F, J);
+      },
+      f.z);
 }
 
 const auto kGround = geometry::MakeHalfSpace(Vector3d::UnitZ(), 0);
