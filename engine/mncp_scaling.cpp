@@ -74,4 +74,18 @@ std::vector<Guess> RestartLadder(bool have_warm_start, bool was_in_contact, bool
   return ladder;
 }
 
+int MostOpposedWindowConstraint(const ContactProblem& cp, const Eigen::Matrix3d& R,
+                                const Eigen::Vector3d& y_B, const Eigen::Vector3d& N) {
+  int best = 0;
+  double best_alignment = -INFINITY;
+  for (int i = 0; i < static_cast<int>(cp.window.size()); ++i) {
+    const double alignment = -(R * cp.hull->Gradient(cp.window[i], y_B)).dot(N);
+    if (alignment > best_alignment) {
+      best_alignment = alignment;
+      best = i;
+    }
+  }
+  return best;
+}
+
 }  // namespace ecpsim::engine

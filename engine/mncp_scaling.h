@@ -38,4 +38,9 @@ const char* GuessName(Guess guess);
 /// guesses that fit its motion (a free-flight warm start is a poor guess for an impact).
 std::vector<Guess> RestartLadder(bool have_warm_start, bool was_in_contact, bool moving);
 
+/// For a guess: the index into cp.window of the hull constraint whose world normal at y_B (body
+/// frame, end-of-step rotation R) is most opposed to the obstacle's N — it carries the normal cone.
+int MostOpposedWindowConstraint(const ContactProblem& cp, const Eigen::Matrix3d& R,
+                                const Eigen::Vector3d& y_B, const Eigen::Vector3d& N);
+
 }  // namespace ecpsim::engine

@@ -275,15 +275,7 @@ class MultiPatchStepper {
       z[L.s] = separated ? std::max(0.0, gap[i] / N.norm()) : gap[i] / N.norm();
       // the part's constraint whose world normal is most opposed to N carries the cone
       const Vector3d y = pose.R.transpose() * (support[i] - pose.c);
-      int best = 0;
-      double best_alignment = -INFINITY;
-      for (int k = 0; k < L.l_count; ++k) {
-        const double alignment = -(pose.R * cp.hull->Gradient(cp.window[k], y)).dot(N);
-        if (alignment > best_alignment) {
-          best_alignment = alignment;
-          best = k;
-        }
-      }
+      const int best = MostOpposedWindowConstraint(cp, pose.R, y, N);
       z[L.l + best] = 1;
       z[L.sigma] = sigma0;
       const bool touches = gap[i] <= lowest[g] + kTouchingRelTol * scales.length;

@@ -218,15 +218,7 @@ class BodyStepper {
       z[L.s] = separated ? std::max(0.0, (a1 - a2).dot(N) / N.squaredNorm()) : 0;
       // the window face whose world normal is most opposed to N carries the cone
       const Vector3d y = pose.R.transpose() * (a1 - pose.c);
-      int best = 0;
-      double best_alignment = -INFINITY;
-      for (int i = 0; i < L.l_count; ++i) {
-        const double alignment = -(pose.R * cp.hull->Gradient(cp.window[i], y)).dot(N);
-        if (alignment > best_alignment) {
-          best_alignment = alignment;
-          best = i;
-        }
-      }
+      const int best = MostOpposedWindowConstraint(cp, pose.R, y, N);
       z[L.l + best] = 1;
       z[L.sigma] = sigma0;
       if (separated) continue;
