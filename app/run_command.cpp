@@ -109,8 +109,9 @@ void AddRunCommand(CLI::App& app) {
   run->add_option("--model", options->model,
                   "contact model: hull (the paper's, default), planar (sliding only; stops "
                   "with exit code 5 where it does not apply) or multipatch (one ECP per convex "
-                  "part of each body's `parts`)")
-      ->check(CLI::IsMember({"hull", "planar", "multipatch"}));
+                  "part of each body's `parts`) or point (the usual practice: hull vertices near "
+                  "the ground as contact points, polyhedral friction cone, one LCP per step)")
+      ->check(CLI::IsMember({"hull", "planar", "multipatch", "point"}));
   run->add_flag("--frames", options->frames, "also render DIR/frames/frame_NNNNNN.png");
   run->add_flag("--video", options->video,
                 "also render the frames into DIR/video.mp4 (H.264; needs the ffmpeg program)");

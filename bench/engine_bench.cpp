@@ -35,6 +35,13 @@ void BM_DeskStep(benchmark::State& bench) {
 }
 BENCHMARK(BM_DeskStep)->Unit(benchmark::kMicrosecond);
 
+// the same desk with the point-contact baseline (hull vertices near the ground, d = 8 friction
+// directions, one LCP per step by Lemke's method); "newton_iters" counts Lemke pivots here
+void BM_PointContactDesk(benchmark::State& bench) {
+  RunSteps(bench, testing::PaperDeskScene(ContactModel::kPointLcp), 400);
+}
+BENCHMARK(BM_PointContactDesk)->Unit(benchmark::kMicrosecond);
+
 // the T-bar sliding and turning flat under a push
 void BM_TBarStep(benchmark::State& bench) {
   Body tbar = testing::MakeMeshBody(geometry::MakeTBarMesh(), 2, "tbar");

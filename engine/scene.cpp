@@ -10,6 +10,8 @@ const char* ContactModelName(ContactModel model) {
       return "planar";
     case ContactModel::kMultiPatch:
       return "multipatch";
+    case ContactModel::kPointLcp:
+      return "point";
   }
   return "unknown";
 }

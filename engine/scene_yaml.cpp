@@ -259,10 +259,11 @@ bool ReadBool(const Context& ctx, const YAML::Node& node, const std::string& key
 
 ContactModel ReadModel(const Context& ctx, const YAML::Node& node, const std::string& key) {
   for (ContactModel model :
-       {ContactModel::kHull, ContactModel::kPlanar, ContactModel::kMultiPatch}) {
+       {ContactModel::kHull, ContactModel::kPlanar, ContactModel::kMultiPatch,
+        ContactModel::kPointLcp}) {
     if (node.IsScalar() && node.Scalar() == ContactModelName(model)) return model;
   }
-  Fail(ctx, node, key, "one of hull, planar, multipatch");
+  Fail(ctx, node, key, "one of hull, planar, multipatch, point");
 }
 
 std::string ReadName(const Context& ctx, const YAML::Node& node, const std::string& key) {

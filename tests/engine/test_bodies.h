@@ -8,6 +8,7 @@
 #include <Eigen/Geometry>
 
 #include "engine/scene.h"
+#include "engine/scene_builders.h"
 #include "engine/state.h"
 #include "geometry/convex_hull.h"
 #include "geometry/convex_shape.h"
@@ -20,50 +21,14 @@ namespace ecpsim::engine::testing {
 /// The paper's friction: μ = 0.22, e_t = e_o = 1, e_r = 0.1 m.
 inline Friction PaperFriction() { return Friction{0.22, 1, 1, 0.1}; }
 
-/// A solid box body with closed-form inertia; its mesh is the hull's triangulation.
-inline Body MakeBoxBody(const Eigen::Vector3d& size, double mass, const std::string& name = "box") {
-  Body body;
-  body.name = name;
-  auto hull = geometry::MakeBox(size / 2);
-  body.hull = hull;
-  body.mesh = hull->Tessellate();
-  body.mass = mass;
-  const Eigen::Vector3d s2 = size.cwiseProduct(size);
-  body.inertia = (mass / 12 * Eigen::Vector3d(s2.y() + s2.z(), s2.x() + s2.z(), s2.x() + s2.y()))
-                     .asDiagonal();
-  return body;
-}
-
-/// A body from a closed mesh (any frame): moved into its CM frame, hull from CGAL, given mass.
-inline Body MakeMeshBody(const geometry::TriangleMesh& mesh_any_frame, double mass,
-                         const std::string& name) {
-  const geometry::MassProperties mp = geometry::ComputeMassPropertiesForMass(mesh_any_frame, mass);
-  Body body;
-  body.name = name;
-  body.mesh = mesh_any_frame;
-  for (auto& v : body.mesh.vertices) v -= mp.center_of_mass;
-  body.hull = std::make_shared<geometry::PolyhedralShape>(
-      geometry::ComputeConvexHull(body.mesh.vertices, name));
-  body.mass = mass;
-  body.inertia = mp.inertia;
-  return body;
-}
+using engine::MakeBoxBody;
+using engine::MakeMeshBody;
 
 /// A scene with the ground z ≤ 0 and the given bodies, each in contact with the ground.
 inline Scene MakeGroundScene(std::vector<Body> bodies, double h = 0.01,
                              Friction friction = PaperFriction()) {
-  Scene scene;
+  Scene scene = engine::MakeGroundScene(std::move(bodies), h, friction);
   scene.source = "test";
-  scene.h = h;
-  Obstacle ground;
-  ground.name = "ground";
-  ground.shape = geometry::MakeHalfSpace(Eigen::Vector3d::UnitZ(), 0);
-  ground.friction = friction;
-  scene.obstacles.push_back(ground);
-  for (size_t b = 0; b < bodies.size(); ++b) {
-    scene.contacts.push_back(ContactPair{static_cast<int>(b), 0, friction});
-  }
-  scene.bodies = std::move(bodies);
   return scene;
 }
 

@@ -1,0 +1,27 @@
+#pragma once
+// Scenes built in code: boxes and meshes as bodies on a ground plane (tests, benchmarks).
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "engine/scene.h"
+#include "geometry/triangle_mesh.h"
+
+namespace ecpsim::engine {
+
+/// A solid box body (size in m, mass in kg) with closed-form inertia; its mesh is the hull's
+/// triangulation; at rest at the origin.
+Body MakeBoxBody(const Eigen::Vector3d& size, double mass, const std::string& name = "box");
+
+/// A body from a closed mesh (any frame): moved into its CM frame, hull from CGAL, given mass.
+/// @throws InputError (naming `name`) for a mesh without volume.
+Body MakeMeshBody(const geometry::TriangleMesh& mesh_any_frame, double mass,
+                  const std::string& name);
+
+/// A scene with the ground z ≤ 0 and the given bodies, each in contact with the ground with
+/// `friction`; source "code", step h, duration 1 s.
+Scene MakeGroundScene(std::vector<Body> bodies, double h, const Friction& friction);
+
+}  // namespace ecpsim::engine
