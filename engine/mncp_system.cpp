@@ -5,6 +5,7 @@
 #include <type_traits>
 
 #include <Eigen/Cholesky>
+#include <fmt/format.h>
 
 #include "engine/loads.h"
 #include "engine/rotation.h"
@@ -19,6 +20,22 @@ using RowVector3d = Eigen::Matrix<double, 1, 3>;
 // |N| is 1 at a solution (a unit face normal, or a convex combination of unit normals ≥ cos of
 // half the dihedral angle); the floor only keeps intermediate Newton iterates finite
 constexpr double kMinNormalLength = 1e-12;
+
+// free-flight ω⁺ by Newton: quadratic convergence from the explicit estimate takes 2–4
+// iterations for |hω| ≲ 1; fast tumbles (|hω| ~ 10) need damped steps, hence the margin
+constexpr int kFreeFlightIterations = 50;
+constexpr double kFreeFlightTolerance = 1e-15;  // × (|I_w ω| + |τ h|), round-off level
+
+// The angular Newton–Euler row without contact: I_w (ω⁺ − ω) + h ω⁺ × I_w ω⁺ (implicit
+// gyroscopic impulse, engine/README.md), and its derivative in ω⁺
+Vector3d GyroscopicResidual(const BodyProblem& problem, const Vector3d& w) {
+  return problem.inertia_world * (w - problem.w) + problem.h * w.cross(problem.inertia_world * w);
+}
+
+Matrix3d GyroscopicJacobian(const BodyProblem& problem, const Vector3d& w) {
+  const Matrix3d& I = problem.inertia_world;
+  return I + problem.h * (Skew(w) * I - Skew(I * w));
+}
 
 // derivatives of the contact frame with respect to N = Σ l_G ∇g (see MakeContactFrame)
 struct FrameDerivatives {
@@ -83,13 +100,43 @@ BodyProblem StartOfStep(const Scene& scene, int body, const BodyState& state, do
   p.w = state.w_WB;
   p.p_ext = AppliedImpulse(scene.loads, scene.impulses, body, t, h, p.R);
   p.p_ext.head<3>() += h * model.mass * scene.gravity;
-  p.p_ext.tail<3>() -= h * state.w_WB.cross(p.inertia_world * state.w_WB);
   return p;
 }
 
 FreeFlight FreeFlightVelocities(const BodyProblem& problem) {
-  return {problem.v + problem.p_ext.head<3>() / problem.mass,
-          problem.w + problem.inertia_world.ldlt().solve(Vector3d(problem.p_ext.tail<3>()))};
+  // I_w (ω⁺ − ω) + h ω⁺ × I_w ω⁺ = p_ext,τ by Newton from the explicit estimate; the solution
+  // has ‖ω⁺‖_I ≤ ‖ω + I_w⁻¹ p_ext,τ‖_I, so damped steps that shrink the residual reach it
+  const Vector3d tau = problem.p_ext.tail<3>();
+  Vector3d w = problem.w + problem.inertia_world.ldlt().solve(tau);
+  Vector3d r = GyroscopicResidual(problem, w) - tau;
+  const double scale = (problem.inertia_world * problem.w).norm() + tau.norm();
+  for (int i = 0; i < kFreeFlightIterations && r.norm() > kFreeFlightTolerance * scale; ++i) {
+    const Vector3d step = GyroscopicJacobian(problem, w).partialPivLu().solve(-r);
+    // halve the step until the residual shrinks; none that does: round-off level reached
+    bool improved = false;
+    for (double alpha = 1; alpha > 1e-9 && !improved; alpha /= 2) {
+      const Vector3d trial_r = GyroscopicResidual(problem, w + alpha * step) - tau;
+      if (trial_r.norm() < r.norm()) {
+        w += alpha * step;
+        r = trial_r;
+        improved = true;
+      }
+    }
+    if (!improved) break;
+  }
+  return {problem.v + problem.p_ext.head<3>() / problem.mass, w};
+}
+
+bool FreeFlightIsFinite(const BodyProblem& problem, std::string& tried) {
+  const FreeFlight free = FreeFlightVelocities(problem);
+  // a finite but huge ω still overflows the rotation angle h|ω| inside Exp
+  if (free.v.allFinite() && free.w.allFinite() &&
+      PoseAfterStep(problem, free.v, free.w).R.allFinite()) {
+    return true;
+  }
+  tried += fmt::format("{}non-finite free-flight velocities (h = {:g} s, |ω| = {:.3g} rad/s)",
+                       tried.empty() ? "" : "; ", problem.h, problem.w.norm());
+  return false;
 }
 
 EndPose PoseAfterStep(const BodyProblem& problem, const Vector3d& v, const Vector3d& w) {
@@ -150,10 +197,10 @@ void EvaluateMncp(const BodyProblem& problem, const MncpLayout& layout, const Ei
 
   // Newton–Euler with impulses (paper eq. discrete_NE), contact terms added per contact below
   F.segment<3>(0) = problem.mass * (v - problem.v) - problem.p_ext.head<3>();
-  F.segment<3>(3) = problem.inertia_world * (w - problem.w) - problem.p_ext.tail<3>();
+  F.segment<3>(3) = GyroscopicResidual(problem, w) - problem.p_ext.tail<3>();
   if (with_jacobian) {
     J.block<3, 3>(0, 0) = problem.mass * Matrix3d::Identity();
-    J.block<3, 3>(3, 3) = problem.inertia_world;
+    J.block<3, 3>(3, 3) = GyroscopicJacobian(problem, w);
   }
 
   // rotation-rate derivatives of the end pose (left Jacobians of Exp at ±hω)

@@ -3,6 +3,7 @@
 // residual of the paper's "Summary of the discrete-time dynamic model" and its analytic Jacobian.
 // The equations, unknowns and the handling of the active facet are written out in engine/README.md.
 
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -61,6 +62,11 @@ struct FreeFlight {
   Eigen::Vector3d v, w;
 };
 FreeFlight FreeFlightVelocities(const BodyProblem& problem);
+
+/// Whether the step's free-flight velocities and end pose are finite. They overflow when a body spins so fast
+/// that the explicit gyroscopic impulse −h ω × I_w ω feeds itself (|h ω| ≫ 1, engine/README.md);
+/// then appends "non-finite free-flight velocities (h = …)" to `tried` for the failure message.
+bool FreeFlightIsFinite(const BodyProblem& problem, std::string& tried);
 
 /// Position and orientation at the end of the step for velocities (v⁺, ω⁺).
 struct EndPose {

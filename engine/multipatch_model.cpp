@@ -127,6 +127,10 @@ class MultiPatchStepper {
     const Scales scales = BodyScales(model, body, scene_.gravity, h);
     const MultiPatchProblem problem = MakeProblem(t, h, body, scales);
     const MncpLayout layout = MakeLayout(problem.body);
+    if (!FreeFlightIsFinite(problem.body, tried)) {
+      residual = INFINITY;
+      return false;
+    }
 
     // free flight: every part ends the step strictly above its plane when no contact acts, so
     // p = 0 with ν⁺ = ν + M⁻¹ p_ext is the MNCP's solution (as in the hull model)

@@ -1,10 +1,19 @@
 #include "engine/step_driver.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include <fmt/format.h>
 
 namespace ecpsim::engine {
+namespace {
+
+bool IsFinite(const BodyState& b) {
+  return b.p_WB.allFinite() && b.Q_WB.coeffs().allFinite() && b.v_WB.allFinite() &&
+         b.w_WB.allFinite();
+}
+
+}  // namespace
 
 StepReport StepEveryBody(const Scene& scene, State& state, const std::string& model_prefix,
                          const AdvanceBody& advance) {
@@ -28,8 +37,16 @@ StepReport StepEveryBody(const Scene& scene, State& state, const std::string& mo
       for (int id : contact_ids) contacts.push_back(state.contacts[id]);
       const double h = scene.h / substeps;
       bool ok = true;
-      for (int i = 0; i < substeps && ok; ++i)
+      for (int i = 0; i < substeps && ok; ++i) {
         ok = advance(b, contact_ids, state.t + i * h, h, body, contacts, report, residual, tried);
+        // a solved step can still overflow (e.g. the explicit gyroscopic term feeding a fast
+        // spin, engine/README.md): such a state is never committed
+        if (ok && !IsFinite(body)) {
+          ok = false;
+          residual = INFINITY;
+          tried += fmt::format("{}a non-finite state (h = {:g} s)", tried.empty() ? "" : "; ", h);
+        }
+      }
       if (!ok) continue;
       next_bodies[b] = body;
       for (size_t k = 0; k < contact_ids.size(); ++k) next_contacts[contact_ids[k]] = contacts[k];

@@ -11,6 +11,7 @@
 #include "engine/mncp_scaling.h"
 #include "engine/mncp_system.h"
 #include "engine/multipatch_model.h"
+#include "engine/point_contact_model.h"
 #include "engine/planar_model.h"
 #include "engine/rotation.h"
 #include "engine/step_driver.h"
@@ -49,6 +50,10 @@ class BodyStepper {
     const Body& model = scene_.bodies[body_index_];
     const Scales scales = BodyScales(model, body, scene_.gravity, h);
     BodyProblem problem = MakeProblem(t, h, body);
+    if (!FreeFlightIsFinite(problem, tried)) {
+      residual = INFINITY;
+      return false;
+    }
 
     // windows around the support feature at the predicted pose, in the direction of −n
     const Matrix3d R_predicted = ExpMap(h * body.w_WB) * problem.R;
@@ -318,6 +323,7 @@ class BodyStepper {
 StepReport Step(const Scene& scene, State& state) {
   if (scene.model == ContactModel::kPlanar) return StepPlanarSliding(scene, state);
   if (scene.model == ContactModel::kMultiPatch) return StepMultiPatch(scene, state);
+  if (scene.model == ContactModel::kPointLcp) return StepPointContact(scene, state);
   return StepEveryBody(scene, state, "",
                        [&scene](int body, const std::vector<int>& contact_ids, double t, double h,
                                 BodyState& b, std::vector<ContactState>& contacts,
