@@ -1,0 +1,273 @@
+// Bullet (double precision, libbullet-dev 3.24 via pkg-config bullet-float64) stepping an ecpsim
+// scene: btDiscreteDynamicsWorld with the sequential-impulse solver, each body a btConvexHullShape
+// of its mesh vertices in its principal-axes frame, each half-space a btStaticPlaneShape
+// (settings and measurements: baselines/bullet.md).
+
+#include <cmath>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include <btBulletDynamicsCommon.h>
+#include <fmt/format.h>
+
+#include <Eigen/Eigenvalues>
+
+#include "baselines/adapter_inputs.h"
+#include "baselines/engine_adapters.h"
+#include "engine/loads.h"
+#include "geometry/convex_hull.h"
+#include "engine/step_report.h"
+#include "geometry/errors.h"
+
+namespace ecpsim::baselines {
+namespace {
+
+using Eigen::Matrix3d;
+using Eigen::Quaterniond;
+using Eigen::Vector3d;
+
+/// kCoulomb's margin, m: the convex–plane algorithm places the contact at the support point plus
+/// the margin, so the hull rests this high above the plane; 0 puts it on the plane, and GJK (whose
+/// robustness the margin buys) never runs for the half-space pairs these scenes hold.
+constexpr double kCoulombMargin = 0;
+/// kCoulomb's solver sweeps: the resting box drifts 4.5e-4 m in 1 s with 10, 7.6e-6 m with 20 and
+/// 2e-14 m with 50, where the desk's 4 s run equals 200 sweeps' to the printed 4 digits
+/// (baselines/bullet.md).
+constexpr int kCoulombIterations = 50;
+
+/// What the two settings change (baselines/bullet.md gives the sources and measurements).
+struct BulletSettings {
+  // m; Bullet inflates a btConvexHullShape by this margin (its CONVEX_DISTANCE_MARGIN default)
+  double margin = 0.04;
+  int iterations = 10;  // sequential-impulse sweeps per step (btContactSolverInfo default)
+  // convex–plane manifold filled by perturbation at once (else it collects a point per step)
+  bool multipoint_plane = false;
+  // empty every contact manifold before the step's collision detection (see Step)
+  bool fresh_manifolds = false;
+};
+
+BulletSettings SettingsFor(FrictionSetting setting) {
+  BulletSettings s;
+  if (setting == FrictionSetting::kCoulomb) {
+    s.margin = kCoulombMargin;
+    s.iterations = kCoulombIterations;
+    s.multipoint_plane = true;
+    s.fresh_manifolds = true;
+  }
+  return s;
+}
+
+/// Bullet keeps user indices on collision objects: which body or obstacle a manifold touches.
+constexpr int kBodyTag = 0;
+constexpr int kObstacleTag = 1;
+
+/// A body's principal-axes frame P: I_B = R_BP diag(principal) R_BPᵀ with det R_BP = +1. A
+/// diagonal inertia keeps R_BP = identity exactly, so such bodies carry no round-off rotation.
+struct PrincipalAxes {
+  Matrix3d R_BP = Matrix3d::Identity();
+  Vector3d principal = Vector3d::Ones();  // kg·m²
+};
+
+PrincipalAxes ComputePrincipalAxes(const Matrix3d& inertia) {
+  PrincipalAxes axes;
+  const Matrix3d off_diagonal = inertia - Matrix3d(inertia.diagonal().asDiagonal());
+  if (off_diagonal.isZero(0)) {
+    axes.principal = inertia.diagonal();
+    return axes;
+  }
+  const Eigen::SelfAdjointEigenSolver<Matrix3d> solver(inertia);
+  axes.R_BP = solver.eigenvectors();
+  if (axes.R_BP.determinant() < 0) axes.R_BP.col(2) *= -1;
+  axes.principal = solver.eigenvalues();
+  return axes;
+}
+
+btVector3 ToBt(const Vector3d& v) { return btVector3(v.x(), v.y(), v.z()); }
+Vector3d FromBt(const btVector3& v) { return Vector3d(v.x(), v.y(), v.z()); }
+btQuaternion ToBt(const Quaterniond& q) { return btQuaternion(q.x(), q.y(), q.z(), q.w()); }
+Quaterniond FromBt(const btQuaternion& q) { return Quaterniond(q.w(), q.x(), q.y(), q.z()); }
+
+/// The discrete world with the scene's per-pair friction: Bullet combines two objects' friction
+/// by a product, which cannot hold a body × obstacle table, so each contact point's coefficients
+/// are overwritten just before the solve, and pairs the scene does not list are dropped.
+class PairFrictionWorld final : public btDiscreteDynamicsWorld {
+ public:
+  PairFrictionWorld(btDispatcher* dispatcher, btBroadphaseInterface* broadphase,
+                    btConstraintSolver* solver, btCollisionConfiguration* configuration,
+                    PairFrictionTable friction)
+      : btDiscreteDynamicsWorld(dispatcher, broadphase, solver, configuration),
+        friction_(std::move(friction)) {}
+
+ protected:
+  void solveConstraints(btContactSolverInfo& solver_info) override {
+    btDispatcher* dispatcher = getDispatcher();
+    for (int m = 0; m < dispatcher->getNumManifolds(); ++m) {
+      btPersistentManifold* manifold = dispatcher->getManifoldByIndexInternal(m);
+      const btCollisionObject* a = manifold->getBody0();
+      const btCollisionObject* b = manifold->getBody1();
+      if (a->getUserIndex2() == kObstacleTag) std::swap(a, b);
+      const std::optional<engine::Friction>& friction =
+          friction_[static_cast<size_t>(a->getUserIndex())][static_cast<size_t>(b->getUserIndex())];
+      if (!friction) {
+        manifold->clearManifold();
+        continue;
+      }
+      const int n = manifold->getNumContacts();
+      for (int k = 0; k < n; ++k) {
+        btManifoldPoint& point = manifold->getContactPoint(k);
+        point.m_combinedFriction = friction->mu;
+        point.m_combinedRestitution = 0;
+        point.m_combinedRollingFriction = 0;
+        // no torsion row: Coulomb friction at the several contact points already resists a
+        // spin through their lever arms (ecpsim's e_r models the same resistance for one ECP)
+        point.m_combinedSpinningFriction = 0;
+      }
+    }
+    btDiscreteDynamicsWorld::solveConstraints(solver_info);
+  }
+
+ private:
+  PairFrictionTable friction_;
+};
+
+class BulletSimulation final : public ExternalSimulation {
+ public:
+  BulletSimulation(FrictionSetting setting, const engine::Scene& scene)
+      : scene_(scene), settings_(SettingsFor(setting)) {
+    configuration_ = std::make_unique<btDefaultCollisionConfiguration>();
+    if (settings_.multipoint_plane) configuration_->setPlaneConvexMultipointIterations();
+    dispatcher_ = std::make_unique<btCollisionDispatcher>(configuration_.get());
+    broadphase_ = std::make_unique<btDbvtBroadphase>();
+    solver_ = std::make_unique<btSequentialImpulseConstraintSolver>();
+    world_ = std::make_unique<PairFrictionWorld>(dispatcher_.get(), broadphase_.get(),
+                                                 solver_.get(), configuration_.get(),
+                                                 MakePairFrictionTable(scene));
+    world_->setGravity(ToBt(scene.gravity));
+    btContactSolverInfo& info = world_->getSolverInfo();
+    info.m_numIterations = settings_.iterations;
+    // ecpsim's contacts are inelastic
+    info.m_restitution = 0;
+
+    // obstacles: static planes colliding with bodies only (ecpsim has no obstacle–obstacle or
+    // body–body contact)
+    for (int o = 0; o < static_cast<int>(scene.obstacles.size()); ++o) {
+      const HalfSpacePlane plane = HalfSpaceOf(scene, o, "Bullet");
+      // Bullet's plane n·x = c has its solid side below, as ecpsim's n·y ≤ d
+      shapes_.push_back(std::make_unique<btStaticPlaneShape>(ToBt(plane.normal), plane.offset));
+      btRigidBody::btRigidBodyConstructionInfo ci(0, nullptr, shapes_.back().get());
+      ci.m_friction = 1;
+      ci.m_restitution = 0;
+      rigid_bodies_.push_back(std::make_unique<btRigidBody>(ci));
+      btRigidBody* rigid = rigid_bodies_.back().get();
+      rigid->setUserIndex(o);
+      rigid->setUserIndex2(kObstacleTag);
+      world_->addRigidBody(rigid, btBroadphaseProxy::StaticFilter,
+                           btBroadphaseProxy::DefaultFilter);
+    }
+
+    // bodies: the hull of the mesh vertices in the principal-axes frame P (origin at the CM)
+    for (int b = 0; b < static_cast<int>(scene.bodies.size()); ++b) {
+      const engine::Body& body = scene.bodies[static_cast<size_t>(b)];
+      const PrincipalAxes axes = ComputePrincipalAxes(body.inertia);
+      R_BP_.push_back(axes.R_BP);
+      auto hull = std::make_unique<btConvexHullShape>();
+      const geometry::ConvexHull convex = geometry::ComputeConvexHull(
+          body.mesh.vertices, fmt::format("{}: bodies[{}] '{}'", scene.source, b, body.name));
+      for (const Vector3d& v_B : convex.vertices) {
+        hull->addPoint(ToBt(axes.R_BP.transpose() * v_B), false);
+      }
+      hull->recalcLocalAabb();
+      hull->setMargin(settings_.margin);
+      btRigidBody::btRigidBodyConstructionInfo ci(body.mass, nullptr, hull.get(),
+                                                  ToBt(axes.principal));
+      const Quaterniond Q_WP = body.q0.normalized() * Quaterniond(axes.R_BP);
+      ci.m_startWorldTransform = btTransform(ToBt(Q_WP), ToBt(body.p0));
+      ci.m_friction = 1;
+      ci.m_restitution = 0;
+      shapes_.push_back(std::move(hull));
+      rigid_bodies_.push_back(std::make_unique<btRigidBody>(ci));
+      btRigidBody* rigid = rigid_bodies_.back().get();
+      rigid->setUserIndex(b);
+      rigid->setUserIndex2(kBodyTag);
+      rigid->setLinearVelocity(ToBt(body.v0));
+      rigid->setAngularVelocity(ToBt(body.w0));
+      // sleeping would freeze a body that a later load should move: the scene's loads act at
+      // any time, and applying a force does not wake a Bullet body
+      rigid->setActivationState(DISABLE_DEACTIVATION);
+      world_->addRigidBody(rigid, btBroadphaseProxy::DefaultFilter,
+                           btBroadphaseProxy::StaticFilter);
+      bodies_.push_back(rigid);
+    }
+    state_ = engine::InitialState(scene);
+    state_.contacts.clear();
+  }
+
+  ~BulletSimulation() override {
+    for (auto& rigid : rigid_bodies_) world_->removeRigidBody(rigid.get());
+  }
+
+  void Step() override {
+    const double h = scene_.h;
+    // the scene's loads as a constant wrench at the CM over the step (forces are cleared by
+    // stepSimulation after each step)
+    for (size_t b = 0; b < bodies_.size(); ++b) {
+      const Matrix3d R_WB = state_.bodies[b].Q_WB.toRotationMatrix();
+      const Eigen::Matrix<double, 6, 1> impulse = engine::AppliedImpulse(
+          scene_.loads, scene_.impulses, static_cast<int>(b), state_.t, h, R_WB);
+      bodies_[b]->applyCentralForce(ToBt(impulse.head<3>() / h));
+      bodies_[b]->applyTorque(ToBt(impulse.tail<3>() / h));
+    }
+    // a persistent manifold keeps last step's points, so the convex–plane algorithm, which fills
+    // it by perturbation only while it holds fewer than 3, adds one point; the refresh then drops
+    // the old points a sliding hull has left behind (> 3 mm), and every other step solves with a
+    // single corner (measured: the sliding box loses friction on alternate steps)
+    if (settings_.fresh_manifolds) {
+      for (int m = 0; m < dispatcher_->getNumManifolds(); ++m) {
+        dispatcher_->getManifoldByIndexInternal(m)->clearManifold();
+      }
+    }
+    // maxSubSteps = 0: exactly one internal step of h, no interpolation
+    world_->stepSimulation(h, 0);
+    state_.t += h;
+    for (size_t b = 0; b < bodies_.size(); ++b) {
+      const btTransform& X_WP = bodies_[b]->getWorldTransform();
+      engine::BodyState& body = state_.bodies[b];
+      body.p_WB = FromBt(X_WP.getOrigin());
+      body.Q_WB = (FromBt(X_WP.getRotation()) * Quaterniond(R_BP_[b].transpose())).normalized();
+      body.v_WB = FromBt(bodies_[b]->getLinearVelocity());
+      body.w_WB = FromBt(bodies_[b]->getAngularVelocity());
+      if (!body.p_WB.allFinite() || !body.Q_WB.coeffs().allFinite() || !body.v_WB.allFinite() ||
+          !body.w_WB.allFinite()) {
+        throw engine::SolverFailure(
+            fmt::format("bullet: the state of body '{}' is not finite at t = {} s",
+                        scene_.bodies[b].name, state_.t));
+      }
+    }
+  }
+
+  const engine::State& state() const override { return state_; }
+
+ private:
+  const engine::Scene scene_;  // a copy: the caller's scene may go away
+  BulletSettings settings_;
+  std::unique_ptr<btDefaultCollisionConfiguration> configuration_;
+  std::unique_ptr<btCollisionDispatcher> dispatcher_;
+  std::unique_ptr<btBroadphaseInterface> broadphase_;
+  std::unique_ptr<btSequentialImpulseConstraintSolver> solver_;
+  std::unique_ptr<PairFrictionWorld> world_;
+  std::vector<std::unique_ptr<btCollisionShape>> shapes_;
+  std::vector<std::unique_ptr<btRigidBody>> rigid_bodies_;  // obstacles, then bodies
+  std::vector<btRigidBody*> bodies_;                        // the scene's bodies, in order
+  std::vector<Matrix3d> R_BP_;                              // principal axes of each body
+  engine::State state_;
+};
+
+}  // namespace
+
+std::unique_ptr<ExternalSimulation> MakeBulletSimulation(FrictionSetting setting,
+                                                         const engine::Scene& scene) {
+  return std::make_unique<BulletSimulation>(setting, scene);
+}
+
+}  // namespace ecpsim::baselines

@@ -1,0 +1,321 @@
+// MuJoCo 2.2.2 stepping an ecpsim scene: the scene written as MJCF in memory (one free body per
+// ecpsim body with a point geom at each hull vertex, one plane per half-space obstacle, explicit
+// contact pairs for each ContactPair), compiled with mj_loadXML from a virtual file system and
+// stepped with mj_step (baselines/mujoco.md).
+
+#include <algorithm>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <fmt/format.h>
+#include <mujoco/mujoco.h>
+
+#include "baselines/adapter_inputs.h"
+#include "baselines/engine_adapters.h"
+#include "engine/loads.h"
+#include "engine/step_report.h"
+#include "geometry/convex_hull.h"
+#include "geometry/convex_shape.h"
+#include "geometry/errors.h"
+
+namespace ecpsim::baselines {
+namespace {
+
+using Eigen::Matrix3d;
+using Eigen::Quaterniond;
+using Eigen::Vector3d;
+
+/// The MuJoCo options and contact parameters of one FrictionSetting (baselines/mujoco.md).
+struct MujocoSettings {
+  const char* cone = "pyramidal";  // friction cone: "pyramidal" or "elliptic"
+  // 3: sliding friction only in both settings; torsion (condim 4) would count twice: the
+  // contact points at the hull's vertices already resist a spin through their lever arms
+  int condim = 3;
+  double impratio = 1;             // friction-to-normal impedance ratio (elliptic cones)
+  int noslip_iterations = 0;       // post-solve friction-only iterations that remove soft slip
+  // solimp (d0, dmax, width m, midpoint, power); empty: MuJoCo's default "0.9 0.95 0.001 0.5 2".
+  // solref stays MuJoCo's "0.02 1" (time constant 2h at the paper's h; longer ones only soften)
+  std::string solimp;
+};
+
+// kDefault: everything MuJoCo's documentation lists as default (pyramidal cone, condim 3,
+// impratio 1, no noslip, default solref/solimp); the scene sets only h, gravity, geometry, mass
+// and μ. kCoulomb: the settings chosen by the measurements in baselines/mujoco.md
+MujocoSettings SettingsFor(FrictionSetting setting) {
+  MujocoSettings s;
+  if (setting == FrictionSetting::kCoulomb) {
+    s.cone = "elliptic";
+    s.impratio = 10;
+    s.noslip_iterations = 10;
+    s.solimp = "0.99 0.99 0.001 0.5 2";
+  }
+  return s;
+}
+
+// MuJoCo's default geom friction "1 0.005 0.0001": the torsional and rolling coefficients of
+// every contact pair (condim 3 ignores them)
+constexpr double kMujocoDefaultTorsion = 0.005;   // m
+constexpr double kMujocoDefaultRolling = 0.0001;  // m
+
+// constraint rows per contact: at most 6 (a pyramidal condim-4 contact)
+constexpr int kRowsPerContact = 6;
+
+// radius of the point geoms at the hull vertices: the body rests this much higher than its hull
+// would, far below MuJoCo's soft-contact penetration (~1e-5 m for the 1 kg test box)
+constexpr double kVertexRadius = 1e-9;  // m
+
+/// MuJoCo's error buffer length for mj_loadXML.
+constexpr int kErrorBufferSize = 1024;
+
+/// The virtual file name the MJCF model is compiled from.
+constexpr const char* kModelFileName = "ecpsim_scene.xml";
+
+// a vector as MJCF text, every digit of the double kept
+std::string Vec(const Vector3d& v) {
+  return fmt::format("{:.17g} {:.17g} {:.17g}", v.x(), v.y(), v.z());
+}
+
+// mj_loadXML keeps the last parsed model in a global (mj_freeLastXML), so loads are serialized
+std::mutex& LoadMutex() {
+  static std::mutex mutex;
+  return mutex;
+}
+
+// MuJoCo's default warning handler appends to MUJOCO_LOG.TXT in the working directory; the
+// adapter reads the counters in mjData::warning instead and turns them into exceptions
+void IgnoreWarning(const char*) {}
+
+/// Body-frame vertices of the body's convex hull (of its mesh, or of its primitive's tessellation).
+std::vector<Vector3d> HullVertices(const engine::Body& body, const std::string& where) {
+  if (const auto* poly = dynamic_cast<const geometry::PolyhedralShape*>(body.hull.get());
+      poly != nullptr && !poly->hull().vertices.empty()) {
+    return poly->hull().vertices;
+  }
+  const std::vector<Vector3d> points = body.mesh.vertices.empty() && body.hull
+                                           ? body.hull->Tessellate().vertices
+                                           : body.mesh.vertices;
+  return geometry::ComputeConvexHull(points, where).vertices;
+}
+
+/// The scene as MJCF: bodies b<i> (free joint, explicit inertial at the body origin = CM), their
+/// hull vertices as point geoms g<i>_<k>, planes o<k>, and explicit contact pairs only (contype =
+/// conaffinity = 0 disables MuJoCo's automatic pairs, so body–body contacts are absent, as in
+/// ecpsim's scenes). A convex hull meets a half-space exactly where its vertices do, so the
+/// vertices carry the whole contact; MuJoCo's own plane–mesh collision reports at most 3 points
+/// (maxplanemesh in engine_collision_convex.c), too few for a face resting on a plane
+/// (baselines/mujoco.md).
+std::string MakeMjcf(const engine::Scene& scene, const MujocoSettings& s) {
+  std::vector<std::vector<Vector3d>> vertices;
+  for (size_t b = 0; b < scene.bodies.size(); ++b) {
+    const engine::Body& body = scene.bodies[b];
+    vertices.push_back(
+        HullVertices(body, fmt::format("{}: bodies[{}] '{}'", scene.source, b, body.name)));
+  }
+  // contact buffers sized for every vertex of every pair touching at once
+  int max_contacts = 0;
+  for (const engine::ContactPair& pair : scene.contacts) {
+    max_contacts += static_cast<int>(vertices[pair.body].size());
+  }
+  std::string xml = "<mujoco model=\"ecpsim\">\n";
+  xml += "  <compiler angle=\"radian\" inertiafromgeom=\"false\"/>\n";
+  xml += fmt::format(
+      "  <option timestep=\"{:.17g}\" gravity=\"{}\" integrator=\"Euler\" cone=\"{}\" "
+      "impratio=\"{:.17g}\" noslip_iterations=\"{}\"/>\n",
+      scene.h, Vec(scene.gravity), s.cone, s.impratio, s.noslip_iterations);
+  xml += fmt::format("  <size nconmax=\"{}\" njmax=\"{}\"/>\n", std::max(1, max_contacts),
+                     std::max(1, max_contacts * kRowsPerContact));
+
+  xml += "  <worldbody>\n";
+
+  // planes: MuJoCo's plane is z ≤ 0 in its frame, placed at the foot point d·n facing n
+  for (size_t o = 0; o < scene.obstacles.size(); ++o) {
+    const HalfSpacePlane plane = HalfSpaceOf(scene, static_cast<int>(o), "MuJoCo");
+    const Quaterniond q = Quaterniond::FromTwoVectors(Vector3d::UnitZ(), plane.normal);
+    xml += fmt::format(
+        "    <geom name=\"o{}\" type=\"plane\" size=\"0 0 1\" pos=\"{}\" "
+        "quat=\"{:.17g} {:.17g} {:.17g} {:.17g}\" contype=\"0\" conaffinity=\"0\"/>\n",
+        o, Vec(plane.offset * plane.normal), q.w(), q.x(), q.y(), q.z());
+  }
+
+  // bodies at the origin: the initial pose and velocity are written into qpos/qvel in double
+  for (size_t b = 0; b < scene.bodies.size(); ++b) {
+    const engine::Body& body = scene.bodies[b];
+    const Matrix3d& I = body.inertia;
+    xml += fmt::format("    <body name=\"b{}\">\n      <freejoint/>\n", b);
+    xml += fmt::format(
+        "      <inertial pos=\"0 0 0\" mass=\"{:.17g}\" fullinertia=\"{:.17g} {:.17g} {:.17g} "
+        "{:.17g} {:.17g} {:.17g}\"/>\n",
+        body.mass, I(0, 0), I(1, 1), I(2, 2), I(0, 1), I(0, 2), I(1, 2));
+    for (size_t k = 0; k < vertices[b].size(); ++k) {
+      xml += fmt::format(
+          "      <geom name=\"g{}_{}\" type=\"sphere\" size=\"{:.17g}\" pos=\"{}\" "
+          "contype=\"0\" conaffinity=\"0\"/>\n",
+          b, k, kVertexRadius, Vec(vertices[b][k]));
+    }
+    xml += "    </body>\n";
+  }
+  xml += "  </worldbody>\n  <contact>\n";
+
+  // one pair per ecpsim contact pair and hull vertex, with its μ
+  for (const engine::ContactPair& pair : scene.contacts) {
+    const engine::Friction& f = pair.friction;
+    for (size_t k = 0; k < vertices[pair.body].size(); ++k) {
+      xml += fmt::format(
+          "    <pair geom1=\"o{}\" geom2=\"g{}_{}\" condim=\"{}\" friction=\"{:.17g} {:.17g} "
+          "{:.17g} {:.17g} {:.17g}\"",
+          pair.obstacle, pair.body, k, s.condim, f.mu, f.mu, kMujocoDefaultTorsion,
+          kMujocoDefaultRolling,
+          kMujocoDefaultRolling);
+      if (!s.solimp.empty()) xml += fmt::format(" solimp=\"{}\"", s.solimp);
+      xml += "/>\n";
+    }
+  }
+  xml += "  </contact>\n</mujoco>\n";
+  return xml;
+}
+
+/// Compiles MJCF text from memory.
+/// @throws InputError with MuJoCo's compiler message, naming the scene.
+mjModel* CompileMjcf(const std::string& xml, const std::string& source) {
+  // mjVFS holds 2000 file names of 1000 bytes: too large for the stack
+  auto vfs = std::make_unique<mjVFS>();
+  std::lock_guard<std::mutex> lock(LoadMutex());
+  if (mju_user_warning == nullptr) mju_user_warning = IgnoreWarning;
+  mj_defaultVFS(vfs.get());
+  const int size = static_cast<int>(xml.size());
+  ECPSIM_DEMAND(mj_makeEmptyFileVFS(vfs.get(), kModelFileName, size) == 0);
+  const int index = mj_findFileVFS(vfs.get(), kModelFileName);
+  ECPSIM_DEMAND(index >= 0);
+  std::copy(xml.begin(), xml.end(), static_cast<char*>(vfs->filedata[index]));
+  char error[kErrorBufferSize] = "";
+  mjModel* model = mj_loadXML(kModelFileName, vfs.get(), error, kErrorBufferSize);
+  mj_deleteVFS(vfs.get());
+  if (model == nullptr) {
+    throw InputError(
+        fmt::format("{}: MuJoCo could not compile the scene's model: {}", source, error));
+  }
+  return model;
+}
+
+class MujocoSimulation final : public ExternalSimulation {
+ public:
+  MujocoSimulation(const MujocoSettings& settings, const engine::Scene& scene)
+      : source_(scene.source), h_(scene.h), loads_(scene.loads), impulses_(scene.impulses) {
+    for (const engine::Body& body : scene.bodies) names_.push_back(body.name);
+    model_ = CompileMjcf(MakeMjcf(scene, settings), scene.source);
+    data_ = mj_makeData(model_);
+    ECPSIM_DEMAND(data_ != nullptr);
+
+    // initial state in full precision: free joint qpos = (p, q_wxyz), qvel = (v world, ω body)
+    state_.t = 0;
+    state_.bodies.resize(scene.bodies.size());
+    for (size_t b = 0; b < scene.bodies.size(); ++b) {
+      const engine::Body& body = scene.bodies[b];
+      const Quaterniond q = body.q0.normalized();
+      const Vector3d w_B = q.toRotationMatrix().transpose() * body.w0;
+      mjtNum* qpos = data_->qpos + model_->jnt_qposadr[JointOf(b)];
+      mjtNum* qvel = data_->qvel + model_->jnt_dofadr[JointOf(b)];
+      for (int k = 0; k < 3; ++k) {
+        qpos[k] = body.p0[k];
+        qvel[k] = body.v0[k];
+        qvel[3 + k] = w_B[k];
+      }
+      qpos[3] = q.w();
+      qpos[4] = q.x();
+      qpos[5] = q.y();
+      qpos[6] = q.z();
+    }
+    ReadState();
+  }
+
+  ~MujocoSimulation() override {
+    mj_deleteData(data_);
+    mj_deleteModel(model_);
+  }
+  MujocoSimulation(const MujocoSimulation&) = delete;
+  MujocoSimulation& operator=(const MujocoSimulation&) = delete;
+
+  void Step() override {
+    // the step's applied impulse as a constant wrench at the CM (xfrc_applied: world frame, at
+    // the body's CM, which is the body origin here)
+    for (size_t b = 0; b < state_.bodies.size(); ++b) {
+      const Matrix3d R_WB = state_.bodies[b].Q_WB.toRotationMatrix();
+      const Eigen::Matrix<double, 6, 1> wrench =
+          engine::AppliedImpulse(loads_, impulses_, static_cast<int>(b), state_.t, h_, R_WB) / h_;
+      mjtNum* xfrc = data_->xfrc_applied + 6 * BodyId(b);
+      for (int k = 0; k < 6; ++k) xfrc[k] = wrench[k];
+    }
+    const int bad_acc = data_->warning[mjWARN_BADQACC].number;
+    mj_step(model_, data_);
+
+    // MuJoCo resets the data on a non-finite acceleration and drops contacts that overflow its
+    // buffers, both with only a warning: either would make the comparison meaningless
+    if (data_->warning[mjWARN_BADQACC].number != bad_acc) {
+      throw engine::SolverFailure(fmt::format(
+          "{}: MuJoCo reported a non-finite acceleration at t = {} s and reset its state", source_,
+          state_.t));
+    }
+    if (data_->warning[mjWARN_CONTACTFULL].number > 0 ||
+        data_->warning[mjWARN_CNSTRFULL].number > 0) {
+      throw engine::SolverFailure(
+          fmt::format("{}: MuJoCo's contact buffer overflowed at t = {} s ({} contacts)", source_,
+                      state_.t, data_->ncon));
+    }
+    const double t = state_.t;
+    ReadState();
+    state_.t = t + h_;
+    for (size_t b = 0; b < state_.bodies.size(); ++b) {
+      const engine::BodyState& s = state_.bodies[b];
+      if (!s.p_WB.allFinite() || !s.Q_WB.coeffs().allFinite() || !s.v_WB.allFinite() ||
+          !s.w_WB.allFinite()) {
+        throw engine::SolverFailure(
+            fmt::format("{}: MuJoCo's state of body '{}' is not finite after the step at t = {} s",
+                        source_, names_[b], t));
+      }
+    }
+  }
+
+  const engine::State& state() const override { return state_; }
+
+  const mjModel* model() const { return model_; }
+  const mjData* data() const { return data_; }
+
+ private:
+  // MuJoCo's body 0 is the world; ecpsim body b is MuJoCo body b + 1 with joint b
+  static int BodyId(size_t b) { return static_cast<int>(b) + 1; }
+  static int JointOf(size_t b) { return static_cast<int>(b); }
+
+  void ReadState() {
+    for (size_t b = 0; b < state_.bodies.size(); ++b) {
+      const mjtNum* qpos = data_->qpos + model_->jnt_qposadr[JointOf(b)];
+      const mjtNum* qvel = data_->qvel + model_->jnt_dofadr[JointOf(b)];
+      engine::BodyState& s = state_.bodies[b];
+      s.p_WB = Vector3d(qpos[0], qpos[1], qpos[2]);
+      s.Q_WB = Quaterniond(qpos[3], qpos[4], qpos[5], qpos[6]).normalized();
+      s.v_WB = Vector3d(qvel[0], qvel[1], qvel[2]);
+      s.w_WB = s.Q_WB.toRotationMatrix() * Vector3d(qvel[3], qvel[4], qvel[5]);
+    }
+  }
+
+  std::string source_;
+  double h_;
+  std::vector<engine::Load> loads_;
+  std::vector<engine::Impulse> impulses_;
+  std::vector<std::string> names_;
+  mjModel* model_ = nullptr;
+  mjData* data_ = nullptr;
+  engine::State state_;
+};
+
+}  // namespace
+
+std::unique_ptr<ExternalSimulation> MakeMujocoSimulation(FrictionSetting setting,
+                                                         const engine::Scene& scene) {
+  return std::make_unique<MujocoSimulation>(SettingsFor(setting), scene);
+}
+
+}  // namespace ecpsim::baselines
