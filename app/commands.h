@@ -27,4 +27,8 @@ void AddPlotCommand(CLI::App& app);
 /// `ecpsim render SCENE --time T -o frame.png`: one frame, simulated up to T.
 void AddRenderCommand(CLI::App& app);
 
+/// `ecpsim bench [-o DIR] [--quick] [--scenarios …] [--methods …] [--shard i/N] [--merge DIR…]`:
+/// work–precision charts and stability maps (docs/benchmarks.md).
+void AddBenchCommand(CLI::App& app);
+
 }  // namespace ecpsim::app

@@ -20,6 +20,7 @@ int main(int argc, char** argv) {
   ecpsim::app::AddDropCommand(app);
   ecpsim::app::AddRenderCommand(app);
   ecpsim::app::AddPlotCommand(app);
+  ecpsim::app::AddBenchCommand(app);
 
   // exit codes: 0 ok, 1 bad input (one line on stderr), 3 solver failure, 4 internal error,
   // 5 the selected contact model does not apply (the outputs so far stay valid)

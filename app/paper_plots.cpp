@@ -15,7 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/atomic_file.h"
-#include "app/gnuplot_process.h"
+#include "app/plot_writer.h"
 #include "app/trajectory_table.h"
 #include "engine/scene.h"
 #include "engine/scene_yaml.h"
@@ -41,15 +41,6 @@ const std::vector<double> kDumbbellSnapshotTimes = {0.01, 0.25, 0.5, 1.75, 2.5};
 constexpr int kDeskSnapshots = 6;
 constexpr int kMaxModeSnapshots = 8;
 
-// a string literal for a gnuplot script (single quotes; '' is a quote inside)
-std::string Quote(const std::string& text) {
-  std::string quoted = "'";
-  for (char c : text) {
-    quoted += c;
-    if (c == '\'') quoted += '\'';
-  }
-  return quoted + "'";
-}
 
 // numbers written to data files in shortest round-trip form
 std::string Num(double value) { return fmt::format("{}", value); }
@@ -102,62 +93,6 @@ Eigen::Isometry3d PoseAt(const TrajectoryTable& table, const Columns& c, std::si
   return X;
 }
 
-// Writes files into DIR and the script that draws them; runs gnuplot once at the end and moves
-// every PNG from its .partial name onto its final name.
-class PlotWriter {
- public:
-  explicit PlotWriter(std::string dir) : dir_(std::move(dir)) {
-    script_ = "set terminal pngcairo size 1200,800 font 'DejaVu Sans,11'\n"
-              "set grid\nset key top right\n";
-  }
-
-  // a data file in DIR, written now; returns its path (quoted for the script)
-  std::string Data(const std::string& name, const std::string& content) {
-    const std::string path = (fs::path(dir_) / ("plot_" + name + ".dat")).string();
-    WriteFileAtomically(path, content);
-    temporaries_.push_back(path);
-    return Quote(path);
-  }
-
-  // starts a PNG `name` (e.g. "tbar_qz.png") of the given size
-  void BeginPng(const std::string& name, int width, int height) {
-    const std::string path = (fs::path(dir_) / name).string();
-    pngs_.push_back(path);
-    script_ += fmt::format("set terminal pngcairo size {},{} font 'DejaVu Sans,11'\n", width,
-                           height);
-    script_ += fmt::format("set output {}\n", Quote(path + ".partial"));
-  }
-  void EndPng() { script_ += "unset multiplot\nset output\nreset\nset grid\n"; }
-  void Line(const std::string& line) { script_ += line + "\n"; }
-
-  std::vector<std::string> Run() {
-    const std::string script = (fs::path(dir_) / "plot_script.gp").string();
-    const std::string log = (fs::path(dir_) / "plot_gnuplot.log").string();
-    WriteFileAtomically(script, script_);
-    RunGnuplot(script, log);
-    for (const std::string& png : pngs_) {
-      std::error_code error;
-      fs::rename(png + ".partial", png, error);
-      if (error) {
-        throw InputError(fmt::format("{}.partial: cannot rename it to {} ({}); gnuplot's log: {}",
-                                     png, png, error.message(), log));
-      }
-    }
-    // the data and the script were only gnuplot's input
-    std::error_code ignored;
-    for (const std::string& path : temporaries_) fs::remove(path, ignored);
-    fs::remove(script, ignored);
-    fs::remove(log, ignored);
-    return pngs_;
-  }
-
- private:
-  std::string dir_;
-  std::string script_;
-  std::vector<std::string> pngs_;
-  std::vector<std::string> temporaries_;
-};
-
 // --- snapshots -------------------------------------------------------------------------------
 
 struct Snapshot {
@@ -175,7 +110,7 @@ void PlotSnapshots(PlotWriter& writer, const std::string& png, const TrajectoryT
   const int rows = (n + cols - 1) / cols;
   writer.BeginPng(png, 400 * cols, 400 * rows + 40);
   writer.Line(fmt::format("set multiplot layout {},{} title {}", rows, cols,
-                          Quote("contact patch (top view): polygons/segments/points black, hull "
+                          GnuplotQuote("contact patch (top view): polygons/segments/points black, hull "
                                 "dashed red, ECP x, CM projection o")));
   writer.Line("set size ratio -1\nunset key\nset xlabel 'x (m)'\nset ylabel 'y (m)'");
   const geometry::Plane ground{Vector3d::UnitZ(), 0.0};
@@ -223,7 +158,7 @@ void PlotSnapshots(PlotWriter& writer, const std::string& png, const TrajectoryT
     writer.Line(fmt::format("set xrange [{}:{}]\nset yrange [{}:{}]", cm.x() - half,
                             cm.x() + half, cm.y() - half, cm.y() + half));
     writer.Line(fmt::format("set title {}",
-                            Quote(fmt::format("{} — {}", snapshots[k].title,
+                            GnuplotQuote(fmt::format("{} — {}", snapshots[k].title,
                                               geometry::ContactModeName(patch.mode)))));
     std::vector<std::string> parts;
     if (!patch.polygons.empty()) {
@@ -271,10 +206,10 @@ std::string Columnar(const std::vector<const std::vector<double>*>& columns) {
 void PlotStacked(PlotWriter& writer, const std::string& png, const std::string& data,
                  const std::vector<std::string>& labels, const std::string& title) {
   writer.BeginPng(png, 1000, 300 * static_cast<int>(labels.size()) + 40);
-  writer.Line(fmt::format("set multiplot layout {},1 title {}", labels.size(), Quote(title)));
+  writer.Line(fmt::format("set multiplot layout {},1 title {}", labels.size(), GnuplotQuote(title)));
   writer.Line("unset key");
   for (std::size_t i = 0; i < labels.size(); ++i) {
-    writer.Line(fmt::format("set ylabel {}", Quote(labels[i])));
+    writer.Line(fmt::format("set ylabel {}", GnuplotQuote(labels[i])));
     writer.Line(i + 1 == labels.size() ? "set xlabel 't (s)'" : "unset xlabel");
     writer.Line(fmt::format("plot {} using 1:{} with lines lw 2 lc rgb '#1f5fbf'", data, i + 2));
   }
@@ -329,30 +264,30 @@ void PlotDeskVelocities(PlotWriter& writer, const std::string& dir, const Trajec
   const bool compare = !others.empty();
   writer.BeginPng("desk_velocity.png", 1400, compare ? 900 : 500);
   writer.Line(fmt::format("set multiplot layout {},2 title {}", compare ? 2 : 1,
-                          Quote(compare ? "desk: hull-ECP model (*) and the earlier models"
+                          GnuplotQuote(compare ? "desk: hull-ECP model (*) and the earlier models"
                                         : "desk: hull-ECP model")));
   writer.Line("set xlabel 't (s)'");
   const char* colors[] = {"#d62728", "#2ca02c"};
   for (int quantity = 0; quantity < 2; ++quantity) {
-    writer.Line(fmt::format("set ylabel {}", Quote(quantity == 0 ? "v_x (m/s)" : "w_z (rad/s)")));
+    writer.Line(fmt::format("set ylabel {}", GnuplotQuote(quantity == 0 ? "v_x (m/s)" : "w_z (rad/s)")));
     std::string plot = fmt::format("plot {} using 1:{} with lines lw 3 lc rgb '#1f5fbf' title {}",
-                                   data, 2 + quantity, Quote("hull ECP (*)"));
+                                   data, 2 + quantity, GnuplotQuote("hull ECP (*)"));
     for (std::size_t k = 0; k < others.size(); ++k) {
       plot += fmt::format(", {} using 1:{} with lines lw 1.5 dt 2 lc rgb '{}' title {}", data,
-                          4 + 4 * k + quantity, colors[k], Quote(others[k].label));
+                          4 + 4 * k + quantity, colors[k], GnuplotQuote(others[k].label));
     }
     writer.Line(plot);
   }
   if (compare) {
     for (int quantity = 0; quantity < 2; ++quantity) {
       writer.Line(fmt::format("set ylabel {}",
-                              Quote(quantity == 0 ? "v_x* - v_x (m/s)" : "w_z* - w_z (rad/s)")));
+                              GnuplotQuote(quantity == 0 ? "v_x* - v_x (m/s)" : "w_z* - w_z (rad/s)")));
       writer.Line("set format y '%.1e'");
       std::string plot = "plot ";
       for (std::size_t k = 0; k < others.size(); ++k) {
         plot += fmt::format("{}{} using 1:{} with lines lw 1.5 lc rgb '{}' title {}",
                             k ? ", " : "", data, 6 + 4 * k + quantity, colors[k],
-                            Quote("hull ECP - " + others[k].label));
+                            GnuplotQuote("hull ECP - " + others[k].label));
       }
       writer.Line(plot);
     }
@@ -474,11 +409,11 @@ std::vector<std::string> PlotRun(const std::string& dir, PlotKind kind) {
       const std::string data = writer.Data("tbar_vz_ax", Columnar({&t, &vz, &ax}));
       const std::string mark_data = marks.empty() ? "" : writer.Data("tbar_mode_changes", marks);
       writer.BeginPng("tbar_vz_ax.png", 1000, 700);
-      writer.Line(Quote("T-bar: v_z above a_x; red dots: contact-mode changes")
+      writer.Line(GnuplotQuote("T-bar: v_z above a_x; red dots: contact-mode changes")
                       .insert(0, "set multiplot layout 2,1 title "));
       writer.Line("unset key");
       for (int panel = 0; panel < 2; ++panel) {
-        writer.Line(fmt::format("set ylabel {}", Quote(panel == 0 ? "v_z (m/s)" : "a_x (m)")));
+        writer.Line(fmt::format("set ylabel {}", GnuplotQuote(panel == 0 ? "v_z (m/s)" : "a_x (m)")));
         writer.Line(panel == 1 ? "set xlabel 't (s)'" : "unset xlabel");
         std::string plot =
             fmt::format("plot {} using 1:{} with lines lw 2 lc rgb '#1f5fbf'", data, 2 + panel);

@@ -1,0 +1,228 @@
+#include "app/bench_report.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <set>
+
+#include <fmt/format.h>
+
+#include "app/atomic_file.h"
+#include "app/plot_writer.h"
+
+namespace ecpsim::app {
+namespace {
+
+namespace fs = std::filesystem;
+using evaluation::Outcome;
+using evaluation::StabilityRow;
+using evaluation::WorkPrecisionRow;
+
+// log axes cannot show 0: errors below this are drawn on it (and say so in the chart)
+constexpr double kErrorFloor = 1e-16;  // m
+
+// first-seen order of a field over rows
+template <typename Row, typename Field>
+std::vector<std::string> InOrder(const std::vector<Row>& rows, Field field) {
+  std::vector<std::string> names;
+  for (const Row& r : rows) {
+    if (std::find(names.begin(), names.end(), field(r)) == names.end()) names.push_back(field(r));
+  }
+  return names;
+}
+
+std::vector<double> SortedValues(const std::vector<StabilityRow>& rows, const std::string& map,
+                                 bool steps) {
+  std::set<double> values;
+  for (const StabilityRow& r : rows) {
+    if (r.map == map) values.insert(steps ? r.h : r.value);
+  }
+  return {values.begin(), values.end()};
+}
+
+std::string Sci(double value) { return value < 0 ? "–" : fmt::format("{:.2g}", value); }
+
+void WorkPrecisionCharts(PlotWriter& writer, const std::vector<WorkPrecisionRow>& rows) {
+  for (const std::string& scenario :
+       InOrder(rows, [](const WorkPrecisionRow& r) { return r.scenario; })) {
+    std::string plot;
+    for (const std::string& method : InOrder(rows, [](const WorkPrecisionRow& r) { return r.method; })) {
+      std::vector<const WorkPrecisionRow*> points;
+      for (const WorkPrecisionRow& r : rows) {
+        if (r.scenario == scenario && r.method == method && !r.failed && r.error_state >= 0) {
+          points.push_back(&r);
+        }
+      }
+      if (points.empty()) continue;
+      std::sort(points.begin(), points.end(),
+                [](const auto* a, const auto* b) { return a->h > b->h; });
+      std::string data = "# cpu_per_sim_s error_state h\n";
+      for (const WorkPrecisionRow* r : points) {
+        data += fmt::format("{:.9g} {:.9g} {:.9g}\n", r->cpu_per_sim_s,
+                            std::max(kErrorFloor, r->error_state), r->h);
+      }
+      const std::string file = writer.Data(fmt::format("wp_{}_{}", scenario, method), data);
+      plot += fmt::format("{}{} using 1:2 with linespoints lw 2 pt 7 title {}",
+                          plot.empty() ? "plot " : ", \\\n  ", file, GnuplotQuote(method));
+    }
+    if (plot.empty()) continue;
+    writer.BeginPng(fmt::format("work_precision_{}.png", scenario), 1100, 750);
+    writer.Line("set logscale xy\nset format x '10^{%L}'\nset format y '10^{%L}'");
+    writer.Line(fmt::format("set title {} noenhanced",
+                            GnuplotQuote(fmt::format("work-precision: {} (each point one step "
+                                                     "size; errors < {:g} m drawn at {:g})",
+                                                     scenario, kErrorFloor, kErrorFloor))));
+    writer.Line("set xlabel 'CPU seconds per simulated second'");
+    writer.Line("set ylabel 'max state error |dp| + L |dtheta| (m)'");
+    writer.Line("set key outside right noenhanced");
+    writer.Line(plot);
+    writer.EndPng();
+  }
+}
+
+const char* kOutcomeColours[evaluation::kOutcomeCount] = {"#2ca02c", "#d62728", "#9467bd",
+                                                          "#ff7f0e", "#8c564b", "#e377c2"};
+
+void StabilityCharts(PlotWriter& writer, const std::vector<StabilityRow>& rows) {
+  for (const std::string& map : InOrder(rows, [](const StabilityRow& r) { return r.map; })) {
+    const std::vector<double> steps = SortedValues(rows, map, true);
+    const std::vector<double> values = SortedValues(rows, map, false);
+    std::vector<std::string> methods;
+    for (const StabilityRow& r : rows) {
+      if (r.map == map && std::find(methods.begin(), methods.end(), r.method) == methods.end()) {
+        methods.push_back(r.method);
+      }
+    }
+    const int n = static_cast<int>(methods.size());
+    const int cols = std::min(n, 4);
+    const int panel_rows = (n + cols - 1) / cols;
+    writer.BeginPng(fmt::format("stability_{}.png", map), 360 * cols, 300 * panel_rows + 80);
+    std::string xtics, ytics;
+    for (size_t i = 0; i < steps.size(); ++i) xtics += fmt::format("{}'{:g}' {}", i ? ", " : "", steps[i], i);
+    for (size_t j = 0; j < values.size(); ++j) ytics += fmt::format("{}'{:g}' {}", j ? ", " : "", values[j], j);
+    writer.Line(fmt::format("set multiplot layout {},{} title {} noenhanced", panel_rows, cols,
+                            GnuplotQuote(fmt::format("stability map: {} (x: step h in s)", map))));
+    std::string palette;
+    for (int k = 0; k < evaluation::kOutcomeCount; ++k) {
+      palette += fmt::format("{}{} '{}'", k ? ", " : "", k, kOutcomeColours[k]);
+    }
+    writer.Line(fmt::format("set palette maxcolors {}\nset palette defined ({})",
+                            evaluation::kOutcomeCount, palette));
+    writer.Line(fmt::format("set cbrange [-0.5:{}]\nunset colorbox\nunset grid",
+                            evaluation::kOutcomeCount - 0.5));
+    writer.Line(fmt::format("set xtics ({}) rotate by 45 right\nset ytics ({})", xtics, ytics));
+    writer.Line(fmt::format("set xrange [-0.5:{}]\nset yrange [-0.5:{}]", steps.size() - 0.5,
+                            values.size() - 0.5));
+    for (int m = 0; m < n; ++m) {
+      std::string data;
+      for (const StabilityRow& r : rows) {
+        if (r.map != map || r.method != methods[m]) continue;
+        const auto i = std::find(steps.begin(), steps.end(), r.h) - steps.begin();
+        const auto j = std::find(values.begin(), values.end(), r.value) - values.begin();
+        data += fmt::format("{} {} {}\n", i, j, static_cast<int>(r.outcome));
+      }
+      const std::string file = writer.Data(fmt::format("st_{}_{}", map, methods[m]), data);
+      writer.Line(fmt::format("set title {} noenhanced", GnuplotQuote(methods[m])));
+      std::string plot = fmt::format("plot {} using 1:2:3 with image notitle", file);
+      if (m == 0) {
+        writer.Line("set key outside bottom horizontal noenhanced");
+        for (int k = 0; k < evaluation::kOutcomeCount; ++k) {
+          plot += fmt::format(", NaN with boxes fs solid lc rgb '{}' title {}", kOutcomeColours[k],
+                              GnuplotQuote(evaluation::OutcomeName(static_cast<Outcome>(k))));
+        }
+      } else {
+        writer.Line("unset key");
+      }
+      writer.Line(plot);
+    }
+    writer.EndPng();
+  }
+}
+
+std::string ResultsMarkdown(const std::vector<WorkPrecisionRow>& wp,
+                            const std::vector<StabilityRow>& stability) {
+  std::string md = "# ecpsim bench results\n\n";
+  if (!wp.empty()) {
+    md += "## Work–precision\n\nState error max |Δp| + L·|Δθ| (m) against the reference; CPU s "
+          "per simulated s; at the coarsest and finest step of the sweep; `fail` = failed runs "
+          "of the sweep. For converged references, `vs hull` is the state error of the finest "
+          "run against the hull model's converged solution (cross-model agreement).\n\n";
+    for (const std::string& scenario :
+         InOrder(wp, [](const WorkPrecisionRow& r) { return r.scenario; })) {
+      md += fmt::format("### {}\n\n| method | h coarse | error | CPU s/s | h fine | error | CPU "
+                        "s/s | max penetration (m) | wrong mode | vs hull | fail |\n"
+                        "|---|---|---|---|---|---|---|---|---|---|---|\n",
+                        scenario);
+      for (const std::string& method :
+           InOrder(wp, [](const WorkPrecisionRow& r) { return r.method; })) {
+        const WorkPrecisionRow *coarse = nullptr, *fine = nullptr;
+        int failures = 0;
+        double penetration = 0, wrong = 0;
+        for (const WorkPrecisionRow& r : wp) {
+          if (r.scenario != scenario || r.method != method) continue;
+          if (!coarse || r.h > coarse->h) coarse = &r;
+          if (!fine || r.h < fine->h) fine = &r;
+          failures += r.failed;
+          penetration = std::max(penetration, r.max_penetration);
+          wrong = std::max(wrong, r.wrong_mode);
+        }
+        if (!coarse) continue;
+        md += fmt::format("| {} | {:g} | {} | {} | {:g} | {} | {} | {} | {:.0f} % | {} | {} |\n",
+                          method, coarse->h, coarse->failed ? "failed" : Sci(coarse->error_state),
+                          Sci(coarse->cpu_per_sim_s), fine->h,
+                          fine->failed ? "failed" : Sci(fine->error_state),
+                          Sci(fine->cpu_per_sim_s), Sci(penetration), 100 * wrong,
+                          Sci(fine->error_vs_hull), failures);
+      }
+      md += "\n";
+    }
+  }
+  if (!stability.empty()) {
+    md += "## Stability maps\n\nRuns per outcome over every step size and parameter value.\n\n";
+    for (const std::string& map : InOrder(stability, [](const StabilityRow& r) { return r.map; })) {
+      md += fmt::format("### {}\n\n| method |", map);
+      for (int k = 0; k < evaluation::kOutcomeCount; ++k) {
+        md += fmt::format(" {} |", evaluation::OutcomeName(static_cast<Outcome>(k)));
+      }
+      md += "\n|---|";
+      for (int k = 0; k < evaluation::kOutcomeCount; ++k) md += "---|";
+      md += "\n";
+      for (const std::string& method :
+           InOrder(stability, [](const StabilityRow& r) { return r.method; })) {
+        int counts[evaluation::kOutcomeCount] = {};
+        int total = 0;
+        for (const StabilityRow& r : stability) {
+          if (r.map == map && r.method == method) ++counts[static_cast<int>(r.outcome)], ++total;
+        }
+        if (total == 0) continue;
+        md += "| " + method + " |";
+        for (int k = 0; k < evaluation::kOutcomeCount; ++k) md += fmt::format(" {} |", counts[k]);
+        md += "\n";
+      }
+      md += "\n";
+    }
+  }
+  return md;
+}
+
+}  // namespace
+
+std::vector<std::string> WriteBenchReport(const std::string& dir,
+                                          const std::vector<WorkPrecisionRow>& work_precision,
+                                          const std::vector<StabilityRow>& stability,
+                                          bool charts) {
+  std::vector<std::string> written;
+  if (charts && (!work_precision.empty() || !stability.empty())) {
+    PlotWriter writer(dir);
+    WorkPrecisionCharts(writer, work_precision);
+    StabilityCharts(writer, stability);
+    written = writer.Run();
+  }
+  const std::string results = (fs::path(dir) / "results.md").string();
+  WriteFileAtomically(results, ResultsMarkdown(work_precision, stability));
+  written.push_back(results);
+  return written;
+}
+
+}  // namespace ecpsim::app

@@ -1,0 +1,96 @@
+#include "evaluation/method.h"
+
+#include <fmt/format.h>
+
+#include "engine/time_step.h"
+#include "geometry/errors.h"
+
+namespace ecpsim::evaluation {
+namespace {
+
+// The hull model's residual tolerances a sweep tries: the default, and two looser ones that
+// trade accuracy for Newton iterations.
+constexpr double kHullTolerances[] = {1e-12, 1e-8, 1e-5};
+
+class EcpsimStepper final : public Stepper {
+ public:
+  EcpsimStepper(const Method& method, const engine::Scene& scene) : scene_(scene) {
+    scene_.model = method.model;
+    scene_.solver.tolerance = method.tolerance;
+    state_ = engine::InitialState(scene_);
+  }
+  void Step() override { iterations_ = engine::Step(scene_, state_).iterations; }
+  const engine::State& state() const override { return state_; }
+  int iterations() const override { return iterations_; }
+
+ private:
+  engine::Scene scene_;
+  engine::State state_;
+  int iterations_ = 0;
+};
+
+class ExternalStepper final : public Stepper {
+ public:
+  ExternalStepper(const Method& method, const engine::Scene& scene)
+      : simulation_(baselines::MakeExternalSimulation(method.engine, method.setting, scene)) {}
+  void Step() override { simulation_->Step(); }
+  const engine::State& state() const override { return simulation_->state(); }
+  int iterations() const override { return 0; }
+
+ private:
+  std::unique_ptr<baselines::ExternalSimulation> simulation_;
+};
+
+}  // namespace
+
+std::vector<Method> AllMethods() {
+  std::vector<Method> methods;
+  for (double tolerance : kHullTolerances) {
+    Method hull;
+    hull.model = engine::ContactModel::kHull;
+    hull.tolerance = tolerance;
+    hull.name = tolerance == kHullTolerances[0] ? "hull" : fmt::format("hull-tol{:.0e}", tolerance);
+    methods.push_back(hull);
+  }
+  for (engine::ContactModel model : {engine::ContactModel::kPlanar,
+                                     engine::ContactModel::kMultiPatch,
+                                     engine::ContactModel::kPointLcp}) {
+    Method method;
+    method.model = model;
+    method.name = engine::ContactModelName(model);
+    methods.push_back(method);
+  }
+  for (baselines::ExternalEngine engine : {baselines::ExternalEngine::kMujoco,
+                                           baselines::ExternalEngine::kBullet,
+                                           baselines::ExternalEngine::kOde}) {
+    if (!baselines::IsAvailable(engine)) continue;
+    for (baselines::FrictionSetting setting :
+         {baselines::FrictionSetting::kDefault, baselines::FrictionSetting::kCoulomb}) {
+      Method method;
+      method.external = true;
+      method.engine = engine;
+      method.setting = setting;
+      method.name = fmt::format("{}-{}", baselines::ExternalEngineName(engine),
+                                setting == baselines::FrictionSetting::kDefault ? "default"
+                                                                                : "coulomb");
+      methods.push_back(method);
+    }
+  }
+  return methods;
+}
+
+Method FindMethod(const std::string& name) {
+  std::string choices;
+  for (const Method& method : AllMethods()) {
+    if (method.name == name) return method;
+    choices += (choices.empty() ? "" : ", ") + method.name;
+  }
+  throw InputError(fmt::format("method '{}': expected one of {}", name, choices));
+}
+
+std::unique_ptr<Stepper> MakeStepper(const Method& method, const engine::Scene& scene) {
+  if (method.external) return std::make_unique<ExternalStepper>(method, scene);
+  return std::make_unique<EcpsimStepper>(method, scene);
+}
+
+}  // namespace ecpsim::evaluation

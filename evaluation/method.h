@@ -1,0 +1,47 @@
+#pragma once
+// The simulation methods a benchmark compares: ecpsim's contact models (with a solver tolerance)
+// and the external engines (with a settings choice), behind one stepping interface.
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "baselines/external_simulation.h"
+#include "engine/scene.h"
+#include "engine/state.h"
+
+namespace ecpsim::evaluation {
+
+struct Method {
+  std::string name;  // e.g. "hull", "hull-tol1e-06", "point", "mujoco-coulomb" (CSV key)
+  bool external = false;
+  engine::ContactModel model = engine::ContactModel::kHull;  // ecpsim's model (external = false)
+  double tolerance = 1e-12;                                  // ecpsim's residual tolerance
+  baselines::ExternalEngine engine = baselines::ExternalEngine::kMujoco;  // (external = true)
+  baselines::FrictionSetting setting = baselines::FrictionSetting::kDefault;
+};
+
+/// Every method this build can run: hull at tolerances 1e-12 (the default), 1e-8 and 1e-5;
+/// planar; multipatch; point; and each available external engine with its default and its
+/// Coulomb-matched settings.
+std::vector<Method> AllMethods();
+
+/// The method called `name` among AllMethods().
+/// @throws InputError naming the name and the choices.
+Method FindMethod(const std::string& name);
+
+/// A method stepping one scene.
+class Stepper {
+ public:
+  virtual ~Stepper() = default;
+  /// Advances by the scene's h. @throws engine::SolverFailure or engine::ModelInvalid.
+  virtual void Step() = 0;
+  virtual const engine::State& state() const = 0;
+  /// Iterations of the last step (Newton iterations, Lemke pivots; 0 for external engines).
+  virtual int iterations() const = 0;
+};
+
+/// @throws InputError if an external engine cannot model the scene.
+std::unique_ptr<Stepper> MakeStepper(const Method& method, const engine::Scene& scene);
+
+}  // namespace ecpsim::evaluation

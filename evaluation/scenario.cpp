@@ -1,0 +1,177 @@
+#include "evaluation/scenario.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+#include "engine/scene_builders.h"
+#include "engine/scene_yaml.h"
+#include "geometry/paper_bodies.h"
+
+namespace ecpsim::evaluation {
+namespace {
+
+using Eigen::Vector3d;
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kG = 9.8;  // m/s², the scenes' gravity
+
+engine::Friction CoulombFriction(double mu, double torsion_radius) {
+  return engine::Friction{mu, 1, 1, torsion_radius};
+}
+
+// a box sliding on its 0.2 × 0.2 face, thrown at 1 m/s at 30° to its edges (between friction
+// directions of a 4- or 8-sided cone) with μ = 0.3: stops after v0/(μg) = 0.340 s
+Scenario Slide() {
+  const double mu = 0.3, v0 = 1.0, angle = kPi / 6;
+  const Vector3d size(0.2, 0.2, 0.1);
+  engine::Body box = engine::MakeBoxBody(size, 1.0);
+  const Vector3d u(std::cos(angle), std::sin(angle), 0);
+  box.p0 = Vector3d(0, 0, size.z() / 2);
+  box.v0 = v0 * u;
+  Scenario s;
+  s.name = "slide";
+  s.description = "box sliding at 1 m/s, 30° to its edges, mu = 0.3 (closed form)";
+  s.scene = engine::MakeGroundScene({box}, 0.01, CoulombFriction(mu, 0.0765));
+  s.scene.duration = 0.5;
+  s.length = 0.5 * size.norm();
+  s.stop_time = v0 / (mu * kG);
+  const Vector3d p0 = box.p0;
+  const double stop = s.stop_time;
+  s.analytic = [=](double t) {
+    const double tau = std::min(t, stop);
+    engine::BodyState b;
+    b.p_WB = p0 + (v0 * tau - 0.5 * mu * kG * tau * tau) * u;
+    b.v_WB = (v0 - mu * kG * tau) * u;
+    return b;
+  };
+  s.planar_applies = true;
+  return s;
+}
+
+// a square plate spinning flat at 10 rad/s: uniform pressure gives the friction moment μ m g r̄
+// (r̄ the footprint's mean radius), so ω falls linearly; ecpsim's torsion e_r is set to r̄,
+// the exact ellipsoid for this footprint
+Scenario Spin() {
+  const double mu = 0.3, w0 = 10.0, side = 0.2, thickness = 0.02, mass = 1.0;
+  engine::Body plate = engine::MakeBoxBody(Vector3d(side, side, thickness), mass, "plate");
+  plate.p0 = Vector3d(0, 0, thickness / 2);
+  plate.w0 = Vector3d(0, 0, w0);
+  const double r_mean = MeanRadiusOfRectangle(side, side);
+  const double alpha = mu * mass * kG * r_mean / plate.inertia(2, 2);  // rad/s²
+  Scenario s;
+  s.name = "spin";
+  s.description = "square plate spinning flat at 10 rad/s, mu = 0.3, uniform pressure (closed form)";
+  s.scene = engine::MakeGroundScene({plate}, 0.01, CoulombFriction(mu, r_mean));
+  s.scene.duration = 0.5;
+  s.length = side / std::sqrt(2.0);
+  s.stop_time = w0 / alpha;
+  const Vector3d p0 = plate.p0;
+  const double stop = s.stop_time;
+  s.analytic = [=](double t) {
+    const double tau = std::min(t, stop);
+    engine::BodyState b;
+    b.p_WB = p0;
+    b.Q_WB = Eigen::Quaterniond(Eigen::AngleAxisd(w0 * tau - 0.5 * alpha * tau * tau,
+                                                  Vector3d::UnitZ()));
+    b.w_WB = Vector3d(0, 0, w0 - alpha * tau);
+    return b;
+  };
+  s.planar_applies = true;
+  return s;
+}
+
+// tip or slide: a 0.2 m cube pushed with F = 2 μ m g on its back face 5 cm above the CM slides
+// without tipping (the normal force's centre sits 6 cm ahead of the CM, inside the 10 cm
+// half-footprint), accelerating at F/m − μg from rest
+Scenario PushSlide() {
+  const double mu = 0.3, mass = 1.0, side = 0.2;
+  engine::Body cube = engine::MakeBoxBody(Vector3d::Constant(side), mass, "cube");
+  cube.p0 = Vector3d(0, 0, side / 2);
+  const double force = 2 * mu * mass * kG;
+  engine::Load push;
+  push.x = engine::TimeFunction(force);
+  push.at_point = true;
+  push.point_B = Vector3d(-side / 2, 0, 0.05);
+  Scenario s;
+  s.name = "push_slide";
+  s.description = "cube pushed at 2 mu m g, 5 cm above its CM: slides, must not tip (closed form)";
+  s.scene = engine::MakeGroundScene({cube}, 0.01, CoulombFriction(mu, 0.0765));
+  s.scene.loads = {push};
+  s.scene.duration = 0.5;
+  s.length = side * std::sqrt(3.0) / 2;
+  const double a = force / mass - mu * kG;
+  const Vector3d p0 = cube.p0;
+  s.analytic = [=](double t) {
+    engine::BodyState b;
+    b.p_WB = p0 + Vector3d(0.5 * a * t * t, 0, 0);
+    b.v_WB = Vector3d(a * t, 0, 0);
+    return b;
+  };
+  s.planar_applies = true;
+  return s;
+}
+
+// the paper's desk standing still on its four feet for 1 s: any motion is drift or jitter
+Scenario Rest() {
+  engine::Body desk = engine::MakeMeshBody(geometry::MakeDeskMesh(), 15, "desk");
+  double lowest = 0;
+  for (const Vector3d& v : desk.mesh.vertices) lowest = std::min(lowest, v.z());
+  desk.p0 = Vector3d(0, 0, -lowest);  // feet exactly on z = 0
+  Scenario s;
+  s.name = "rest";
+  s.description = "the paper's desk at rest on four feet for 1 s (closed form: no motion)";
+  s.scene = engine::MakeGroundScene({desk}, 0.01, CoulombFriction(0.22, 0.1));
+  s.scene.duration = 1;
+  s.length = 0.35;
+  const Vector3d p0 = desk.p0;
+  s.analytic = [=](double) {
+    engine::BodyState b;
+    b.p_WB = p0;
+    return b;
+  };
+  s.planar_applies = true;
+  return s;
+}
+
+// one of the paper's scenes, cut to `duration`
+Scenario PaperScene(const std::string& scenes_dir, const std::string& name, double duration,
+                    double length, const std::string& description) {
+  Scenario s;
+  s.name = name;
+  s.description = description;
+  s.scene = engine::LoadScene((std::filesystem::path(scenes_dir) / (name + ".yaml")).string());
+  s.scene.duration = std::min(s.scene.duration, duration);
+  s.length = length;
+  s.multipatch_applies = !s.scene.bodies[0].parts.empty();
+  return s;
+}
+
+}  // namespace
+
+double MeanRadiusOfRectangle(double a, double b) {
+  // ∫∫ over the quarter [0,p]×[0,q] of |r| = (2pqd + p³ ln((q+d)/p) + q³ ln((p+d)/q)) / 6
+  const double p = a / 2, q = b / 2, d = std::hypot(p, q);
+  const double quarter =
+      (2 * p * q * d + p * p * p * std::log((q + d) / p) + q * q * q * std::log((p + d) / q)) / 6;
+  return quarter / (p * q);
+}
+
+std::vector<Scenario> WorkPrecisionScenarios(const std::string& scenes_dir,
+                                             double converged_duration) {
+  std::vector<Scenario> scenarios = {Slide(), Spin(), PushSlide(), Rest()};
+  Scenario desk = PaperScene(scenes_dir, "desk", converged_duration, 0.35,
+                             "the paper's desk pushed and twisted (converged reference)");
+  desk.planar_applies = true;
+  scenarios.push_back(desk);
+  scenarios.push_back(PaperScene(scenes_dir, "tbar", converged_duration, 0.25,
+                                 "T-bar: point, two-point and non-convex patch contact "
+                                 "(converged reference)"));
+  Scenario dumbbell = PaperScene(scenes_dir, "dumbbell", converged_duration, 0.2,
+                                 "dumbbell rolling on its rims (converged reference)");
+  dumbbell.compare_modes = false;
+  scenarios.push_back(dumbbell);
+  return scenarios;
+}
+
+}  // namespace ecpsim::evaluation

@@ -1,0 +1,44 @@
+#pragma once
+// The benchmark's scenarios: one body on the ground, each with a reference trajectory, either in
+// closed form (slide, spin, push-slide, rest) or a converged solution (desk, T-bar, dumbbell).
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "engine/scene.h"
+#include "engine/state.h"
+
+namespace ecpsim::evaluation {
+
+struct Scenario {
+  std::string name;         // CSV key and chart name: slide, spin, push_slide, rest, desk, …
+  std::string description;  // one line for the charts and docs
+  engine::Scene scene;      // body 0 is the one measured; h is set per run
+  double sample_interval = 0.02;  // s, errors are taken at multiples of it (every h divides it)
+  double length = 0.1;            // m, weights orientation errors: e = |Δp| + length·|Δθ|
+  // the closed-form trajectory of body 0 (continuous time); empty: converged reference
+  std::function<engine::BodyState(double t)> analytic;
+  double stop_time = -1;          // s, when the motion ends in closed form (< 0: not measured)
+  bool planar_applies = false;    // flat on the ground throughout: the planar model applies
+  // the body has convex `parts` (else the multi-patch model is the hull model once more)
+  bool multipatch_applies = false;
+  // contact modes are compared (not for a smooth hull: a tolerance band on a curved surface
+  // makes the mode depend on the band, not on the motion)
+  bool compare_modes = true;
+};
+
+/// The work–precision scenarios. `scenes_dir` holds desk.yaml, tbar.yaml and dumbbell.yaml
+/// (their durations are cut to `converged_duration` seconds to keep the sweep affordable).
+/// @throws InputError if a scene file is missing or invalid.
+std::vector<Scenario> WorkPrecisionScenarios(const std::string& scenes_dir,
+                                             double converged_duration = 1.0);
+
+/// Mean distance of the points of an a × b rectangle from its centre (m): the lever arm of
+/// uniform-pressure Coulomb friction opposing a pure spin, M = μ N r̄.
+double MeanRadiusOfRectangle(double a, double b);
+
+}  // namespace ecpsim::evaluation

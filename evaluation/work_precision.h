@@ -1,0 +1,65 @@
+#pragma once
+// The work–precision sweep: every method on every scenario at every step size, its errors
+// against the scenario's reference and its CPU time per simulated second; as CSV rows that
+// shards of the sweep write and a merge joins.
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "evaluation/method.h"
+#include "evaluation/scenario.h"
+
+namespace ecpsim::evaluation {
+
+/// One run of the sweep. Errors that were not measured are −1 (never NaN).
+struct WorkPrecisionRow {
+  std::string scenario;
+  std::string method;
+  double h = 0;                  // s
+  long steps = 0;                // steps completed
+  bool failed = false;
+  double cpu_per_sim_s = 0;      // CPU seconds per simulated second (thread CPU time of Step())
+  double error_state = -1;       // m, vs the scenario's reference (TrajectoryErrors::state)
+  double error_position = -1;    // m
+  double error_angle = -1;       // rad
+  double error_velocity = -1;    // m/s
+  double wrong_mode = -1;        // fraction of samples in the wrong contact mode
+  double stop_time_error = -1;   // s
+  double error_vs_hull = -1;     // m, state error vs the hull model's converged solution
+  double reference_uncertainty = -1;  // m, converged reference at h_ref vs 2 h_ref (0: analytic)
+  double max_penetration = 0;    // m
+  double iterations_mean = 0;    // per step (Newton iterations or Lemke pivots; 0 external)
+  int iterations_max = 0;
+  std::string failure;           // message of the failure (commas and newlines replaced)
+};
+
+struct SweepOptions {
+  std::vector<double> steps = {0.02, 0.01, 0.005, 0.002, 0.001, 0.0005, 0.0002};  // s
+  // a converged reference runs the same method at min(steps) / reference_divisor and is
+  // checked against a run at twice that step (WorkPrecisionRow::reference_uncertainty)
+  double reference_divisor = 16;
+  double cpu_limit_s = 300;      // per run
+  int shard_index = 1;           // this process runs shard shard_index of shard_count (1-based)
+  int shard_count = 1;
+  std::function<void(const std::string& message)> progress;  // one line per finished group
+};
+
+/// Whether `method` applies to `scenario` (planar: flat throughout; multipatch: half-spaces).
+bool MethodApplies(const Method& method, const Scenario& scenario);
+
+/// Runs this shard's part of the sweep. The work is cut into (scenario, method) groups in the
+/// order given; group g (0-based) belongs to shard (g mod shard_count) + 1. A group runs all
+/// step sizes, after computing the references it needs.
+std::vector<WorkPrecisionRow> RunWorkPrecision(const std::vector<Scenario>& scenarios,
+                                               const std::vector<Method>& methods,
+                                               const SweepOptions& options);
+
+/// The CSV text (header + one line per row).
+std::string WorkPrecisionCsv(const std::vector<WorkPrecisionRow>& rows);
+
+/// Parses a file written by WorkPrecisionCsv.
+/// @throws InputError naming the file, line and column for anything else.
+std::vector<WorkPrecisionRow> ReadWorkPrecisionCsv(const std::string& path);
+
+}  // namespace ecpsim::evaluation

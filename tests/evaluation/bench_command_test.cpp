@@ -1,0 +1,86 @@
+// `ecpsim bench` end to end: a small sweep, shards and their merge, and bad input.
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <gtest/gtest.h>
+
+#include "evaluation/stability_map.h"
+#include "evaluation/work_precision.h"
+#include "tests/cli_test.h"
+
+namespace ecpsim::testing {
+namespace {
+
+namespace fs = std::filesystem;
+
+class BenchCommandTest : public CliTest {};
+
+// a sweep small enough for CI: two closed-form scenarios, one map, two step sizes
+const char* kSmallSweep =
+    "bench --methods hull,point --scenarios slide,push_slide --maps impact --steps 0.01,0.002";
+
+TEST_F(BenchCommandTest, WritesCsvChartsAndResults) {
+  const fs::path out = dir_ / "bench";
+  const CliResult r = Run(fmt::format("{} -o '{}'", kSmallSweep, out.string()));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  for (const char* file : {"work_precision.csv", "stability.csv", "work_precision_slide.png",
+                           "work_precision_push_slide.png", "stability_impact.png", "results.md"}) {
+    EXPECT_TRUE(fs::exists(out / file)) << file << "\n" << r.output;
+  }
+  const auto rows = evaluation::ReadWorkPrecisionCsv((out / "work_precision.csv").string());
+  ASSERT_EQ(rows.size(), 2u * 2 * 2);
+  for (const auto& row : rows) {
+    EXPECT_FALSE(row.failed) << row.method << " " << row.failure;
+    if (row.method == "hull") {
+      // the slide's first-order error: μ g h t_stop / 2 = 0.005 m at h = 0.01 (to 1 %)
+      if (row.scenario == "slide") {
+        EXPECT_NEAR(row.error_state / row.h, 0.5, 0.005);
+      }
+      EXPECT_LT(row.max_penetration, 1e-9);
+    }
+  }
+  const auto cells = evaluation::ReadStabilityCsv((out / "stability.csv").string());
+  EXPECT_EQ(cells.size(), 2u * 2 * evaluation::StabilityMaps()[0].values.size());
+}
+
+TEST_F(BenchCommandTest, ShardsMergeIntoTheWholeSweep) {
+  for (int shard = 1; shard <= 2; ++shard) {
+    const CliResult r = Run(fmt::format("{} --shard {}/2 -o '{}'", kSmallSweep, shard,
+                                        (dir_ / fmt::format("s{}", shard)).string()));
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    // a shard draws no charts: they would show a part of the sweep
+    EXPECT_FALSE(fs::exists(dir_ / fmt::format("s{}", shard) / "work_precision_slide.png"));
+  }
+  const CliResult merged = Run(fmt::format("bench --merge '{}' '{}' -o '{}'",
+                                           (dir_ / "s1").string(), (dir_ / "s2").string(),
+                                           (dir_ / "all").string()));
+  ASSERT_EQ(merged.exit_code, 0) << merged.output;
+  EXPECT_EQ(evaluation::ReadWorkPrecisionCsv((dir_ / "all" / "work_precision.csv").string()).size(),
+            8u);
+  EXPECT_TRUE(fs::exists(dir_ / "all" / "stability_impact.png"));
+  EXPECT_NE(merged.output.find("merged 8 work-precision rows"), std::string::npos)
+      << merged.output;
+}
+
+TEST_F(BenchCommandTest, BadInputIsNamed) {
+  CliResult r = Run("bench --shard 3/2 -o " + (dir_ / "x").string());
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("--shard '3/2': expected i/N"), std::string::npos) << r.output;
+  r = Run("bench --methods hull,nosuch -o " + (dir_ / "x").string());
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("--methods 'nosuch': expected one of hull"), std::string::npos)
+      << r.output;
+  r = Run("bench --steps 0.003 --scenarios slide --methods hull --no-stability -o " +
+          (dir_ / "x").string());
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("does not divide the sample interval"), std::string::npos) << r.output;
+  r = Run("bench --merge " + dir_.string() + " -o " + (dir_ / "x").string());
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("neither work_precision.csv nor stability.csv"), std::string::npos)
+      << r.output;
+}
+
+}  // namespace
+}  // namespace ecpsim::testing

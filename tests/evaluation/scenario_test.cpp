@@ -1,0 +1,83 @@
+#include "evaluation/scenario.h"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+namespace ecpsim::evaluation {
+namespace {
+
+constexpr double kG = 9.8;
+
+TEST(MeanRadiusOfRectangleTest, SquareHasItsClosedForm) {
+  // mean distance from the centre of a unit square: (√2 + ln(1 + √2)) / 6
+  const double expected = (std::sqrt(2.0) + std::log(1 + std::sqrt(2.0))) / 6;
+  EXPECT_NEAR(MeanRadiusOfRectangle(1, 1), expected, 1e-15);
+  EXPECT_NEAR(MeanRadiusOfRectangle(0.2, 0.2), 0.2 * expected, 1e-15);
+}
+
+TEST(MeanRadiusOfRectangleTest, MatchesAMidpointSumForAThinRectangle) {
+  // 4000 × 500 midpoint cells of a 2 × 0.25 rectangle: the sum's error is O(cell²) ≈ 1e-7
+  const double a = 2, b = 0.25;
+  const int nx = 4000, ny = 500;
+  double sum = 0;
+  for (int i = 0; i < nx; ++i) {
+    for (int j = 0; j < ny; ++j) {
+      sum += std::hypot(((i + 0.5) / nx - 0.5) * a, ((j + 0.5) / ny - 0.5) * b);
+    }
+  }
+  EXPECT_NEAR(MeanRadiusOfRectangle(a, b), sum / (nx * ny), 1e-7);
+  // a thin strip's mean radius tends to a/4
+  EXPECT_NEAR(MeanRadiusOfRectangle(a, b), a / 4, 0.01);
+}
+
+class WorkPrecisionScenariosTest : public ::testing::Test {
+ protected:
+  const std::vector<Scenario> scenarios_ =
+      WorkPrecisionScenarios(std::string(ECPSIM_SOURCE_DIR) + "/scenes", 0.5);
+  const Scenario& Find(const std::string& name) {
+    for (const Scenario& s : scenarios_) {
+      if (s.name == name) return s;
+    }
+    ADD_FAILURE() << "no scenario " << name;
+    return scenarios_.front();
+  }
+};
+
+TEST_F(WorkPrecisionScenariosTest, SlideStopsAtTheCoulombDistance) {
+  const Scenario& slide = Find("slide");
+  const double mu = 0.3, v0 = 1;
+  EXPECT_NEAR(slide.stop_time, v0 / (mu * kG), 1e-15);
+  const engine::BodyState end = slide.analytic(slide.scene.duration);
+  EXPECT_NEAR((end.p_WB - slide.scene.bodies[0].p0).norm(), v0 * v0 / (2 * mu * kG), 1e-15);
+  EXPECT_LT(end.v_WB.norm(), 1e-15);
+  // sliding at 30° to the box's edges
+  EXPECT_NEAR(std::atan2(slide.scene.bodies[0].v0.y(), slide.scene.bodies[0].v0.x()),
+              std::acos(-1.0) / 6, 1e-15);
+}
+
+TEST_F(WorkPrecisionScenariosTest, SpinTorsionIsTheFootprintsMeanRadius) {
+  const Scenario& spin = Find("spin");
+  const double r_mean = MeanRadiusOfRectangle(0.2, 0.2);
+  EXPECT_DOUBLE_EQ(spin.scene.contacts[0].friction.e_r, r_mean);
+  // ω falls at μ m g r̄ / I_zz and reaches 0 at stop_time
+  const double alpha = 0.3 * 1 * kG * r_mean / spin.scene.bodies[0].inertia(2, 2);
+  EXPECT_NEAR(spin.stop_time, 10 / alpha, 1e-12);
+  EXPECT_NEAR(spin.analytic(spin.stop_time / 2).w_WB.z(), 5, 1e-12);
+}
+
+TEST_F(WorkPrecisionScenariosTest, ConvergedScenesAreCutAndFlagged) {
+  for (const char* name : {"desk", "tbar", "dumbbell"}) {
+    const Scenario& s = Find(name);
+    EXPECT_FALSE(s.analytic) << name;
+    EXPECT_DOUBLE_EQ(s.scene.duration, 0.5) << name;
+  }
+  EXPECT_TRUE(Find("desk").planar_applies);
+  EXPECT_TRUE(Find("desk").multipatch_applies);  // its four legs are parts
+  EXPECT_FALSE(Find("tbar").planar_applies);
+  EXPECT_FALSE(Find("tbar").multipatch_applies);
+  EXPECT_FALSE(Find("dumbbell").compare_modes);
+}
+
+}  // namespace
+}  // namespace ecpsim::evaluation

@@ -1,0 +1,123 @@
+#include "evaluation/work_precision.h"
+
+#include <filesystem>
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "evaluation/stability_map.h"
+#include "geometry/errors.h"
+
+namespace ecpsim::evaluation {
+namespace {
+
+std::vector<Scenario> CheapScenarios() {
+  std::vector<Scenario> chosen;
+  for (Scenario& s : WorkPrecisionScenarios(std::string(ECPSIM_SOURCE_DIR) + "/scenes", 0.5)) {
+    if (s.name == "slide" || s.name == "spin" || s.name == "rest") chosen.push_back(s);
+  }
+  return chosen;
+}
+
+std::string WriteTemporary(const std::string& name, const std::string& text) {
+  const auto path = std::filesystem::temp_directory_path() / (name + std::to_string(getpid()));
+  std::ofstream(path) << text;
+  return path.string();
+}
+
+TEST(WorkPrecisionTest, ShardsPartitionTheSweepAndReproduceItsErrors) {
+  const std::vector<Scenario> scenarios = CheapScenarios();
+  const std::vector<Method> methods = {FindMethod("hull"), FindMethod("planar")};
+  SweepOptions options;
+  options.steps = {0.01, 0.005};
+  const std::vector<WorkPrecisionRow> whole = RunWorkPrecision(scenarios, methods, options);
+  ASSERT_EQ(whole.size(), 3u * 2 * 2);
+  std::vector<WorkPrecisionRow> joined;
+  for (int shard = 1; shard <= 2; ++shard) {
+    options.shard_index = shard;
+    options.shard_count = 2;
+    for (const auto& row : RunWorkPrecision(scenarios, methods, options)) joined.push_back(row);
+  }
+  ASSERT_EQ(joined.size(), whole.size());
+  for (const WorkPrecisionRow& row : whole) {
+    int matches = 0;
+    for (const WorkPrecisionRow& other : joined) {
+      if (other.scenario == row.scenario && other.method == row.method && other.h == row.h) {
+        ++matches;
+        // deterministic: the same run gives the same errors bit for bit
+        EXPECT_EQ(other.error_state, row.error_state);
+      }
+    }
+    EXPECT_EQ(matches, 1) << row.scenario << " " << row.method << " " << row.h;
+    EXPECT_FALSE(row.failed) << row.failure;
+    EXPECT_EQ(row.reference_uncertainty, 0);  // closed-form references
+    EXPECT_EQ(row.error_vs_hull, -1);         // only measured against converged references
+  }
+}
+
+TEST(WorkPrecisionTest, PlanarAndHullAgreeWhereBothApply) {
+  SweepOptions options;
+  options.steps = {0.01};
+  const auto rows = RunWorkPrecision(CheapScenarios(), {FindMethod("hull"), FindMethod("planar")},
+                                     options);
+  for (size_t i = 0; i < rows.size(); i += 2) {
+    // the same implicit scheme on a flat body: the models agree to the solver tolerance
+    EXPECT_NEAR(rows[i].error_state, rows[i + 1].error_state, 1e-10) << rows[i].scenario;
+  }
+}
+
+TEST(WorkPrecisionTest, CsvRoundTripKeepsNineDigits) {
+  WorkPrecisionRow row;
+  row.scenario = "slide";
+  row.method = "hull";
+  row.h = 0.002;
+  row.steps = 250;
+  row.cpu_per_sim_s = 0.00383123456;
+  row.error_state = 1.00000000123e-3;
+  row.failure = "solver failed, at t = 1";
+  const std::string path = WriteTemporary("wp.csv", WorkPrecisionCsv({row, row}));
+  const std::vector<WorkPrecisionRow> back = ReadWorkPrecisionCsv(path);
+  ASSERT_EQ(back.size(), 2u);
+  EXPECT_EQ(back[0].scenario, "slide");
+  EXPECT_EQ(back[0].steps, 250);
+  // nine significant digits: within half a unit of the ninth, 5e-9 relative
+  EXPECT_NEAR(back[0].error_state, row.error_state, 5e-9 * row.error_state);
+  EXPECT_EQ(back[0].error_angle, -1);
+  EXPECT_EQ(back[0].failure, "solver failed; at t = 1");  // commas cannot split the row
+  std::filesystem::remove(path);
+}
+
+TEST(WorkPrecisionTest, MalformedCsvNamesFileLineAndColumn) {
+  const std::string header = WorkPrecisionCsv({}).substr(0, WorkPrecisionCsv({}).find('\n'));
+  const std::string path = WriteTemporary(
+      "bad.csv", header + "\nslide,hull,abc,1,0,0,0,0,0,0,0,0,0,0,0,0,0,\n");
+  try {
+    ReadWorkPrecisionCsv(path);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(path + ":2: column 'h' = 'abc'"), std::string::npos)
+        << e.what();
+  }
+  std::filesystem::remove(path);
+}
+
+TEST(StabilityCsvTest, RoundTrip) {
+  StabilityRow row;
+  row.map = "impact";
+  row.method = "point";
+  row.h = 0.02;
+  row.value = 30;
+  row.outcome = Outcome::kPenetration;
+  row.max_penetration = 0.0123;
+  row.final_mode = "edge";
+  const std::string path = WriteTemporary("st.csv", StabilityCsv({row}));
+  const std::vector<StabilityRow> back = ReadStabilityCsv(path);
+  ASSERT_EQ(back.size(), 1u);
+  EXPECT_EQ(back[0].outcome, Outcome::kPenetration);
+  EXPECT_EQ(back[0].final_mode, "edge");
+  EXPECT_DOUBLE_EQ(back[0].max_penetration, 0.0123);
+  std::filesystem::remove(path);
+}
+
+}  // namespace
+}  // namespace ecpsim::evaluation
