@@ -10,6 +10,8 @@
 
 #include "app/atomic_file.h"
 #include "app/plot_writer.h"
+#include "evaluation/method.h"
+#include "evaluation/scenario.h"
 
 namespace ecpsim::app {
 namespace {
@@ -22,14 +24,42 @@ using evaluation::WorkPrecisionRow;
 // log axes cannot show 0: errors below this are drawn on it (and say so in the chart)
 constexpr double kErrorFloor = 1e-16;  // m
 
-// first-seen order of a field over rows
+// the distinct values of a field over rows, in the order of `canonical` (the order the sweep
+// runs them), then any others in first-seen order: merged shards interleave their rows
 template <typename Row, typename Field>
-std::vector<std::string> InOrder(const std::vector<Row>& rows, Field field) {
-  std::vector<std::string> names;
+std::vector<std::string> InOrder(const std::vector<Row>& rows, Field field,
+                                 const std::vector<std::string>& canonical) {
+  std::vector<std::string> seen;
   for (const Row& r : rows) {
-    if (std::find(names.begin(), names.end(), field(r)) == names.end()) names.push_back(field(r));
+    if (std::find(seen.begin(), seen.end(), field(r)) == seen.end()) seen.push_back(field(r));
+  }
+  std::vector<std::string> names;
+  for (const std::string& name : canonical) {
+    if (std::find(seen.begin(), seen.end(), name) != seen.end()) names.push_back(name);
+  }
+  for (const std::string& name : seen) {
+    if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
   }
   return names;
+}
+
+std::vector<std::string> MethodOrder() {
+  std::vector<std::string> names;
+  for (const evaluation::Method& m : evaluation::AllMethods()) names.push_back(m.name);
+  return names;
+}
+
+std::vector<std::string> MapOrder() {
+  std::vector<std::string> names;
+  for (const evaluation::StabilityMapSpec& m : evaluation::StabilityMaps()) names.push_back(m.name);
+  return names;
+}
+
+std::string ScenarioOf(const WorkPrecisionRow& r) { return r.scenario; }
+std::string MapOf(const StabilityRow& r) { return r.map; }
+template <typename Row>
+std::string MethodOf(const Row& r) {
+  return r.method;
 }
 
 std::vector<double> SortedValues(const std::vector<StabilityRow>& rows, const std::string& map,
@@ -45,9 +75,9 @@ std::string Sci(double value) { return value < 0 ? "–" : fmt::format("{:.2g}",
 
 void WorkPrecisionCharts(PlotWriter& writer, const std::vector<WorkPrecisionRow>& rows) {
   for (const std::string& scenario :
-       InOrder(rows, [](const WorkPrecisionRow& r) { return r.scenario; })) {
+       InOrder(rows, ScenarioOf, evaluation::WorkPrecisionScenarioNames())) {
     std::string plot;
-    for (const std::string& method : InOrder(rows, [](const WorkPrecisionRow& r) { return r.method; })) {
+    for (const std::string& method : InOrder(rows, MethodOf<WorkPrecisionRow>, MethodOrder())) {
       std::vector<const WorkPrecisionRow*> points;
       for (const WorkPrecisionRow& r : rows) {
         if (r.scenario == scenario && r.method == method && !r.failed && r.error_state >= 0) {
@@ -85,24 +115,24 @@ const char* kOutcomeColours[evaluation::kOutcomeCount] = {"#2ca02c", "#d62728", 
                                                           "#ff7f0e", "#8c564b", "#e377c2"};
 
 void StabilityCharts(PlotWriter& writer, const std::vector<StabilityRow>& rows) {
-  for (const std::string& map : InOrder(rows, [](const StabilityRow& r) { return r.map; })) {
+  for (const std::string& map : InOrder(rows, MapOf, MapOrder())) {
     const std::vector<double> steps = SortedValues(rows, map, true);
     const std::vector<double> values = SortedValues(rows, map, false);
-    std::vector<std::string> methods;
+    std::vector<StabilityRow> of_map;
     for (const StabilityRow& r : rows) {
-      if (r.map == map && std::find(methods.begin(), methods.end(), r.method) == methods.end()) {
-        methods.push_back(r.method);
-      }
+      if (r.map == map) of_map.push_back(r);
     }
+    const std::vector<std::string> methods = InOrder(of_map, MethodOf<StabilityRow>, MethodOrder());
+    // one panel per method and one for the key
     const int n = static_cast<int>(methods.size());
-    const int cols = std::min(n, 4);
-    const int panel_rows = (n + cols - 1) / cols;
+    const int cols = std::min(n + 1, 4);
+    const int panel_rows = (n + 1 + cols - 1) / cols;
     writer.BeginPng(fmt::format("stability_{}.png", map), 360 * cols, 300 * panel_rows + 80);
     std::string xtics, ytics;
     for (size_t i = 0; i < steps.size(); ++i) xtics += fmt::format("{}'{:g}' {}", i ? ", " : "", steps[i], i);
     for (size_t j = 0; j < values.size(); ++j) ytics += fmt::format("{}'{:g}' {}", j ? ", " : "", values[j], j);
     writer.Line(fmt::format("set multiplot layout {},{} title {} noenhanced", panel_rows, cols,
-                            GnuplotQuote(fmt::format("stability map: {} (x: step h in s)", map))));
+                            GnuplotQuote(fmt::format("stability map: {}", map))));
     std::string palette;
     for (int k = 0; k < evaluation::kOutcomeCount; ++k) {
       palette += fmt::format("{}{} '{}'", k ? ", " : "", k, kOutcomeColours[k]);
@@ -114,6 +144,12 @@ void StabilityCharts(PlotWriter& writer, const std::vector<StabilityRow>& rows) 
     writer.Line(fmt::format("set xtics ({}) rotate by 45 right\nset ytics ({})", xtics, ytics));
     writer.Line(fmt::format("set xrange [-0.5:{}]\nset yrange [-0.5:{}]", steps.size() - 0.5,
                             values.size() - 0.5));
+    for (const evaluation::StabilityMapSpec& spec : evaluation::StabilityMaps()) {
+      if (spec.name == map) {
+        writer.Line(fmt::format("set ylabel {} noenhanced", GnuplotQuote(spec.value_label)));
+      }
+    }
+    writer.Line("set xlabel 'h (s)'");
     for (int m = 0; m < n; ++m) {
       std::string data;
       for (const StabilityRow& r : rows) {
@@ -124,18 +160,19 @@ void StabilityCharts(PlotWriter& writer, const std::vector<StabilityRow>& rows) 
       }
       const std::string file = writer.Data(fmt::format("st_{}_{}", map, methods[m]), data);
       writer.Line(fmt::format("set title {} noenhanced", GnuplotQuote(methods[m])));
-      std::string plot = fmt::format("plot {} using 1:2:3 with image notitle", file);
-      if (m == 0) {
-        writer.Line("set key outside bottom horizontal noenhanced");
-        for (int k = 0; k < evaluation::kOutcomeCount; ++k) {
-          plot += fmt::format(", NaN with boxes fs solid lc rgb '{}' title {}", kOutcomeColours[k],
-                              GnuplotQuote(evaluation::OutcomeName(static_cast<Outcome>(k))));
-        }
-      } else {
-        writer.Line("unset key");
-      }
-      writer.Line(plot);
+      writer.Line("unset key");
+      writer.Line(fmt::format("plot {} using 1:2:3 with image notitle", file));
     }
+    writer.Line("unset title\nunset border\nunset xtics\nunset ytics\nunset xlabel\n"
+                "unset ylabel\nset xrange [0:1]\nset yrange [0:1]\n"
+                "set key center center vertical noenhanced");
+    std::string key = "plot ";
+    for (int k = 0; k < evaluation::kOutcomeCount; ++k) {
+      key += fmt::format("{}NaN with boxes fs solid lc rgb '{}' title {}", k ? ", " : "",
+                         kOutcomeColours[k],
+                         GnuplotQuote(evaluation::OutcomeName(static_cast<Outcome>(k))));
+    }
+    writer.Line(key);
     writer.EndPng();
   }
 }
@@ -149,13 +186,13 @@ std::string ResultsMarkdown(const std::vector<WorkPrecisionRow>& wp,
           "of the sweep. For converged references, `vs hull` is the state error of the finest "
           "run against the hull model's converged solution (cross-model agreement).\n\n";
     for (const std::string& scenario :
-         InOrder(wp, [](const WorkPrecisionRow& r) { return r.scenario; })) {
+         InOrder(wp, ScenarioOf, evaluation::WorkPrecisionScenarioNames())) {
       md += fmt::format("### {}\n\n| method | h coarse | error | CPU s/s | h fine | error | CPU "
                         "s/s | max penetration (m) | wrong mode | vs hull | fail |\n"
                         "|---|---|---|---|---|---|---|---|---|---|---|\n",
                         scenario);
       for (const std::string& method :
-           InOrder(wp, [](const WorkPrecisionRow& r) { return r.method; })) {
+           InOrder(wp, MethodOf<WorkPrecisionRow>, MethodOrder())) {
         const WorkPrecisionRow *coarse = nullptr, *fine = nullptr;
         int failures = 0;
         double penetration = 0, wrong = 0;
@@ -180,7 +217,7 @@ std::string ResultsMarkdown(const std::vector<WorkPrecisionRow>& wp,
   }
   if (!stability.empty()) {
     md += "## Stability maps\n\nRuns per outcome over every step size and parameter value.\n\n";
-    for (const std::string& map : InOrder(stability, [](const StabilityRow& r) { return r.map; })) {
+    for (const std::string& map : InOrder(stability, MapOf, MapOrder())) {
       md += fmt::format("### {}\n\n| method |", map);
       for (int k = 0; k < evaluation::kOutcomeCount; ++k) {
         md += fmt::format(" {} |", evaluation::OutcomeName(static_cast<Outcome>(k)));
@@ -189,7 +226,7 @@ std::string ResultsMarkdown(const std::vector<WorkPrecisionRow>& wp,
       for (int k = 0; k < evaluation::kOutcomeCount; ++k) md += "---|";
       md += "\n";
       for (const std::string& method :
-           InOrder(stability, [](const StabilityRow& r) { return r.method; })) {
+           InOrder(stability, MethodOf<StabilityRow>, MethodOrder())) {
         int counts[evaluation::kOutcomeCount] = {};
         int total = 0;
         for (const StabilityRow& r : stability) {

@@ -157,6 +157,10 @@ double MeanRadiusOfRectangle(double a, double b) {
   return quarter / (p * q);
 }
 
+std::vector<std::string> WorkPrecisionScenarioNames() {
+  return {"slide", "spin", "push_slide", "rest", "desk", "tbar", "dumbbell"};
+}
+
 std::vector<Scenario> WorkPrecisionScenarios(const std::string& scenes_dir,
                                              double converged_duration) {
   std::vector<Scenario> scenarios = {Slide(), Spin(), PushSlide(), Rest()};

@@ -37,6 +37,9 @@ struct Scenario {
 std::vector<Scenario> WorkPrecisionScenarios(const std::string& scenes_dir,
                                              double converged_duration = 1.0);
 
+/// The names of WorkPrecisionScenarios(), in its order (without loading any scene).
+std::vector<std::string> WorkPrecisionScenarioNames();
+
 /// Mean distance of the points of an a × b rectangle from its centre (m): the lever arm of
 /// uniform-pressure Coulomb friction opposing a pure spin, M = μ N r̄.
 double MeanRadiusOfRectangle(double a, double b);

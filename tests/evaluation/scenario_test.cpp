@@ -44,6 +44,12 @@ class WorkPrecisionScenariosTest : public ::testing::Test {
   }
 };
 
+TEST_F(WorkPrecisionScenariosTest, NamesListThemInOrder) {
+  std::vector<std::string> names;
+  for (const Scenario& s : scenarios_) names.push_back(s.name);
+  EXPECT_EQ(names, WorkPrecisionScenarioNames());
+}
+
 TEST_F(WorkPrecisionScenariosTest, SlideStopsAtTheCoulombDistance) {
   const Scenario& slide = Find("slide");
   const double mu = 0.3, v0 = 1;
