@@ -38,20 +38,24 @@ struct MujocoSettings {
   double impratio = 1;             // friction-to-normal impedance ratio (elliptic cones)
   int noslip_iterations = 0;       // post-solve friction-only iterations that remove soft slip
   // solimp (d0, dmax, width m, midpoint, power); empty: MuJoCo's default "0.9 0.95 0.001 0.5 2".
-  // solref stays MuJoCo's "0.02 1" (time constant 2h at the paper's h; longer ones only soften)
   std::string solimp;
+  // solref time constant, s; 0: MuJoCo's default 0.02. A corner hitting the ground at v sinks
+  // about v·τ/e before the soft contact stops it (baselines/mujoco.md, "Transient penetration"),
+  // so kCoulomb takes the stiffest τ MuJoCo accepts, 2h (its refsafe floor); damping ratio 1
+  double solref_time_constant = 0;
 };
 
 // kDefault: everything MuJoCo's documentation lists as default (pyramidal cone, condim 3,
 // impratio 1, no noslip, default solref/solimp); the scene sets only h, gravity, geometry, mass
 // and μ. kCoulomb: the settings chosen by the measurements in baselines/mujoco.md
-MujocoSettings SettingsFor(FrictionSetting setting) {
+MujocoSettings SettingsFor(FrictionSetting setting, double h) {
   MujocoSettings s;
   if (setting == FrictionSetting::kCoulomb) {
     s.cone = "elliptic";
     s.impratio = 10;
     s.noslip_iterations = 10;
     s.solimp = "0.99 0.99 0.001 0.5 2";
+    s.solref_time_constant = 2 * h;
   }
   return s;
 }
@@ -171,6 +175,9 @@ std::string MakeMjcf(const engine::Scene& scene, const MujocoSettings& s) {
           kMujocoDefaultRolling,
           kMujocoDefaultRolling);
       if (!s.solimp.empty()) xml += fmt::format(" solimp=\"{}\"", s.solimp);
+      if (s.solref_time_constant > 0) {
+        xml += fmt::format(" solref=\"{:.17g} 1\"", s.solref_time_constant);
+      }
       xml += "/>\n";
     }
   }
@@ -315,7 +322,7 @@ class MujocoSimulation final : public ExternalSimulation {
 
 std::unique_ptr<ExternalSimulation> MakeMujocoSimulation(FrictionSetting setting,
                                                          const engine::Scene& scene) {
-  return std::make_unique<MujocoSimulation>(SettingsFor(setting), scene);
+  return std::make_unique<MujocoSimulation>(SettingsFor(setting, scene.h), scene);
 }
 
 }  // namespace ecpsim::baselines

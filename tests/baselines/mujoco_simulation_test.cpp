@@ -1,12 +1,16 @@
 #include "baselines/external_simulation.h"
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "engine/penetration.h"
 #include "engine/scene_yaml.h"
 #include "engine/time_step.h"
 #include "geometry/errors.h"
@@ -165,6 +169,110 @@ TEST(MujocoDeskTest, PaperDeskRunsHalfASecondWithBothSettings) {
     EXPECT_GT(sim->state().bodies[0].p_WB.x(), 0.2);
     EXPECT_GT(sim->state().bodies[0].p_WB.y(), 0.15);
   }
+}
+
+// MuJoCo's soft contact with kDefault's solref "0.02 1": a penetrating point's normal acceleration
+// is driven to d·(−b v − k r), b = 2/(d_max τ), k = d/(d_max² τ²); with d ≈ d_max (solimp 0.9–0.95)
+// a nearly critically damped oscillator of natural frequency 1/τ. Hit at normal speed v it sinks
+// deepest near t = τ, by about v τ / e (continuous time), whatever the mass; semi-implicit Euler
+// sinks less (baselines/mujoco.md). kCoulomb sets τ = 2h, MuJoCo's stiffest.
+constexpr double kSolrefTimeConstant = 0.02;  // s, MuJoCo's default solref[0]
+
+// the stability map's box (evaluation/stability_map.cpp, map "impact")
+const Vector3d kImpactBoxSize(0.2, 0.15, 0.1);  // m
+constexpr double kImpactMu = 0.5;
+
+TEST(MujocoImpactTest, FlatDropSinksTheSoftContactDepth) {
+  // the box face-down touching the ground, all four corners hitting it at v0 = 1 m/s
+  const double v0 = 1;      // m/s
+  const double h = 1e-3;    // s, τ/20
+  engine::Body box = engine::testing::MakeBoxBody(kImpactBoxSize, kBoxMass);
+  box.p0 = Vector3d(0, 0, kImpactBoxSize.z() / 2);
+  box.v0 = Vector3d(0, 0, -v0);
+  const engine::Scene scene =
+      engine::testing::MakeGroundScene({box}, h, engine::Friction{kImpactMu, 1, 1, 0.05});
+  const engine::PenetrationProbe probe(scene);
+  double deepest[2] = {0, 0}, deepest_t = 0;
+  for (FrictionSetting setting : {FrictionSetting::kDefault, FrictionSetting::kCoulomb}) {
+    auto sim = Make(setting, scene);
+    const int k = setting == FrictionSetting::kCoulomb;
+    for (int i = 0; i < 100; ++i) {
+      sim->Step();
+      const double depth = probe.MaxDepth(scene, sim->state());
+      if (depth > deepest[k]) {
+        deepest[k] = depth;
+        if (k == 0) deepest_t = sim->state().t;
+      }
+    }
+  }
+  const double closed_form = v0 * kSolrefTimeConstant / std::exp(1.0);  // 7.36 mm
+  // kDefault: measured 0.87 × v τ / e near t = τ (h = τ/20); a vertex without its contact would
+  // fall through, another time constant would move the ratio
+  EXPECT_GT(deepest[0], 0.8 * closed_form);
+  EXPECT_LT(deepest[0], 0.95 * closed_form);
+  EXPECT_NEAR(deepest_t, kSolrefTimeConstant, 3 * h);
+  // kCoulomb (τ = 2h): stopped within about a step of travel, v0 h
+  EXPECT_LT(deepest[1], v0 * h);
+}
+
+// the stability map's impact at 0.1 m/s and h = 2 ms: the box, tilted by 20° about x and 10°
+// about y with its lowest corner 1 mm up, lands on that corner, tips over and slaps onto its
+// face; the deepest sink belongs to that slap, not to the 0.1 m/s throw. Returns the deepest
+// sink (m) and the fastest downward speed of a vertex crossing z = 0 (m/s).
+std::pair<double, double> CornerImpact(FrictionSetting setting) {
+  engine::Body box = engine::testing::MakeBoxBody(kImpactBoxSize, kBoxMass);
+  const double deg = M_PI / 180;
+  box.q0 = Eigen::Quaterniond(Eigen::AngleAxisd(20 * deg, Vector3d::UnitX()) *
+                              Eigen::AngleAxisd(10 * deg, Vector3d::UnitY()));
+  double lowest = INFINITY;
+  for (const Vector3d& x : box.mesh.vertices) lowest = std::min(lowest, (box.q0 * x).z());
+  box.p0 = Vector3d(0, 0, 1e-3 - lowest);
+  box.v0 = 0.1 * Vector3d(0.3, 0, -1).normalized();
+  const engine::Scene scene =
+      engine::testing::MakeGroundScene({box}, 2e-3, engine::Friction{kImpactMu, 1, 1, 0.05});
+  auto sim = Make(setting, scene);
+  const engine::PenetrationProbe probe(scene);
+
+  // each vertex's height and downward speed; a vertex crossing z = 0 during a step hits the
+  // ground at the downward speed it had before the step
+  auto corners = [&](const engine::BodyState& s) {
+    std::vector<std::pair<double, double>> out;
+    for (const Vector3d& x : box.mesh.vertices) {
+      const Vector3d r = s.Q_WB * x;
+      out.emplace_back((s.p_WB + r).z(), -(s.v_WB + s.w_WB.cross(r)).z());
+    }
+    return out;
+  };
+  auto before = corners(sim->state().bodies[0]);
+  double deepest = 0, fastest_hit = 0;
+  for (int i = 0; i < 150; ++i) {
+    sim->Step();
+    deepest = std::max(deepest, probe.MaxDepth(scene, sim->state()));
+    const auto after = corners(sim->state().bodies[0]);
+    for (size_t k = 0; k < after.size(); ++k) {
+      if (before[k].first > 0 && after[k].first <= 0) {
+        fastest_hit = std::max(fastest_hit, before[k].second);
+      }
+    }
+    before = after;
+  }
+  return {deepest, fastest_hit};
+}
+
+TEST(MujocoImpactTest, CornerImpactAtATenthOfAMeterPerSecondSinksAtMostTheSoftContactDepth) {
+  const auto [deepest, fastest_hit] = CornerImpact(FrictionSetting::kDefault);
+  // tipping over drops the CM by 39 mm (√(2 g 0.039 m) = 0.87 m/s) and swings the far corners
+  // down: measured fastest hit 1.23 m/s, twelve times the throw
+  EXPECT_GT(fastest_hit, 0.87);
+  // the soft contact's depth for that hit (measured 7.3 mm; the slapping corners also turn, and
+  // h = τ/10 undershoots); an adapter that lost a vertex pair or misplaced a corner would sink
+  // through or jump here
+  EXPECT_LT(deepest, fastest_hit * kSolrefTimeConstant / std::exp(1.0));
+  EXPECT_GT(deepest, 0.5 * fastest_hit * kSolrefTimeConstant / std::exp(1.0));
+  // kCoulomb's τ = 2h stops the slap within about one step of travel (measured 2.3 mm)
+  const auto [coulomb_deepest, coulomb_hit] = CornerImpact(FrictionSetting::kCoulomb);
+  EXPECT_GT(coulomb_hit, 0.87);
+  EXPECT_LT(coulomb_deepest, coulomb_hit * 2e-3);
 }
 
 TEST(MujocoInputTest, ObstacleThatIsNotAHalfSpaceIsRejected) {
