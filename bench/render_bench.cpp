@@ -3,6 +3,9 @@
 // Run: build/bench/ecpsim_bench_render --benchmark_repetitions=5 --benchmark_report_aggregates_only
 // (ECPSIM_BENCH_SUPERSAMPLE=2 measures 2×2 supersampling instead of the default 1.5×).
 // BM_RenderParts renders with parts of the scene left out, to attribute a frame's CPU to passes.
+// The frames are static, so from the third frame on the ground is copied from the background
+// cache (as with a scene's fixed output.camera); BM_RenderPngMovingCamera measures the frames of
+// a camera that moves every frame, which draw it.
 
 #include <algorithm>
 #include <cmath>
@@ -128,6 +131,29 @@ void BM_RenderPng(benchmark::State& state) {
   Label(state, "render+png", cpu_start);
 }
 
+// render + PNG with a camera that moves every frame (an automatic camera following moving
+// bodies): the ground is drawn every frame instead of being copied from the background cache
+void BM_RenderPngMovingCamera(benchmark::State& state) {
+  Renderer renderer(Settings(state));
+  FrameInput frame = Frame(static_cast<int>(state.range(0)));
+  // the automatic camera's view, as a fixed camera that is then nudged by ±1 mm per frame
+  const Camera camera = renderer.FrameCamera(frame);
+  frame.camera.automatic = false;
+  frame.camera.position = camera.eye;
+  frame.camera.target = camera.target;
+  renderer.Render(frame);
+  PngSequenceWriter writer(OutputDir("png_moving"), 1, 2);
+  const double cpu_start = ProcessCpuSeconds();
+  long index = 0;
+  for (auto _ : state) {
+    frame.camera.position.x() = camera.eye.x() + (index++ % 2 == 0 ? 1e-3 : -1e-3);
+    writer.Add(renderer.Render(frame));
+    if (renderer.LastBackgroundCached()) state.SkipWithError("the background was cached");
+  }
+  writer.Finish();
+  Label(state, "render+png, moving camera", cpu_start);
+}
+
 // render + PNG + H.264 through ffmpeg: the `--frames --video` pipeline
 void BM_RenderPngVideo(benchmark::State& state) {
   const RenderSettings settings = Settings(state);
@@ -189,6 +215,12 @@ void BM_RenderParts(benchmark::State& state) {
 BENCHMARK(BM_Render)->Apply(Sizes);
 BENCHMARK(BM_RenderPng)->Apply(Sizes);
 BENCHMARK(BM_RenderPngVideo)->Apply(Sizes);
+BENCHMARK(BM_RenderPngMovingCamera)
+    ->Args({kDesk, 1280, 720})
+    ->Args({kTorus, 1280, 720})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->MinTime(2.0);
 BENCHMARK(BM_RenderParts)
     ->ArgsProduct({{kDesk, kTorus}, benchmark::CreateDenseRange(kFull, kEmptyNoText, 1)})
     ->Unit(benchmark::kMillisecond)

@@ -17,6 +17,13 @@ const Rgba kHullFace(0.45f, 0.62f, 0.95f, 0.22f);
 // silhouette between one layer of kHullFace (what tints a body inside it) and the two that
 // tinted the ground around the body before culling (1 − (1 − 0.22)² = 0.39)
 constexpr float kHullFrontAlpha = 0.3f;
+// a mesh whose front triangles cover fewer drawing pixels than this on average is lit per vertex
+// (the vertex-lit program, opaque): its triangles are a few image pixels wide, so lighting
+// interpolated across them looks the same (the 100k torus at 1280×720: at most 10 levels at the
+// specular highlight, none above the golden threshold), while llvmpipe shades each small
+// triangle's 4 × 4 pixel blocks with the full lighting: ~10 ms of the torus's CPU per frame
+constexpr double kDenseTrianglePixels = 32;
+
 // hull edges between faces closer than this to coplanar (a tessellated cylinder's facets) are
 // drawn only on the silhouette
 constexpr double kSmoothEdgeCos = 0.94;  // cos(20°)
@@ -31,17 +38,15 @@ void SetVector(const ShaderProgram& program, const char* name, const Eigen::Vect
               static_cast<float>(v.z()));
 }
 
-void UseMeshProgram(DrawContext& context) {
-  const ShaderProgram& program = context.mesh_program;
+void UseMeshProgram(const ShaderProgram& program, const DrawContext& context) {
   program.Use();
   SetMatrix(program, "u_view_projection", context.camera.view_projection);
   SetVector(program, "u_eye", context.camera.eye);
   glUniform3fv(program.Uniform("u_light_dir"), 1, kLightDirection.data());
 }
 
-void DrawPosedMesh(DrawContext& context, const GpuMesh& mesh, const Eigen::Isometry3d& X_WB,
-                   const Rgba& colour) {
-  const ShaderProgram& program = context.mesh_program;
+void DrawPosedMesh(const ShaderProgram& program, const GpuMesh& mesh,
+                   const Eigen::Isometry3d& X_WB, const Rgba& colour) {
   SetMatrix(program, "u_model", X_WB.matrix());
   const Eigen::Matrix3f R = X_WB.linear().cast<float>();
   glUniformMatrix3fv(program.Uniform("u_normal_matrix"), 1, GL_FALSE, R.data());
@@ -239,16 +244,31 @@ void DrawPlanes(const FrameInput& frame, DrawContext& context) {
 }
 
 void DrawBodies(const FrameInput& frame, DrawContext& context) {
-  UseMeshProgram(context);
   glEnable(GL_DEPTH_TEST);
   glDepthMask(GL_TRUE);
   glDisable(GL_BLEND);
+  const Camera& camera = context.camera;
+  // focal length in drawing pixels: a sphere of radius r at distance d spans r·focal/d pixels
+  const double focal = 0.5 * camera.projection(1, 1) * camera.height;
+  const ShaderProgram* current = nullptr;
   // meshes from files may be wound either way: GpuMesh culls back faces only of closed,
   // outward-wound meshes
   for (const BodyVisual& body : frame.bodies) {
     if (!body.mesh) continue;
+    const GpuMesh& mesh = context.meshes.Get(body.mesh);
+    // a dense mesh's front half spread over its silhouette: small triangles are lit per vertex
+    const double distance = (body.X_WB * mesh.centre() - camera.eye).norm();
+    bool dense = false;
+    if (distance > mesh.radius()) {
+      const double radius_px = mesh.radius() * focal / distance;
+      const double front_triangles = 0.5 * mesh.triangle_count();
+      dense = M_PI * radius_px * radius_px < kDenseTrianglePixels * front_triangles;
+    }
+    const ShaderProgram& program = dense ? context.vertex_lit_program : context.mesh_program;
+    if (current != &program) UseMeshProgram(program, context);
+    current = &program;
     const Rgba colour(body.colour.x(), body.colour.y(), body.colour.z(), 1.0f);
-    DrawPosedMesh(context, context.meshes.Get(body.mesh), body.X_WB, colour);
+    DrawPosedMesh(program, mesh, body.X_WB, colour);
   }
 }
 
@@ -257,8 +277,8 @@ void DrawHulls(const FrameInput& frame, DrawContext& context) {
 
   // translucent faces: tested against the bodies but not hiding each other; pulled slightly
   // towards the camera so that hull faces lying on body faces (the desk's top) win cleanly
-  // instead of fighting over depth
-  UseMeshProgram(context);
+  // instead of fighting over depth; lit per vertex (hull faces are flat, and translucent)
+  UseMeshProgram(context.vertex_lit_program, context);
   glEnable(GL_DEPTH_TEST);
   glDepthMask(GL_FALSE);
   glEnable(GL_POLYGON_OFFSET_FILL);
@@ -272,7 +292,7 @@ void DrawHulls(const FrameInput& frame, DrawContext& context) {
     const GpuMesh& gpu = context.meshes.Get(mesh);
     Rgba colour = kHullFace;
     if (gpu.closed_outward()) colour[3] = kHullFrontAlpha;
-    DrawPosedMesh(context, gpu, body.X_WB, colour);
+    DrawPosedMesh(context.vertex_lit_program, gpu, body.X_WB, colour);
   }
   glDisable(GL_POLYGON_OFFSET_FILL);
   glDepthMask(GL_TRUE);

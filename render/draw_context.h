@@ -16,6 +16,7 @@ struct DrawContext {
   const Camera& camera;
   const RenderTarget& target;
   const ShaderProgram& mesh_program;
+  const ShaderProgram& vertex_lit_program;
   const ShaderProgram& ground_program;
   const ShaderProgram& overlay_program;
   OverlayDrawer& overlay;

@@ -30,6 +30,9 @@ class GpuMesh {
   /// the enclosed volume is positive (counter-clockwise seen from outside).
   bool closed_outward() const { return closed_outward_; }
 
+  /// Number of triangles drawn (each one once, whether culled or not).
+  int triangle_count() const { return index_count_ / 3; }
+
   /// A sphere around all vertices, in the mesh's frame (m).
   const Eigen::Vector3d& centre() const { return centre_; }
   double radius() const { return radius_; }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "render/gl_api.h"
 
@@ -12,6 +13,11 @@ namespace {
 constexpr double kMaxChordError = 0.15;  // pixels
 constexpr int kMinCircleSegments = 12;
 constexpr int kMaxCircleSegments = 96;
+// a polygon outline's corner is bevelled (2 triangles) instead of rounded (a disc of ≥ 12) where
+// the round join's arc lies within this of the bevel's chord: far below a supersample, so no
+// sample changes in practice, while the many slight corners of a round patch's hull (the 100k
+// torus: 250 corners turning 1.4° each, 0.0002 px) cost ~5 ms less per frame on llvmpipe
+constexpr double kMaxBevelError = 0.02;  // pixels
 
 int CircleSegments(double radius) {
   const int n = static_cast<int>(std::ceil(M_PI / std::acos(std::max(0.0, 1 - kMaxChordError /
@@ -50,19 +56,38 @@ void OverlayBatch::Segment(const Pixel& a, const Pixel& b, double width,
 void OverlayBatch::Outline(const std::vector<Pixel>& polygon, double width,
                            const Rgba& colour) {
   const size_t n = polygon.size();
+  // each edge's unit direction (zero for a degenerate edge)
+  std::vector<Eigen::Vector2d> along(n, Eigen::Vector2d::Zero());
+  for (size_t i = 0; i < n; ++i) {
+    const Eigen::Vector2d edge = (polygon[(i + 1) % n] - polygon[i]).head<2>();
+    if (edge.norm() > 1e-9) along[i] = edge.normalized();
+  }
+  const double half = 0.5 * width;
+  const auto offset = [half](const Eigen::Vector2d& u) {
+    return Pixel(-u.y() * half, u.x() * half, 0);
+  };
   for (size_t i = 0; i < n; ++i) {
     const Pixel& a = polygon[i];
     const Pixel& b = polygon[(i + 1) % n];
-    // a segment without extended ends plus a round join at each corner
-    Eigen::Vector2d along = (b - a).head<2>();
-    const double length = along.norm();
-    if (length > 1e-9) {
-      along /= length;
-      const Pixel m(-along.y() * 0.5 * width, along.x() * 0.5 * width, 0);
+    // a segment without extended ends plus a join at each corner
+    if (along[i].squaredNorm() > 0) {
+      const Pixel m = offset(along[i]);
       Triangle(a - m, b - m, b + m, colour);
       Triangle(a - m, b + m, a + m, colour);
     }
-    Disc(a, 0.5 * width, colour);
+    // the join at a: round, except where the turn is so slight that a bevel looks the same
+    const Eigen::Vector2d& in = along[(i + n - 1) % n];
+    const Eigen::Vector2d& out = along[i];
+    const double cos_turn = in.dot(out);
+    const bool slight = in.squaredNorm() > 0 && out.squaredNorm() > 0 && cos_turn > 0 &&
+                        half * (1 - std::sqrt(0.5 * (1 + cos_turn))) < kMaxBevelError;
+    if (slight) {
+      const Pixel m_in = offset(in), m_out = offset(out);
+      Triangle(a, a + m_in, a + m_out, colour);
+      Triangle(a, a - m_in, a - m_out, colour);
+    } else {
+      Disc(a, half, colour);
+    }
   }
 }
 

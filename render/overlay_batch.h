@@ -27,7 +27,8 @@ class OverlayBatch {
   /// A segment `width` pixels wide with square ends extended by `width`/2 (so joined segments and
   /// dots meet without gaps).
   void Segment(const Pixel& a, const Pixel& b, double width, const Rgba& colour);
-  /// A closed polygon outline with round joins.
+  /// A closed polygon outline with round joins (bevelled where the turn is so slight that the
+  /// two differ by less than 0.02 pixels).
   void Outline(const std::vector<Pixel>& polygon, double width, const Rgba& colour);
   /// A filled disc; a ring when `inner_radius` > 0.
   void Disc(const Pixel& centre, double radius, const Rgba& colour,

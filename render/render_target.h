@@ -41,6 +41,8 @@ class RenderTarget {
 
   /// Binds the drawing framebuffer and sets the viewport to all of it.
   void Bind() const;
+  /// The drawing framebuffer object (GL name), e.g. to copy its buffers.
+  unsigned framebuffer() const { return draw_fbo_; }
 
   /// Fills the whole image with `rgba` (components in [0, 1]) and clears depth and stencil.
   void Clear(const std::array<float, 4>& rgba) const;

@@ -49,6 +49,10 @@ class Renderer {
   std::string Description() const;
   /// Meshes currently held in GPU buffers.
   int CachedMeshCount() const;
+  /// Whether the last Render copied a saved background (the clear and the ground) instead of
+  /// drawing it: the camera and the planes were the same as in the two frames before (a fixed
+  /// camera; see docs/rendering.md). The pixels are the same either way.
+  bool LastBackgroundCached() const;
 
  private:
   struct Impl;

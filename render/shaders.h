@@ -27,6 +27,11 @@ class ShaderProgram {
 /// u_view_projection, u_color (RGBA), u_eye, u_light_dir (unit, towards the light, world).
 ShaderProgram MakeMeshProgram();
 
+/// Meshes lit per vertex (the mesh program's lighting, interpolated across each triangle), for
+/// translucent hull faces and for meshes whose triangles are small on screen: the same
+/// attributes and uniforms as MakeMeshProgram.
+ShaderProgram MakeVertexLitProgram();
+
 /// The ground sheet and its grid lines: attribute 0 = world position, 1 = colour (RGBA); uniform
 /// u_view_projection.
 ShaderProgram MakeGroundProgram();

@@ -1,8 +1,11 @@
 // The pixel path without golden images: exact colours at exact positions through MSAA resolve and
 // read-back, with row 0 at the top.
 
+#include <algorithm>
+#include <array>
 #include <cstdio>
 #include <stdexcept>
+#include <utility>
 
 #include <gtest/gtest.h>
 
@@ -105,6 +108,64 @@ TEST(RenderTarget, ThreeHalvesOddWidthTakesItsLastPixelFromTwoColumns) {
     EXPECT_EQ(image.Pixel(4, y)[2], 85);
     EXPECT_EQ(image.Pixel(3, y)[0], 0);
     EXPECT_EQ(image.Pixel(3, y)[1], 255);
+  }
+}
+
+// every pixel of a busy 1.5× frame against the area-weighted mean computed here from the same
+// drawing read at 1×: the vectorized downsample must equal the definition to the bit, for an even
+// and an odd width (the odd one's last column and a last row of 1.5 drawing rows included)
+TEST(RenderTarget, ThreeHalvesEqualsTheAreaWeightedMeanEverywhere) {
+  GlContext context;
+  for (const int width : {38, 37}) {
+    const int height = 25;
+    RenderTarget target(width, height, 1, 1.5);
+    RenderTarget drawing(target.width(), target.height(), 1, 1);
+    // 1-pixel-wide and wider rectangles of pseudo-random colours, the same in both targets
+    unsigned state = 12345;
+    const auto next = [&state](unsigned range) {
+      state = state * 1103515245u + 12345u;
+      return (state >> 16) % range;
+    };
+    for (RenderTarget* t : {&target, &drawing}) {
+      t->Clear({0.1f, 0.5f, 0.9f, 1});
+    }
+    for (int i = 0; i < 200; ++i) {
+      const int x = static_cast<int>(next(target.width()));
+      const int y = static_cast<int>(next(target.height()));
+      const int w = 1 + static_cast<int>(next(4)), h = 1 + static_cast<int>(next(4));
+      const std::array<float, 4> colour = {next(256) / 255.0f, next(256) / 255.0f,
+                                           next(256) / 255.0f, 1};
+      for (RenderTarget* t : {&target, &drawing}) {
+        t->ClearRect(x, y, std::min(w, t->width() - x), std::min(h, t->height() - y), colour);
+      }
+    }
+    const Image image = target.Read();
+    const Image full = drawing.Read();
+    ASSERT_EQ(full.width, target.width());
+    // image pixel i spans drawing pixels [1.5 i, 1.5 i + 1.5): weights 2, 1 (even i) or 1, 2
+    const auto taps = [](int i, int last) {
+      const int k = i / 2;
+      std::array<std::pair<int, int>, 2> t =
+          i % 2 == 0 ? std::array<std::pair<int, int>, 2>{{{3 * k, 2}, {3 * k + 1, 1}}}
+                     : std::array<std::pair<int, int>, 2>{{{3 * k + 1, 1}, {3 * k + 2, 2}}};
+      for (auto& tap : t) tap.first = std::min(tap.first, last);
+      return t;
+    };
+    int mismatches = 0;
+    for (int y = 0; y < height; ++y) {
+      for (int x = 0; x < width; ++x) {
+        for (int c = 0; c < 3; ++c) {
+          int sum = 4;  // rounding
+          for (const auto& [row, wy] : taps(y, full.height - 1)) {
+            for (const auto& [column, wx] : taps(x, full.width - 1)) {
+              sum += wx * wy * full.Pixel(column, row)[c];
+            }
+          }
+          if (image.Pixel(x, y)[c] != sum / 9) ++mismatches;
+        }
+      }
+    }
+    EXPECT_EQ(mismatches, 0) << "width " << width;
   }
 }
 

@@ -132,6 +132,43 @@ TEST_F(RendererTest, NonFiniteEcpIsAnInputError) {
               ThrowsMessage<InputError>(HasSubstr("contacts[0].a1")));
 }
 
+// a fixed camera over the ground: the background is drawn twice, then copied; the copy must be
+// invisible, also under bodies that moved since it was saved
+TEST(RendererBackground, CopiedBackgroundGivesTheDrawnPixels) {
+  RenderSettings settings;
+  settings.width = 320;
+  settings.height = 240;
+  Renderer cached(settings), fresh(settings);
+  FrameInput frame = testing::DeskRestingFlat();
+  frame.camera.automatic = false;
+  frame.camera.target = Eigen::Vector3d(0, 0, 0.3);
+  const Image drawn = cached.Render(frame);
+  EXPECT_FALSE(cached.LastBackgroundCached());
+  cached.Render(frame);
+  EXPECT_FALSE(cached.LastBackgroundCached());  // saved now, drawn
+  const Image copied = cached.Render(frame);
+  ASSERT_TRUE(cached.LastBackgroundCached());
+  const ImageComparison same = CompareImages(drawn, copied, {0, 0.0});
+  EXPECT_EQ(same.max_channel_difference, 0);
+
+  // the desk moved and turned: the copied ground under it equals a freshly drawn one
+  frame.bodies[0].X_WB.translation() += Eigen::Vector3d(0.05, -0.03, 0.02);
+  frame.bodies[0].X_WB.rotate(Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitZ()));
+  const Image moved = cached.Render(frame);
+  ASSERT_TRUE(cached.LastBackgroundCached());
+  const Image reference = fresh.Render(frame);
+  ASSERT_FALSE(fresh.LastBackgroundCached());
+  const ImageComparison moved_same = CompareImages(reference, moved, {0, 0.0});
+  EXPECT_EQ(moved_same.max_channel_difference, 0);
+  EXPECT_GT(CompareImages(copied, moved, {0, 0.0}).differing_pixels, 1000);
+
+  // another camera is drawn, not copied, and gives that camera's pixels
+  frame.camera.position.x() += 0.1;
+  const Image turned = cached.Render(frame);
+  EXPECT_FALSE(cached.LastBackgroundCached());
+  EXPECT_EQ(CompareImages(fresh.Render(frame), turned, {0, 0.0}).max_channel_difference, 0);
+}
+
 TEST(RendererSettings, BadResolutionIsAnInputError) {
   RenderSettings settings;
   settings.width = 0;
