@@ -247,6 +247,8 @@ McpResult SolveMcp(const McpFunction& f, int num_free, const Eigen::VectorXd& ro
   Reformulation& current = w.current;
   Reformulation& trial = w.trial;
   x = z.cwiseQuotient(var_scale);
+  const bool project = options.project_nonnegative;
+  if (project) x.tail(n - num_free) = x.tail(n - num_free).cwiseMax(0.0);
   F.resize(n);
   F_trial.resize(n);
   problem.Evaluate(x, &F, &current, true);
@@ -306,6 +308,7 @@ McpResult SolveMcp(const McpFunction& f, int num_free, const Eigen::VectorXd& ro
     bool trial_has_jacobian = false;
     while (step >= kMinStep) {
       x_trial = x + step * direction;
+      if (project) x_trial.tail(n - num_free) = x_trial.tail(n - num_free).cwiseMax(0.0);
       // the full step is usually accepted: evaluate it with its Jacobian, ready for the next
       // iteration
       trial_has_jacobian = step == 1;
@@ -323,6 +326,7 @@ McpResult SolveMcp(const McpFunction& f, int num_free, const Eigen::VectorXd& ro
       step = 1;
       while (step >= kMinStep) {
         x_trial = x + step * direction;
+        if (project) x_trial.tail(n - num_free) = x_trial.tail(n - num_free).cwiseMax(0.0);
         trial_has_jacobian = false;
         problem.Evaluate(x_trial, &F_trial, &trial, false);
         if (AllFinite(trial.phi) && 0.5 * trial.phi.squaredNorm() < merit) {

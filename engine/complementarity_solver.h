@@ -23,6 +23,10 @@ struct McpOptions {
   double fb_lambda = 0.9;      // penalized FB weight (Chen–Chen–Kanzow); 1 is plain FB
   int nonmonotone_memory = 5;  // Armijo reference = max of the last few merit values
   McpMeasure measure;          // empty: McpResidual with the solver's num_free
+  // keep the complementarity unknowns z_i (i ≥ num_free) ≥ 0 at every iterate (each trial point
+  // of the line search is projected onto that orthant): no iterate can reach a stationary point
+  // of the merit function with a negative multiplier (engine/README.md, "Impacts")
+  bool project_nonnegative = false;
 };
 
 struct McpResult {

@@ -27,6 +27,9 @@ using Eigen::VectorXd;
 constexpr double kInitialSigmaFraction = 1e-3;  // of the velocity scale
 // the window check tolerance relative to the body size: far below any face, far above round-off
 constexpr double kWindowCheckRelTol = 1e-9;
+// rad: the largest rotation h|ω⁺| of one step; beyond π the end pose Exp(hω⁺) R is reached by a
+// smaller rotation too, so the step's solution is not unique (an alias)
+constexpr double kMaxStepRotation = M_PI;
 // growing the window this many times (one vertex ring each) before using every hull face
 constexpr int kMaxWindowGrowth = 3;
 
@@ -89,46 +92,58 @@ class BodyStepper {
     options.tolerance = scene_.solver.tolerance;
     options.max_iterations = scene_.solver.max_iterations;
 
-    for (Guess guess : ladder) {
-      for (int growth = 0; growth <= kMaxWindowGrowth + 1; ++growth) {
-        const MncpLayout layout = MakeLayout(problem);
-        VectorXd z = MakeGuess(guess, problem, layout, body, contacts, scales);
-        const McpFunction f = [&](const VectorXd& zz, VectorXd* F, Eigen::MatrixXd* J) {
-          EvaluateMncp(problem, layout, zz, F, J);
-        };
-        options.measure = [&](const VectorXd& zz, const VectorXd& F) {
-          return MncpResidual(layout, zz, F);
-        };
-        const McpResult result =
-            SolveMcp(f, layout.num_free, RowScales(problem, layout, scales),
-                     VariableScales(problem, layout, scales), z, options);
-        report.iterations += result.iterations;
-        residual = result.residual;
-        if (!result.converged || !z.allFinite()) {
-          tried += fmt::format("{}{} (h = {:g} s): residual {:.3g} after {} iterations",
-                               tried.empty() ? "" : "; ", GuessName(guess), h, result.residual,
-                               result.iterations);
-          ++report.retries;
-          break;
+    // the ladder as it is first; only when every guess fails, again with iterates kept in the
+    // orthant of the complementarity unknowns (engine/README.md, "Impacts": the merit function
+    // has stationary points with σ < 0 — friction pushing along the slip — that capture Newton
+    // at hard impacts)
+    for (const bool project : {false, true}) {
+      options.project_nonnegative = project;
+      for (Guess guess : ladder) {
+        for (int growth = 0; growth <= kMaxWindowGrowth + 1; ++growth) {
+          const MncpLayout layout = MakeLayout(problem);
+          VectorXd z = MakeGuess(guess, problem, layout, body, contacts, scales);
+          const McpFunction f = [&](const VectorXd& zz, VectorXd* F, Eigen::MatrixXd* J) {
+            EvaluateMncp(problem, layout, zz, F, J);
+          };
+          options.measure = [&](const VectorXd& zz, const VectorXd& F) {
+            return MncpResidual(layout, zz, F);
+          };
+          const McpResult result =
+              SolveMcp(f, layout.num_free, RowScales(problem, layout, scales),
+                       VariableScales(problem, layout, scales), z, options);
+          report.iterations += result.iterations;
+          residual = result.residual;
+          // a turn of more than π in one step is an alias: Exp(hω⁺) has the same end pose for a
+          // smaller ω⁺, so such a root of the MNCP is a spurious one (it can gain energy)
+          const bool aliased = result.converged && h * z.segment<3>(3).norm() > kMaxStepRotation;
+          if (!result.converged || !z.allFinite() || aliased) {
+            tried += fmt::format("{}{}{} (h = {:g} s): {} {:.3g} after {} iterations",
+                                 tried.empty() ? "" : "; ", GuessName(guess),
+                                 project ? " (projected)" : "", h,
+                                 aliased ? "aliased rotation, residual" : "residual",
+                                 result.residual, result.iterations);
+            ++report.retries;
+            break;
+          }
+          // a converged windowed solution must also solve the full-hull problem
+          const int grow = WindowFailures(problem, layout, z, scales);
+          if (grow >= 0) {
+            const ContactProblem& cp = problem.contacts[grow];
+            const Vector3d n_solution =
+                MakeContactFrame(SolutionNormal(problem, layout, z, grow), cp.tangent_reference).n;
+            const EndPose end = PoseAfterStep(problem, z.segment<3>(0), z.segment<3>(3));
+            std::vector<int> wider = SelectWindow(
+                *cp.hull, end.R.transpose() * -n_solution,
+                growth < kMaxWindowGrowth ? scene_.solver.window_rings + growth + 1 : -1, true);
+            std::vector<int> merged;
+            std::set_union(cp.window.begin(), cp.window.end(), wider.begin(), wider.end(),
+                           std::back_inserter(merged));
+            problem.contacts[grow].window = merged;
+            continue;
+          }
+          Commit(problem, layout, z, h, body, contacts);
+          return true;
         }
-        // a converged windowed solution must also solve the full-hull problem
-        const int grow = WindowFailures(problem, layout, z, scales);
-        if (grow >= 0) {
-          const ContactProblem& cp = problem.contacts[grow];
-          const Vector3d n_solution = MakeContactFrame(SolutionNormal(problem, layout, z, grow),
-                                                       cp.tangent_reference).n;
-          const EndPose end = PoseAfterStep(problem, z.segment<3>(0), z.segment<3>(3));
-          std::vector<int> wider = SelectWindow(
-              *cp.hull, end.R.transpose() * -n_solution,
-              growth < kMaxWindowGrowth ? scene_.solver.window_rings + growth + 1 : -1, true);
-          std::vector<int> merged;
-          std::set_union(cp.window.begin(), cp.window.end(), wider.begin(), wider.end(),
-                         std::back_inserter(merged));
-          problem.contacts[grow].window = merged;
-          continue;
-        }
-        Commit(problem, layout, z, h, body, contacts);
-        return true;
       }
     }
     return false;
