@@ -73,6 +73,25 @@ std::vector<double> SortedValues(const std::vector<StabilityRow>& rows, const st
 
 std::string Sci(double value) { return value < 0 ? "–" : fmt::format("{:.2g}", value); }
 
+// one look per method, the same in every chart: ecpsim's models in blues and oranges, each
+// engine its own hue, its default settings dashed
+std::string LineStyle(const std::string& method) {
+  static const std::vector<std::pair<std::string, std::string>> kStyles = {
+      {"hull", "lc rgb '#08306b' pt 7"},          {"hull-tol1e-08", "lc rgb '#2171b5' pt 6"},
+      {"hull-tol1e-05", "lc rgb '#6baed6' pt 4"}, {"planar", "lc rgb '#ff7f00' pt 9"},
+      {"multipatch", "lc rgb '#e6ab02' pt 11"},   {"point", "lc rgb '#7f3b08' pt 5"},
+      {"mujoco-default", "lc rgb '#e7298a' pt 7 dt 2"},
+      {"mujoco-coulomb", "lc rgb '#e7298a' pt 7"},
+      {"bullet-default", "lc rgb '#1b9e77' pt 13 dt 2"},
+      {"bullet-coulomb", "lc rgb '#1b9e77' pt 13"},
+      {"ode-default", "lc rgb '#7570b3' pt 15 dt 2"},
+      {"ode-coulomb", "lc rgb '#7570b3' pt 15"}};
+  for (const auto& [name, style] : kStyles) {
+    if (name == method) return style;
+  }
+  return "lc rgb '#555555' pt 1";
+}
+
 void WorkPrecisionCharts(PlotWriter& writer, const std::vector<WorkPrecisionRow>& rows) {
   for (const std::string& scenario :
        InOrder(rows, ScenarioOf, evaluation::WorkPrecisionScenarioNames())) {
@@ -93,8 +112,9 @@ void WorkPrecisionCharts(PlotWriter& writer, const std::vector<WorkPrecisionRow>
                             std::max(kErrorFloor, r->error_state), r->h);
       }
       const std::string file = writer.Data(fmt::format("wp_{}_{}", scenario, method), data);
-      plot += fmt::format("{}{} using 1:2 with linespoints lw 2 pt 7 title {}",
-                          plot.empty() ? "plot " : ", \\\n  ", file, GnuplotQuote(method));
+      plot += fmt::format("{}{} using 1:2 with linespoints lw 2 {} title {}",
+                          plot.empty() ? "plot " : ", \\\n  ", file, LineStyle(method),
+                          GnuplotQuote(method));
     }
     if (plot.empty()) continue;
     writer.BeginPng(fmt::format("work_precision_{}.png", scenario), 1100, 750);

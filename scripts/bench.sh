@@ -18,4 +18,5 @@ seq 1 "$shards" | xargs -P "$shards" -I{} \
 
 mkdir -p docs/figures/bench
 cp "$out"/work_precision_*.png "$out"/stability_*.png docs/figures/bench/
+cp "$out/results.md" docs/bench_results.md
 echo "results in $out/results.md, charts in docs/figures/bench/"
