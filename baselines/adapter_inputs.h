@@ -1,6 +1,7 @@
 #pragma once
-// What the Bullet and ODE adapters read from a scene beyond the bodies: each obstacle as a plane
-// and each body–obstacle pair's friction (header-only: each adapter is its own optional TU).
+// What the engine adapters read from a scene beyond the bodies: each obstacle as a plane and each
+// body–obstacle pair's friction; and the check of the state they report (header-only: each
+// adapter is its own optional TU).
 
 #include <cstddef>
 #include <optional>
@@ -10,6 +11,8 @@
 #include <fmt/format.h>
 
 #include "engine/scene.h"
+#include "engine/state.h"
+#include "engine/step_report.h"
 #include "geometry/convex_shape.h"
 #include "geometry/errors.h"
 
@@ -51,6 +54,19 @@ inline PairFrictionTable MakePairFrictionTable(const engine::Scene& scene) {
         pair.friction;
   }
   return table;
+}
+
+/// @throws engine::SolverFailure "<engine>: the state of body '…' is not finite at t = … s"
+///         for the first body whose state is not finite (never a NaN in an output);
+///         `name_of(b)` gives body b's name.
+template <typename NameOf>
+void RequireFiniteState(const char* engine, const engine::State& state, NameOf name_of) {
+  for (std::size_t b = 0; b < state.bodies.size(); ++b) {
+    if (!engine::IsFinite(state.bodies[b])) {
+      throw engine::SolverFailure(fmt::format("{}: the state of body '{}' is not finite at t = {} s",
+                                              engine, name_of(b), state.t));
+    }
+  }
 }
 
 }  // namespace ecpsim::baselines

@@ -237,13 +237,8 @@ class BulletSimulation final : public ExternalSimulation {
       body.Q_WB = (FromBt(X_WP.getRotation()) * Quaterniond(R_BP_[b].transpose())).normalized();
       body.v_WB = FromBt(bodies_[b]->getLinearVelocity());
       body.w_WB = FromBt(bodies_[b]->getAngularVelocity());
-      if (!body.p_WB.allFinite() || !body.Q_WB.coeffs().allFinite() || !body.v_WB.allFinite() ||
-          !body.w_WB.allFinite()) {
-        throw engine::SolverFailure(
-            fmt::format("bullet: the state of body '{}' is not finite at t = {} s",
-                        scene_.bodies[b].name, state_.t));
-      }
     }
+    RequireFiniteState("bullet", state_, [this](std::size_t b) { return scene_.bodies[b].name; });
   }
 
   const engine::State& state() const override { return state_; }

@@ -275,15 +275,7 @@ class MujocoSimulation final : public ExternalSimulation {
     const double t = state_.t;
     ReadState();
     state_.t = t + h_;
-    for (size_t b = 0; b < state_.bodies.size(); ++b) {
-      const engine::BodyState& s = state_.bodies[b];
-      if (!s.p_WB.allFinite() || !s.Q_WB.coeffs().allFinite() || !s.v_WB.allFinite() ||
-          !s.w_WB.allFinite()) {
-        throw engine::SolverFailure(
-            fmt::format("{}: MuJoCo's state of body '{}' is not finite after the step at t = {} s",
-                        source_, names_[b], t));
-      }
-    }
+    RequireFiniteState("mujoco", state_, [this](std::size_t b) { return names_[b]; });
   }
 
   const engine::State& state() const override { return state_; }

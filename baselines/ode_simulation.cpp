@@ -194,13 +194,8 @@ class OdeSimulation final : public ExternalSimulation {
       body.Q_WB = Quaterniond(q[0], q[1], q[2], q[3]).normalized();
       body.v_WB = Vector3d(v[0], v[1], v[2]);
       body.w_WB = Vector3d(w[0], w[1], w[2]);
-      if (!body.p_WB.allFinite() || !body.Q_WB.coeffs().allFinite() || !body.v_WB.allFinite() ||
-          !body.w_WB.allFinite()) {
-        throw engine::SolverFailure(
-            fmt::format("ode: the state of body '{}' is not finite at t = {} s",
-                        scene_.bodies[b].name, state_.t));
-      }
     }
+    RequireFiniteState("ode", state_, [this](std::size_t b) { return scene_.bodies[b].name; });
   }
 
   const engine::State& state() const override { return state_; }

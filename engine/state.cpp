@@ -22,6 +22,11 @@ Eigen::Vector3d ObstacleNormalToward(const geometry::ConvexShape& obstacle,
   return obstacle.Gradient(LargestConstraint(obstacle, point), point).normalized();
 }
 
+bool IsFinite(const BodyState& body) {
+  return body.p_WB.allFinite() && body.Q_WB.coeffs().allFinite() && body.v_WB.allFinite() &&
+         body.w_WB.allFinite();
+}
+
 State InitialState(const Scene& scene) {
   State state;
   state.t = 0;

@@ -37,6 +37,9 @@ struct State {
   std::vector<ContactState> contacts;  // one per Scene::contacts entry
 };
 
+/// Whether a body's pose and velocities are all finite numbers.
+bool IsFinite(const BodyState& body);
+
 /// The state at t = 0 from the bodies' initial conditions; contacts start without a warm start.
 State InitialState(const Scene& scene);
 

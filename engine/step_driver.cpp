@@ -6,15 +6,6 @@
 #include <fmt/format.h>
 
 namespace ecpsim::engine {
-namespace {
-
-bool IsFinite(const BodyState& b) {
-  return b.p_WB.allFinite() && b.Q_WB.coeffs().allFinite() && b.v_WB.allFinite() &&
-         b.w_WB.allFinite();
-}
-
-}  // namespace
-
 StepReport StepEveryBody(const Scene& scene, State& state, const std::string& model_prefix,
                          const AdvanceBody& advance) {
   StepReport report;

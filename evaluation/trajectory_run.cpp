@@ -168,8 +168,7 @@ RunRecord RunTrajectory(const Method& method, const Scenario& scenario, double h
     if (run.failed) break;
     const engine::State& state = stepper->state();
     const engine::BodyState& b = state.bodies[0];
-    if (!b.p_WB.allFinite() || !b.v_WB.allFinite() || !b.w_WB.allFinite() ||
-        !b.Q_WB.coeffs().allFinite()) {
+    if (!engine::IsFinite(b)) {
       run.failed = true;
       run.failure = fmt::format("non-finite state at t = {} s", state.t);
       break;

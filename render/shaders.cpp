@@ -27,56 +27,51 @@ void main() {
 )";
 
 // a key light with a soft specular, a fill from the camera, and ambient; two-sided so that the
-// inside of a translucent hull is lit too
-constexpr const char* kMeshFragment = R"(#version 330 core
-in vec3 v_normal;
-in vec3 v_world;
-uniform vec4 u_color;
-uniform vec3 u_eye;
-uniform vec3 u_light_dir;
-out vec4 frag_color;
-void main() {
-  vec3 n = normalize(v_normal);
-  vec3 v = normalize(u_eye - v_world);
-  if (dot(n, v) < 0.0) n = -n;
-  float key = max(dot(n, u_light_dir), 0.0);
-  float fill = max(dot(n, v), 0.0);
-  vec3 h = normalize(u_light_dir + v);
-  float specular = 0.18 * pow(max(dot(n, h), 0.0), 40.0);
-  vec3 c = u_color.rgb * (0.28 + 0.52 * key + 0.25 * fill) + vec3(specular);
-  frag_color = vec4(min(c, vec3(1.0)), u_color.a);
-}
-)";
+// inside of a translucent hull is lit too (shared by the per-pixel and per-vertex programs)
+#define ECPSIM_SHADE_FUNCTION \
+  "uniform vec4 u_color;\n"                                                      \
+  "uniform vec3 u_eye;\n"                                                        \
+  "uniform vec3 u_light_dir;\n"                                                  \
+  "vec4 Shade(vec3 normal, vec3 world) {\n"                                      \
+  "  vec3 n = normalize(normal);\n"                                              \
+  "  vec3 v = normalize(u_eye - world);\n"                                       \
+  "  if (dot(n, v) < 0.0) n = -n;\n"                                             \
+  "  float key = max(dot(n, u_light_dir), 0.0);\n"                               \
+  "  float fill = max(dot(n, v), 0.0);\n"                                        \
+  "  vec3 h = normalize(u_light_dir + v);\n"                                     \
+  "  float specular = 0.18 * pow(max(dot(n, h), 0.0), 40.0);\n"                  \
+  "  vec3 c = u_color.rgb * (0.28 + 0.52 * key + 0.25 * fill) + vec3(specular);\n" \
+  "  return vec4(min(c, vec3(1.0)), u_color.a);\n"                               \
+  "}\n"
+
+constexpr const char* kMeshFragment =
+    "#version 330 core\n"
+    "in vec3 v_normal;\n"
+    "in vec3 v_world;\n"
+    "out vec4 frag_color;\n" ECPSIM_SHADE_FUNCTION
+    "void main() { frag_color = Shade(v_normal, v_world); }\n";
 
 // the mesh program's lighting evaluated per vertex, so that the many fragments of large, flat
 // hull faces cost no more than a blended fill on llvmpipe, and the 4 × 4 pixel blocks of a dense
 // mesh's tiny triangles no more than a fill
-constexpr const char* kVertexLitVertex = R"(#version 330 core
-layout(location = 0) in vec3 a_position;
-layout(location = 1) in vec3 a_normal;
-uniform mat4 u_model;
-uniform mat3 u_normal_matrix;
-uniform mat4 u_view_projection;
-uniform vec4 u_color;
-uniform vec3 u_eye;
-uniform vec3 u_light_dir;
-out vec4 v_color;
-void main() {
-  vec4 world = u_model * vec4(a_position, 1.0);
-  vec3 n = normalize(u_normal_matrix * a_normal);
-  vec3 v = normalize(u_eye - world.xyz);
-  if (dot(n, v) < 0.0) n = -n;
-  float key = max(dot(n, u_light_dir), 0.0);
-  float fill = max(dot(n, v), 0.0);
-  vec3 h = normalize(u_light_dir + v);
-  float specular = 0.18 * pow(max(dot(n, h), 0.0), 40.0);
-  vec3 c = u_color.rgb * (0.28 + 0.52 * key + 0.25 * fill) + vec3(specular);
-  v_color = vec4(min(c, vec3(1.0)), u_color.a);
-  gl_Position = u_view_projection * world;
-}
-)";
+constexpr const char* kVertexLitVertex =
+    "#version 330 core\n"
+    "layout(location = 0) in vec3 a_position;\n"
+    "layout(location = 1) in vec3 a_normal;\n"
+    "uniform mat4 u_model;\n"
+    "uniform mat3 u_normal_matrix;\n"
+    "uniform mat4 u_view_projection;\n"
+    "out vec4 v_color;\n" ECPSIM_SHADE_FUNCTION
+    "void main() {\n"
+    "  vec4 world = u_model * vec4(a_position, 1.0);\n"
+    "  v_color = Shade(u_normal_matrix * a_normal, world.xyz);\n"
+    "  gl_Position = u_view_projection * world;\n"
+    "}\n";
 
-constexpr const char* kVertexLitFragment = R"(#version 330 core
+#undef ECPSIM_SHADE_FUNCTION
+
+// an interpolated per-vertex colour (the vertex-lit program, the ground)
+constexpr const char* kColorFragment = R"(#version 330 core
 in vec4 v_color;
 out vec4 frag_color;
 void main() { frag_color = v_color; }
@@ -96,11 +91,6 @@ void main() {
 }
 )";
 
-constexpr const char* kGroundFragment = R"(#version 330 core
-in vec4 v_color;
-out vec4 frag_color;
-void main() { frag_color = v_color; }
-)";
 
 constexpr const char* kOverlayVertex = R"(#version 330 core
 layout(location = 0) in vec3 a_pixel;
@@ -181,10 +171,10 @@ int ShaderProgram::Uniform(const char* name) const { return glGetUniformLocation
 
 ShaderProgram MakeMeshProgram() { return ShaderProgram("mesh", kMeshVertex, kMeshFragment); }
 ShaderProgram MakeVertexLitProgram() {
-  return ShaderProgram("vertex-lit", kVertexLitVertex, kVertexLitFragment);
+  return ShaderProgram("vertex-lit", kVertexLitVertex, kColorFragment);
 }
 ShaderProgram MakeGroundProgram() {
-  return ShaderProgram("ground", kGroundVertex, kGroundFragment);
+  return ShaderProgram("ground", kGroundVertex, kColorFragment);
 }
 ShaderProgram MakeOverlayProgram() {
   return ShaderProgram("overlay", kOverlayVertex, kOverlayFragment);
