@@ -62,7 +62,9 @@ TEST(MassPropertiesTest, BoxMatchesClosedFormFarFromOrigin) {
   for (int a = 0; a < 3; ++a) {
     EXPECT_LE(std::abs(p.inertia(a, a) - expected[a]) / expected[a], 1e-9) << a;
     for (int b = 0; b < 3; ++b) {
-      if (a != b) EXPECT_LE(std::abs(p.inertia(a, b)) / expected.minCoeff(), 1e-9);
+      if (a != b) {
+        EXPECT_LE(std::abs(p.inertia(a, b)) / expected.minCoeff(), 1e-9);
+      }
     }
   }
   // ascending principal moments: z (a² + b² = 5), y (10), x (13)
