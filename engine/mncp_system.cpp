@@ -37,6 +37,30 @@ Matrix3d GyroscopicJacobian(const BodyProblem& problem, const Vector3d& w) {
   return I + problem.h * (Skew(w) * I - Skew(I * w));
 }
 
+FreeFlight SolveFreeFlight(const BodyProblem& problem) {
+  // I_w (ω⁺ − ω) + h ω⁺ × I_w ω⁺ = p_ext,τ by Newton from the explicit estimate; the solution
+  // has ‖ω⁺‖_I ≤ ‖ω + I_w⁻¹ p_ext,τ‖_I, so damped steps that shrink the residual reach it
+  const Vector3d tau = problem.p_ext.tail<3>();
+  Vector3d w = problem.w + problem.inertia_world.ldlt().solve(tau);
+  Vector3d r = GyroscopicResidual(problem, w) - tau;
+  const double scale = (problem.inertia_world * problem.w).norm() + tau.norm();
+  for (int i = 0; i < kFreeFlightIterations && r.norm() > kFreeFlightTolerance * scale; ++i) {
+    const Vector3d step = GyroscopicJacobian(problem, w).partialPivLu().solve(-r);
+    // halve the step until the residual shrinks; none that does: round-off level reached
+    bool improved = false;
+    for (double alpha = 1; alpha > 1e-9 && !improved; alpha /= 2) {
+      const Vector3d trial_r = GyroscopicResidual(problem, w + alpha * step) - tau;
+      if (trial_r.norm() < r.norm()) {
+        w += alpha * step;
+        r = trial_r;
+        improved = true;
+      }
+    }
+    if (!improved) break;
+  }
+  return {problem.v + problem.p_ext.head<3>() / problem.mass, w};
+}
+
 // derivatives of the contact frame with respect to N = Σ l_G ∇g (see MakeContactFrame)
 struct FrameDerivatives {
   Matrix3d dn_dN, dt_dN, do_dN;
@@ -100,35 +124,12 @@ BodyProblem StartOfStep(const Scene& scene, int body, const BodyState& state, do
   p.w = state.w_WB;
   p.p_ext = AppliedImpulse(scene.loads, scene.impulses, body, t, h, p.R);
   p.p_ext.head<3>() += h * model.mass * scene.gravity;
+  p.free = SolveFreeFlight(p);
   return p;
 }
 
-FreeFlight FreeFlightVelocities(const BodyProblem& problem) {
-  // I_w (ω⁺ − ω) + h ω⁺ × I_w ω⁺ = p_ext,τ by Newton from the explicit estimate; the solution
-  // has ‖ω⁺‖_I ≤ ‖ω + I_w⁻¹ p_ext,τ‖_I, so damped steps that shrink the residual reach it
-  const Vector3d tau = problem.p_ext.tail<3>();
-  Vector3d w = problem.w + problem.inertia_world.ldlt().solve(tau);
-  Vector3d r = GyroscopicResidual(problem, w) - tau;
-  const double scale = (problem.inertia_world * problem.w).norm() + tau.norm();
-  for (int i = 0; i < kFreeFlightIterations && r.norm() > kFreeFlightTolerance * scale; ++i) {
-    const Vector3d step = GyroscopicJacobian(problem, w).partialPivLu().solve(-r);
-    // halve the step until the residual shrinks; none that does: round-off level reached
-    bool improved = false;
-    for (double alpha = 1; alpha > 1e-9 && !improved; alpha /= 2) {
-      const Vector3d trial_r = GyroscopicResidual(problem, w + alpha * step) - tau;
-      if (trial_r.norm() < r.norm()) {
-        w += alpha * step;
-        r = trial_r;
-        improved = true;
-      }
-    }
-    if (!improved) break;
-  }
-  return {problem.v + problem.p_ext.head<3>() / problem.mass, w};
-}
-
 bool FreeFlightIsFinite(const BodyProblem& problem, std::string& tried) {
-  const FreeFlight free = FreeFlightVelocities(problem);
+  const FreeFlight& free = problem.free;
   // a finite but huge ω still overflows the rotation angle h|ω| inside Exp
   if (free.v.allFinite() && free.w.allFinite() &&
       PoseAfterStep(problem, free.v, free.w).R.allFinite()) {

@@ -23,6 +23,11 @@ struct ContactProblem {
   Eigen::Vector3d tangent_reference = Eigen::Vector3d::UnitX();  // fixed during the step
 };
 
+/// Velocities at the end of the step if no contact acts (see StartOfStep).
+struct FreeFlight {
+  Eigen::Vector3d v, w;
+};
+
 /// Everything one body's MNCP needs from the start of the step.
 struct BodyProblem {
   double h = 0.01;                      // s
@@ -30,7 +35,10 @@ struct BodyProblem {
   Eigen::Matrix3d inertia_world;        // kg·m², R I_B Rᵀ at the start of the step
   Eigen::Vector3d c, v, w;              // CM position, velocity, spatial angular velocity
   Eigen::Matrix3d R;                    // body → world at the start of the step
-  Eigen::Matrix<double, 6, 1> p_ext;    // N·s, N·m·s: gravity + applied + p_vp over the step
+  Eigen::Matrix<double, 6, 1> p_ext;    // N·s, N·m·s: gravity + applied loads over the step
+  // the step's velocities without contact: m (v⁺ − v) = p_ext,f and
+  // I_w (ω⁺ − ω) + h ω⁺ × I_w ω⁺ = p_ext,τ (solved once here: every guess starts from it)
+  FreeFlight free;
   std::vector<ContactProblem> contacts;
 };
 
@@ -53,19 +61,14 @@ struct MncpLayout {
 MncpLayout MakeLayout(const BodyProblem& problem);
 
 /// The body part of a BodyProblem (no contacts yet) for body `body` of `scene` at `state`, for the
-/// step [t, t + h]: world inertia, and gravity, applied loads and the gyroscopic impulse
-/// p_vp = (0, −h ω × Iω), all at the start of the step (FORMULATION.md trap 4).
+/// step [t, t + h]: world inertia, gravity and applied loads at the start of the step
+/// (FORMULATION.md trap 4), and the free-flight velocities with the implicit gyroscopic impulse
+/// (engine/README.md).
 BodyProblem StartOfStep(const Scene& scene, int body, const BodyState& state, double t, double h);
 
-/// Velocities at the end of the step if no contact acts: ν + M⁻¹ p_ext.
-struct FreeFlight {
-  Eigen::Vector3d v, w;
-};
-FreeFlight FreeFlightVelocities(const BodyProblem& problem);
-
-/// Whether the step's free-flight velocities and end pose are finite. They overflow when a body spins so fast
-/// that the explicit gyroscopic impulse −h ω × I_w ω feeds itself (|h ω| ≫ 1, engine/README.md);
-/// then appends "non-finite free-flight velocities (h = …)" to `tried` for the failure message.
+/// Whether the step's free-flight velocities and end pose are finite: a state that already spins
+/// at an overflowing rate (or a load that is not finite) cannot be stepped; then appends
+/// "non-finite free-flight velocities (h = …)" to `tried` for the failure message.
 bool FreeFlightIsFinite(const BodyProblem& problem, std::string& tried);
 
 /// Position and orientation at the end of the step for velocities (v⁺, ω⁺).

@@ -227,7 +227,7 @@ class MultiPatchStepper {
                      const Scales& scales) const {
     const BodyProblem& bp = problem.body;
     VectorXd z = VectorXd::Zero(layout.size);
-    const auto [v_free, w_free] = FreeFlightVelocities(bp);
+    const auto& [v_free, w_free] = bp.free;
 
     // warm start: the last step's velocities and every block's unknowns
     if (guess == Guess::kWarm) {

@@ -78,7 +78,7 @@ class PointContactStepper {
                StepReport& report, double& residual, std::string& tried) const {
     const Body& model = scene_.bodies[body_index_];
     const BodyProblem problem = StartOfStep(scene_, body_index_, body, t, h);
-    const FreeFlight free = FreeFlightVelocities(problem);
+    const FreeFlight& free = problem.free;
 
     // contact points: hull vertices within the activation distance of each obstacle
     const std::vector<Vector3d> vertices = HullVertices(*model.hull);

@@ -188,7 +188,7 @@ class BodyStepper {
                      const Scales& scales) const {
     VectorXd z = VectorXd::Zero(layout.size);
     // free-flight velocities as the starting point of a fresh guess; the last ones for warm starts
-    const auto [v_free, w_free] = FreeFlightVelocities(problem);
+    const auto& [v_free, w_free] = problem.free;
     z.segment<3>(0) = guess == Guess::kWarm ? body.v_WB : v_free;
     z.segment<3>(3) = guess == Guess::kWarm ? body.w_WB : w_free;
 
