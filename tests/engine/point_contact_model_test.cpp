@@ -8,7 +8,6 @@
 
 #include "engine/rotation.h"
 #include "engine/time_step.h"
-#include "tests/cli_test.h"
 #include "tests/engine/test_bodies.h"
 
 namespace ecpsim::engine {
@@ -232,16 +231,6 @@ TEST_P(PointContactSmallStepTest, PaperDeskFollowsTheHullModel) {
 }
 
 INSTANTIATE_TEST_SUITE_P(PointContactSmallSteps, PointContactSmallStepTest, ::testing::Values(1.25e-4, 6.25e-5));
-
-class PointContactCliTest : public ecpsim::testing::CliTest {};
-
-TEST_F(PointContactCliTest, DeskRunsWithThePointModel) {
-  const ecpsim::testing::CliResult result =
-      Run(fmt::format("run '{}/scenes/desk.yaml' -o '{}' --model point --duration 0.5",
-                      ECPSIM_SOURCE_DIR, (dir_ / "out").string()));
-  EXPECT_EQ(result.exit_code, 0) << result.output;
-  EXPECT_THAT(result.output, ::testing::Not(::testing::HasSubstr("failed")));
-}
 
 }  // namespace
 }  // namespace ecpsim::engine

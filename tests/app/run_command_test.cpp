@@ -178,5 +178,13 @@ TEST_F(RunCommandTest, DropLandsAMeshOnTheGround) {
   EXPECT_LT(ReadJson(out / "summary.json")["max_penetration"].get<double>(), 1e-6);
 }
 
+TEST_F(RunCommandTest, DeskRunsWithThePointModel) {
+  const testing::CliResult result =
+      Run(fmt::format("run '{}/scenes/desk.yaml' -o '{}' --model point --duration 0.5",
+                      ECPSIM_SOURCE_DIR, (dir_ / "out").string()));
+  EXPECT_EQ(result.exit_code, 0) << result.output;
+  EXPECT_THAT(result.output, ::testing::Not(::testing::HasSubstr("failed")));
+}
+
 }  // namespace
 }  // namespace ecpsim
