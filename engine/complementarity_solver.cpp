@@ -225,10 +225,12 @@ thread_local bool WorkspaceLease::shared_taken_ = false;
 
 }  // namespace
 
-double McpResidual(const Eigen::VectorXd& z, const Eigen::VectorXd& F, int num_free) {
+double McpResidual(const Eigen::VectorXd& z, const Eigen::VectorXd& F, int num_free,
+                   const Eigen::VectorXd& row_scale, const Eigen::VectorXd& var_scale) {
   double r = 0;
   for (int i = 0; i < z.size(); ++i) {
-    const double e = i < num_free ? std::abs(F[i]) : std::abs(std::min(z[i], F[i]));
+    const double f = row_scale[i] * F[i];
+    const double e = i < num_free ? std::abs(f) : std::abs(std::min(z[i] / var_scale[i], f));
     r = std::max(r, std::isfinite(e) ? e : INFINITY);
   }
   return r;
@@ -254,9 +256,11 @@ McpResult SolveMcp(const McpFunction& f, int num_free, const Eigen::VectorXd& ro
   problem.Evaluate(x, &F, &current, true);
 
   McpResult result;
-  // the measure of (z, F): the problem's own, else McpResidual (no std::function in between)
-  auto measure = [&options, num_free](const Eigen::VectorXd& zz, const Eigen::VectorXd& FF) {
-    return options.measure ? options.measure(zz, FF) : McpResidual(zz, FF, num_free);
+  // the measure of (z, F): the problem's own, else McpResidual of the scaled problem (no
+  // std::function in between)
+  auto measure = [&](const Eigen::VectorXd& zz, const Eigen::VectorXd& FF) {
+    return options.measure ? options.measure(zz, FF)
+                           : McpResidual(zz, FF, num_free, row_scale, var_scale);
   };
   result.residual = measure(z, F);
   if (!AllFinite(current.phi)) return result;

@@ -14,15 +14,16 @@ namespace ecpsim::engine {
 using McpFunction =
     std::function<void(const Eigen::VectorXd& z, Eigen::VectorXd* F, Eigen::MatrixXd* J)>;
 
-/// A problem-specific convergence measure of (z, F); by default McpResidual.
+/// A problem-specific convergence measure of (z, F) (z and F unscaled); by default McpResidual
+/// of the scaled problem.
 using McpMeasure = std::function<double(const Eigen::VectorXd& z, const Eigen::VectorXd& F)>;
 
 struct McpOptions {
-  double tolerance = 1e-10;    // on the unscaled residual (McpResidual)
+  double tolerance = 1e-10;    // on the measure: dimensionless for the default McpResidual
   int max_iterations = 60;
   double fb_lambda = 0.9;      // penalized FB weight (Chen–Chen–Kanzow); 1 is plain FB
   int nonmonotone_memory = 5;  // Armijo reference = max of the last few merit values
-  McpMeasure measure;          // empty: McpResidual with the solver's num_free
+  McpMeasure measure;          // empty: McpResidual with the solver's num_free and scales
   // keep the complementarity unknowns z_i (i ≥ num_free) ≥ 0 at every iterate (each trial point
   // of the line search is projected onto that orthant): no iterate can reach a stationary point
   // of the merit function with a negative multiplier (engine/README.md, "Impacts")
@@ -35,14 +36,18 @@ struct McpResult {
   double residual = 0;  // the measure (McpResidual by default) at the returned z
 };
 
-/// max(max_{i<num_free} |F_i|, max_{i≥num_free} |min(z_i, F_i)|): the unscaled residual of the
-/// conditions (0 exactly at a solution), in the units of each row.
-double McpResidual(const Eigen::VectorXd& z, const Eigen::VectorXd& F, int num_free);
+/// The residual of the scaled problem (0 exactly at a solution): with x = z / var_scale and
+/// F̃ = row_scale ⊙ F, max(max_{i<num_free} |F̃_i|, max_{i≥num_free} |min(x_i, F̃_i)|). When the
+/// scales are the problem's own units (a body's length, velocity, impulse) it is dimensionless,
+/// so one tolerance means the same for a millimetre and a kilometre body.
+double McpResidual(const Eigen::VectorXd& z, const Eigen::VectorXd& F, int num_free,
+                   const Eigen::VectorXd& row_scale, const Eigen::VectorXd& var_scale);
 
 /// Solves in place from the initial guess `z`. `row_scale` and `var_scale` (positive) define the
 /// scaled problem F̃ = row_scale ⊙ F(var_scale ⊙ x) the Newton iteration works on, so rows and
 /// unknowns of different units (N·s, m, dimensionless multipliers) weigh alike (trap 6); the
-/// convergence test is on the unscaled residual. Never returns a non-finite z: if an iterate
+/// convergence test is `options.measure`, by default McpResidual of the same scaled problem
+/// (relative to the scales, never an absolute bar). Never returns a non-finite z: if an iterate
 /// would be non-finite the solve stops unconverged at the last finite iterate.
 McpResult SolveMcp(const McpFunction& f, int num_free, const Eigen::VectorXd& row_scale,
                    const Eigen::VectorXd& var_scale, Eigen::VectorXd& z,

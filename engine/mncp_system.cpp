@@ -153,30 +153,41 @@ ContactFrame MakeContactFrame(const Vector3d& N, const Vector3d& tangent_referen
   return frame;
 }
 
-double MncpResidual(const MncpLayout& layout, const Eigen::VectorXd& z,
-                    const Eigen::VectorXd& F) {
+double MncpResidual(const MncpLayout& layout, const Eigen::VectorXd& z, const Eigen::VectorXd& F,
+                    const Eigen::VectorXd& row_scale, const Eigen::VectorXd& var_scale) {
   // row by row (each row of the layout once), without a scaled copy of F: called every iterate
   double r = 0;
   const auto measure = [&](int i, double divisor) {
-    const double f = F[i] / divisor;
-    const double e = i < layout.num_free ? std::abs(f) : std::abs(std::min(z[i], f));
+    const double f = row_scale[i] * F[i] / divisor;
+    const double e =
+        i < layout.num_free ? std::abs(f) : std::abs(std::min(z[i] / var_scale[i], f));
     r = std::max(r, std::isfinite(e) ? e : INFINITY);
   };
-  for (int i = 0; i < 6; ++i) measure(i, 1);  // Newton–Euler
-  for (const MncpLayout::Contact& L : layout.contacts) {
-    // rows in metres (a1 − a2 − sN, f_i, g_j, s) carry the round-off of the coordinates
-    // (≈ 1e-16 × |x|): measured relative to max(1 m, |coordinates|), i.e. absolute near the
-    // origin and relative for a body 1 km away
-    const double magnitude = std::max({1.0, z.segment<3>(L.a1).cwiseAbs().maxCoeff(),
+  // coordinates in units of the body's length (row_scale of a1 − a2 − sN is 1/L): rows computed
+  // from them are measured against max(1, |coordinates| / L) (see the header)
+  const auto coordinate_factor = [&](const MncpLayout::Contact& L) {
+    const double magnitude = std::max({z.segment<3>(L.a1).cwiseAbs().maxCoeff(),
                                        z.segment<3>(L.a2).cwiseAbs().maxCoeff(), std::abs(z[L.s])});
+    return std::max(1.0, magnitude * row_scale[L.a1]);
+  };
+  double moment_factor = 1;
+  for (const MncpLayout::Contact& L : layout.contacts) {
+    const double factor = coordinate_factor(L);
+    moment_factor = std::max(moment_factor, factor);
     for (int i = 0; i < 3; ++i) {
-      measure(L.a1 + i, magnitude);
+      measure(L.a1 + i, factor);
       measure(L.a2 + i, 1);
     }
-    for (int i : {L.s, L.p_t, L.p_o, L.p_r, L.sigma}) measure(i, 1);
-    for (int i = 0; i < L.l_count; ++i) measure(L.l + i, magnitude);
-    for (int i = 0; i < L.l_g_count; ++i) measure(L.l_g + i, magnitude);
-    measure(L.p_n, magnitude);
+    for (int i : {L.p_t, L.p_o}) measure(i, factor);
+    for (int i : {L.s, L.p_r, L.sigma}) measure(i, 1);
+    for (int i = 0; i < L.l_count; ++i) measure(L.l + i, factor);
+    for (int i = 0; i < L.l_g_count; ++i) measure(L.l_g + i, factor);
+    measure(L.p_n, factor);
+  }
+  // Newton–Euler: the moment rows carry r × p with r = a1 − c⁺
+  for (int i = 0; i < 3; ++i) {
+    measure(i, 1);
+    measure(3 + i, moment_factor);
   }
   return r;
 }

@@ -85,11 +85,15 @@ struct ContactFrame {
 };
 ContactFrame MakeContactFrame(const Eigen::Vector3d& N, const Eigen::Vector3d& tangent_reference);
 
-/// The unscaled residual of the MNCP conditions at (z, F): max over rows of |F_i| for equations
-/// and |min(z_i, F_i)| for complementarity pairs, each in its row's physical unit; rows in metres
-/// are divided by max(1 m, the largest coordinate of a1, a2, s), since coordinates carry
-/// round-off relative to their size.
-double MncpResidual(const MncpLayout& layout, const Eigen::VectorXd& z, const Eigen::VectorXd& F);
+/// The MNCP's convergence measure: McpResidual of the scaled problem (each row in its body's own
+/// unit, `row_scale` and `var_scale` from mncp_scaling.h), so it is dimensionless and means the
+/// same for a millimetre and a kilometre body. Rows whose value is computed from world
+/// coordinates (a1, a2, c⁺: the gap, the hull and obstacle constraints, a1 − a2 − sN, the moment
+/// r × p and the slip velocity ω × r) carry round-off of ≈ 1e-16 × |coordinates|, so they are
+/// measured against max(L, |coordinates|) rather than the body's length L alone: relative to the
+/// body near the origin, relative to the position for a body far from it.
+double MncpResidual(const MncpLayout& layout, const Eigen::VectorXd& z, const Eigen::VectorXd& F,
+                    const Eigen::VectorXd& row_scale, const Eigen::VectorXd& var_scale);
 
 /// Residual F(z) in physical units (rows as in MncpLayout). The friction cone row is written as
 /// μ p_n − ‖(p_t/e_t, p_o/e_o, p_r/e_r)‖ instead of the paper's ζ = (μ p_n)² − ‖…‖²: for p_n ≥ 0

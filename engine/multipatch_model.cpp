@@ -160,27 +160,33 @@ class MultiPatchStepper {
     McpOptions options;
     options.tolerance = scene_.solver.tolerance;
     options.max_iterations = kIterationBudgetFactor * scene_.solver.max_iterations;
-    options.measure = [&](const VectorXd& zz, const VectorXd& F) {
-      return MncpResidual(layout, zz, F);
-    };
     const McpFunction f = [&](const VectorXd& zz, VectorXd* F, Eigen::MatrixXd* J) {
       EvaluateMultiPatch(problem, layout, zz, F, J);
     };
     const VectorXd row_scale = RowScales(problem.body, layout, scales);
     const VectorXd var_scale = VariableScales(problem.body, layout, scales);
-    for (Guess guess : ladder) {
-      VectorXd z = MakeGuess(guess, problem, layout, body, contacts, scales);
-      const McpResult result = SolveMcp(f, layout.num_free, row_scale, var_scale, z, options);
-      report.iterations += result.iterations;
-      residual = result.residual;
-      if (result.converged && z.allFinite()) {
-        Commit(problem, layout, z, h, body, contacts);
-        return true;
+    options.measure = [&](const VectorXd& zz, const VectorXd& F) {
+      return MncpResidual(layout, zz, F, row_scale, var_scale);
+    };
+    // the ladder as it is, then once more with iterates kept in the orthant of the
+    // complementarity unknowns, as the hull model (engine/README.md, "Impacts")
+    for (const bool project : {false, true}) {
+      options.project_nonnegative = project;
+      for (Guess guess : ladder) {
+        VectorXd z = MakeGuess(guess, problem, layout, body, contacts, scales);
+        const McpResult result = SolveMcp(f, layout.num_free, row_scale, var_scale, z, options);
+        report.iterations += result.iterations;
+        residual = result.residual;
+        if (result.converged && z.allFinite()) {
+          Commit(problem, layout, z, h, body, contacts);
+          return true;
+        }
+        tried += fmt::format("{}{}{} (h = {:g} s): residual {:.3g} after {} iterations",
+                             tried.empty() ? "" : "; ", GuessName(guess),
+                             project ? " (projected)" : "", h, result.residual,
+                             result.iterations);
+        ++report.retries;
       }
-      tried += fmt::format("{}{} (h = {:g} s): residual {:.3g} after {} iterations",
-                           tried.empty() ? "" : "; ", GuessName(guess), h, result.residual,
-                           result.iterations);
-      ++report.retries;
     }
     return false;
   }

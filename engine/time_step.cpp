@@ -105,12 +105,13 @@ class BodyStepper {
           const McpFunction f = [&](const VectorXd& zz, VectorXd* F, Eigen::MatrixXd* J) {
             EvaluateMncp(problem, layout, zz, F, J);
           };
+          const VectorXd row_scale = RowScales(problem, layout, scales);
+          const VectorXd var_scale = VariableScales(problem, layout, scales);
           options.measure = [&](const VectorXd& zz, const VectorXd& F) {
-            return MncpResidual(layout, zz, F);
+            return MncpResidual(layout, zz, F, row_scale, var_scale);
           };
           const McpResult result =
-              SolveMcp(f, layout.num_free, RowScales(problem, layout, scales),
-                       VariableScales(problem, layout, scales), z, options);
+              SolveMcp(f, layout.num_free, row_scale, var_scale, z, options);
           report.iterations += result.iterations;
           residual = result.residual;
           // a turn of more than π in one step is an alias: Exp(hω⁺) has the same end pose for a
