@@ -32,9 +32,9 @@ constexpr double kPi = 3.14159265358979323846;
 
 // The dumbbell's mesh is a 96-gon prism inscribed in its cylinder hull: lying on its side, its
 // lowest facet floats up to the sagitta R (1 − cos(π/96)) = 5.35e-5 m above the ground while the
-// hull touches it. Its snapshots take the patch within that distance (+ 1e-6 m) so that they show
-// the two contact segments rather than nothing.
-const double kDumbbellPatchTolerance = 0.1 * (1 - std::cos(kPi / 96)) + 1e-6;  // m
+// hull touches it. Its snapshots take the patch within that distance (on top of the default
+// tolerance) so that they show the two contact segments rather than nothing.
+const double kDumbbellSagitta = 0.1 * (1 - std::cos(kPi / 96));  // m
 
 // the paper's snapshot times of the dumbbell (its figure 9 e–i)
 const std::vector<double> kDumbbellSnapshotTimes = {0.01, 0.25, 0.5, 1.75, 2.5};  // s
@@ -100,10 +100,11 @@ struct Snapshot {
   std::string title;
 };
 
-// a grid of top-down contact-patch views, one panel per snapshot
+// a grid of top-down contact-patch views, one panel per snapshot; the patch is taken within the
+// default tolerance plus `gap` (m) of the plane
 void PlotSnapshots(PlotWriter& writer, const std::string& png, const TrajectoryTable& table,
                    const Columns& c, const engine::Scene& scene,
-                   const std::vector<Snapshot>& snapshots, double tolerance) {
+                   const std::vector<Snapshot>& snapshots, double gap = 0) {
   if (snapshots.empty()) return;
   const int n = static_cast<int>(snapshots.size());
   const int cols = n <= 3 ? n : (n <= 4 ? 2 : (n <= 6 ? 3 : 4));
@@ -118,7 +119,8 @@ void PlotSnapshots(PlotWriter& writer, const std::string& png, const TrajectoryT
     const std::size_t row = snapshots[k].row;
     const Eigen::Isometry3d X_WB = PoseAt(table, c, row);
     const geometry::ContactPatch patch =
-        geometry::ExtractContactPatch(scene.bodies[0].mesh, X_WB, ground, tolerance);
+        geometry::ExtractContactPatch(scene.bodies[0].mesh, X_WB, ground,
+                                      geometry::ContactPatchTolerance(scene.bodies[0].mesh) + gap);
     const Vector3d cm = X_WB.translation();
     const Vector3d ecp = c.has_contact ? Vector3d(table.Column(c.contact + "a1x")[row],
                                                   table.Column(c.contact + "a1y")[row],
@@ -374,8 +376,7 @@ std::vector<std::string> PlotRun(const std::string& dir, PlotKind kind) {
         const std::size_t row = RowNear(t, time);
         snapshots.push_back({row, fmt::format("t = {:.2f} s", t[row])});
       }
-      PlotSnapshots(writer, "desk_patches.png", table, c, scene, snapshots,
-                    geometry::kContactPatchTolerance);
+      PlotSnapshots(writer, "desk_patches.png", table, c, scene, snapshots);
       break;
     }
     case PlotKind::kTBar: {
@@ -433,8 +434,7 @@ std::vector<std::string> PlotRun(const std::string& dir, PlotKind kind) {
             changes[count == 1 ? 0 : k * (changes.size() - 1) / (count - 1)];
         snapshots.push_back({row, fmt::format("t = {:.2f} s", t[row])});
       }
-      PlotSnapshots(writer, "tbar_patches.png", table, c, scene, snapshots,
-                    geometry::kContactPatchTolerance);
+      PlotSnapshots(writer, "tbar_patches.png", table, c, scene, snapshots);
       break;
     }
     case PlotKind::kDumbbell: {
@@ -452,7 +452,7 @@ std::vector<std::string> PlotRun(const std::string& dir, PlotKind kind) {
         snapshots.push_back({row, fmt::format("t = {:.2f} s", t[row])});
       }
       PlotSnapshots(writer, "dumbbell_patches.png", table, c, scene, snapshots,
-                    kDumbbellPatchTolerance);
+                    kDumbbellSagitta);
       break;
     }
     case PlotKind::kGeneric:

@@ -4,13 +4,23 @@
 #include <cmath>
 
 namespace ecpsim::engine {
+namespace {
+
+// the velocity scale's floor when the body is at rest and gravity is 0: a thousandth of its length
+// per step, far below any motion a step resolves and far above 0 (the scales must not vanish)
+constexpr double kMinVelocityLengthsPerStep = 1e-3;
+// a body slower than this fraction of its velocity scale counts as at rest (the ladder then starts
+// from the resting guess): its slip is far below the sliding guess's resolution
+constexpr double kMovingFraction = 1e-3;
+
+}  // namespace
 
 Scales BodyScales(const Body& body, const BodyState& state, const Eigen::Vector3d& gravity,
                   double h) {
   Scales s;
   s.length = std::sqrt(body.inertia.trace() / body.mass);
   s.velocity = std::max({state.v_WB.norm() + state.w_WB.norm() * s.length, gravity.norm() * h,
-                         1e-3 * s.length / h});
+                         kMinVelocityLengthsPerStep * s.length / h});
   s.impulse = body.mass * s.velocity;
   return s;
 }
@@ -46,6 +56,10 @@ Eigen::VectorXd RowScales(const BodyProblem& problem, const MncpLayout& layout, 
     scale[L.sigma] = 1 / s.impulse;
   }
   return scale;
+}
+
+bool IsMoving(const BodyState& state, const Scales& scales) {
+  return state.v_WB.norm() + state.w_WB.norm() * scales.length > kMovingFraction * scales.velocity;
 }
 
 const char* GuessName(Guess guess) {

@@ -30,6 +30,10 @@ Eigen::VectorXd VariableScales(const BodyProblem& problem, const MncpLayout& lay
 /// 1/(P V) (1/(P V e_r)), the cone by 1/P; the normal-cone rows are dimensionless.
 Eigen::VectorXd RowScales(const BodyProblem& problem, const MncpLayout& layout, const Scales& s);
 
+/// Whether the body moves at more than a small fraction of its velocity scale (the restart ladder
+/// starts from the sliding guess then, else from the resting one).
+bool IsMoving(const BodyState& state, const Scales& scales);
+
 /// Which initial guess a solve starts from (FORMULATION.md, the restart ladder).
 enum class Guess { kWarm, kSeparated, kResting, kSliding };
 const char* GuessName(Guess guess);

@@ -37,8 +37,7 @@ constexpr double kTouchingRelTol = 1e-6;
 constexpr int kIterationBudgetFactor = 4;
 // vertices this close to the support plane belong to the support feature (a face or an edge):
 // far above the hull's round-off, far below any part's size
-constexpr double kFeatureRelTol = 1e-9;  // of the support value
-constexpr double kFeatureAbsTol = 1e-9;  // m
+constexpr double kFeatureRelTol = 1e-9;  // of the part's width along the direction, or its offset
 // the combined ECP's weight floor relative to the body's impulse scale: far below the solver
 // tolerance's effect on the ECP (it moves a1 by ≈ 1e-12 of the part spacing), far above 0 so
 // that a1 stays defined when no part carries load
@@ -52,12 +51,14 @@ Vector3d SupportFeatureCentroid(const geometry::ConvexShape& part, const Vector3
   const auto* polyhedron = dynamic_cast<const geometry::PolyhedralShape*>(&part);
   const Vector3d support = part.Support(direction);
   if (polyhedron == nullptr) return support;
-  const double top = support.dot(direction);
+  const Vector3d d = direction.normalized();
+  const double top = support.dot(d);
+  const double width = top - part.Support(-d).dot(d);
+  const double tolerance = kFeatureRelTol * std::max(std::abs(top), width);
   Vector3d sum = Vector3d::Zero();
   int count = 0;
   for (const Vector3d& v : polyhedron->hull().vertices) {
-    if (v.dot(direction) >= top - kFeatureRelTol * direction.norm() * std::abs(top) -
-                                  kFeatureAbsTol * direction.norm()) {
+    if (v.dot(d) >= top - tolerance) {
       sum += v;
       ++count;
     }
@@ -153,8 +154,7 @@ class MultiPatchStepper {
       have_warm_start &= contacts[g].warm_start.size() == WarmStartSize(layout, problem, g);
     const bool was_in_contact = std::any_of(contacts.begin(), contacts.end(),
                                             [](const ContactState& c) { return c.p_n > 0; });
-    const bool moving =
-        body.v_WB.norm() + body.w_WB.norm() * scales.length > 1e-3 * scales.velocity;
+    const bool moving = IsMoving(body, scales);
     const std::vector<Guess> ladder = RestartLadder(have_warm_start, was_in_contact, moving);
 
     McpOptions options;

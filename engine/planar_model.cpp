@@ -7,6 +7,7 @@
 
 #include "engine/complementarity_solver.h"
 #include "engine/contact_window.h"
+#include "engine/mncp_scaling.h"
 #include "engine/rotation.h"
 
 namespace ecpsim::engine {
@@ -18,9 +19,9 @@ using Eigen::VectorXd;
 // "flat" and "horizontal": the support face normal within this angle of −z, the plane within it of
 // +z; far below any tilt the hull model would resolve, far above round-off
 constexpr double kFlatTolerance = 1e-9;  // rad
-// the ECP may sit on the support face's boundary up to this distance (m) before the model is
-// declared invalid (the solver tolerance is 1e-12)
-constexpr double kSupportTolerance = 1e-9;
+// the ECP may sit on the support face's boundary up to this fraction of the body's length scale
+// before the model is declared invalid: far above the solver's relative 1e-12, far below a face
+constexpr double kSupportRelTolerance = 1e-9;
 
 // the face of the polyhedral hull whose outward normal (body frame) is closest to `direction_B`
 int MostAlignedFace(const geometry::PolyhedralShape& hull, const Vector3d& direction_B) {
@@ -62,13 +63,15 @@ StepReport StepPlanarSliding(const Scene& scene, State& state) {
         plane.Gradient(0, b.p_WB).normalized().z() < std::cos(kFlatTolerance) || hull == nullptr)
       throw fail("it needs a polyhedral hull on a horizontal plane");
     const Eigen::Matrix3d R = b.Q_WB.toRotationMatrix();
+    const Scales scales = BodyScales(body, b, scene.gravity, h);
+    const double support_tolerance = kSupportRelTolerance * scales.length;
     const int face = MostAlignedFace(*hull, R.transpose() * -Vector3d::UnitZ());
     if ((R * hull->hull().normals[face]).z() > -std::cos(kFlatTolerance))
       throw fail("the body is not flat on a face");
     // CM height above the plane, constant in this model
     const Vector3d lowest = b.p_WB + R * hull->Support(R.transpose() * -Vector3d::UnitZ());
     const double height = plane.Value(0, b.p_WB) - plane.Value(0, lowest);
-    if (std::abs(plane.Value(0, lowest)) > kSupportTolerance)
+    if (std::abs(plane.Value(0, lowest)) > support_tolerance)
       throw fail(fmt::format("its lowest point is {:.3g} m off the plane", plane.Value(0, lowest)));
 
     // impulses over the step: gravity, applied loads (at the start of the step, as the hull model)
@@ -136,7 +139,7 @@ StepReport StepPlanarSliding(const Scene& scene, State& state) {
     const ContactState& previous = state.contacts[k];
     VectorXd z(4);
     z << previous.p_t, previous.p_o, previous.p_r, previous.sigma;
-    const double speed = std::max(b.v_WB.head<2>().norm() + std::abs(b.w_WB.z()) * fr.e_r, 1e-3);
+    const double speed = scales.velocity;
     const VectorXd var_scale = (VectorXd(4) << p_n, p_n, p_n * fr.e_r, speed).finished();
     const VectorXd row_scale =
         (VectorXd(4) << 1 / (p_n * speed), 1 / (p_n * speed), 1 / (p_n * speed * fr.e_r), 1 / p_n)
@@ -175,7 +178,7 @@ StepReport StepPlanarSliding(const Scene& scene, State& state) {
     c.a2 = c.a1;
     const Vector3d y = next.Q_WB.toRotationMatrix().transpose() * (c.a1 - next.p_WB);
     std::vector<int> window(1, face);
-    if (!WindowSolutionIsExact(*hull, window, face, y, kSupportTolerance))
+    if (!WindowSolutionIsExact(*hull, window, face, y, support_tolerance))
       throw fail(fmt::format("the ECP ({:.4g}, {:.4g}) m left the support face (it would tip)",
                              c.a1.x(), c.a1.y()));
     c.p_n = p_n;

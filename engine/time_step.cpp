@@ -84,8 +84,7 @@ class BodyStepper {
     const bool have_warm_start = contacts.empty() || contacts[0].warm_start.size() > 0;
     const bool was_in_contact = std::any_of(contacts.begin(), contacts.end(),
                                             [](const ContactState& c) { return c.p_n > 0; });
-    const bool moving =
-        body.v_WB.norm() + body.w_WB.norm() * scales.length > 1e-3 * scales.velocity;
+    const bool moving = IsMoving(body, scales);
     const std::vector<Guess> ladder = RestartLadder(have_warm_start, was_in_contact, moving);
 
     McpOptions options;

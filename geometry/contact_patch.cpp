@@ -197,6 +197,21 @@ const char* ContactModeName(ContactMode mode) {
 //     extents along the line covering it without gaps → line, else non-convex line;
 //   hull a polygon: with polygons, hull area = feature area within a relative 1e-9 → convex
 //     patch, else non-convex patch; only points → multi-point; segments → non-convex patch.
+double ContactPatchTolerance(const TriangleMesh& mesh) {
+  ECPSIM_DEMAND(!mesh.vertices.empty());
+  Eigen::Vector3d lo = mesh.vertices.front(), hi = lo;
+  for (const Eigen::Vector3d& v : mesh.vertices) {
+    lo = lo.cwiseMin(v);
+    hi = hi.cwiseMax(v);
+  }
+  return kContactPatchRelTolerance * (hi - lo).norm();
+}
+
+ContactPatch ExtractContactPatch(const TriangleMesh& mesh, const Eigen::Isometry3d& X_WB,
+                                 const Plane& plane) {
+  return ExtractContactPatch(mesh, X_WB, plane, ContactPatchTolerance(mesh));
+}
+
 ContactPatch ExtractContactPatch(const TriangleMesh& mesh, const Eigen::Isometry3d& X_WB,
                                  const Plane& plane, double tolerance) {
   ECPSIM_DEMAND(std::isfinite(tolerance) && tolerance > 0);

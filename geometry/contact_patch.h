@@ -44,15 +44,24 @@ struct ContactPatch {
   ContactMode mode = ContactMode::kNone;
 };
 
-/// Default distance tolerance: 1e-6 m, well above the solver's 1e-9 m position error and well below
-/// any feature of a modelled body.
-inline constexpr double kContactPatchTolerance = 1e-6;  // m
+/// The default distance tolerance as a fraction of the mesh's bounding-box diagonal: 1 µm on a
+/// 1 m body — far above the solver's position error (1e-12 of the body's size) and the
+/// single-precision rounding of mesh files (6e-8), far below any modelled feature; relative, so
+/// that a millimetre part and a 100 m hull find the same patches.
+inline constexpr double kContactPatchRelTolerance = 1e-6;  // dimensionless
+
+/// kContactPatchRelTolerance × the bounding-box diagonal of `mesh` (m).
+double ContactPatchTolerance(const TriangleMesh& mesh);
 
 /// Extracts the contact patch of `mesh` (body frame) posed by `X_WB` against `plane` (world):
-/// every vertex with signed distance ≤ `tolerance` counts as touching; edges and triangles whose
-/// vertices all touch become segments and polygons (coplanar triangles merged).
+/// every vertex with signed distance ≤ `tolerance` (m) counts as touching; edges and triangles
+/// whose vertices all touch become segments and polygons (coplanar triangles merged).
 ContactPatch ExtractContactPatch(const TriangleMesh& mesh, const Eigen::Isometry3d& X_WB,
-                                 const Plane& plane, double tolerance = kContactPatchTolerance);
+                                 const Plane& plane, double tolerance);
+
+/// As above with the default tolerance ContactPatchTolerance(mesh).
+ContactPatch ExtractContactPatch(const TriangleMesh& mesh, const Eigen::Isometry3d& X_WB,
+                                 const Plane& plane);
 
 /// True if `point` (world, on the plane) lies in the patch's convex hull within `tolerance` metres.
 bool PatchHullContains(const ContactPatch& patch, const Plane& plane,

@@ -68,14 +68,15 @@ double SceneFrameBuilder::PatchTolerance(int body, const Eigen::Isometry3d& X_WB
   // point carry the contact. For the polyhedral hull of the mesh the gap is 0 (its vertices are
   // mesh vertices) and the tolerance is the plain one.
   const geometry::ConvexShape* hull = scene_.bodies[body].hull.get();
-  if (hull == nullptr) return geometry::kContactPatchTolerance;
+  const double tolerance = geometry::ContactPatchTolerance(*meshes_[body]);
+  if (hull == nullptr) return tolerance;
   const Eigen::Matrix3d& R = X_WB.linear();
   const Eigen::Vector3d support = X_WB * hull->Support(R.transpose() * -plane.normal);
   double mesh_lowest = std::numeric_limits<double>::infinity();
   for (const Eigen::Vector3d& v : meshes_[body]->vertices)
     mesh_lowest = std::min(mesh_lowest, plane.normal.dot(X_WB * v));
   const double gap = std::max(0.0, mesh_lowest - plane.normal.dot(support));
-  return geometry::kContactPatchTolerance + gap;
+  return tolerance + gap;
 }
 
 FrameInput SceneFrameBuilder::Build(const engine::State& state, int iterations) const {

@@ -29,7 +29,7 @@ class SceneFrameBuilder {
   FrameInput Build(const engine::State& state, int iterations = -1) const;
 
  private:
-  // the patch tolerance for `body` at pose X_WB: geometry::kContactPatchTolerance plus the gap
+  // the patch tolerance for `body` at pose X_WB: geometry::ContactPatchTolerance plus the gap
   // between its hull's and its mesh's lowest points
   double PatchTolerance(int body, const Eigen::Isometry3d& X_WB,
                         const geometry::Plane& plane) const;

@@ -169,8 +169,11 @@ TEST(ContactPatchTest, TBarFlatAndOnTwoCorners) {
 // convex patch), 2 × tolerance up it does not (a line).
 TEST(ContactPatchTest, ToleranceDecidesWhatTouches) {
   const TriangleMesh box = MakeBoxMesh({-0.1, -0.2, 0}, {0.1, 0.2, 0.3});
+  const double tolerance = ContactPatchTolerance(box);
+  // the default is relative: 1e-6 of the box's diagonal √(0.2² + 0.4² + 0.3²) m
+  EXPECT_NEAR(tolerance, kContactPatchRelTolerance * std::sqrt(0.29), 1e-20);
   for (const double rise : {0.5, 2.0}) {
-    const double angle = std::asin(rise * kContactPatchTolerance / 0.4);
+    const double angle = std::asin(rise * tolerance / 0.4);
     Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
     X.translate(Eigen::Vector3d(0, -0.2, 0))
         .rotate(Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitX()))
@@ -186,16 +189,45 @@ TEST(ContactPatchTest, ToleranceDecidesWhatTouches) {
   }
   // lifted clear of the plane: nothing
   Eigen::Isometry3d above = Eigen::Isometry3d::Identity();
-  above.translation().z() = 2 * kContactPatchTolerance;
+  above.translation().z() = 2 * tolerance;
   const ContactPatch none = ExtractContactPatch(box, above, kGround);
   EXPECT_EQ(none.mode, ContactMode::kNone);
   EXPECT_TRUE(none.hull.empty());
   EXPECT_FALSE(PatchHullContains(none, kGround, Eigen::Vector3d::Zero(), 1.0));
 }
 
+// The same poses of a box scaled by L from 0.1 mm to 1 km give the same modes, and areas ∝ L²:
+// the default tolerance scales with the mesh (an absolute 1 µm would be a twentieth of the
+// L = 1e-4 box's smallest side)
+TEST(ContactPatchTest, ScaledBoxGivesTheSamePatches) {
+  // flat on its face, tilted onto an edge by an angle far above the tolerance, and on a corner
+  const std::vector<Eigen::AngleAxisd> tilts = {
+      Eigen::AngleAxisd(0, Eigen::Vector3d::UnitX()),
+      Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitX()),
+      Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 1, 0).normalized())};
+  const std::vector<ContactMode> expected = {ContactMode::kConvexPatch, ContactMode::kLine,
+                                             ContactMode::kPoint};
+  for (const double L : {1e-4, 1e-2, 1.0, 1e2, 1e3}) {
+    const TriangleMesh box = MakeBoxMesh(Eigen::Vector3d(-0.1, -0.2, -0.15) * L,
+                                         Eigen::Vector3d(0.1, 0.2, 0.15) * L);
+    for (size_t k = 0; k < tilts.size(); ++k) {
+      Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+      X.rotate(tilts[k]);
+      // lowest vertex exactly on the plane
+      double lowest = INFINITY;
+      for (const Eigen::Vector3d& v : box.vertices) lowest = std::min(lowest, (X * v).z());
+      X.pretranslate(Eigen::Vector3d(0, 0, -lowest));
+      const ContactPatch patch = ExtractContactPatch(box, X, kGround);
+      EXPECT_EQ(patch.mode, expected[k]) << "L = " << L << ", tilt " << k;
+      // the flat face's area 0.2 × 0.4 L², to round-off
+      if (k == 0) EXPECT_NEAR(patch.area / (L * L), 0.08, 1e-12) << "L = " << L;
+    }
+  }
+}
+
 // Tetrahedra standing on their tips: isolated points, classified by number and layout.
 TEST(ContactPatchTest, IsolatedTipsArePointContacts) {
-  const auto tips = [](const std::vector<Eigen::Vector2d>& where) {
+  const auto tip_mesh = [](const std::vector<Eigen::Vector2d>& where) {
     TriangleMesh mesh;
     for (const Eigen::Vector2d& p : where) {
       const int base = static_cast<int>(mesh.vertices.size());
@@ -208,7 +240,10 @@ TEST(ContactPatchTest, IsolatedTipsArePointContacts) {
       mesh.triangles.emplace_back(base, base + 1, base + 3);
       mesh.triangles.emplace_back(base + 1, base + 2, base + 3);
     }
-    return ExtractContactPatch(mesh, Eigen::Isometry3d::Identity(), kGround);
+    return mesh;
+  };
+  const auto tips = [&](const std::vector<Eigen::Vector2d>& where) {
+    return ExtractContactPatch(tip_mesh(where), Eigen::Isometry3d::Identity(), kGround);
   };
   EXPECT_EQ(tips({{0, 0}}).mode, ContactMode::kPoint);
   EXPECT_EQ(tips({{0, 0}, {1, 0}}).mode, ContactMode::kTwoPoint);
@@ -219,8 +254,10 @@ TEST(ContactPatchTest, IsolatedTipsArePointContacts) {
   EXPECT_TRUE(PatchHullContains(three, kGround, {0.5, 0.5 + 0.5e-6, 0}, 1e-6));
   EXPECT_FALSE(PatchHullContains(three, kGround, {0.5, 0.5 + 2e-6, 0}, 1e-6));
   EXPECT_EQ(tips({{0, 0}, {1, 0}, {2, 0}}).mode, ContactMode::kNonConvexLine);
-  // two tips closer than the tolerance are one point
-  const ContactPatch close = tips({{0, 0}, {0.5e-6, 0}});
+  // two tips closer than the tolerance are one point (half the tolerance apart changes the
+  // mesh's diagonal, hence the tolerance, by a negligible 1e-6 of itself)
+  const double gap = 0.5 * ContactPatchTolerance(tip_mesh({{0, 0}}));
+  const ContactPatch close = tips({{0, 0}, {gap, 0}});
   EXPECT_EQ(close.points.size(), 1u);
   EXPECT_EQ(close.mode, ContactMode::kPoint);
 }
