@@ -1,5 +1,6 @@
 #include "engine/loads.h"
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 
@@ -10,6 +11,13 @@
 #include "geometry/errors.h"
 
 namespace ecpsim::engine {
+namespace {
+
+// an impulse's instant within this fraction of a step before a step boundary belongs to the step
+// that starts there: `time` and the steps' t carry round-off (1e-16 relative each), far below it
+constexpr double kInstantSnap = 1e-9;
+
+}  // namespace
 
 // the parser keeps a pointer to `t`, so the pair lives at a fixed address behind a shared_ptr;
 // copies share it, so one TimeFunction must not be evaluated from two threads at once
@@ -85,13 +93,17 @@ Eigen::Matrix<double, 6, 1> AppliedImpulse(const std::vector<Load>& loads,
   Eigen::Vector3d linear = Eigen::Vector3d::Zero();
   Eigen::Vector3d angular = Eigen::Vector3d::Zero();
 
-  // loads are sampled at the start of the step and held over it (explicit, like p_app^u)
+  // loads are sampled at the start of their active part of the step and held over it (explicit,
+  // like p_app^u), for the time the step overlaps their window: a window edge that falls on a
+  // step edge up to the round-off of t gives a sliver of impulse, not a whole step more or less
+  const double t_end = t + h;
   for (const Load& load : loads) {
-    if (load.body != body || t < load.start || t >= load.end) {
-      continue;
-    }
-    const Eigen::Vector3d value(load.x(t), load.y(t), load.z(t));
-    const Eigen::Vector3d impulse = h * value;
+    if (load.body != body) continue;
+    const double from = std::max(t, load.start);
+    const double overlap = std::min(t_end, load.end) - from;
+    if (!(overlap > 0)) continue;
+    const Eigen::Vector3d value(load.x(from), load.y(from), load.z(from));
+    const Eigen::Vector3d impulse = overlap * value;
     if (load.kind == Load::Kind::kTorque) {
       angular += impulse;
       continue;
@@ -102,10 +114,12 @@ Eigen::Matrix<double, 6, 1> AppliedImpulse(const std::vector<Load>& loads,
     }
   }
 
-  // half-open window [t, t + h): consecutive steps tile time, so each impulse lands exactly once
-  const double t_end = t + h;
+  // the steps of length h tile time as [k h, (k + 1) h): this step is k = round(t / h) (t carries
+  // round-off), and an instant belongs to step floor(time / h), so each impulse lands exactly once
+  // and an instant on a step boundary (0.5 s with h = 0.01 s) lands in the step that starts there
+  const double step = std::round(t / h);
   for (const Impulse& impulse : impulses) {
-    if (impulse.body != body || impulse.time < t || impulse.time >= t_end) {
+    if (impulse.body != body || std::floor(impulse.time / h + kInstantSnap) != step) {
       continue;
     }
     linear += impulse.linear;

@@ -55,9 +55,12 @@ struct Impulse {
   Eigen::Vector3d point_B = Eigen::Vector3d::Zero();   // m, body frame
 };
 
-/// Σ over `loads` of body `body`'s applied impulse over the step [t, t + h], evaluated at the
-/// start of the step (explicit in the loads, like the paper's p_app^u): returns (linear N·s;
-/// angular N·m·s about the CM, world frame). `R_WB` rotates body points of loads applied at points.
+/// Σ over `loads` and `impulses` of body `body`'s applied impulse over the step [t, t + h): each
+/// load's value at the start of its active part of the step times the time the step overlaps
+/// its window [start, end) (explicit in the loads, like the paper's p_app^u), and the impulses
+/// whose instant lies in the step (steps tile time as [k h, (k + 1) h), k = round(t / h)).
+/// Returns (linear N·s; angular N·m·s about the CM, world frame). `R_WB` rotates body points of
+/// loads applied at points.
 Eigen::Matrix<double, 6, 1> AppliedImpulse(const std::vector<Load>& loads,
                                            const std::vector<Impulse>& impulses, int body,
                                            double t, double h, const Eigen::Matrix3d& R_WB);

@@ -109,6 +109,46 @@ TEST(AppliedImpulseTest, ForceIsActiveOnTheHalfOpenWindow) {
   EXPECT_EQ(AppliedImpulse(loads, {}, 1, 0.25, h, I), Vector6d::Zero());
 }
 
+TEST(AppliedImpulseTest, WindowInsideAStepActsForItsOverlap) {
+  // a window [0.3, 0.35) inside the step [0.25, 0.375): the impulse of 0.05 s, not a whole step
+  // or nothing; sampled at the window's start
+  const std::vector<Load> loads = {ConstantForce(0, {8, 0, 0}, 0.3, 0.35)};
+  const auto p = AppliedImpulse(loads, {}, 0, 0.25, 0.125, Eigen::Matrix3d::Identity());
+  EXPECT_NEAR(p[0], 8 * 0.05, kTight);
+}
+
+TEST(AppliedImpulseTest, WindowOnAStepBoundaryIsInsensitiveToRoundOffInTime) {
+  // the T-bar's 2.5 s window start with h = 0.01: t after 250 steps is 2.5 only up to round-off,
+  // and either side of it the step gets the load's impulse up to that round-off (earlier, a
+  // whole step's impulse hung on the last bit of t)
+  const std::vector<Load> loads = {ConstantForce(0, {1, 0, 0}, 2.5, 2.64)};
+  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
+  const double h = 0.01;
+  const double below = std::nextafter(2.5, 0.0), above = std::nextafter(2.5, 3.0);
+  const double at_below = AppliedImpulse(loads, {}, 0, below, h, I)[0];
+  const double at_above = AppliedImpulse(loads, {}, 0, above, h, I)[0];
+  EXPECT_NEAR(at_below, h, 1e-15);
+  EXPECT_NEAR(at_above, h, 1e-15);
+  // the step before: at most a round-off sliver
+  EXPECT_LE(AppliedImpulse(loads, {}, 0, below - h, h, I)[0], 1e-15);
+  // marched as a stepper does, the window's total impulse is 1 N × 0.14 s
+  double total = 0;
+  for (double t = 0; t < 3; t += h) total += AppliedImpulse(loads, {}, 0, t, h, I)[0];
+  EXPECT_NEAR(total, 0.14, 1e-12);
+}
+
+TEST(AppliedImpulseTest, ImpulseOnAStepBoundaryLandsInTheStepStartingThere) {
+  // 0.5 s with h = 0.01: step 50, whichever side of 0.5 the marched t lies
+  Impulse impulse;
+  impulse.time = 0.5;
+  impulse.linear = Eigen::Vector3d(1, 0, 0);
+  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
+  for (const double t : {std::nextafter(0.5, 0.0), 0.5, std::nextafter(0.5, 1.0)}) {
+    EXPECT_EQ(AppliedImpulse({}, {impulse}, 0, t, 0.01, I)[0], 1) << t;
+    EXPECT_EQ(AppliedImpulse({}, {impulse}, 0, t - 0.01, 0.01, I)[0], 0) << t;
+  }
+}
+
 TEST(AppliedImpulseTest, TimeDependentForceIsSampledAtTheStartOfTheStep) {
   Load load;
   load.x = TimeFunction("22.5*sin(2*pi*t)+22.5", "here");
