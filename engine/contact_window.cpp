@@ -1,8 +1,11 @@
 #include "engine/contact_window.h"
 
+#include <algorithm>
 #include <numeric>
 
 #include <Eigen/Geometry>
+
+#include "geometry/errors.h"
 
 namespace ecpsim::engine {
 
@@ -17,23 +20,39 @@ std::vector<int> SelectWindow(const geometry::ConvexShape& hull,
   return polyhedron->ConstraintsNearSupport(direction_B, rings);
 }
 
-bool WindowSolutionIsExact(const geometry::ConvexShape& hull, const std::vector<int>& window,
-                           int active, const Eigen::Vector3d& y_B, double tolerance) {
+std::vector<int> WindowViolations(const geometry::ConvexShape& hull,
+                                  const std::vector<int>& window, int active,
+                                  const Eigen::Vector3d& y_B, double tolerance) {
   const auto* polyhedron = dynamic_cast<const geometry::PolyhedralShape*>(&hull);
-  if (polyhedron == nullptr || static_cast<int>(window.size()) == hull.NumConstraints())
-    return true;
+  if (polyhedron == nullptr || static_cast<int>(window.size()) == hull.NumConstraints()) return {};
   const geometry::ConvexHull& h = polyhedron->hull();
-  const std::vector<int>& polygon = h.faces[active];
-  const Eigen::Vector3d& normal = h.normals[active];
-  // inside a counter-clockwise (seen from outside) polygon: left of every edge
-  for (size_t k = 0; k < polygon.size(); ++k) {
-    const Eigen::Vector3d& a = h.vertices[polygon[k]];
-    const Eigen::Vector3d& b = h.vertices[polygon[(k + 1) % polygon.size()]];
-    const Eigen::Vector3d edge = b - a;
-    const double signed_distance = normal.dot(edge.cross(y_B - a)) / edge.norm();
-    if (signed_distance < -tolerance) return false;
+  std::vector<int> violated;
+  for (int vertex : h.faces[active]) {
+    for (int face : h.vertex_faces[vertex]) {
+      // windows are sorted (SelectWindow, GrowWindow)
+      if (std::binary_search(window.begin(), window.end(), face)) continue;
+      if (h.normals[face].dot(y_B) - h.offsets[face] > tolerance) violated.push_back(face);
+    }
   }
-  return true;
+  std::sort(violated.begin(), violated.end());
+  violated.erase(std::unique(violated.begin(), violated.end()), violated.end());
+  return violated;
+}
+
+std::vector<int> GrowWindow(const geometry::ConvexShape& hull, const std::vector<int>& window,
+                            const std::vector<int>& violated) {
+  const auto* polyhedron = dynamic_cast<const geometry::PolyhedralShape*>(&hull);
+  ECPSIM_DEMAND(polyhedron != nullptr);  // only polyhedra have windows smaller than the hull
+  const geometry::ConvexHull& h = polyhedron->hull();
+  std::vector<int> grown = window;
+  for (int face : violated) {
+    for (int vertex : h.faces[face]) {
+      grown.insert(grown.end(), h.vertex_faces[vertex].begin(), h.vertex_faces[vertex].end());
+    }
+  }
+  std::sort(grown.begin(), grown.end());
+  grown.erase(std::unique(grown.begin(), grown.end()), grown.end());
+  return grown;
 }
 
 }  // namespace ecpsim::engine

@@ -18,12 +18,24 @@ namespace ecpsim::engine {
 std::vector<int> SelectWindow(const geometry::ConvexShape& hull,
                               const Eigen::Vector3d& direction_B, int rings, bool use_window);
 
-/// True if the point y_B (body frame), solved with only the `window` constraints and lying on
-/// window constraint `active` (its largest multiplier), is in the full hull: then every constraint
-/// left out has f_i(y) ≤ 0 and zero multiplier, so the windowed solution solves the full MNCP.
-/// For a polyhedron this is a point-in-polygon test on face `active` (O(face size)); smooth
-/// primitives always use every constraint, so they pass.
-bool WindowSolutionIsExact(const geometry::ConvexShape& hull, const std::vector<int>& window,
-                           int active, const Eigen::Vector3d& y_B, double tolerance);
+/// The hull constraints left out of `window` that the point y_B (body frame) violates by more than
+/// `tolerance` (m), among the faces incident to the vertices of window constraint `active` — the
+/// face y_B was solved on (its largest multiplier). Empty means the windowed solution solves the
+/// full MNCP: every constraint left out has f_i(y) ≤ 0 and multiplier 0. Why the neighbourhood
+/// suffices: on the plane of face `active`, the hull's facet is cut out by the planes of its
+/// neighbours, all of which are incident to its vertices, so a point of that plane outside the
+/// facet violates one of them. The test is on the half-spaces themselves, not on the face's
+/// vertex polygon: merged coplanar faces make the two differ by up to the merge tolerance (1e-6 of
+/// the hull's size), and a solution at a vertex where three merged planes meet sits that far off
+/// the polygon while being a genuine solution. Cost O(face size × vertex degree), independent of
+/// the hull's size. Smooth primitives and full windows leave nothing out: empty.
+std::vector<int> WindowViolations(const geometry::ConvexShape& hull,
+                                  const std::vector<int>& window, int active,
+                                  const Eigen::Vector3d& y_B, double tolerance);
+
+/// `window` grown around `violated` (sorted, unique): the violated constraints and every face
+/// incident to their vertices.
+std::vector<int> GrowWindow(const geometry::ConvexShape& hull, const std::vector<int>& window,
+                            const std::vector<int>& violated);
 
 }  // namespace ecpsim::engine

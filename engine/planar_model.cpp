@@ -177,8 +177,7 @@ StepReport StepPlanarSliding(const Scene& scene, State& state) {
     c.a1 = Vector3d(next.p_WB.x() + kin.rx, next.p_WB.y() + kin.ry, next.p_WB.z() - height);
     c.a2 = c.a1;
     const Vector3d y = next.Q_WB.toRotationMatrix().transpose() * (c.a1 - next.p_WB);
-    std::vector<int> window(1, face);
-    if (!WindowSolutionIsExact(*hull, window, face, y, support_tolerance))
+    if (!WindowViolations(*hull, {face}, face, y, support_tolerance).empty())
       throw fail(fmt::format("the ECP ({:.4g}, {:.4g}) m left the support face (it would tip)",
                              c.a1.x(), c.a1.y()));
     c.p_n = p_n;

@@ -30,8 +30,11 @@ constexpr double kWindowCheckRelTol = 1e-9;
 // rad: the largest rotation h|ω⁺| of one step; beyond π the end pose Exp(hω⁺) R is reached by a
 // smaller rotation too, so the step's solution is not unique (an alias)
 constexpr double kMaxStepRotation = M_PI;
-// growing the window this many times (one vertex ring each) before using every hull face
-constexpr int kMaxWindowGrowth = 3;
+// growing the window this many times (each by the faces around the constraints the solution
+// violated) before the guess counts as failed: a step never falls back to every hull face, whose
+// dense Newton matrix costs in proportion to the hull (11,000 unknowns for a fine UV sphere); one
+// growth is what a solution that moved past the window's rim needs, the rest is margin
+constexpr int kMaxWindowGrowth = 6;
 
 // the closest point of G to `point` along the gradient of its largest constraint (exact for
 // linear constraints, a Newton step for smooth ones), and that constraint's index
@@ -98,7 +101,7 @@ class BodyStepper {
     for (const bool project : {false, true}) {
       options.project_nonnegative = project;
       for (Guess guess : ladder) {
-        for (int growth = 0; growth <= kMaxWindowGrowth + 1; ++growth) {
+        for (int growth = 0; growth <= kMaxWindowGrowth; ++growth) {
           const MncpLayout layout = MakeLayout(problem);
           VectorXd z = MakeGuess(guess, problem, layout, body, contacts, scales);
           const McpFunction f = [&](const VectorXd& zz, VectorXd* F, Eigen::MatrixXd* J) {
@@ -125,21 +128,16 @@ class BodyStepper {
             ++report.retries;
             break;
           }
-          // a converged windowed solution must also solve the full-hull problem
-          const int grow = WindowFailures(problem, layout, z, scales);
-          if (grow >= 0) {
-            const ContactProblem& cp = problem.contacts[grow];
-            const Vector3d n_solution =
-                MakeContactFrame(SolutionNormal(problem, layout, z, grow), cp.tangent_reference).n;
-            const EndPose end = PoseAfterStep(problem, z.segment<3>(0), z.segment<3>(3));
-            std::vector<int> wider = SelectWindow(
-                *cp.hull, end.R.transpose() * -n_solution,
-                growth < kMaxWindowGrowth ? scene_.solver.window_rings + growth + 1 : -1, true);
-            std::vector<int> merged;
-            std::set_union(cp.window.begin(), cp.window.end(), wider.begin(), wider.end(),
-                           std::back_inserter(merged));
-            problem.contacts[grow].window = merged;
-            continue;
+          // a converged windowed solution must also solve the full-hull problem: else the
+          // window grows around the constraints it violates, and the step is solved again
+          if (GrowViolatedWindows(problem, layout, z, scales)) {
+            if (growth < kMaxWindowGrowth) continue;
+            tried += fmt::format("{}{}{} (h = {:g} s): the hull window still left out violated "
+                                 "faces after {} growths",
+                                 tried.empty() ? "" : "; ", GuessName(guess),
+                                 project ? " (projected)" : "", h, kMaxWindowGrowth);
+            ++report.retries;
+            break;
           }
           Commit(problem, layout, z, h, body, contacts);
           return true;
@@ -276,21 +274,25 @@ class BodyStepper {
     return N;
   }
 
-  // the first contact whose windowed solution is not a full-hull solution, or −1
-  int WindowFailures(const BodyProblem& problem, const MncpLayout& layout, const VectorXd& z,
-                     const Scales& scales) const {
+  // grows the window of every contact whose windowed solution violates a hull constraint left
+  // out (contact_window.h); false when the solution solves the full-hull problem
+  bool GrowViolatedWindows(BodyProblem& problem, const MncpLayout& layout, const VectorXd& z,
+                           const Scales& scales) const {
     const EndPose end = PoseAfterStep(problem, z.segment<3>(0), z.segment<3>(3));
+    bool grown = false;
     for (size_t k = 0; k < problem.contacts.size(); ++k) {
       const MncpLayout::Contact& L = layout.contacts[k];
-      const ContactProblem& cp = problem.contacts[k];
+      ContactProblem& cp = problem.contacts[k];
       int active = 0;
       z.segment(L.l, L.l_count).maxCoeff(&active);
       const Vector3d y = end.R.transpose() * (z.segment<3>(L.a1) - end.c);
-      if (!WindowSolutionIsExact(*cp.hull, cp.window, cp.window[active], y,
-                                 kWindowCheckRelTol * scales.length))
-        return static_cast<int>(k);
+      const std::vector<int> violated = WindowViolations(
+          *cp.hull, cp.window, cp.window[active], y, kWindowCheckRelTol * scales.length);
+      if (violated.empty()) continue;
+      cp.window = GrowWindow(*cp.hull, cp.window, violated);
+      grown = true;
     }
-    return -1;
+    return grown;
   }
 
   void Commit(const BodyProblem& problem, const MncpLayout& layout, const VectorXd& z, double h,

@@ -53,6 +53,38 @@ inline Scene PaperDeskScene(ContactModel model) {
   return scene;
 }
 
+/// A UV sphere of `radius` (m) centred at the origin: `segments` meridians and `rings` bands, two
+/// poles where `segments` thin triangles meet, quads in between; coordinates rounded to nine
+/// decimals as in a mesh file (the quads are planar up to that rounding: they merge into one hull
+/// face each, whose plane can differ from its corners by up to the merge tolerance).
+inline geometry::TriangleMesh MakeUvSphereMesh(int segments, int rings, double radius) {
+  geometry::TriangleMesh mesh;
+  mesh.vertices.emplace_back(0, 0, radius);
+  for (int j = 1; j < rings; ++j) {
+    const double theta = M_PI * j / rings;
+    for (int i = 0; i < segments; ++i) {
+      const double phi = 2 * M_PI * i / segments;
+      // nine decimals, as a mesh file stores it
+      const auto rounded = [](double x) { return std::round(x * 1e9) / 1e9; };
+      mesh.vertices.emplace_back(rounded(radius * std::sin(theta) * std::cos(phi)),
+                                 rounded(radius * std::sin(theta) * std::sin(phi)),
+                                 rounded(radius * std::cos(theta)));
+    }
+  }
+  mesh.vertices.emplace_back(0, 0, -radius);
+  const int south = static_cast<int>(mesh.vertices.size()) - 1;
+  const auto at = [segments](int ring, int i) { return 1 + (ring - 1) * segments + i % segments; };
+  for (int i = 0; i < segments; ++i) {
+    mesh.triangles.emplace_back(0, at(1, i), at(1, i + 1));
+    for (int j = 1; j + 1 < rings; ++j) {
+      mesh.triangles.emplace_back(at(j, i), at(j + 1, i), at(j + 1, i + 1));
+      mesh.triangles.emplace_back(at(j, i), at(j + 1, i + 1), at(j, i + 1));
+    }
+    mesh.triangles.emplace_back(south, at(rings - 1, i + 1), at(rings - 1, i));
+  }
+  return mesh;
+}
+
 /// Signed distance of the lowest mesh vertex above the plane z = 0 (negative: penetration).
 inline double LowestVertexHeight(const Body& body, const BodyState& state) {
   const Eigen::Matrix3d R = state.Q_WB.toRotationMatrix();
