@@ -1,13 +1,17 @@
 // Frames from an engine scene and state: poses, patches against the plane obstacle, ECP, force.
 
 #include <cmath>
+#include <cstring>
 #include <memory>
+#include <vector>
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include "engine/scene.h"
+#include "engine/scene_yaml.h"
 #include "engine/state.h"
+#include "engine/time_step.h"
 #include "geometry/convex_hull.h"
 #include "geometry/convex_shape.h"
 #include "geometry/errors.h"
@@ -103,6 +107,40 @@ TEST(SceneFrameBuilder, MismatchedStateIsAnInputError) {
   state.contacts.clear();
   EXPECT_THAT([&] { SceneFrameBuilder(scene).Build(state); },
               ThrowsMessage<InputError>(HasSubstr("desk.yaml: state with 1 bodies and 0 contacts")));
+}
+
+// Bit-for-bit equality of two body states (positions, orientations, velocities).
+bool BitIdentical(const engine::BodyState& a, const engine::BodyState& b) {
+  const auto same = [](const double* x, const double* y, size_t n) {
+    return std::memcmp(x, y, n * sizeof(double)) == 0;
+  };
+  return same(a.p_WB.data(), b.p_WB.data(), 3) && same(a.Q_WB.coeffs().data(), b.Q_WB.coeffs().data(), 4) &&
+         same(a.v_WB.data(), b.v_WB.data(), 3) && same(a.w_WB.data(), b.w_WB.data(), 3);
+}
+
+// Bug: the frame builder asks the body's hull for its support point (PatchTolerance), and the
+// hull is the engine's. Frames built between steps must leave every step bit-identical: the
+// T-bar of scenes/tbar.yaml through its first wobble (it lies flat, tilts onto the edge B+C+ and
+// rocks; the run that first differed did so at t = 1.38 s).
+TEST(SceneFrameBuilder, BuildingFramesBetweenStepsLeavesEveryStepBitIdentical) {
+  constexpr int kSteps = 145;  // to t = 1.45 s at h = 0.01 s
+  // two loads: each run has hulls of its own
+  const engine::Scene plain_scene = engine::LoadScene(ECPSIM_SOURCE_DIR "/scenes/tbar.yaml");
+  const engine::Scene scene = engine::LoadScene(ECPSIM_SOURCE_DIR "/scenes/tbar.yaml");
+  const SceneFrameBuilder builder(scene);
+  engine::State plain = engine::InitialState(plain_scene);
+  engine::State framed = engine::InitialState(scene);
+  int frames_with_a_patch = 0;
+  for (int k = 1; k <= kSteps; ++k) {
+    engine::Step(plain_scene, plain);
+    engine::Step(scene, framed);
+    const FrameInput frame = builder.Build(framed);
+    if (!frame.contacts[0].patch.points.empty() || !frame.contacts[0].patch.polygons.empty()) {
+      ++frames_with_a_patch;
+    }
+    ASSERT_TRUE(BitIdentical(plain.bodies[0], framed.bodies[0])) << "step " << k;
+  }
+  EXPECT_EQ(frames_with_a_patch, kSteps);  // in contact all along: every frame asked the hull
 }
 
 TEST(SceneFrameBuilder, EcpMarkerLandsOnItsProjectedPixel) {
