@@ -324,7 +324,7 @@ int PolyhedralShape::LowestIndexMaximumNear(const Eigen::Vector3d& direction, in
   const auto near = [&](int w) { return direction.dot(hull_.vertices[w]) >= floor; };
   const std::vector<int>& around = hull_.vertex_neighbors[v];
   if (std::none_of(around.begin(), around.end(), near)) return v;  // a strict maximum
-  std::vector<bool> seen(hull_.vertices.size(), false);
+  std::vector<bool> seen(hull_.vertices.size(), false);  // in the set or known to be below it
   std::vector<int> open = {v};
   seen[v] = true;
   int answer = v;
@@ -333,9 +333,9 @@ int PolyhedralShape::LowestIndexMaximumNear(const Eigen::Vector3d& direction, in
     open.pop_back();
     for (int w : hull_.vertex_neighbors[u]) {
       if (seen[w]) continue;
+      seen[w] = true;
       const double value = direction.dot(hull_.vertices[w]);
       if (value < floor) continue;
-      seen[w] = true;
       open.push_back(w);
       if (value > best || (value == best && w < answer)) {
         best = value;
