@@ -20,8 +20,10 @@ const Eigen::Vector3f kObstacleColour(0.70f, 0.70f, 0.72f);
 constexpr double kWeightArrowRadii = 1.0;
 // standard gravity, for the arrow scale of a scene without gravity
 constexpr double kStandardGravity = 9.80665;  // m/s²
-// the ground sheet's half extent
-constexpr double kPlaneHalfExtent = 10;  // m
+// a mesh vertex within this many of its body's bounding radii of a plane touches it: 1 µm for a
+// 1 m body (geometry::kContactPatchTolerance), far above the solver's position error and far
+// below any modelled feature, at every scale
+constexpr double kPatchToleranceRadii = 1e-6;
 // tessellation of smooth obstacles and hulls
 constexpr int kSegments = 48;
 
@@ -37,7 +39,7 @@ std::optional<geometry::Plane> AsPlane(const geometry::ConvexShape& shape) {
 }  // namespace
 
 SceneFrameBuilder::SceneFrameBuilder(const engine::Scene& scene) : scene_(scene) {
-  double max_weight = 0, radius_of_heaviest = 0.1;
+  double max_weight = 0, radius_of_heaviest = 0;
   const double g = scene.gravity.norm() > 0 ? scene.gravity.norm() : kStandardGravity;
   for (const engine::Body& body : scene.bodies) {
     meshes_.push_back(std::make_shared<const geometry::TriangleMesh>(body.mesh));
@@ -46,9 +48,10 @@ SceneFrameBuilder::SceneFrameBuilder(const engine::Scene& scene) : scene_(scene)
                                : nullptr);
     double radius = 0;
     for (const auto& v : body.mesh.vertices) radius = std::max(radius, v.norm());
+    radii_.push_back(radius);
     if (body.mass * g > max_weight) {
       max_weight = body.mass * g;
-      radius_of_heaviest = std::max(radius, 1e-3);
+      radius_of_heaviest = radius;
     }
   }
   if (max_weight > 0) force_scale_ = kWeightArrowRadii * radius_of_heaviest / max_weight;
@@ -67,15 +70,16 @@ double SceneFrameBuilder::PatchTolerance(int body, const Eigen::Isometry3d& X_WB
   // mesh stays up to its sagitta above it: the features within that gap of the mesh's lowest
   // point carry the contact. For the polyhedral hull of the mesh the gap is 0 (its vertices are
   // mesh vertices) and the tolerance is the plain one.
+  const double tolerance = kPatchToleranceRadii * radii_[body];
   const geometry::ConvexShape* hull = scene_.bodies[body].hull.get();
-  if (hull == nullptr) return geometry::kContactPatchTolerance;
+  if (hull == nullptr) return tolerance;
   const Eigen::Matrix3d& R = X_WB.linear();
   const Eigen::Vector3d support = X_WB * hull->Support(R.transpose() * -plane.normal);
   double mesh_lowest = std::numeric_limits<double>::infinity();
   for (const Eigen::Vector3d& v : meshes_[body]->vertices)
     mesh_lowest = std::min(mesh_lowest, plane.normal.dot(X_WB * v));
   const double gap = std::max(0.0, mesh_lowest - plane.normal.dot(support));
-  return geometry::kContactPatchTolerance + gap;
+  return tolerance + gap;
 }
 
 FrameInput SceneFrameBuilder::Build(const engine::State& state, int iterations) const {
@@ -108,7 +112,7 @@ FrameInput SceneFrameBuilder::Build(const engine::State& state, int iterations) 
   }
   for (size_t j = 0; j < scene_.obstacles.size(); ++j) {
     if (planes_[j]) {
-      frame.planes.push_back(PlaneVisual{*planes_[j], kPlaneHalfExtent});
+      frame.planes.push_back(PlaneVisual{*planes_[j]});
     } else if (obstacle_meshes_[j]) {
       BodyVisual obstacle;
       obstacle.mesh = obstacle_meshes_[j];
