@@ -18,6 +18,12 @@ namespace {
 constexpr double kHalfSpaceDisplayHalfWidth = 5.0;  // m
 constexpr double kHalfSpaceDisplayDepth = 0.1;      // m
 
+// vertices whose direction · x is within this fraction of |direction| × (the hull's radius) of
+// the best found are searched for the support: far above the rounding of a dot product (~1e-16)
+// and the gaps it leaves between a local and the global maximum, so no tie escapes; a larger
+// value would only search more vertices
+constexpr double kSupportTieTolerance = 1e-9;  // dimensionless
+
 void CheckPositive(double value, const char* what, const char* unit) {
   if (!std::isfinite(value) || value <= 0) {
     throw InputError(fmt::format("{} = {}: expected a finite value > 0 {}", what, value, unit));
@@ -240,6 +246,7 @@ class EllipsoidShape final : public ConvexShape {
 
 PolyhedralShape::PolyhedralShape(ConvexHull hull) : hull_(std::move(hull)) {
   ECPSIM_DEMAND(!hull_.normals.empty());
+  for (const Eigen::Vector3d& v : hull_.vertices) radius_ = std::max(radius_, v.norm());
   ECPSIM_DEMAND(hull_.normals.size() == hull_.offsets.size());
   ECPSIM_DEMAND(hull_.vertex_neighbors.size() == hull_.vertices.size());
   ECPSIM_DEMAND(hull_.vertex_faces.size() == hull_.vertices.size());
@@ -262,14 +269,21 @@ Eigen::Matrix3d PolyhedralShape::Hessian(int i, const Eigen::Vector3d&) const {
   return Eigen::Matrix3d::Zero();
 }
 
+// The answer is the lowest-index vertex of largest direction · x: a function of the direction
+// alone. The climb's start (the vertex the last query found) only makes it faster. On a face
+// (nearly) perpendicular to `direction` — a body lying flat — the climb stops at whichever vertex
+// of the face it reaches first, so with a start-dependent answer every extra query moved the
+// engine's hull window: a frame builder asking for the support between steps changed the
+// trajectory in its last digits (ecpsim run --frames against the same run without frames).
 int PolyhedralShape::SupportVertex(const Eigen::Vector3d& direction) const {
   const int count = static_cast<int>(hull_.vertices.size());
   ECPSIM_DEMAND(count > 0);
   ECPSIM_DEMAND(direction.allFinite());
-  int v = (last_support_vertex_ >= 0 && last_support_vertex_ < count) ? last_support_vertex_ : 0;
+  const int start = last_support_vertex_.load(std::memory_order_relaxed);
+  int v = (start >= 0 && start < count) ? start : 0;
   double best = direction.dot(hull_.vertices[v]);
   // greedy climbing: every step strictly improves, so it ends within `count` steps at a local
-  // maximum, which on a convex polytope is the global one
+  // maximum, which on a convex polytope is the global one up to rounding
   int steps = 0;
   for (bool improved = true; improved && steps <= count; ++steps) {
     improved = false;
@@ -282,18 +296,55 @@ int PolyhedralShape::SupportVertex(const Eigen::Vector3d& direction) const {
       }
     }
   }
-  // a hand-built hull without adjacency (an isolated start) or a runaway climb: scan everything
   if (steps > count || hull_.vertex_neighbors[v].empty()) {
-    for (int w = 0; w < count; ++w) {
+    // a hand-built hull without adjacency (an isolated start) or a runaway climb: scan everything
+    v = 0;
+    best = direction.dot(hull_.vertices[0]);
+    for (int w = 1; w < count; ++w) {
       const double value = direction.dot(hull_.vertices[w]);
       if (value > best) {
         best = value;
         v = w;
       }
     }
+  } else {
+    v = LowestIndexMaximumNear(direction, v, best);
   }
-  last_support_vertex_ = v;
+  last_support_vertex_.store(v, std::memory_order_relaxed);
   return v;
+}
+
+int PolyhedralShape::LowestIndexMaximumNear(const Eigen::Vector3d& direction, int v,
+                                            double best) const {
+  // every vertex within `tie` of the climb's end that is connected to it through such vertices:
+  // they hold every exact tie (the maximizers form a face, joined by its edges) and every
+  // rounding-level local maximum, so the largest of them, lowest index first, is the global
+  // answer whatever vertex the climb started from
+  const double tie = kSupportTieTolerance * direction.norm() * radius_;
+  const double floor = best - tie;
+  const auto near = [&](int w) { return direction.dot(hull_.vertices[w]) >= floor; };
+  const std::vector<int>& around = hull_.vertex_neighbors[v];
+  if (std::none_of(around.begin(), around.end(), near)) return v;  // a strict maximum
+  std::vector<bool> seen(hull_.vertices.size(), false);  // in the set or known to be below it
+  std::vector<int> open = {v};
+  seen[v] = true;
+  int answer = v;
+  while (!open.empty()) {
+    const int u = open.back();
+    open.pop_back();
+    for (int w : hull_.vertex_neighbors[u]) {
+      if (seen[w]) continue;
+      seen[w] = true;
+      const double value = direction.dot(hull_.vertices[w]);
+      if (value < floor) continue;
+      open.push_back(w);
+      if (value > best || (value == best && w < answer)) {
+        best = value;
+        answer = w;
+      }
+    }
+  }
+  return answer;
 }
 
 Eigen::Vector3d PolyhedralShape::Support(const Eigen::Vector3d& direction) const {

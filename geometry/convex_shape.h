@@ -2,6 +2,7 @@
 // Convex sets described by inequalities f_i(y) ≤ 0 with gradients and Hessians: the polyhedral
 // hull of a mesh and the smooth primitives (sphere, cylinder, ellipsoid; a box is polyhedral).
 
+#include <atomic>
 #include <memory>
 #include <vector>
 
@@ -51,16 +52,26 @@ class PolyhedralShape final : public ConvexShape {
   Eigen::Matrix3d Hessian(int i, const Eigen::Vector3d& y) const override;
   bool IsLinear(int) const override { return true; }
   Eigen::Vector3d Support(const Eigen::Vector3d& direction) const override;
-  /// Support by hill climbing over vertex_neighbors from the last support vertex found (amortized
-  /// O(1) per query for slowly moving directions), then the faces of `rings` rings around it.
+  /// The faces of `rings` vertex rings around SupportVertex(direction).
   std::vector<int> ConstraintsNearSupport(const Eigen::Vector3d& direction,
                                           int rings) const override;
+  /// The lowest-index vertex maximizing direction · x: a function of `direction` alone (ties on
+  /// a face perpendicular to it included), found by hill climbing over vertex_neighbors from the
+  /// last support vertex found (amortized O(1) per query for slowly moving directions). Callers
+  /// sharing the shape (the engine and a frame builder) cannot change each other's answers.
   int SupportVertex(const Eigen::Vector3d& direction) const;
   TriangleMesh Tessellate(int segments = 48) const override;
 
  private:
+  // the largest of the vertices connected to `v` (value `best`) through vertices within a
+  // rounding-scale tolerance of `best`, lowest index among equals (see SupportVertex)
+  int LowestIndexMaximumNear(const Eigen::Vector3d& direction, int v, double best) const;
+
   ConvexHull hull_;
-  mutable int last_support_vertex_ = 0;  // hill-climbing start; a cache, not state
+  double radius_ = 0;                    // m, the largest |vertex|: the scale of near-ties
+  // hill-climbing start; a cache that never changes results. Atomic (relaxed): scenes are shared
+  // by simulations on several threads, and any value it holds is a valid start
+  mutable std::atomic<int> last_support_vertex_{0};
 };
 
 /// Axis-aligned box centred at the origin with the given half extents (6 linear constraints).

@@ -10,23 +10,37 @@
 namespace ecpsim::render {
 namespace {
 
+// Every length here is relative to the camera's distance from its target (or, for automatic
+// framing, to the bodies' bounding spheres), so that a scene in millimetres or kilometres gives
+// the frame of the same scene in metres.
+
 // the framed spheres fill at most this fraction of the smaller field of view
 constexpr double kFramingFill = 0.8;
-// eye/target closer than this are one point; up within this sine of the view direction is parallel
-constexpr double kMinEyeDistance = 1e-9;  // m
+// automatic framing with nothing to frame (no bodies) looks at a sphere of this radius
+constexpr double kEmptyFrameRadius = 0.1;  // m
+// eye and target within this fraction of their distance from the origin are one point (rounding);
+// up within this sine of the view direction is parallel
+constexpr double kSameEyeAndTarget = 1e-12;
 constexpr double kMinUpSine = 1e-6;
 // the near plane: this fraction of the distance to the target, so bodies near the eye still draw
 constexpr double kNearFraction = 0.02;
-// the far plane: beyond the ground sheets (half extent 10 m) seen from any framing distance
-constexpr double kFarMargin = 100;  // m
+// the far plane: past the ground sheets' far corners (kGroundHalfExtent distances around the
+// target's foot, which lies within about a distance of the eye) and past every body
+constexpr double kFarMargin = 1.25;
+// a point at most this fraction of its distance in front of the eye plane counts as behind it
+constexpr double kBehindEye = 1e-12;
 
 std::string Format(const Eigen::Vector3d& v) { return fmt::format("({}, {}, {})", v.x(), v.y(), v.z()); }
 
 }  // namespace
 
+double GroundHalfExtent(const Camera& camera) {
+  return kGroundHalfExtent * (camera.target - camera.eye).norm();
+}
+
 bool Camera::ToPixel(const Eigen::Vector3d& p_W, Eigen::Vector3d* pixel) const {
   const Eigen::Vector4d clip = view_projection * p_W.homogeneous();
-  if (!(clip.w() > 1e-12)) return false;
+  if (!(clip.w() > kBehindEye * (p_W - eye).norm())) return false;
   const Eigen::Vector3d ndc = clip.head<3>() / clip.w();
   *pixel = Eigen::Vector3d((ndc.x() + 1) * 0.5 * width, (1 - ndc.y()) * 0.5 * height, ndc.z());
   return true;
@@ -45,7 +59,7 @@ Camera MakeCamera(const CameraSpec& spec, const std::vector<BoundingSphere>& sph
                                  spec.fov_y_deg));
   }
   Eigen::Vector3d direction = spec.position - spec.target;  // target → eye
-  if (direction.norm() < kMinEyeDistance) {
+  if (!(direction.norm() > kSameEyeAndTarget * (spec.position.norm() + spec.target.norm()))) {
     throw InputError(fmt::format("camera: position {} equals target {}: expected distinct points",
                                  Format(spec.position), Format(spec.target)));
   }
@@ -66,10 +80,11 @@ Camera MakeCamera(const CameraSpec& spec, const std::vector<BoundingSphere>& sph
     Eigen::Vector3d centre = Eigen::Vector3d::Zero();
     for (const BoundingSphere& s : spheres) centre += s.centre;
     if (!spheres.empty()) centre /= static_cast<double>(spheres.size());
-    double radius = 0.1;
+    double radius = 0;
     for (const BoundingSphere& s : spheres) {
       radius = std::max(radius, (s.centre - centre).norm() + s.radius);
     }
+    if (!(radius > 0)) radius = kEmptyFrameRadius;
     const double half_fov = 0.5 * std::min(fov_y, 2 * std::atan(std::tan(fov_y / 2) * aspect));
     const double distance = radius / std::sin(half_fov * kFramingFill);
     camera.target = centre;
@@ -91,7 +106,11 @@ Camera MakeCamera(const CameraSpec& spec, const std::vector<BoundingSphere>& sph
   // projection: OpenGL perspective with depth range [near, far]
   const double distance = (camera.target - camera.eye).norm();
   const double near = kNearFraction * distance;
-  const double far = 4 * distance + kFarMargin;
+  double far = (2 + std::sqrt(2.0) * kGroundHalfExtent) * distance;
+  for (const BoundingSphere& s : spheres) {
+    far = std::max(far, (s.centre - camera.eye).norm() + s.radius);
+  }
+  far *= kFarMargin;
   const double cot = 1 / std::tan(fov_y / 2);
   Eigen::Matrix4d projection = Eigen::Matrix4d::Zero();
   projection(0, 0) = cot / aspect;

@@ -31,11 +31,22 @@ struct Camera {
   bool ToPixel(const Eigen::Vector3d& p_W, Eigen::Vector3d* pixel) const;
 };
 
-/// The camera of `spec`; for automatic framing it looks at the union of `spheres` (empty: the
-/// origin) from the direction of spec.position − spec.target, far enough away that the union fits
-/// the smaller field of view with a margin.
+/// Half the side of a ground sheet, in distances from the eye to the target: the sheet is centred
+/// under the target and fades out before its edge (draw_bodies.cpp), so it fills the view up to
+/// where it fades into the background at any scale.
+inline constexpr double kGroundHalfExtent = 4;
+
+/// kGroundHalfExtent × |target − eye|, m.
+double GroundHalfExtent(const Camera& camera);
+
+/// The camera of `spec`; for automatic framing it looks at the union of `spheres` (empty: a
+/// 0.1 m sphere at the origin) from the direction of spec.position − spec.target, far enough away
+/// that the union fits the smaller field of view with a margin. The near plane is at 0.02 of the
+/// distance to the target, the far plane past the ground sheet (GroundHalfExtent) and every
+/// sphere: every length scales with the scene, so a scene scaled by s is framed alike.
 /// @throws InputError if the spec is non-finite, the field of view is outside (1°, 170°), the eye
-///         coincides with the target, or `up` is parallel to the viewing direction.
+///         coincides with the target (within rounding), or `up` is parallel to the viewing
+///         direction.
 Camera MakeCamera(const CameraSpec& spec, const std::vector<BoundingSphere>& spheres, int width,
                   int height);
 

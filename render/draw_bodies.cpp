@@ -1,4 +1,5 @@
 // The 3-D passes of a frame: ground sheets with a metric grid, shaded bodies, translucent hulls.
+// Sizes are in pixels or relative to the camera's distance from its target, never in metres.
 
 #include <algorithm>
 #include <cmath>
@@ -61,22 +62,30 @@ Eigen::Vector3d PlaneAxis(const Eigen::Vector3d& n) {
   return (seed - seed.dot(n) * n).normalized();
 }
 
-// the ground's look: sheet and line colours, grid spacings (m) and line widths (image pixels at
-// the camera target's distance)
+// the ground's look: sheet and line colours and line widths (image pixels at the camera
+// target's distance)
 const Eigen::Vector3f kSheetColour(0.86f, 0.87f, 0.89f);
 const Eigen::Vector3f kMinorColour(0.74f, 0.76f, 0.80f);
 const Eigen::Vector3f kMajorColour(0.52f, 0.55f, 0.62f);
-constexpr double kMinorSpacing = 0.1;  // m
-constexpr double kMajorSpacing = 1.0;  // m
 constexpr double kMinorWidth = 1.0;    // pixels
 constexpr double kMajorWidth = 1.8;    // pixels
+// the grid is metric at every scale: major lines every power of ten of metres not above this
+// many camera distances (0.2 to 2 distances: 1 m for the paper's bodies framed from 1–5 m),
+// minor lines every tenth of that
+constexpr double kMajorSpacingDistances = 2;
+constexpr double kMinorPerMajor = 10;
 // minor lines fade out between these on-screen spacings (pixels), before they turn into moiré
 constexpr double kMinorFadeStart = 10, kMinorFadeEnd = 4;
 // the sheet fades into the background from this fraction of its half extent (squared radius)
 constexpr double kFadeStart = 0.3;
-// grid lines are cut into pieces this long so their opacity follows the fades smoothly
-constexpr double kLinePiece = 0.5;  // m
-constexpr int kSheetCells = 16;     // per side
+// grid lines are cut into this many pieces so their opacity follows the fades smoothly
+constexpr int kLinePieces = 40;
+constexpr int kSheetCells = 16;  // per side
+// a minor line within this fraction of a major spacing of a major line is that line
+constexpr double kSameLine = 1e-6;
+
+// the largest power of ten (m) not above `limit` (m)
+double PowerOfTenBelow(double limit) { return std::pow(10.0, std::floor(std::log10(limit))); }
 
 // vertices of position (3 floats) + colour (4 floats)
 class GroundMesh {
@@ -139,7 +148,9 @@ void DrawPlanes(const FrameInput& frame, DrawContext& context) {
   const double pixel_per_distance = 2.0 / (camera.projection(1, 1) * camera.height);
   const double target_distance = (camera.target - camera.eye).norm();
   const double pixel_at_target = context.pixel_scale * target_distance * pixel_per_distance;  // m
-
+  const double major_spacing = PowerOfTenBelow(kMajorSpacingDistances * target_distance);  // m
+  const double minor_spacing = major_spacing / kMinorPerMajor;                             // m
+  const double R = GroundHalfExtent(camera);  // m
   for (const PlaneVisual& visual : frame.planes) {
     const Eigen::Vector3d n = visual.plane.normal.normalized();
     const Eigen::Vector3d u = PlaneAxis(n);
@@ -149,7 +160,6 @@ void DrawPlanes(const FrameInput& frame, DrawContext& context) {
     const Eigen::Vector3d origin = visual.plane.offset * n;
     const Eigen::Vector3d centre =
         camera.target - (n.dot(camera.target) - visual.plane.offset) * n;
-    const double R = visual.half_extent;
     const auto point = [&](double a, double b) { return Eigen::Vector3d(centre + a * u + b * v); };
     const auto fade = [&](const Eigen::Vector3d& p) {
       const double r2 = (p - centre).squaredNorm() / (R * R);
@@ -188,7 +198,7 @@ void DrawPlanes(const FrameInput& frame, DrawContext& context) {
     // whose opacity follows the rim fade and, for minor lines, the on-screen spacing
     GroundMesh lines;
     const Eigen::Vector2d c(u.dot(centre - origin), v.dot(centre - origin));
-    const int pieces = static_cast<int>(std::ceil(2 * R / kLinePiece));
+    const int pieces = kLinePieces;
     const auto add_lines = [&](double spacing, double width_px, const Eigen::Vector3f& colour,
                                bool minor) {
       const double half_width = 0.5 * width_px * pixel_at_target;
@@ -200,7 +210,9 @@ void DrawPlanes(const FrameInput& frame, DrawContext& context) {
         for (long k = first; k <= last; ++k) {
           // major lines belong to the major pass only
           const double at = static_cast<double>(k) * spacing;
-          if (minor && std::abs(std::remainder(at, kMajorSpacing)) < 1e-6) continue;
+          if (minor && std::abs(std::remainder(at, major_spacing)) < kSameLine * major_spacing) {
+            continue;
+          }
           const double offset = at - c_across;
           const auto alpha = [&](const Eigen::Vector3d& q) {
             double opacity = 1 - fade(q);
@@ -230,8 +242,8 @@ void DrawPlanes(const FrameInput& frame, DrawContext& context) {
         }
       }
     };
-    add_lines(kMinorSpacing, kMinorWidth, kMinorColour, true);
-    add_lines(kMajorSpacing, kMajorWidth, kMajorColour, false);
+    add_lines(minor_spacing, kMinorWidth, kMinorColour, true);
+    add_lines(major_spacing, kMajorWidth, kMajorColour, false);
     glDepthMask(GL_FALSE);
     glEnable(GL_BLEND);
     glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);

@@ -28,11 +28,12 @@ constexpr double kInsetFraction = 0.42;
 constexpr double kInsetMargin = 8.0;
 // patch features hidden by a body are drawn with this fraction of their opacity (x-ray view)
 constexpr float kHiddenAlpha = 0.4f;
-// the smallest region the inset shows, so a single point does not zoom without bound
-constexpr double kInsetMinExtent = 0.05;  // m
-// planes within these tolerances are the same plane for the inset
+// the smallest region the inset shows, so a single point does not zoom without bound, in
+// distances from the camera to its target (0.02 × 2.5 m: 5 cm for the paper's bodies)
+constexpr double kInsetMinExtent = 0.02;
+// planes within these tolerances are the same plane for the inset (offsets in camera distances)
 constexpr double kSamePlaneNormal = 1e-9;
-constexpr double kSamePlaneOffset = 1e-9;  // m
+constexpr double kSamePlaneOffset = 1e-9;
 
 // maps a world point to an overlay pixel (with depth, or z = 0 for flat views); false if hidden
 using ToPixel = std::function<bool(const Eigen::Vector3d&, Pixel*)>;
@@ -134,10 +135,14 @@ double NiceLength(double limit) {
   return decade;
 }
 
+// a scale-bar length in the unit that keeps its number between 1 and 999 (ASCII "um": the font
+// atlas holds ASCII only)
 std::string LengthLabel(double metres) {
+  if (metres >= 1e3) return fmt::format("{:g} km", std::round(metres) / 1e3);
   if (metres >= 1) return fmt::format("{:g} m", metres);
   if (metres >= 0.01) return fmt::format("{:g} cm", std::round(metres * 1e4) / 1e2);
-  return fmt::format("{:g} mm", std::round(metres * 1e6) / 1e3);
+  if (metres >= 1e-3) return fmt::format("{:g} mm", std::round(metres * 1e6) / 1e3);
+  return fmt::format("{:g} um", std::round(metres * 1e9) / 1e3);
 }
 
 }  // namespace
@@ -178,10 +183,12 @@ void DrawContactInset(const FrameInput& frame, DrawContext& context) {
   }
   if (first == nullptr) return;
   const Eigen::Vector3d n = first->plane.normal.normalized();
+  const double camera_distance = (context.camera.target - context.camera.eye).norm();  // m
   std::vector<const ContactVisual*> contacts;
   for (const ContactVisual& contact : frame.contacts) {
     if ((contact.plane.normal.normalized() - n).norm() < kSamePlaneNormal &&
-        std::abs(contact.plane.offset - first->plane.offset) < kSamePlaneOffset) {
+        std::abs(contact.plane.offset - first->plane.offset) <
+            kSamePlaneOffset * camera_distance) {
       contacts.push_back(&contact);
     }
   }
@@ -211,7 +218,8 @@ void DrawContactInset(const FrameInput& frame, DrawContext& context) {
     if (contact->cm_projection) extend(*contact->cm_projection);
   }
   const Eigen::Vector2d centre = 0.5 * (lo + hi);
-  const double extent = std::max({hi.x() - lo.x(), hi.y() - lo.y(), kInsetMinExtent});
+  const double extent =
+      std::max({hi.x() - lo.x(), hi.y() - lo.y(), kInsetMinExtent * camera_distance});
 
   // the panel, top-right, with room for a title above and a scale bar below the plot
   const double s = context.pixel_scale;

@@ -49,10 +49,10 @@ struct BodyVisual {
   bool fixed = false;  // an obstacle: drawn, but not followed by automatic framing
 };
 
-/// A fixed plane obstacle drawn as a finite ground sheet with a metric grid.
+/// A fixed plane obstacle drawn as a ground sheet with a metric grid, centred under the camera
+/// target and sized to the camera's distance (camera.h, GroundHalfExtent).
 struct PlaneVisual {
-  geometry::Plane plane;       // world; the sheet is the plane n · x = offset
-  double half_extent = 10;     // m, half the sheet's side, centred under the camera target
+  geometry::Plane plane;  // world; the sheet is the plane n · x = offset
 };
 
 /// One contact between a body and an obstacle: the actual patch and the solver's points.

@@ -102,7 +102,6 @@ std::vector<double> BackgroundKey(const Camera& camera, double pixel_scale,
   for (const PlaneVisual& plane : planes) {
     append(plane.plane.normal);
     key.push_back(plane.plane.offset);
-    key.push_back(plane.half_extent);
   }
   return key;
 }

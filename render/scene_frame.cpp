@@ -20,8 +20,6 @@ const Eigen::Vector3f kObstacleColour(0.70f, 0.70f, 0.72f);
 constexpr double kWeightArrowRadii = 1.0;
 // standard gravity, for the arrow scale of a scene without gravity
 constexpr double kStandardGravity = 9.80665;  // m/s²
-// the ground sheet's half extent
-constexpr double kPlaneHalfExtent = 10;  // m
 // tessellation of smooth obstacles and hulls
 constexpr int kSegments = 48;
 
@@ -37,7 +35,7 @@ std::optional<geometry::Plane> AsPlane(const geometry::ConvexShape& shape) {
 }  // namespace
 
 SceneFrameBuilder::SceneFrameBuilder(const engine::Scene& scene) : scene_(scene) {
-  double max_weight = 0, radius_of_heaviest = 0.1;
+  double max_weight = 0, radius_of_heaviest = 0;
   const double g = scene.gravity.norm() > 0 ? scene.gravity.norm() : kStandardGravity;
   for (const engine::Body& body : scene.bodies) {
     meshes_.push_back(std::make_shared<const geometry::TriangleMesh>(body.mesh));
@@ -48,7 +46,7 @@ SceneFrameBuilder::SceneFrameBuilder(const engine::Scene& scene) : scene_(scene)
     for (const auto& v : body.mesh.vertices) radius = std::max(radius, v.norm());
     if (body.mass * g > max_weight) {
       max_weight = body.mass * g;
-      radius_of_heaviest = std::max(radius, 1e-3);
+      radius_of_heaviest = radius;
     }
   }
   if (max_weight > 0) force_scale_ = kWeightArrowRadii * radius_of_heaviest / max_weight;
@@ -67,8 +65,8 @@ double SceneFrameBuilder::PatchTolerance(int body, const Eigen::Isometry3d& X_WB
   // mesh stays up to its sagitta above it: the features within that gap of the mesh's lowest
   // point carry the contact. For the polyhedral hull of the mesh the gap is 0 (its vertices are
   // mesh vertices) and the tolerance is the plain one.
-  const geometry::ConvexShape* hull = scene_.bodies[body].hull.get();
   const double tolerance = geometry::ContactPatchTolerance(*meshes_[body]);
+  const geometry::ConvexShape* hull = scene_.bodies[body].hull.get();
   if (hull == nullptr) return tolerance;
   const Eigen::Matrix3d& R = X_WB.linear();
   const Eigen::Vector3d support = X_WB * hull->Support(R.transpose() * -plane.normal);
@@ -109,7 +107,7 @@ FrameInput SceneFrameBuilder::Build(const engine::State& state, int iterations) 
   }
   for (size_t j = 0; j < scene_.obstacles.size(); ++j) {
     if (planes_[j]) {
-      frame.planes.push_back(PlaneVisual{*planes_[j], kPlaneHalfExtent});
+      frame.planes.push_back(PlaneVisual{*planes_[j]});
     } else if (obstacle_meshes_[j]) {
       BodyVisual obstacle;
       obstacle.mesh = obstacle_meshes_[j];

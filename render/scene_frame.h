@@ -21,7 +21,9 @@ class SceneFrameBuilder {
 
   /// The frame at `state`: bodies posed by (p_WB, Q_WB); for each contact with a plane obstacle
   /// (one linear constraint, e.g. MakeHalfSpace, or a one-face polyhedron) the actual patch of
-  /// the body's mesh (geometry::ExtractContactPatch), the centre of mass projected on the plane;
+  /// the body's mesh (geometry::ExtractContactPatch: the vertices within 1e-6 of the body's
+  /// bounding radius of the plane, plus the gap to a declared hull primitive), the centre of mass
+  /// projected on the plane;
   /// for every contact in touch (p_n > 0 or a non-empty patch) the ECP a1 and the force
   /// (p_n n + p_t t + p_o o)/h. Other obstacles are drawn as fixed grey bodies. `iterations`
   /// (< 0: unknown) goes to the text overlay.
@@ -39,7 +41,7 @@ class SceneFrameBuilder {
   std::vector<std::shared_ptr<const HullGeometry>> hulls_;             // per body, body frame
   std::vector<std::optional<geometry::Plane>> planes_;                 // per obstacle
   std::vector<std::shared_ptr<const geometry::TriangleMesh>> obstacle_meshes_;  // non-planes
-  double force_scale_ = 0;  // m/N
+  double force_scale_ = 0;     // m/N
 };
 
 }  // namespace ecpsim::render

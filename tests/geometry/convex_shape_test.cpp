@@ -198,6 +198,52 @@ TEST(ConvexShapeTest, SupportMatchesBruteForceAndNearbyConstraintsCoverTheVertex
   }
 }
 
+// The lowest-index vertex of largest d · x, by scanning every vertex.
+int BruteForceSupportVertex(const ConvexHull& hull, const Eigen::Vector3d& d) {
+  int best = 0;
+  for (int w = 1; w < static_cast<int>(hull.vertices.size()); ++w) {
+    if (d.dot(hull.vertices[w]) > d.dot(hull.vertices[best])) best = w;
+  }
+  return best;
+}
+
+// Bug: the engine and the frame builder share one hull, and the climb started where the last
+// query ended, so for a T-bar lying flat (a face perpendicular to −z, its corners tied up to
+// rounding) a frame's support query moved the engine's window and its trajectory. The answer must
+// not depend on the queries before it: started from every vertex, the climb gives the
+// brute-force answer. Directions: −z in the frame of the T turned 90° about z (as scenes/tbar.yaml
+// does, rounding included), exact ties of a box, face and edge normals of the T, random ones.
+TEST(ConvexShapeTest, SupportVertexDoesNotDependOnEarlierQueries) {
+  const double quarter_turn = 0.5 * std::acos(-1.0);
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(quarter_turn, Eigen::Vector3d::UnitZ()) *
+                            Eigen::AngleAxisd(1e-3, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  for (const std::shared_ptr<PolyhedralShape>& shape :
+       {std::make_shared<PolyhedralShape>(ComputeConvexHull(MakeTBarMesh().vertices)),
+        MakeBox({0.3, 0.2, 0.1})}) {
+    const ConvexHull& hull = shape->hull();
+    std::vector<Eigen::Vector3d> directions = RandomDirections(20, 5);
+    for (const Eigen::Matrix3d& pose : {Eigen::Matrix3d(R), Eigen::Matrix3d(R * R.transpose())}) {
+      directions.push_back(pose.transpose() * -Eigen::Vector3d::UnitZ());
+    }
+    directions.push_back(-Eigen::Vector3d::UnitZ());
+    for (size_t f = 0; f < hull.normals.size(); ++f) directions.push_back(hull.normals[f]);
+    for (size_t v = 0; v < hull.vertices.size(); ++v) {
+      for (int w : hull.vertex_neighbors[v]) directions.push_back(hull.vertices[v] - hull.vertices[w]);
+    }
+    for (const Eigen::Vector3d& d : directions) {
+      const int expected = BruteForceSupportVertex(hull, d);
+      for (size_t start = 0; start < hull.vertices.size(); ++start) {
+        // a query in the interior of the start vertex's normal cone leaves the climb there
+        Eigen::Vector3d inside_cone = Eigen::Vector3d::Zero();
+        for (int f : hull.vertex_faces[start]) inside_cone += hull.normals[f];
+        ASSERT_EQ(shape->SupportVertex(inside_cone), static_cast<int>(start));
+        EXPECT_EQ(shape->SupportVertex(d), expected)
+            << "direction (" << d.transpose() << "), climb from vertex " << start;
+      }
+    }
+  }
+}
+
 TEST(ConvexShapeTest, HalfSpaceHasOneConstraintAFootPointAndADisplaySlab) {
   const auto ground = MakeHalfSpace({0, 0, 2}, 0.5);
   ASSERT_EQ(ground->NumConstraints(), 1);

@@ -53,7 +53,7 @@ inline ContactVisual GroundContact(const BodyVisual& body,
 
 inline FrameInput GroundFrame() {
   FrameInput frame;
-  frame.planes.push_back(PlaneVisual{Ground(), 10.0});
+  frame.planes.push_back(PlaneVisual{Ground()});
   return frame;
 }
 

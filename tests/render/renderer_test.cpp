@@ -1,6 +1,7 @@
 // The renderer as a whole: determinism, the comparator catching a moved ECP, the pixel path on a
 // known frame, the mesh cache, and bad input.
 
+#include <cfenv>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -167,6 +168,51 @@ TEST(RendererBackground, CopiedBackgroundGivesTheDrawnPixels) {
   const Image turned = cached.Render(frame);
   EXPECT_FALSE(cached.LastBackgroundCached());
   EXPECT_EQ(CompareImages(fresh.Render(frame), turned, {0, 0.0}).max_channel_difference, 0);
+}
+
+// The floating-point modes the calling thread computes in: rounding direction, and on x86 the
+// SSE control bits (flush-to-zero, denormals-are-zero, rounding, exception masks; not the sticky
+// exception flags) and the x87 control word.
+struct FloatingPointModes {
+  int rounding = std::fegetround();
+#if defined(__x86_64__) || defined(__i386__)
+  unsigned sse_control = [] {
+    constexpr unsigned kSseExceptionFlags = 0x3f;  // MXCSR bits 0-5
+    unsigned mxcsr = 0;
+    asm volatile("stmxcsr %0" : "=m"(mxcsr));
+    return mxcsr & ~kSseExceptionFlags;
+  }();
+  unsigned short x87_control = [] {
+    unsigned short word = 0;
+    asm volatile("fnstcw %0" : "=m"(word));
+    return word;
+  }();
+#endif
+  bool operator==(const FloatingPointModes& other) const {
+#if defined(__x86_64__) || defined(__i386__)
+    if (sse_control != other.sse_control || x87_control != other.x87_control) return false;
+#endif
+    return rounding == other.rounding;
+  }
+};
+
+// Software OpenGL (llvmpipe) sets flush-to-zero and denormals-are-zero on its own threads; if
+// it did so on the caller's, the engine stepping between frames would compute differently with
+// frames than without. Making a context, compiling shaders, drawing, reading back and
+// destroying must leave the caller's modes as they were.
+TEST(RendererFloatingPoint, RenderingKeepsTheCallersFloatingPointModes) {
+  const FloatingPointModes before;
+  {
+    RenderSettings settings;
+    settings.width = 64;
+    settings.height = 48;
+    Renderer renderer(settings);
+    EXPECT_TRUE(FloatingPointModes() == before) << "after making the context";
+    renderer.Render(testing::DeskRestingFlat());
+    renderer.Render(testing::TBarTwoPoint());
+    EXPECT_TRUE(FloatingPointModes() == before) << "after rendering";
+  }
+  EXPECT_TRUE(FloatingPointModes() == before) << "after destroying the context";
 }
 
 TEST(RendererSettings, BadResolutionIsAnInputError) {

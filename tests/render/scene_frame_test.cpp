@@ -1,18 +1,28 @@
 // Frames from an engine scene and state: poses, patches against the plane obstacle, ECP, force.
 
 #include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <string>
 #include <memory>
+#include <vector>
 
+#include <fmt/format.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include "engine/scene.h"
+#include "engine/scene_builders.h"
+#include "engine/scene_yaml.h"
 #include "engine/state.h"
+#include "engine/time_step.h"
 #include "geometry/convex_hull.h"
 #include "geometry/convex_shape.h"
 #include "geometry/errors.h"
 #include "geometry/mass_properties.h"
 #include "geometry/paper_bodies.h"
+#include "render/image_compare.h"
+#include "render/png_writer.h"
 #include "render/renderer.h"
 #include "render/scene_frame.h"
 
@@ -25,9 +35,10 @@ using ::testing::ThrowsMessage;
 constexpr double kMass = 15;  // kg, the paper's desk
 constexpr double kH = 0.01;   // s
 
-// the desk with its body frame at the centre of mass, on the ground z = 0
-engine::Scene DeskScene() {
+// the desk (scaled by `scale`) with its body frame at the centre of mass, on the ground z = 0
+engine::Scene DeskScene(double scale = 1) {
   geometry::TriangleMesh mesh = geometry::MakeDeskMesh();
+  for (auto& v : mesh.vertices) v *= scale;
   const Eigen::Vector3d cm = geometry::ComputeMassProperties(mesh, 1000).center_of_mass;
   for (auto& v : mesh.vertices) v -= cm;
   engine::Scene scene;
@@ -105,6 +116,40 @@ TEST(SceneFrameBuilder, MismatchedStateIsAnInputError) {
               ThrowsMessage<InputError>(HasSubstr("desk.yaml: state with 1 bodies and 0 contacts")));
 }
 
+// Bit-for-bit equality of two body states (positions, orientations, velocities).
+bool BitIdentical(const engine::BodyState& a, const engine::BodyState& b) {
+  const auto same = [](const double* x, const double* y, size_t n) {
+    return std::memcmp(x, y, n * sizeof(double)) == 0;
+  };
+  return same(a.p_WB.data(), b.p_WB.data(), 3) && same(a.Q_WB.coeffs().data(), b.Q_WB.coeffs().data(), 4) &&
+         same(a.v_WB.data(), b.v_WB.data(), 3) && same(a.w_WB.data(), b.w_WB.data(), 3);
+}
+
+// Bug: the frame builder asks the body's hull for its support point (PatchTolerance), and the
+// hull is the engine's. Frames built between steps must leave every step bit-identical: the
+// T-bar of scenes/tbar.yaml through its first wobble (it lies flat, tilts onto the edge B+C+ and
+// rocks; the run that first differed did so at t = 1.38 s).
+TEST(SceneFrameBuilder, BuildingFramesBetweenStepsLeavesEveryStepBitIdentical) {
+  constexpr int kSteps = 145;  // to t = 1.45 s at h = 0.01 s
+  // two loads: each run has hulls of its own
+  const engine::Scene plain_scene = engine::LoadScene(ECPSIM_SOURCE_DIR "/scenes/tbar.yaml");
+  const engine::Scene scene = engine::LoadScene(ECPSIM_SOURCE_DIR "/scenes/tbar.yaml");
+  const SceneFrameBuilder builder(scene);
+  engine::State plain = engine::InitialState(plain_scene);
+  engine::State framed = engine::InitialState(scene);
+  int frames_with_a_patch = 0;
+  for (int k = 1; k <= kSteps; ++k) {
+    engine::Step(plain_scene, plain);
+    engine::Step(scene, framed);
+    const FrameInput frame = builder.Build(framed);
+    if (!frame.contacts[0].patch.points.empty() || !frame.contacts[0].patch.polygons.empty()) {
+      ++frames_with_a_patch;
+    }
+    ASSERT_TRUE(BitIdentical(plain.bodies[0], framed.bodies[0])) << "step " << k;
+  }
+  EXPECT_EQ(frames_with_a_patch, kSteps);  // in contact all along: every frame asked the hull
+}
+
 TEST(SceneFrameBuilder, EcpMarkerLandsOnItsProjectedPixel) {
   // the ECP's red disc (5 px radius) is drawn last over everything: the pixel containing the
   // projected ECP is exactly the marker colour (0.90, 0, 0) → (230, 0, 0)
@@ -156,13 +201,122 @@ TEST(SceneFrameBuilder, TessellatedMeshUnderAPrimitiveHullShowsItsLowestFeatures
 }
 
 TEST(SceneFrameBuilder, PolyhedralHullKeepsThePlainTolerance) {
-  // the desk lifted by 2 µm: above the 1 µm tolerance, no contact
-  const engine::Scene scene = DeskScene();
-  engine::State state = RestingState(scene);
-  state.bodies[0].p_WB.z() += 2e-6;
-  const FrameInput frame = SceneFrameBuilder(scene).Build(state);
-  EXPECT_EQ(frame.contacts[0].patch.mode, geometry::ContactMode::kNone);
+  // the desk (bounding-box diagonal 0.91 m) lifted by 2 µm: above the tolerance of 1e-6
+  // diagonals, no
+  // contact; lifted by 0.2 µm: its four feet. The same at a thousandth and a thousand times the
+  // size (a fixed 1 µm made a lifted millimetre desk touch)
+  for (double scale : {1e-3, 1.0, 1e3}) {
+    const engine::Scene scene = DeskScene(scale);
+    for (double lift : {2e-6, 0.2e-6}) {
+      engine::State state = RestingState(scene);
+      state.bodies[0].p_WB.z() += lift * scale;
+      const FrameInput frame = SceneFrameBuilder(scene).Build(state);
+      EXPECT_EQ(frame.contacts[0].patch.polygons.size(), lift > 1e-6 ? 0u : 4u)
+          << "scale " << scale << ", lifted " << lift * scale << " m";
+    }
+  }
 }
+
+// ---- scale: a scene in millimetres or kilometres is drawn like one in metres ----
+
+// the golden tests' tolerance (renderer_golden_test.cpp explains the numbers)
+const CompareTolerance kGoldenTolerance{24, 0.0005};
+constexpr int kWidth = 320, kHeight = 240;  // pixels, the goldens' size and supersampling
+constexpr double kSupersample = 2;
+
+// A box of sides (1, 0.6, 0.4) × L, density 1000 kg/m³, tipped 25° about x onto a long edge
+// (a line contact), with its ECP on that edge carrying its weight and a sideways push: patch,
+// ECP, centre-of-mass ring, force arrow, hull and ground all in view.
+struct TippedBox {
+  engine::Scene scene;
+  engine::State state;
+};
+
+TippedBox MakeTippedBox(double L) {
+  constexpr double kDensity = 1000;  // kg/m³
+  constexpr double kG = 9.8;         // m/s²
+  const Eigen::Vector3d size = L * Eigen::Vector3d(1, 0.6, 0.4);
+  TippedBox box;
+  box.scene = engine::MakeGroundScene(
+      {engine::MakeBoxBody(size, kDensity * size.prod(), "box")}, kH, engine::Friction{});
+  const engine::Body& body = box.scene.bodies[0];
+  engine::BodyState pose;
+  pose.Q_WB = Eigen::Quaterniond(Eigen::AngleAxisd(25 * M_PI / 180, Eigen::Vector3d::UnitX()));
+  double lowest = 0;
+  for (const Eigen::Vector3d& v : body.mesh.vertices) lowest = std::min(lowest, (pose.Q_WB * v).z());
+  pose.p_WB = Eigen::Vector3d(0.1 * L, -0.05 * L, -lowest);
+  box.state = engine::InitialState(box.scene);
+  box.state.bodies[0] = pose;
+  engine::ContactState& contact = box.state.contacts[0];
+  const Eigen::Vector3d on_edge = pose.p_WB + pose.Q_WB * (0.5 * size.cwiseProduct(
+                                                              Eigen::Vector3d(0.4, -1, -1)));
+  contact.a1 = Eigen::Vector3d(on_edge.x(), on_edge.y(), 0);
+  contact.a2 = contact.a1;
+  contact.p_n = body.mass * kG * kH;  // N·s: the weight over one step
+  contact.p_t = 0.3 * contact.p_n;
+  return box;
+}
+
+// The inset's last row holds the scale bar's label, the one text that prints a length: blanked
+// in both images. The inset is 0.42 of the height square, 8 pixels from the top-right corner
+// (draw_contact_overlay.cpp); its label row is the bottom 18 pixels of it at 240 rows.
+void BlankScaleBarLabel(Image& image) {
+  const int side = static_cast<int>(std::lround(0.42 * image.height));
+  const int right = image.width - 8, bottom = 8 + side;
+  for (int y = bottom - 18; y < bottom; ++y) {
+    for (int x = right - side; x < right; ++x) {
+      std::uint8_t* p = image.Pixel(x, y);
+      p[0] = p[1] = p[2] = 0;
+    }
+  }
+}
+
+class ScaleFreeFrames : public ::testing::TestWithParam<bool> {
+ protected:
+  static void SetUpTestSuite() {
+    RenderSettings settings;
+    settings.width = kWidth;
+    settings.height = kHeight;
+    settings.supersample = kSupersample;
+    renderer_ = std::make_unique<Renderer>(settings);
+  }
+  static void TearDownTestSuite() { renderer_.reset(); }
+
+  // the frame of the box of size L, automatic camera or a fixed one (scaled with L)
+  Image Render(double L) {
+    const TippedBox box = MakeTippedBox(L);
+    FrameInput frame = SceneFrameBuilder(box.scene).Build(box.state, 7);
+    if (!GetParam()) {
+      frame.camera.automatic = false;
+      frame.camera.position = L * Eigen::Vector3d(1.4, -2.2, 1.3);
+      frame.camera.target = L * Eigen::Vector3d(0.1, 0, 0.1);
+    }
+    Image image = renderer_->Render(frame);
+    const std::string dir = std::string(ECPSIM_BINARY_DIR) + "/tests/render/scale_output";
+    std::filesystem::create_directories(dir);
+    WritePng(fmt::format("{}/box_{}_{:g}.png", dir, GetParam() ? "auto" : "fixed", L), image);
+    return image;
+  }
+
+  static std::unique_ptr<Renderer> renderer_;
+};
+std::unique_ptr<Renderer> ScaleFreeFrames::renderer_;
+
+TEST_P(ScaleFreeFrames, MillimetreAndKilometreBoxesLookLikeTheMetreBox) {
+  Image metre = Render(1);
+  BlankScaleBarLabel(metre);
+  for (double L : {1e-3, 1e3}) {
+    Image scaled = Render(L);
+    BlankScaleBarLabel(scaled);
+    const ImageComparison comparison = CompareImages(metre, scaled, kGoldenTolerance);
+    EXPECT_TRUE(comparison.match) << "L = " << L << " m: " << comparison.Summary(kGoldenTolerance);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Camera, ScaleFreeFrames, ::testing::Bool(),
+                         [](const ::testing::TestParamInfo<bool>& info) {
+                           return std::string(info.param ? "Automatic" : "Fixed");
+                         });
 
 }  // namespace
 }  // namespace ecpsim::render
