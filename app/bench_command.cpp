@@ -17,7 +17,7 @@
 #include "evaluation/scenario.h"
 #include "evaluation/stability_map.h"
 #include "evaluation/work_precision.h"
-#include "geometry/errors.h"
+#include "common/errors.h"
 
 namespace ecpsim::app {
 namespace {

@@ -8,7 +8,7 @@
 #include "app/commands.h"
 #include "engine/planar_model.h"
 #include "engine/step_report.h"
-#include "geometry/errors.h"
+#include "common/errors.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"ecpsim: rigid bodies with planar non-convex contact (equivalent contact points)"};

@@ -20,7 +20,7 @@
 #include "engine/scene.h"
 #include "engine/scene_yaml.h"
 #include "geometry/contact_patch.h"
-#include "geometry/errors.h"
+#include "common/errors.h"
 
 namespace ecpsim::app {
 namespace {

@@ -6,7 +6,7 @@
 
 #include "app/atomic_file.h"
 #include "app/gnuplot_process.h"
-#include "geometry/errors.h"
+#include "common/errors.h"
 
 namespace ecpsim::app {
 

@@ -16,7 +16,7 @@
 #include "engine/penetration.h"
 #include "engine/state.h"
 #include "engine/time_step.h"
-#include "geometry/errors.h"
+#include "common/errors.h"
 
 namespace ecpsim::app {
 namespace {

@@ -22,7 +22,7 @@
 #include <assimp/scene.h>
 #include <fmt/format.h>
 
-#include "geometry/errors.h"
+#include "common/errors.h"
 #include "geometry/weld_vertices.h"
 
 namespace ecpsim::geometry {

@@ -19,7 +19,7 @@
 #include <unistd.h>
 #include <fmt/format.h>
 
-#include "geometry/errors.h"
+#include "common/errors.h"
 
 namespace ecpsim::render {
 namespace {

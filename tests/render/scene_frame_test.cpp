@@ -10,7 +10,7 @@
 #include "engine/state.h"
 #include "geometry/convex_hull.h"
 #include "geometry/convex_shape.h"
-#include "geometry/errors.h"
+#include "common/errors.h"
 #include "geometry/mass_properties.h"
 #include "geometry/paper_bodies.h"
 #include "render/renderer.h"
