@@ -10,7 +10,7 @@
 
 #include <fmt/format.h>
 
-#include "app/atomic_file.h"
+#include "common/atomic_file.h"
 #include "app/bench_report.h"
 #include "app/commands.h"
 #include "evaluation/method.h"

@@ -14,7 +14,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "app/atomic_file.h"
+#include "common/atomic_file.h"
 #include "app/plot_writer.h"
 #include "app/trajectory_table.h"
 #include "engine/scene.h"

@@ -11,12 +11,12 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "app/atomic_file.h"
 #include "app/trajectory_writer.h"
+#include "common/atomic_file.h"
+#include "common/errors.h"
 #include "engine/penetration.h"
 #include "engine/state.h"
 #include "engine/time_step.h"
-#include "common/errors.h"
 
 namespace ecpsim::app {
 namespace {
@@ -53,7 +53,7 @@ double Median(std::vector<double> values) {
   return 0.5 * (upper + *std::max_element(values.begin(), values.begin() + mid));
 }
 
-void WriteSummary(const engine::Scene& scene, const RunSummary& s, double t_end, int rows,
+void WriteSummary(const engine::Scene& scene, const RunSummary& s, double t_end, long rows,
                   const std::string& path) {
   nlohmann::json json = {
       {"scene", scene.source},
@@ -91,6 +91,9 @@ RunSummary RunSimulation(const engine::Scene& scene, const std::string& out_dir,
                                  "path",
                                  out_dir, error.message()));
   }
+  // refuse a FIFO, symlink or folder at summary.json now, not after the whole run
+  const std::string summary_path = (fs::path(out_dir) / "summary.json").string();
+  RequireReplaceable(summary_path);
   const Clock::time_point start = Clock::now();
   RunSummary summary;
   summary.planned_steps = PlannedSteps(scene);
@@ -154,8 +157,7 @@ RunSummary RunSimulation(const engine::Scene& scene, const std::string& out_dir,
       summary.steps > 0 ? static_cast<double>(iterations_total) / summary.steps : 0.0;
   summary.median_step_us = Median(step_us);
   summary.wall_s = std::chrono::duration<double>(Clock::now() - start).count();
-  WriteSummary(scene, summary, state.t, writer.rows(),
-               (fs::path(out_dir) / "summary.json").string());
+  WriteSummary(scene, summary, state.t, writer.rows(), summary_path);
   if (failure) {
     std::rethrow_exception(failure);
   }

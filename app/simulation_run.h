@@ -30,12 +30,14 @@ struct RunSummary {
 /// Steps `scene` from engine::InitialState until `scene.duration` (ceil(duration / h) steps of h)
 /// and writes, in `out_dir` (created if missing):
 /// - trajectory.csv: the initial state, every `scene.output.every`-th step and the last step
-///   (columns: TrajectoryColumns), streamed to trajectory.csv.partial and renamed at the end,
-///   also when the run fails, so the rows written stay valid;
+///   (columns: TrajectoryColumns), streamed to a temporary file and renamed at the end, also
+///   when the run fails, so the rows written stay valid;
 /// - summary.json (atomically): RunSummary's fields plus `scene`, `h`, `duration`, `t_end`, `rows`.
+/// Both replace only regular files (common/atomic_file.h).
 /// `progress` draws a progress bar on stderr (callers pass isatty(stderr)).
 /// @throws engine::SolverFailure (after writing both files) when a step cannot be solved or
-///         the state stops being finite; InputError if `out_dir` cannot be written.
+///         the state stops being finite; InputError, before any step, if `out_dir` cannot be
+///         written or something other than a regular file is at one of the two paths.
 /// `observer`, if set, sees the initial state and the state after every step (e.g. to record
 /// frames); an exception from it stops the run like a solver failure.
 using StepObserver = std::function<void(const engine::State& state, int iterations)>;

@@ -1,8 +1,6 @@
 #include "app/trajectory_writer.h"
 
-#include <cerrno>
 #include <cmath>
-#include <cstring>
 
 #include <fmt/format.h>
 
@@ -37,25 +35,21 @@ std::vector<std::string> TrajectoryColumns(const engine::Scene& scene) {
 }
 
 TrajectoryWriter::TrajectoryWriter(const engine::Scene& scene, const std::string& path)
-    : columns_(TrajectoryColumns(scene)), path_(path) {
-  const std::string partial = path_ + ".partial";
-  file_ = std::fopen(partial.c_str(), "wb");
-  if (file_ == nullptr) {
-    throw InputError(fmt::format("{}: cannot create it ({}); expected a writable folder", partial,
-                                 std::strerror(errno)));
-  }
+    : columns_(TrajectoryColumns(scene)), file_(path) {
+  stream_ = file_.Create();
   std::string header;
   for (size_t i = 0; i < columns_.size(); ++i) {
     header += (i == 0 ? "" : ",") + columns_[i];
   }
   header += '\n';
-  std::fputs(header.c_str(), file_);
-  std::fflush(file_);
+  std::fputs(header.c_str(), stream_);
+  std::fflush(stream_);
 }
 
 TrajectoryWriter::~TrajectoryWriter() {
-  if (file_ != nullptr) {
-    std::fclose(file_);
+  // without Finish() the AtomicFile removes the temporary file
+  if (stream_ != nullptr) {
+    std::fclose(stream_);
   }
 }
 
@@ -88,26 +82,22 @@ void TrajectoryWriter::Write(const engine::State& state, const engine::StepRepor
     fmt::format_to(std::back_inserter(row), i == 0 ? "{}" : ",{}", values[i]);
   }
   row.push_back('\n');
-  if (std::fwrite(row.data(), 1, row.size(), file_) != row.size() || std::fflush(file_) != 0) {
-    throw InputError(fmt::format("{}.partial: cannot write it (disk full?)", path_));
+  if (std::fwrite(row.data(), 1, row.size(), stream_) != row.size() || std::fflush(stream_) != 0) {
+    throw InputError(fmt::format("{}: cannot write it (disk full?)", file_.temp_path()));
   }
   ++rows_;
 }
 
 void TrajectoryWriter::Finish() {
-  if (file_ == nullptr) {
+  if (stream_ == nullptr) {
     return;
   }
-  const bool closed = std::fclose(file_) == 0;
-  file_ = nullptr;
-  const std::string partial = path_ + ".partial";
+  const bool closed = std::fclose(stream_) == 0;
+  stream_ = nullptr;
   if (!closed) {
-    throw InputError(fmt::format("{}: cannot write it (disk full?)", partial));
+    throw InputError(fmt::format("{}: cannot write it (disk full?)", file_.temp_path()));
   }
-  if (std::rename(partial.c_str(), path_.c_str()) != 0) {
-    throw InputError(fmt::format("{}: cannot rename it to {} ({})", partial, path_,
-                                 std::strerror(errno)));
-  }
+  file_.Commit();
 }
 
 }  // namespace ecpsim::app

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "common/atomic_file.h"
 #include "engine/scene.h"
 #include "engine/state.h"
 #include "engine/step_report.h"
@@ -16,12 +17,14 @@ namespace ecpsim::app {
 /// are several contacts) `a1x a1y a1z a2x a2y a2z pn pt po pr sigma`; then `iters residual`.
 std::vector<std::string> TrajectoryColumns(const engine::Scene& scene);
 
-/// Streams rows to `path + ".partial"` (flushed after every row) and renames the file onto `path`
-/// in Finish(), so that a run stopped by a solver failure still leaves a valid trajectory.csv
-/// holding the rows written so far. Numbers are written in shortest round-trip form.
+/// Streams rows to a temporary file next to `path` (common/atomic_file.h; flushed after every row)
+/// and renames it onto `path` in Finish(), so that a run stopped by a solver failure or an
+/// interrupt still leaves a valid trajectory.csv holding the rows written so far. Numbers are
+/// written in shortest round-trip form.
 class TrajectoryWriter {
  public:
-  /// @throws InputError if the file cannot be created.
+  /// @throws InputError if the file cannot be created or something other than a regular file is
+  ///         at `path`.
   TrajectoryWriter(const engine::Scene& scene, const std::string& path);
   ~TrajectoryWriter();
   TrajectoryWriter(const TrajectoryWriter&) = delete;
@@ -36,13 +39,13 @@ class TrajectoryWriter {
   /// @throws InputError if it cannot be written or renamed.
   void Finish();
 
-  int rows() const { return rows_; }
+  long rows() const { return rows_; }
 
  private:
   std::vector<std::string> columns_;
-  std::string path_;
-  std::FILE* file_ = nullptr;
-  int rows_ = 0;
+  AtomicFile file_;
+  std::FILE* stream_ = nullptr;
+  long rows_ = 0;
 };
 
 }  // namespace ecpsim::app

@@ -1,6 +1,7 @@
 // Runs the built `ecpsim` binary (run and drop) and checks its files: trajectory.csv and
 // summary.json.
 
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -176,6 +177,35 @@ TEST_F(RunCommandTest, DropLandsAMeshOnTheGround) {
   EXPECT_NEAR(std::stod(rows[1][3]), 1.55, 1e-12);
   EXPECT_NEAR(std::stod(rows.back()[3]), 1.5, 1e-6);
   EXPECT_LT(ReadJson(out / "summary.json")["max_penetration"].get<double>(), 1e-6);
+}
+
+TEST_F(RunCommandTest, AFifoOrSymlinkAtAnOutputIsRefusedBeforeTheRunAndLeftAlone) {
+  // a reader blocked on a FIFO, or a symlink pointing elsewhere, must not be replaced by a file
+  const fs::path out = dir_ / "out";
+  fs::create_directories(out);
+  ASSERT_EQ(::mkfifo((out / "summary.json").c_str(), 0600), 0);
+  testing::CliResult result =
+      Run(fmt::format("run scenes/slide.yaml -o '{}'", out.string()));
+  EXPECT_EQ(result.exit_code, 1) << result.output;
+  EXPECT_THAT(result.output, HasSubstr("summary.json: a FIFO (named pipe) is there; expected a "
+                                       "regular file or nothing"));
+  EXPECT_TRUE(fs::is_fifo(fs::symlink_status(out / "summary.json")));
+  EXPECT_FALSE(fs::exists(out / "trajectory.csv"));
+
+  fs::remove(out / "summary.json");
+  std::ofstream(dir_ / "elsewhere.csv") << "keep\n";
+  fs::create_symlink(dir_ / "elsewhere.csv", out / "trajectory.csv");
+  result = Run(fmt::format("run scenes/slide.yaml -o '{}'", out.string()));
+  EXPECT_EQ(result.exit_code, 1) << result.output;
+  EXPECT_THAT(result.output, HasSubstr("trajectory.csv: a symbolic link (to "));
+  EXPECT_TRUE(fs::is_symlink(out / "trajectory.csv"));
+  std::ifstream kept(dir_ / "elsewhere.csv");
+  std::string line;
+  std::getline(kept, line);
+  EXPECT_EQ(line, "keep");
+  EXPECT_FALSE(fs::exists(out / "summary.json"));
+  // nothing else is left in the folder: no temporary files
+  EXPECT_EQ(std::distance(fs::directory_iterator(out), fs::directory_iterator()), 1);
 }
 
 TEST_F(RunCommandTest, DeskRunsWithThePointModel) {
