@@ -6,7 +6,7 @@
 #include <cstdio>
 #include <exception>
 #include <filesystem>
-#include <vector>
+#include <string>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -14,6 +14,7 @@
 #include "app/trajectory_writer.h"
 #include "common/atomic_file.h"
 #include "common/errors.h"
+#include "common/reservoir_median.h"
 #include "engine/penetration.h"
 #include "engine/state.h"
 #include "engine/time_step.h"
@@ -31,9 +32,18 @@ constexpr double kStepCountSlack = 1e-9;
 constexpr double kProgressInterval = 0.1;  // s of wall time
 constexpr int kProgressWidth = 40;         // characters
 
+// step counts are exact integers in a double up to 2^53 (t and the progress fraction use them);
+// a run that long would take decades anyway
+constexpr double kMaxSteps = 9007199254740992.0;  // 2^53
+
 long PlannedSteps(const engine::Scene& scene) {
-  const double ratio = scene.duration / scene.h;
-  return std::max(1L, static_cast<long>(std::ceil(ratio * (1 - kStepCountSlack))));
+  const double steps = std::ceil(scene.duration / scene.h * (1 - kStepCountSlack));
+  if (!(steps <= kMaxSteps)) {
+    throw InputError(fmt::format("{}: duration / h = {} / {} = {:g} steps: expected at most {:g} "
+                                 "steps; use a larger h or a shorter duration",
+                                 scene.source, scene.duration, scene.h, steps, kMaxSteps));
+  }
+  return std::max(1L, static_cast<long>(steps));
 }
 
 void DrawProgress(double fraction, double t) {
@@ -42,15 +52,6 @@ void DrawProgress(double fraction, double t) {
                std::string(kProgressWidth - filled, ' ').c_str(),
                static_cast<int>(fraction * 100), t);
   std::fflush(stderr);
-}
-
-double Median(std::vector<double> values) {
-  if (values.empty()) return 0;
-  const size_t mid = values.size() / 2;
-  std::nth_element(values.begin(), values.begin() + mid, values.end());
-  if (values.size() % 2 == 1) return values[mid];
-  const double upper = values[mid];
-  return 0.5 * (upper + *std::max_element(values.begin(), values.begin() + mid));
 }
 
 void WriteSummary(const engine::Scene& scene, const RunSummary& s, double t_end, long rows,
@@ -101,8 +102,8 @@ RunSummary RunSimulation(const engine::Scene& scene, const std::string& out_dir,
   engine::State state = engine::InitialState(scene);
   TrajectoryWriter writer(scene, (fs::path(out_dir) / "trajectory.csv").string());
   const engine::PenetrationProbe probe(scene);
-  std::vector<double> step_us;
-  step_us.reserve(summary.planned_steps);
+  // nothing is kept per step: memory stays flat however many steps the run takes
+  ReservoirMedian step_us;
   long iterations_total = 0;
   double last_drawn = -1;
   std::exception_ptr failure;
@@ -112,11 +113,12 @@ RunSummary RunSimulation(const engine::Scene& scene, const std::string& out_dir,
     engine::StepReport initial;
     initial.converged = true;
     writer.Write(state, initial);
+    summary.max_penetration = probe.MaxDepth(scene, state);
     if (observer) observer(state, 0);
     for (long k = 1; k <= summary.planned_steps; ++k) {
       const Clock::time_point before = Clock::now();
       const engine::StepReport report = engine::Step(scene, state);
-      step_us.push_back(std::chrono::duration<double, std::micro>(Clock::now() - before).count());
+      step_us.Add(std::chrono::duration<double, std::micro>(Clock::now() - before).count());
 
       summary.steps = k;
       every_step_converged = every_step_converged && report.converged;
@@ -155,7 +157,7 @@ RunSummary RunSimulation(const engine::Scene& scene, const std::string& out_dir,
   writer.Finish();
   summary.iterations_mean =
       summary.steps > 0 ? static_cast<double>(iterations_total) / summary.steps : 0.0;
-  summary.median_step_us = Median(step_us);
+  summary.median_step_us = step_us.Median();
   summary.wall_s = std::chrono::duration<double>(Clock::now() - start).count();
   WriteSummary(scene, summary, state.t, writer.rows(), summary_path);
   if (failure) {

@@ -20,15 +20,17 @@ struct RunSummary {
   int iterations_max = 0;
   double residual_max = 0;     // largest unscaled residual of any step
   int substeps_max = 1;
-  double max_penetration = 0;  // m, deepest mesh vertex inside an obstacle after any step
+  double max_penetration = 0;  // m, deepest mesh vertex inside an obstacle at t = 0 or after
+                               // any step
   double wall_s = 0;           // s, the whole loop including output
-  double median_step_us = 0;   // µs, median of engine::Step's wall time
+  double median_step_us = 0;   // µs, median of engine::Step's wall time (ReservoirMedian: exact
+                               // up to 16384 steps, its rank within ±1.2 % beyond)
   bool converged = false;      // every step converged and the run reached the duration
   std::string error;           // the failure's message, empty on success
 };
 
 /// Steps `scene` from engine::InitialState until `scene.duration` (ceil(duration / h) steps of h)
-/// and writes, in `out_dir` (created if missing):
+/// and writes, in `out_dir` (created if missing); memory does not grow with the number of steps:
 /// - trajectory.csv: the initial state, every `scene.output.every`-th step and the last step
 ///   (columns: TrajectoryColumns), streamed to a temporary file and renamed at the end, also
 ///   when the run fails, so the rows written stay valid;
@@ -37,7 +39,8 @@ struct RunSummary {
 /// `progress` draws a progress bar on stderr (callers pass isatty(stderr)).
 /// @throws engine::SolverFailure (after writing both files) when a step cannot be solved or
 ///         the state stops being finite; InputError, before any step, if `out_dir` cannot be
-///         written or something other than a regular file is at one of the two paths.
+///         written, something other than a regular file is at one of the two paths, or the run
+///         would take more than 2^53 steps.
 /// `observer`, if set, sees the initial state and the state after every step (e.g. to record
 /// frames); an exception from it stops the run like a solver failure.
 using StepObserver = std::function<void(const engine::State& state, int iterations)>;

@@ -99,7 +99,8 @@ TEST_F(AtomicFileTest, RefusesAFolderAndLeavesItsContents) {
   const fs::path folder = dir_ / "trajectory.csv";
   fs::create_directories(folder);
   std::ofstream(folder / "inside.txt") << "keep";
-  EXPECT_THAT(WriteError(folder), AllOf(HasSubstr(folder.string()), HasSubstr("a folder is there")));
+  EXPECT_THAT(WriteError(folder),
+              AllOf(HasSubstr(folder.string()), HasSubstr("a folder is there")));
   EXPECT_EQ(Read(folder / "inside.txt"), "keep");
   EXPECT_EQ(CountOthers("trajectory.csv"), 0);
 }
