@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "app/commands.h"
+#include "app/interrupt.h"
 #include "app/version.h"
 #include "common/errors.h"
 #include "engine/planar_model.h"
@@ -18,7 +19,7 @@
 namespace {
 
 // exit codes (README.md): 0 ok, 1 bad input, 3 solver failure, 4 internal error, 5 the selected
-// contact model does not apply
+// contact model does not apply; a run stopped by a signal exits 128 + its number
 constexpr int kBadInput = 1;
 constexpr int kSolverFailure = 3;
 constexpr int kInternalError = 4;
@@ -90,6 +91,9 @@ int main(int argc, char** argv) {
     return e.get_exit_code();  // a command's own status (`compare`), its message already printed
   } catch (const CLI::ParseError& e) {
     return CommandLineError(app, e, argc, argv);
+  } catch (const ecpsim::app::Interrupted& e) {
+    std::fprintf(stderr, "ecpsim: %s\n", e.what());
+    return e.exit_code();
   } catch (const ecpsim::engine::SolverFailure& e) {
     std::fprintf(stderr, "ecpsim: solver failure: %s\n", e.what());
     return kSolverFailure;

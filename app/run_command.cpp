@@ -14,6 +14,7 @@
 
 #include "app/commands.h"
 #include "app/frame_recorder.h"
+#include "app/interrupt.h"
 #include "app/simulation_run.h"
 #include "engine/scene_yaml.h"
 
@@ -90,6 +91,22 @@ RunSummary RunWithFrames(const engine::Scene& scene, const std::string& out_dir,
   return summary;
 }
 
+// runs the scene with SIGINT and SIGTERM caught and prints the result; an interrupted run throws
+// Interrupted once its outputs are complete (main() exits 130 or 143)
+void RunAndReport(const engine::Scene& scene, const std::string& out_dir, bool frames,
+                  bool video) {
+  const InterruptGuard guard;
+  const RunSummary summary = RunWithFrames(scene, out_dir, frames, video);
+  PrintResult(summary, out_dir);
+  if (summary.interrupt_signal != 0) {
+    throw Interrupted(summary.interrupt_signal,
+                      fmt::format("interrupted by {} at t = {} s after {} of {} steps; the outputs "
+                                  "in {} are complete up to there",
+                                  SignalName(summary.interrupt_signal), summary.t_end,
+                                  summary.steps, summary.planned_steps, out_dir));
+  }
+}
+
 }  // namespace
 
 void AddRunCommand(CLI::App& app) {
@@ -130,9 +147,7 @@ void AddRunCommand(CLI::App& app) {
     if (options->h) overrides.push_back(fmt::format("h={}", *options->h));
     if (options->duration) overrides.push_back(fmt::format("duration={}", *options->duration));
     const engine::Scene scene = engine::LoadScene(options->scene, overrides);
-    const RunSummary summary =
-        RunWithFrames(scene, options->out_dir, options->frames || options->video, options->video);
-    PrintResult(summary, options->out_dir);
+    RunAndReport(scene, options->out_dir, options->frames || options->video, options->video);
   });
 }
 
@@ -170,8 +185,7 @@ void AddDropCommand(CLI::App& app) {
   drop->add_flag("--video", *video, "also render DIR/video.mp4 (needs the ffmpeg program)");
   drop->callback([options, out_dir, frames, video] {
     const engine::Scene scene = engine::MakeDropScene(*options);
-    const RunSummary summary = RunWithFrames(scene, *out_dir, *frames || *video, *video);
-    PrintResult(summary, *out_dir);
+    RunAndReport(scene, *out_dir, *frames || *video, *video);
   });
 }
 

@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "app/interrupt.h"
 #include "app/trajectory_writer.h"
 #include "common/atomic_file.h"
 #include "common/errors.h"
@@ -54,17 +55,17 @@ void DrawProgress(double fraction, double t) {
   std::fflush(stderr);
 }
 
-void WriteSummary(const engine::Scene& scene, const RunSummary& s, double t_end, long rows,
-                  const std::string& path) {
+void WriteSummary(const engine::Scene& scene, const RunSummary& s, const std::string& path) {
   nlohmann::json json = {
       {"scene", scene.source},
       {"h", scene.h},
       {"duration", scene.duration},
-      {"t_end", t_end},
+      {"t_end", s.t_end},
       {"planned_steps", s.planned_steps},
       {"steps", s.steps},
-      {"rows", rows},
+      {"rows", s.rows},
       {"converged", s.converged},
+      {"interrupted", s.interrupt_signal != 0},
       {"failures", s.failures},
       {"retries", s.retries},
       {"iterations_mean", s.iterations_mean},
@@ -75,6 +76,9 @@ void WriteSummary(const engine::Scene& scene, const RunSummary& s, double t_end,
       {"wall_s", s.wall_s},
       {"median_step_us", s.median_step_us},
   };
+  if (s.interrupt_signal != 0) {
+    json["signal"] = SignalName(s.interrupt_signal);
+  }
   if (!s.error.empty()) {
     json["error"] = s.error;
   }
@@ -110,14 +114,20 @@ RunSummary RunSimulation(const engine::Scene& scene, const std::string& out_dir,
   bool every_step_converged = true;
 
   try {
-    engine::StepReport initial;
-    initial.converged = true;
-    writer.Write(state, initial);
+    engine::StepReport report;
+    report.converged = true;
+    writer.Write(state, report);
+    bool row_written = true;  // the trajectory's last row is `state`
     summary.max_penetration = probe.MaxDepth(scene, state);
     if (observer) observer(state, 0);
     for (long k = 1; k <= summary.planned_steps; ++k) {
+      // a signal stops the run between steps (app/interrupt.h)
+      if (const int signal = InterruptSignal(); signal != 0) {
+        summary.interrupt_signal = signal;
+        break;
+      }
       const Clock::time_point before = Clock::now();
-      const engine::StepReport report = engine::Step(scene, state);
+      report = engine::Step(scene, state);
       step_us.Add(std::chrono::duration<double, std::micro>(Clock::now() - before).count());
 
       summary.steps = k;
@@ -128,7 +138,8 @@ RunSummary RunSimulation(const engine::Scene& scene, const std::string& out_dir,
       summary.residual_max = std::max(summary.residual_max, report.residual);
       summary.substeps_max = std::max(summary.substeps_max, report.substeps);
       summary.max_penetration = std::max(summary.max_penetration, probe.MaxDepth(scene, state));
-      if (k % scene.output.every == 0 || k == summary.planned_steps) {
+      row_written = k % scene.output.every == 0 || k == summary.planned_steps;
+      if (row_written) {
         writer.Write(state, report);
       }
       if (observer) observer(state, report.iterations);
@@ -140,7 +151,11 @@ RunSummary RunSimulation(const engine::Scene& scene, const std::string& out_dir,
         }
       }
     }
-    summary.converged = every_step_converged;
+    // an interrupted trajectory ends at the state the run stopped in, as the summary does
+    if (!row_written) {
+      writer.Write(state, report);
+    }
+    summary.converged = every_step_converged && summary.interrupt_signal == 0;
   } catch (const engine::SolverFailure& e) {
     summary.failures = 1;
     summary.error = e.what();
@@ -159,7 +174,9 @@ RunSummary RunSimulation(const engine::Scene& scene, const std::string& out_dir,
       summary.steps > 0 ? static_cast<double>(iterations_total) / summary.steps : 0.0;
   summary.median_step_us = step_us.Median();
   summary.wall_s = std::chrono::duration<double>(Clock::now() - start).count();
-  WriteSummary(scene, summary, state.t, writer.rows(), summary_path);
+  summary.t_end = state.t;
+  summary.rows = writer.rows();
+  WriteSummary(scene, summary, summary_path);
   if (failure) {
     std::rethrow_exception(failure);
   }

@@ -13,6 +13,8 @@ namespace ecpsim::app {
 /// What summary.json holds (see RunSimulation).
 struct RunSummary {
   long steps = 0;              // steps completed
+  double t_end = 0;            // s, the time of the last state
+  long rows = 0;               // rows of trajectory.csv below its header
   long planned_steps = 0;      // ceil(duration / h)
   int failures = 0;            // 0, or 1 when a SolverFailure stopped the run
   long retries = 0;            // Σ StepReport::retries
@@ -26,6 +28,7 @@ struct RunSummary {
   double median_step_us = 0;   // µs, median of engine::Step's wall time (ReservoirMedian: exact
                                // up to 16384 steps, its rank within ±1.2 % beyond)
   bool converged = false;      // every step converged and the run reached the duration
+  int interrupt_signal = 0;    // SIGINT or SIGTERM when a signal stopped the run, else 0
   std::string error;           // the failure's message, empty on success
 };
 
@@ -34,8 +37,13 @@ struct RunSummary {
 /// - trajectory.csv: the initial state, every `scene.output.every`-th step and the last step
 ///   (columns: TrajectoryColumns), streamed to a temporary file and renamed at the end, also
 ///   when the run fails, so the rows written stay valid;
-/// - summary.json (atomically): RunSummary's fields plus `scene`, `h`, `duration`, `t_end`, `rows`.
+/// - summary.json (atomically): RunSummary's fields plus `scene`, `h`, `duration`, `t_end`, `rows`,
+///   `interrupted`.
 /// Both replace only regular files (common/atomic_file.h).
+/// Under an InterruptGuard (app/interrupt.h), a SIGINT or SIGTERM stops the run after the step in
+/// progress: the trajectory then ends with the row of that step (whatever output.every says),
+/// summary.json has `"interrupted": true`, `"signal"` and the steps done, and the summary
+/// returned names the signal (interrupt_signal); no exception.
 /// `progress` draws a progress bar on stderr (callers pass isatty(stderr)).
 /// @throws engine::SolverFailure (after writing both files) when a step cannot be solved or
 ///         the state stops being finite; InputError, before any step, if `out_dir` cannot be

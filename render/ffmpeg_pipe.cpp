@@ -145,7 +145,10 @@ FfmpegPipe::FfmpegPipe(const std::string& path, int width, int height, double fp
   }
   pid_ = ::fork();
   if (pid_ == 0) {
-    // child: stdin from the pipe, stdout discarded, stderr to the log; dup2 clears close-on-exec
+    // child: stdin from the pipe, stdout discarded, stderr to the log; dup2 clears close-on-exec.
+    // Its own process group keeps a terminal's Ctrl-C away from it: ecpsim decides when the
+    // video ends (an interrupted run finishes it with the frames so far)
+    ::setpgid(0, 0);
     ::dup2(fds[0], STDIN_FILENO);
     ::dup2(null_fd, STDOUT_FILENO);
     ::dup2(log_fd, STDERR_FILENO);

@@ -1,8 +1,14 @@
 // The run loop of `ecpsim run` and `ecpsim drop` (app/simulation_run.cpp) seen from outside:
-// memory that does not grow with the step count, the summary's penetration from t = 0 on.
+// interrupts that leave complete outputs, memory that does not grow with the step count, the
+// summary's penetration from t = 0 on.
 
+#include <signal.h>
+
+#include <chrono>
 #include <fstream>
+#include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <fmt/format.h>
@@ -37,11 +43,83 @@ constexpr long kMaxRssKb = 100 * 1024;
 // timing vector; what remains is allocator noise and the fixed 128 kB median sample
 constexpr long kMaxGrowthKb = 8 * 1024;
 
+// how long a run may take to write its first rows before the test gives up (a loaded machine)
+constexpr std::chrono::seconds kStartTimeout{60};
+
 class SimulationRunTest : public testing::CliTest {
  protected:
   static nlohmann::json ReadJson(const fs::path& path) {
     std::ifstream in(path);
     return nlohmann::json::parse(in);
+  }
+
+  static std::vector<std::string> ReadLines(const fs::path& path) {
+    std::ifstream in(path);
+    std::vector<std::string> lines;
+    for (std::string line; std::getline(in, line);) lines.push_back(line);
+    return lines;
+  }
+
+  // the names under `dir` (recursively) that are temporary or partial files
+  static std::vector<std::string> Leftovers(const fs::path& dir) {
+    std::vector<std::string> found;
+    for (const auto& entry : fs::recursive_directory_iterator(dir)) {
+      const std::string name = entry.path().filename().string();
+      if (name.find(".tmp-") != std::string::npos || name.find(".partial") != std::string::npos) {
+        found.push_back(entry.path().string());
+      }
+    }
+    return found;
+  }
+
+  // lines in the trajectory a running process is writing (its temporary file), 0 if none yet
+  static size_t RowsBeingWritten(const fs::path& out) {
+    std::error_code error;
+    for (const auto& entry : fs::directory_iterator(out, error)) {
+      const std::string name = entry.path().filename().string();
+      if (name.rfind("trajectory.csv.tmp-", 0) == 0) return ReadLines(entry.path()).size();
+    }
+    return 0;
+  }
+
+  // starts `ecpsim ARGUMENTS` (writing into `out`), waits until it has written `rows` rows,
+  // sends `signals` one after the other, and waits for it to end
+  testing::ChildExit InterruptAfterRows(const std::vector<std::string>& arguments,
+                                        const fs::path& out, size_t rows,
+                                        const std::vector<int>& signals) {
+    testing::EcpsimProcess run(binary_, arguments, ECPSIM_SOURCE_DIR, dir_ / "log.txt");
+    EXPECT_TRUE(run.started());
+    const auto deadline = std::chrono::steady_clock::now() + kStartTimeout;
+    while (RowsBeingWritten(out) < 1 + rows && std::chrono::steady_clock::now() < deadline) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    EXPECT_GE(RowsBeingWritten(out), 1 + rows) << "the run wrote no rows in time";
+    for (int signal : signals) run.Signal(signal);
+    const testing::ChildExit exit = run.Wait();
+    std::ifstream log(dir_ / "log.txt");
+    std::stringstream text;
+    text << log.rdbuf();
+    log_ = text.str();
+    return exit;
+  }
+
+  // the interrupted run's files agree: summary, trajectory rows, the last row's time
+  void ExpectConsistentInterruptedRun(const fs::path& out, const std::string& signal) {
+    const nlohmann::json summary = ReadJson(out / "summary.json");
+    EXPECT_EQ(summary["interrupted"], true);
+    EXPECT_EQ(summary["signal"], signal);
+    EXPECT_EQ(summary["converged"], false);
+    EXPECT_EQ(summary["failures"], 0);
+    const long steps = summary["steps"].get<long>();
+    EXPECT_GE(steps, 2);
+    EXPECT_LT(steps, summary["planned_steps"].get<long>());
+    // every = 1: the initial state and one row per step done, the last at t_end
+    const std::vector<std::string> lines = ReadLines(out / "trajectory.csv");
+    ASSERT_EQ(static_cast<long>(lines.size()), 1 + 1 + steps);
+    EXPECT_EQ(summary["rows"].get<long>(), 1 + steps);
+    EXPECT_EQ(std::stod(lines.back().substr(0, lines.back().find(','))),
+              summary["t_end"].get<double>());
+    EXPECT_THAT(Leftovers(out), ::testing::IsEmpty());
   }
 
   // `ecpsim run free_flight.yaml --duration T` waited for; its peak memory in kB
@@ -57,7 +135,48 @@ class SimulationRunTest : public testing::CliTest {
     EXPECT_EQ(ReadJson(out / "summary.json")["steps"], static_cast<long>(duration / 0.001 + 0.5));
     return exit.max_rss_kb;
   }
+
+  std::string log_;  // output of the last InterruptAfterRows
 };
+
+TEST_F(SimulationRunTest, SigintFinishesTheStepAndWritesCompleteOutputs) {
+  // a box dropped for 10^4 s: 10^6 steps, far more than the test waits for; a second SIGINT
+  // while the outputs are finished is ignored
+  const fs::path out = dir_ / "out";
+  const testing::ChildExit exit = InterruptAfterRows(
+      {"drop", "tests/fixtures/meshes/box.obj", "-o", out.string(), "--duration", "1e4",
+       "--height", "0.05"},
+      out, 20, {SIGINT, SIGINT});
+  EXPECT_EQ(exit.exit_code, 130) << log_;
+  EXPECT_THAT(log_, ::testing::HasSubstr("interrupted by SIGINT at t = "));
+  ExpectConsistentInterruptedRun(out, "SIGINT");
+}
+
+TEST_F(SimulationRunTest, SigtermFinishesTheFramesAndTheVideoSoFar) {
+  const fs::path out = dir_ / "out";
+  const testing::ChildExit exit = InterruptAfterRows(
+      {"run", "scenes/slide.yaml", "-o", out.string(), "--duration", "1e4", "--video", "--fps",
+       "100", "--width", "64", "--height", "48"},
+      out, 20, {SIGTERM});
+  EXPECT_EQ(exit.exit_code, 143) << log_;
+  ExpectConsistentInterruptedRun(out, "SIGTERM");
+  // the frames up to t_end, each complete, and the video of the same frames
+  const nlohmann::json summary = ReadJson(out / "summary.json");
+  const double t_end = summary["t_end"].get<double>(), h = summary["h"].get<double>();
+  int expected_frames = 0;
+  while (expected_frames / 100.0 <= t_end + h / 2) ++expected_frames;  // FrameRecorder's rule
+  int frames = 0;
+  for (const auto& entry : fs::directory_iterator(out / "frames")) {
+    EXPECT_GT(fs::file_size(entry.path()), 0u) << entry.path();
+    ++frames;
+  }
+  EXPECT_EQ(frames, expected_frames);
+  EXPECT_TRUE(fs::exists(out / "frames" / fmt::format("frame_{:06d}.png", expected_frames - 1)));
+  std::ifstream video(out / "video.mp4", std::ios::binary);
+  char head[8] = {};
+  video.read(head, 8);
+  EXPECT_EQ(std::string(head + 4, 4), "ftyp");
+}
 
 TEST_F(SimulationRunTest, MemoryDoesNotGrowWithTheStepCount) {
   const long short_run = PeakMemoryOfFreeFlight(1);   // 10^3 steps
