@@ -12,8 +12,8 @@ namespace ecpsim::app {
 /// (a background job of a non-interactive shell, nohup) stay ignored. Once one signal has
 /// arrived, more are ignored: the outputs being finished take milliseconds (plus the encoder's
 /// flush of a video), and stopping in the middle would leave them inconsistent (SIGKILL still
-/// stops the process, leaving temporary files). The destructor puts back the handlers there
-/// were before. One guard at a time.
+/// stops the process, leaving temporary files that the next run removes: PrepareOutputFolder).
+/// The destructor puts back the handlers there were before. One guard at a time.
 class InterruptGuard {
  public:
   InterruptGuard();

@@ -15,6 +15,7 @@
 #include "app/commands.h"
 #include "app/frame_recorder.h"
 #include "app/interrupt.h"
+#include "app/output_folder.h"
 #include "app/simulation_run.h"
 #include "engine/scene_yaml.h"
 
@@ -68,8 +69,6 @@ struct RunOptions {
 RunSummary RunWithFrames(const engine::Scene& scene, const std::string& out_dir, bool frames,
                          bool video) {
   if (!frames && !video) return RunSimulation(scene, out_dir, isatty(fileno(stderr)) == 1);
-  std::error_code error;
-  std::filesystem::create_directories(out_dir, error);
   FrameRecorder recorder(scene, out_dir, video);
   RunSummary summary;
   try {
@@ -95,6 +94,7 @@ RunSummary RunWithFrames(const engine::Scene& scene, const std::string& out_dir,
 // Interrupted once its outputs are complete (main() exits 130 or 143)
 void RunAndReport(const engine::Scene& scene, const std::string& out_dir, bool frames,
                   bool video) {
+  PrepareOutputFolder(out_dir);
   const InterruptGuard guard;
   const RunSummary summary = RunWithFrames(scene, out_dir, frames, video);
   PrintResult(summary, out_dir);
