@@ -25,12 +25,6 @@ constexpr int kSolverFailure = 3;
 constexpr int kInternalError = 4;
 constexpr int kModelInvalid = 5;
 
-std::string VersionText() {
-  const std::string commit = ecpsim::app::kGitCommit;
-  return fmt::format("ecpsim {}{}", ecpsim::app::kVersion,
-                     commit.empty() ? "" : fmt::format(" (git {})", commit));
-}
-
 // the sub-commands in the order they were added
 std::vector<std::string> CommandNames(const CLI::App& app) {
   std::vector<std::string> names;
@@ -73,7 +67,7 @@ int CommandLineError(const CLI::App& app, const CLI::ParseError& error, int argc
 int main(int argc, char** argv) {
   CLI::App app{"ecpsim: rigid bodies with planar non-convex contact (equivalent contact points)"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", VersionText(), "print the version and exit");
+  app.set_version_flag("--version", ecpsim::app::kVersionText, "print the version and exit");
   ecpsim::app::AddHullCommand(app);
   ecpsim::app::AddMeshesCommand(app);
   ecpsim::app::AddCompareCommand(app);

@@ -15,7 +15,8 @@ namespace {
 namespace fs = std::filesystem;
 
 // the names a run writes directly in its folder
-constexpr const char* kOutputNames[] = {"trajectory.csv", "summary.json", "video.mp4"};
+constexpr const char* kOutputNames[] = {"trajectory.csv", "summary.json", "video.mp4",
+                                        "checkpoint.json"};
 
 // removes `path` if it is a regular file (never what a symlink points to)
 void RemoveRegularFile(const fs::path& path) {
@@ -31,7 +32,7 @@ bool IsFrameName(const std::string& file_name) {
   return std::regex_match(file_name, pattern);
 }
 
-void PrepareOutputFolder(const std::string& out_dir) {
+void PrepareOutputFolder(const std::string& out_dir, bool resume) {
   std::error_code error;
   fs::create_directories(out_dir, error);
   if (error || !fs::is_directory(out_dir)) {
@@ -44,10 +45,12 @@ void PrepareOutputFolder(const std::string& out_dir) {
   const fs::path frames = fs::path(out_dir) / "frames";
   RemoveStaleTemporaries(out_dir);
   RemoveStaleTemporaries(frames.string());
+  if (resume) return;
   for (const fs::directory_entry& entry : fs::directory_iterator(frames, error)) {
     if (IsFrameName(entry.path().filename().string())) RemoveRegularFile(entry.path());
   }
   RemoveRegularFile(fs::path(out_dir) / "video.mp4");
+  RemoveRegularFile(fs::path(out_dir) / "checkpoint.json");
 }
 
 }  // namespace ecpsim::app

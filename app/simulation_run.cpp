@@ -6,16 +6,17 @@
 #include <cstdio>
 #include <exception>
 #include <filesystem>
+#include <optional>
 #include <string>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "app/checkpoint.h"
 #include "app/interrupt.h"
 #include "app/trajectory_writer.h"
 #include "common/atomic_file.h"
 #include "common/errors.h"
-#include "common/reservoir_median.h"
 #include "engine/penetration.h"
 #include "engine/state.h"
 #include "engine/time_step.h"
@@ -79,6 +80,9 @@ void WriteSummary(const engine::Scene& scene, const RunSummary& s, const std::st
   if (s.interrupt_signal != 0) {
     json["signal"] = SignalName(s.interrupt_signal);
   }
+  if (s.resumed_from_step >= 0) {
+    json["resumed_from_step"] = s.resumed_from_step;
+  }
   if (!s.error.empty()) {
     json["error"] = s.error;
   }
@@ -87,8 +91,8 @@ void WriteSummary(const engine::Scene& scene, const RunSummary& s, const std::st
 
 }  // namespace
 
-RunSummary RunSimulation(const engine::Scene& scene, const std::string& out_dir, bool progress,
-                         const StepObserver& observer) {
+RunSummary RunSimulation(const engine::Scene& scene, const std::string& out_dir,
+                         const RunSetup& setup) {
   std::error_code error;
   fs::create_directories(out_dir, error);
   if (error || !fs::is_directory(out_dir)) {
@@ -98,52 +102,64 @@ RunSummary RunSimulation(const engine::Scene& scene, const std::string& out_dir,
   }
   // refuse a FIFO, symlink or folder at summary.json now, not after the whole run
   const std::string summary_path = (fs::path(out_dir) / "summary.json").string();
+  const std::string checkpoint_path = (fs::path(out_dir) / "checkpoint.json").string();
   RequireReplaceable(summary_path);
+  RequireReplaceable(checkpoint_path);
   const Clock::time_point start = Clock::now();
   RunSummary summary;
   summary.planned_steps = PlannedSteps(scene);
 
-  engine::State state = engine::InitialState(scene);
-  TrajectoryWriter writer(scene, (fs::path(out_dir) / "trajectory.csv").string());
+  const Checkpoint* resume = setup.resume;
+  engine::State state = resume ? resume->state : engine::InitialState(scene);
+  RunTotals totals = resume ? resume->totals : RunTotals();
+  TrajectoryWriter writer(scene, (fs::path(out_dir) / "trajectory.csv").string(),
+                          resume ? std::optional<long>(resume->rows) : std::nullopt);
   const engine::PenetrationProbe probe(scene);
-  // nothing is kept per step: memory stays flat however many steps the run takes
-  ReservoirMedian step_us;
-  long iterations_total = 0;
   double last_drawn = -1;
   std::exception_ptr failure;
-  bool every_step_converged = true;
+  engine::StepReport report;  // of the step that led to `state`
+  report.converged = true;
+  bool row_written = true;               // the trajectory's last row is `state`
+  long rows_on_cadence = writer.rows();  // rows that an uninterrupted run also writes
+  bool stopped_in_step = false;          // engine::Step threw: `state` is the last good one
 
   try {
-    engine::StepReport report;
-    report.converged = true;
-    writer.Write(state, report);
-    bool row_written = true;  // the trajectory's last row is `state`
-    summary.max_penetration = probe.MaxDepth(scene, state);
-    if (observer) observer(state, 0);
-    for (long k = 1; k <= summary.planned_steps; ++k) {
+    if (!resume) {
+      writer.Write(state, report);
+      rows_on_cadence = writer.rows();
+      totals.max_penetration = probe.MaxDepth(scene, state);
+      if (setup.observer) setup.observer(state, 0);
+    }
+    for (long k = totals.steps + 1; k <= summary.planned_steps; ++k) {
       // a signal stops the run between steps (app/interrupt.h)
       if (const int signal = InterruptSignal(); signal != 0) {
         summary.interrupt_signal = signal;
         break;
       }
       const Clock::time_point before = Clock::now();
-      report = engine::Step(scene, state);
-      step_us.Add(std::chrono::duration<double, std::micro>(Clock::now() - before).count());
+      try {
+        report = engine::Step(scene, state);
+      } catch (...) {
+        stopped_in_step = true;
+        throw;
+      }
+      totals.step_us.Add(std::chrono::duration<double, std::micro>(Clock::now() - before).count());
 
-      summary.steps = k;
-      every_step_converged = every_step_converged && report.converged;
-      summary.retries += report.retries;
-      iterations_total += report.iterations;
-      summary.iterations_max = std::max(summary.iterations_max, report.iterations);
-      summary.residual_max = std::max(summary.residual_max, report.residual);
-      summary.substeps_max = std::max(summary.substeps_max, report.substeps);
-      summary.max_penetration = std::max(summary.max_penetration, probe.MaxDepth(scene, state));
+      totals.steps = k;
+      totals.all_converged = totals.all_converged && report.converged;
+      totals.retries += report.retries;
+      totals.iterations += report.iterations;
+      totals.iterations_max = std::max(totals.iterations_max, report.iterations);
+      totals.residual_max = std::max(totals.residual_max, report.residual);
+      totals.substeps_max = std::max(totals.substeps_max, report.substeps);
+      totals.max_penetration = std::max(totals.max_penetration, probe.MaxDepth(scene, state));
       row_written = k % scene.output.every == 0 || k == summary.planned_steps;
       if (row_written) {
         writer.Write(state, report);
+        rows_on_cadence = writer.rows();
       }
-      if (observer) observer(state, report.iterations);
-      if (progress) {
+      if (setup.observer) setup.observer(state, report.iterations);
+      if (setup.progress) {
         const double wall = std::chrono::duration<double>(Clock::now() - start).count();
         if (wall - last_drawn >= kProgressInterval || k == summary.planned_steps) {
           DrawProgress(static_cast<double>(k) / summary.planned_steps, state.t);
@@ -151,11 +167,6 @@ RunSummary RunSimulation(const engine::Scene& scene, const std::string& out_dir,
         }
       }
     }
-    // an interrupted trajectory ends at the state the run stopped in, as the summary does
-    if (!row_written) {
-      writer.Write(state, report);
-    }
-    summary.converged = every_step_converged && summary.interrupt_signal == 0;
   } catch (const engine::SolverFailure& e) {
     summary.failures = 1;
     summary.error = e.what();
@@ -165,17 +176,41 @@ RunSummary RunSimulation(const engine::Scene& scene, const std::string& out_dir,
     summary.error = e.what();
     failure = std::current_exception();
   }
-  if (progress) {
+  if (setup.progress) {
     std::fputc('\n', stderr);
   }
 
+  // a run that stopped early ends its trajectory at the state it stopped in, as the summary does,
+  // and leaves that state in checkpoint.json
+  const bool stopped_early = summary.interrupt_signal != 0 || stopped_in_step;
+  if (stopped_early && !row_written) {
+    writer.Write(state, report);
+  }
   writer.Finish();
-  summary.iterations_mean =
-      summary.steps > 0 ? static_cast<double>(iterations_total) / summary.steps : 0.0;
-  summary.median_step_us = step_us.Median();
-  summary.wall_s = std::chrono::duration<double>(Clock::now() - start).count();
+  // wall time of the whole run, the earlier parts of a resumed one included
+  totals.wall_s += std::chrono::duration<double>(Clock::now() - start).count();
+  if (stopped_early) {
+    const Checkpoint checkpoint{setup.origin, rows_on_cadence, totals, state};
+    WriteCheckpoint(checkpoint_path, checkpoint);
+  } else if (!failure) {
+    // the run is complete: nothing is left to resume
+    fs::remove(checkpoint_path, error);
+  }
+
+  summary.steps = totals.steps;
   summary.t_end = state.t;
   summary.rows = writer.rows();
+  summary.retries = totals.retries;
+  summary.iterations_mean =
+      totals.steps > 0 ? static_cast<double>(totals.iterations) / totals.steps : 0.0;
+  summary.iterations_max = totals.iterations_max;
+  summary.residual_max = totals.residual_max;
+  summary.substeps_max = totals.substeps_max;
+  summary.max_penetration = totals.max_penetration;
+  summary.median_step_us = totals.step_us.Median();
+  summary.converged = totals.all_converged && !failure && summary.interrupt_signal == 0;
+  summary.resumed_from_step = resume ? resume->totals.steps : -1;
+  summary.wall_s = totals.wall_s;
   WriteSummary(scene, summary, summary_path);
   if (failure) {
     std::rethrow_exception(failure);

@@ -1,6 +1,7 @@
 #include "app/trajectory_writer.h"
 
 #include <cmath>
+#include <fstream>
 
 #include <fmt/format.h>
 
@@ -34,16 +35,39 @@ std::vector<std::string> TrajectoryColumns(const engine::Scene& scene) {
   return columns;
 }
 
-TrajectoryWriter::TrajectoryWriter(const engine::Scene& scene, const std::string& path)
+TrajectoryWriter::TrajectoryWriter(const engine::Scene& scene, const std::string& path,
+                                   std::optional<long> keep_rows)
     : columns_(TrajectoryColumns(scene)), file_(path) {
-  stream_ = file_.Create();
   std::string header;
   for (size_t i = 0; i < columns_.size(); ++i) {
     header += (i == 0 ? "" : ",") + columns_[i];
   }
-  header += '\n';
-  std::fputs(header.c_str(), stream_);
-  std::fflush(stream_);
+  stream_ = file_.Create();
+  try {
+    Append(header, true);
+    if (keep_rows) {
+      // the earlier part of a resumed run, byte for byte, streamed
+      std::ifstream earlier(path, std::ios::binary);
+      std::string line;
+      if (!std::getline(earlier, line) || line != header) {
+        throw InputError(fmt::format("{}: {}; expected the header of this scene's trajectory",
+                                     path, earlier ? "another header" : "missing or empty"));
+      }
+      for (long r = 0; r < *keep_rows; ++r) {
+        // a last line without its newline is incomplete
+        if (!std::getline(earlier, line) || earlier.eof()) {
+          throw InputError(fmt::format("{}: {} complete rows; expected at least the {} rows that "
+                                       "the checkpoint counts",
+                                       path, r, *keep_rows));
+        }
+        Append(line, false);
+      }
+      rows_ = *keep_rows;
+    }
+  } catch (...) {
+    std::fclose(stream_);  // file_ then removes the temporary file
+    throw;
+  }
 }
 
 TrajectoryWriter::~TrajectoryWriter() {
@@ -81,11 +105,15 @@ void TrajectoryWriter::Write(const engine::State& state, const engine::StepRepor
   for (size_t i = 0; i < values.size(); ++i) {
     fmt::format_to(std::back_inserter(row), i == 0 ? "{}" : ",{}", values[i]);
   }
-  row.push_back('\n');
-  if (std::fwrite(row.data(), 1, row.size(), stream_) != row.size() || std::fflush(stream_) != 0) {
+  Append(std::string_view(row.data(), row.size()), true);
+  ++rows_;
+}
+
+void TrajectoryWriter::Append(std::string_view line, bool flush) {
+  if (std::fwrite(line.data(), 1, line.size(), stream_) != line.size() ||
+      std::fputc('\n', stream_) == EOF || (flush && std::fflush(stream_) != 0)) {
     throw InputError(fmt::format("{}: cannot write it (disk full?)", file_.temp_path()));
   }
-  ++rows_;
 }
 
 void TrajectoryWriter::Finish() {

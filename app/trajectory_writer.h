@@ -2,7 +2,9 @@
 // trajectory.csv: one row per written step with every body's state and every contact's solution.
 
 #include <cstdio>
+#include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "common/atomic_file.h"
@@ -23,9 +25,13 @@ std::vector<std::string> TrajectoryColumns(const engine::Scene& scene);
 /// written in shortest round-trip form.
 class TrajectoryWriter {
  public:
-  /// @throws InputError if the file cannot be created or something other than a regular file is
-  ///         at `path`.
-  TrajectoryWriter(const engine::Scene& scene, const std::string& path);
+  /// Starts a new trajectory at `path`, or, with `keep_rows`, continues the one there: its
+  /// header and first `keep_rows` rows are copied as they are and the rows after them dropped
+  /// (a resumed run, app/checkpoint.h).
+  /// @throws InputError if the file cannot be created, something other than a regular file is
+  ///         at `path`, or the file to continue has another header or fewer rows.
+  TrajectoryWriter(const engine::Scene& scene, const std::string& path,
+                   std::optional<long> keep_rows = std::nullopt);
   ~TrajectoryWriter();
   TrajectoryWriter(const TrajectoryWriter&) = delete;
   TrajectoryWriter& operator=(const TrajectoryWriter&) = delete;
@@ -42,6 +48,9 @@ class TrajectoryWriter {
   long rows() const { return rows_; }
 
  private:
+  // writes `line` and a newline; a row is flushed at once so that it is on disk if the process dies
+  void Append(std::string_view line, bool flush);
+
   std::vector<std::string> columns_;
   AtomicFile file_;
   std::FILE* stream_ = nullptr;

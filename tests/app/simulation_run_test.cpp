@@ -4,11 +4,8 @@
 
 #include <signal.h>
 
-#include <chrono>
 #include <fstream>
-#include <sstream>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include <fmt/format.h>
@@ -17,7 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "tests/app/child_process.h"
-#include "tests/cli_test.h"
+#include "tests/app/run_fixture.h"
 
 namespace ecpsim {
 namespace {
@@ -43,85 +40,8 @@ constexpr long kMaxRssKb = 100 * 1024;
 // timing vector; what remains is allocator noise and the fixed 128 kB median sample
 constexpr long kMaxGrowthKb = 8 * 1024;
 
-// how long a run may take to write its first rows before the test gives up (a loaded machine)
-constexpr std::chrono::seconds kStartTimeout{60};
-
-class SimulationRunTest : public testing::CliTest {
+class SimulationRunTest : public testing::RunFixture {
  protected:
-  static nlohmann::json ReadJson(const fs::path& path) {
-    std::ifstream in(path);
-    return nlohmann::json::parse(in);
-  }
-
-  static std::vector<std::string> ReadLines(const fs::path& path) {
-    std::ifstream in(path);
-    std::vector<std::string> lines;
-    for (std::string line; std::getline(in, line);) lines.push_back(line);
-    return lines;
-  }
-
-  // the names under `dir` (recursively) that are temporary or partial files
-  static std::vector<std::string> Leftovers(const fs::path& dir) {
-    std::vector<std::string> found;
-    for (const auto& entry : fs::recursive_directory_iterator(dir)) {
-      const std::string name = entry.path().filename().string();
-      if (name.find(".tmp-") != std::string::npos || name.find(".partial") != std::string::npos) {
-        found.push_back(entry.path().string());
-      }
-    }
-    return found;
-  }
-
-  // lines in the trajectory a running process is writing (its temporary file), 0 if none yet
-  static size_t RowsBeingWritten(const fs::path& out) {
-    std::error_code error;
-    for (const auto& entry : fs::directory_iterator(out, error)) {
-      const std::string name = entry.path().filename().string();
-      if (name.rfind("trajectory.csv.tmp-", 0) == 0) return ReadLines(entry.path()).size();
-    }
-    return 0;
-  }
-
-  // starts `ecpsim ARGUMENTS` (writing into `out`), waits until it has written `rows` rows,
-  // sends `signals` one after the other, and waits for it to end
-  testing::ChildExit InterruptAfterRows(const std::vector<std::string>& arguments,
-                                        const fs::path& out, size_t rows,
-                                        const std::vector<int>& signals) {
-    testing::EcpsimProcess run(binary_, arguments, ECPSIM_SOURCE_DIR, dir_ / "log.txt");
-    EXPECT_TRUE(run.started());
-    const auto deadline = std::chrono::steady_clock::now() + kStartTimeout;
-    while (RowsBeingWritten(out) < 1 + rows && std::chrono::steady_clock::now() < deadline) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    }
-    EXPECT_GE(RowsBeingWritten(out), 1 + rows) << "the run wrote no rows in time";
-    for (int signal : signals) run.Signal(signal);
-    const testing::ChildExit exit = run.Wait();
-    std::ifstream log(dir_ / "log.txt");
-    std::stringstream text;
-    text << log.rdbuf();
-    log_ = text.str();
-    return exit;
-  }
-
-  // the interrupted run's files agree: summary, trajectory rows, the last row's time
-  void ExpectConsistentInterruptedRun(const fs::path& out, const std::string& signal) {
-    const nlohmann::json summary = ReadJson(out / "summary.json");
-    EXPECT_EQ(summary["interrupted"], true);
-    EXPECT_EQ(summary["signal"], signal);
-    EXPECT_EQ(summary["converged"], false);
-    EXPECT_EQ(summary["failures"], 0);
-    const long steps = summary["steps"].get<long>();
-    EXPECT_GE(steps, 2);
-    EXPECT_LT(steps, summary["planned_steps"].get<long>());
-    // every = 1: the initial state and one row per step done, the last at t_end
-    const std::vector<std::string> lines = ReadLines(out / "trajectory.csv");
-    ASSERT_EQ(static_cast<long>(lines.size()), 1 + 1 + steps);
-    EXPECT_EQ(summary["rows"].get<long>(), 1 + steps);
-    EXPECT_EQ(std::stod(lines.back().substr(0, lines.back().find(','))),
-              summary["t_end"].get<double>());
-    EXPECT_THAT(Leftovers(out), ::testing::IsEmpty());
-  }
-
   // `ecpsim run free_flight.yaml --duration T` waited for; its peak memory in kB
   long PeakMemoryOfFreeFlight(double duration) {
     std::ofstream(dir_ / "free_flight.yaml") << kFreeFlight;
@@ -135,8 +55,6 @@ class SimulationRunTest : public testing::CliTest {
     EXPECT_EQ(ReadJson(out / "summary.json")["steps"], static_cast<long>(duration / 0.001 + 0.5));
     return exit.max_rss_kb;
   }
-
-  std::string log_;  // output of the last InterruptAfterRows
 };
 
 TEST_F(SimulationRunTest, SigintFinishesTheStepAndWritesCompleteOutputs) {
