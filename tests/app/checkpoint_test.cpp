@@ -176,6 +176,26 @@ TEST_F(CheckpointTest, AnInterruptedDropIsResumedToo) {
   ExpectConsistentInterruptedRun(out, "SIGINT");
 }
 
+TEST_F(CheckpointTest, ResumingAFailedRunReproducesTheFailureAtOnce) {
+  // one Newton iteration cannot solve the tilted box's first contact step: the run stops on a
+  // solver failure with a checkpoint just before the failing step
+  const fs::path out = dir_ / "fail";
+  const std::string arguments =
+      fmt::format("run scenes/tilted_box.yaml -o '{}' --set solver.max_iterations=1", out.string());
+  const testing::CliResult first = Run(arguments);
+  ASSERT_EQ(first.exit_code, 3) << first.output;
+  const nlohmann::json failed = ReadJson(out / "summary.json");
+  ASSERT_TRUE(fs::exists(out / "checkpoint.json"));
+
+  const testing::CliResult again = Run(fmt::format("run --resume '{}'", out.string()));
+  EXPECT_EQ(again.exit_code, 3) << again.output;
+  const nlohmann::json resumed = ReadJson(out / "summary.json");
+  EXPECT_EQ(resumed["resumed_from_step"], failed["steps"]);
+  EXPECT_EQ(resumed["steps"], failed["steps"]);
+  EXPECT_EQ(resumed["error"], failed["error"]);
+  EXPECT_EQ(ReadLines(out / "trajectory.csv").size(), 1 + failed["rows"].get<size_t>());
+}
+
 TEST_F(CheckpointTest, ANewRunIntoTheFolderRemovesTheCheckpoint) {
   const fs::path out = InterruptedSlide();
   const testing::CliResult result =

@@ -18,7 +18,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "tests/cli_test.h"
+#include "tests/app/run_fixture.h"
 
 namespace ecpsim {
 namespace {
@@ -32,7 +32,7 @@ using ::testing::HasSubstr;
 constexpr double kMuG = 0.22 * 9.8;
 constexpr double kVelocityTolerance = 1e-8;  // m/s
 
-class RunCommandTest : public testing::CliTest {
+class RunCommandTest : public testing::RunFixture {
  protected:
   static std::vector<std::vector<std::string>> ReadCsv(const fs::path& path) {
     std::vector<std::vector<std::string>> rows;
@@ -44,11 +44,6 @@ class RunCommandTest : public testing::CliTest {
       rows.push_back(fields);
     }
     return rows;
-  }
-
-  static nlohmann::json ReadJson(const fs::path& path) {
-    std::ifstream in(path);
-    return nlohmann::json::parse(in);
   }
 
   // every data field parses completely as a finite double
@@ -73,7 +68,7 @@ TEST_F(RunCommandTest, SlideWritesTheTrajectoryAndSummary) {
   ASSERT_EQ(result.exit_code, 0) << result.output;
 
   const auto rows = ReadCsv(out / "trajectory.csv");
-  EXPECT_FALSE(fs::exists(out / "trajectory.csv.partial"));
+  EXPECT_THAT(Leftovers(out), ::testing::IsEmpty());
   // one body and one contact: no name prefixes
   const std::vector<std::string> expected = {
       "t",   "px",  "py",  "pz",  "qw", "qx", "qy", "qz", "vx",    "vy",    "vz",      "wx", "wy",
@@ -149,7 +144,7 @@ TEST_F(RunCommandTest, SolverFailureExitsWithThreeAndLeavesValidFiles) {
                                         ECPSIM_SOURCE_DIR, out.string()));
   EXPECT_EQ(result.exit_code, 3) << result.output;
   EXPECT_THAT(result.output, HasSubstr("solver failure"));
-  EXPECT_FALSE(fs::exists(out / "trajectory.csv.partial"));
+  EXPECT_THAT(Leftovers(out), ::testing::IsEmpty());
   const auto rows = ReadCsv(out / "trajectory.csv");
   const nlohmann::json summary = ReadJson(out / "summary.json");
   EXPECT_EQ(summary["failures"], 1);
