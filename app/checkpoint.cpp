@@ -168,6 +168,10 @@ Checkpoint ReadCheckpoint(const std::string& path) {
     }
     Checkpoint checkpoint;
     checkpoint.origin = file.at("origin");
+    if (!checkpoint.origin.is_object() || !checkpoint.origin.contains("arguments")) {
+      throw InputError(fmt::format("origin = {}: expected how the run was started",
+                                   checkpoint.origin.dump()));
+    }
     checkpoint.rows = file.at("rows").get<long>();
     checkpoint.totals = ReadTotals(file.at("totals"));
     const json& state = file.at("state");
@@ -188,7 +192,7 @@ Checkpoint ReadCheckpoint(const std::string& path) {
   } catch (const json::exception& e) {
     throw InputError(fmt::format("{}: not a checkpoint of ecpsim ({})", path, e.what()));
   } catch (const InputError& e) {
-    throw InputError(fmt::format("{}: {}", path, e.what()));
+    throw InputError(fmt::format("{}: not a checkpoint of ecpsim ({})", path, e.what()));
   }
 }
 

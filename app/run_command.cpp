@@ -198,7 +198,8 @@ void AddRunCommand(CLI::App& app) {
   run->add_option("--resume", options->resume,
                   "continue the run in DIR that stopped early (Ctrl-C, SIGTERM, a solver "
                   "failure) from its checkpoint.json, with the scene and settings it began with; "
-                  "the result is the same as a run that never stopped");
+                  "the result is the same as a run that never stopped")
+      ->type_name("DIR");
   run->callback([options] {
     if (!options->resume.empty()) {
       Resume(*options);

@@ -81,6 +81,8 @@ std::string CommandLine(const json& arguments) {
 
 engine::Scene SceneOf(const json& arguments) {
   try {
+    arguments.at("frames").get<bool>();
+    arguments.at("video").get<bool>();
     const std::string command = arguments.at("command").get<std::string>();
     if (command == "run") {
       return engine::LoadScene(arguments.at("scene").get<std::string>(),

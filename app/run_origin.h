@@ -29,7 +29,7 @@ std::string CommandLine(const nlohmann::json& arguments);
 
 /// The scene that `arguments` (from RunArguments or DropArguments) describe, loaded again.
 /// @throws InputError as engine::LoadScene and engine::MakeDropScene do, or for arguments that
-///         are neither.
+///         are neither (or lack the frames and video flags).
 engine::Scene SceneOf(const nlohmann::json& arguments);
 
 /// The origin of a run: {"arguments": `arguments`, "inputs": a 64-bit FNV-1a fingerprint (hex)

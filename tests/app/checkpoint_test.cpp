@@ -136,13 +136,26 @@ TEST_F(CheckpointTest, OtherArgumentsOrAnotherFolderAreRefused) {
        "a resumed run writes into its own folder"},
       // a folder without a checkpoint
       {fmt::format("run --resume '{}'", dir_.string()), "nothing to resume"},
+      // a checkpoint that is not one
+      {fmt::format("run --resume '{}'", (dir_ / "broken").string()), "not a checkpoint of ecpsim"},
   };
+  fs::create_directories(dir_ / "broken");
+  std::ofstream(dir_ / "broken" / "checkpoint.json") << R"({"format": 1, "origin": {}})";
   for (const Case& c : cases) {
     const testing::CliResult result = Run(c.arguments);
     EXPECT_EQ(result.exit_code, 1) << c.arguments << ": " << result.output;
     EXPECT_THAT(result.output, HasSubstr(c.message)) << c.arguments;
   }
   EXPECT_TRUE(fs::exists(out / "checkpoint.json"));
+
+  // a checkpoint of another ecpsim build: its engine may step differently
+  nlohmann::json checkpoint = ReadJson(out / "checkpoint.json");
+  checkpoint["origin"]["ecpsim"] = "ecpsim 0.0.1 (git 000000000000)";
+  std::ofstream(out / "checkpoint.json") << checkpoint.dump();
+  const testing::CliResult result = Run(fmt::format("run --resume '{}'", out.string()));
+  EXPECT_EQ(result.exit_code, 1) << result.output;
+  EXPECT_THAT(result.output, HasSubstr("written by ecpsim 0.0.1 (git 000000000000), this is "
+                                       "ecpsim "));
 }
 
 TEST_F(CheckpointTest, TheRunsOwnCommandLineIsAccepted) {
