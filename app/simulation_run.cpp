@@ -39,7 +39,10 @@ constexpr int kProgressWidth = 40;         // characters
 constexpr double kMaxSteps = 9007199254740992.0;  // 2^53
 
 long PlannedSteps(const engine::Scene& scene) {
-  const double steps = std::ceil(scene.duration / scene.h * (1 - kStepCountSlack));
+  const double ratio = scene.duration / scene.h;
+  const double nearest = std::round(ratio);
+  const double steps = std::abs(ratio - nearest) <= kStepCountSlack * ratio ? nearest
+                                                                            : std::ceil(ratio);
   if (!(steps <= kMaxSteps)) {
     throw InputError(fmt::format("{}: duration / h = {} / {} = {:g} steps: expected at most {:g} "
                                  "steps; use a larger h or a shorter duration",

@@ -96,6 +96,21 @@ TEST_F(SimulationRunTest, SigtermFinishesTheFramesAndTheVideoSoFar) {
   EXPECT_EQ(std::string(head + 4, 4), "ftyp");
 }
 
+TEST_F(SimulationRunTest, TenBillionStepsStartWithoutAllocatingPerStep) {
+  // duration / h = 10^10: a run that reserved a double per step asked for 80 GB and died of
+  // std::bad_alloc (exit code 4); now it starts, and is interrupted once it has begun
+  const fs::path out = dir_ / "out";
+  const testing::ChildExit exit = InterruptAfterRows(
+      {"run", "scenes/slide.yaml", "-o", out.string(), "--dt", "1e-10", "--duration", "1",
+       "--set", "output.every=1000000"},
+      out, 1, {SIGTERM});
+  EXPECT_EQ(exit.exit_code, 143) << log_;
+  EXPECT_LT(exit.max_rss_kb, kMaxRssKb);
+  const nlohmann::json summary = ReadJson(out / "summary.json");
+  EXPECT_EQ(summary["planned_steps"].get<long>(), 10000000000L);
+  EXPECT_EQ(summary["interrupted"], true);
+}
+
 TEST_F(SimulationRunTest, MemoryDoesNotGrowWithTheStepCount) {
   const long short_run = PeakMemoryOfFreeFlight(1);   // 10^3 steps
   const long long_run = PeakMemoryOfFreeFlight(1e4);  // 10^7 steps
