@@ -10,14 +10,14 @@
 
 #include <fmt/format.h>
 
-#include "app/atomic_file.h"
+#include "common/atomic_file.h"
 #include "app/bench_report.h"
 #include "app/commands.h"
 #include "evaluation/method.h"
 #include "evaluation/scenario.h"
 #include "evaluation/stability_map.h"
 #include "evaluation/work_precision.h"
-#include "geometry/errors.h"
+#include "common/errors.h"
 
 namespace ecpsim::app {
 namespace {

@@ -8,7 +8,7 @@
 
 #include <fmt/format.h>
 
-#include "app/atomic_file.h"
+#include "common/atomic_file.h"
 #include "app/plot_writer.h"
 #include "evaluation/method.h"
 #include "evaluation/scenario.h"

@@ -11,7 +11,8 @@ void AddHullCommand(CLI::App& app);
 /// `ecpsim meshes [DIR]`: regenerates the paper's desk, T-bar and dumbbell meshes.
 void AddMeshesCommand(CLI::App& app);
 
-/// `ecpsim run SCENE -o DIR [--dt H] [--duration T] [--set key=value]...`
+/// `ecpsim run SCENE -o DIR [--dt H] [--duration T] [--set key=value]...`, and
+/// `ecpsim run --resume DIR` to continue a run (or drop) that stopped early.
 void AddRunCommand(CLI::App& app);
 
 /// `ecpsim drop MESH -o DIR [--height H] [--tilt DEG] [--spin W] [--duration T] [--mass M]`

@@ -8,7 +8,7 @@
 #include <fmt/format.h>
 
 #include "app/commands.h"
-#include "geometry/errors.h"
+#include "common/errors.h"
 #include "render/image_compare.h"
 #include "render/png_writer.h"
 

@@ -4,7 +4,8 @@
 
 #include <fmt/format.h>
 
-#include "geometry/errors.h"
+#include "common/errors.h"
+#include "render/png_writer.h"
 
 namespace ecpsim::app {
 
@@ -26,11 +27,20 @@ void ApplyCamera(const engine::Scene& scene, render::FrameInput& frame) {
   frame.camera.fov_y_deg = scene.output.camera_fov_deg;
 }
 
-FrameRecorder::FrameRecorder(const engine::Scene& scene, const std::string& out_dir, bool video)
+int FramesUpTo(const engine::Scene& scene, double t) {
+  int frames = 0;
+  while (frames / scene.output.fps <= t + scene.h / 2) ++frames;
+  return frames;
+}
+
+FrameRecorder::FrameRecorder(const engine::Scene& scene, const std::string& out_dir, bool video,
+                             const engine::State* resumed_from)
     : scene_(scene),
       builder_(scene),
       renderer_(RenderSettingsFor(scene)),
-      png_((fs::path(out_dir) / "frames").string()) {
+      png_((fs::path(out_dir) / "frames").string(), 1, 4, render::kFastPngCompression,
+           resumed_from ? FramesUpTo(scene, resumed_from->t) : 0),
+      frames_(resumed_from ? FramesUpTo(scene, resumed_from->t) : 0) {
   if (!video) return;
   try {
     video_ = std::make_unique<render::FfmpegPipe>((fs::path(out_dir) / "video.mp4").string(),
@@ -38,11 +48,22 @@ FrameRecorder::FrameRecorder(const engine::Scene& scene, const std::string& out_
                                                   scene.output.fps);
   } catch (const InputError& e) {
     video_error_ = e.what();
+    return;
+  }
+  // a resumed video starts with the frames of the run's earlier part
+  for (int k = 0; k < frames_; ++k) {
+    const render::Image frame = render::ReadPng(png_.FramePath(k));
+    if (frame.width != scene.output.width || frame.height != scene.output.height) {
+      throw InputError(fmt::format("{}: {}x{} pixels; expected the run's {}x{} frames",
+                                   png_.FramePath(k), frame.width, frame.height,
+                                   scene.output.width, scene.output.height));
+    }
+    video_->Write(frame);
   }
 }
 
 void FrameRecorder::Observe(const engine::State& state, int iterations) {
-  // frame k shows the state nearest to t = k / fps
+  // frame k shows the state nearest to t = k / fps (FramesUpTo)
   while (frames_ / scene_.output.fps <= state.t + scene_.h / 2) {
     render::FrameInput frame = builder_.Build(state, iterations);
     ApplyCamera(scene_, frame);

@@ -22,11 +22,20 @@ void ApplyCamera(const engine::Scene& scene, render::FrameInput& frame);
 /// Renders the state nearest to each frame time k / fps (fps from scene.output, independent of
 /// h) into DIR/frames/frame_NNNNNN.png — PNG encoding on a worker thread while the next frame
 /// renders — and, with `video`, into DIR/video.mp4 through the ffmpeg program.
+/// How many frames a run has rendered once it has reached the state at `t` (frame k shows the
+/// state nearest to k / fps).
+int FramesUpTo(const engine::Scene& scene, double t);
+
 class FrameRecorder {
  public:
-  /// @throws InputError if DIR/frames cannot be created. A missing ffmpeg does not stop the run:
-  ///         the frames are still written and Finish() reports it.
-  FrameRecorder(const engine::Scene& scene, const std::string& out_dir, bool video);
+  /// With `resumed_from` (the state a resumed run continues from, app/checkpoint.h) the frames up
+  /// to that state are taken as rendered already: numbering goes on after them, and the video is
+  /// fed them back from DIR/frames first, so it shows the whole run.
+  /// @throws InputError if DIR/frames cannot be created, or a frame the resumed video needs is
+  ///         missing. A missing ffmpeg does not stop the run: the frames are still written and
+  ///         Finish() reports it.
+  FrameRecorder(const engine::Scene& scene, const std::string& out_dir, bool video,
+                const engine::State* resumed_from = nullptr);
 
   /// Called with the initial state and after every step (StepObserver).
   void Observe(const engine::State& state, int iterations);

@@ -12,7 +12,7 @@
 
 #include <fmt/format.h>
 
-#include "geometry/errors.h"
+#include "common/errors.h"
 
 extern char** environ;
 

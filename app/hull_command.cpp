@@ -11,7 +11,7 @@
 
 #include "app/commands.h"
 #include "geometry/convex_hull.h"
-#include "geometry/errors.h"
+#include "common/errors.h"
 #include "geometry/mass_properties.h"
 #include "geometry/mesh_io.h"
 #include "geometry/mesh_topology.h"

@@ -10,7 +10,7 @@
 #include <fmt/format.h>
 
 #include "app/commands.h"
-#include "geometry/errors.h"
+#include "common/errors.h"
 #include "geometry/mass_properties.h"
 #include "geometry/mesh_io.h"
 #include "geometry/paper_bodies.h"

@@ -14,13 +14,13 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "app/atomic_file.h"
+#include "common/atomic_file.h"
 #include "app/plot_writer.h"
 #include "app/trajectory_table.h"
 #include "engine/scene.h"
 #include "engine/scene_yaml.h"
 #include "geometry/contact_patch.h"
-#include "geometry/errors.h"
+#include "common/errors.h"
 
 namespace ecpsim::app {
 namespace {

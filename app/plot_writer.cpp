@@ -4,9 +4,8 @@
 
 #include <fmt/format.h>
 
-#include "app/atomic_file.h"
 #include "app/gnuplot_process.h"
-#include "geometry/errors.h"
+#include "common/atomic_file.h"
 
 namespace ecpsim::app {
 
@@ -33,10 +32,9 @@ std::string PlotWriter::Data(const std::string& name, const std::string& content
 }
 
 void PlotWriter::BeginPng(const std::string& name, int width, int height) {
-  const std::string path = (fs::path(dir_) / name).string();
-  pngs_.push_back(path);
+  pngs_.emplace_back((fs::path(dir_) / name).string());
   script_ += fmt::format("set terminal pngcairo size {},{} font 'DejaVu Sans,11'\n", width, height);
-  script_ += fmt::format("set output {}\n", GnuplotQuote(path + ".partial"));
+  script_ += fmt::format("set output {}\n", GnuplotQuote(pngs_.back().temp_path()));
 }
 
 void PlotWriter::EndPng() { script_ += "unset multiplot\nset output\nreset\nset grid\n"; }
@@ -48,20 +46,17 @@ std::vector<std::string> PlotWriter::Run() {
   const std::string log = (fs::path(dir_) / "plot_gnuplot.log").string();
   WriteFileAtomically(script, script_);
   RunGnuplot(script, log);
-  for (const std::string& png : pngs_) {
-    std::error_code error;
-    fs::rename(png + ".partial", png, error);
-    if (error) {
-      throw InputError(fmt::format("{}.partial: cannot rename it to {} ({}); gnuplot's log: {}",
-                                   png, png, error.message(), log));
-    }
+  std::vector<std::string> paths;
+  for (AtomicFile& png : pngs_) {
+    png.Commit();
+    paths.push_back(png.path());
   }
   // the data and the script were only gnuplot's input
   std::error_code ignored;
   for (const std::string& path : temporaries_) fs::remove(path, ignored);
   fs::remove(script, ignored);
   fs::remove(log, ignored);
-  return pngs_;
+  return paths;
 }
 
 }  // namespace ecpsim::app

@@ -1,9 +1,12 @@
 #pragma once
 // Drawing PNG charts with gnuplot: data files and one script written into an output folder, one
-// gnuplot run, every PNG moved from its .partial name onto its final name.
+// gnuplot run, every PNG drawn under its temporary name and renamed onto its final name
+// (common/atomic_file.h).
 
 #include <string>
 #include <vector>
+
+#include "common/atomic_file.h"
 
 namespace ecpsim::app {
 
@@ -19,6 +22,7 @@ class PlotWriter {
   std::string Data(const std::string& name, const std::string& content);
 
   /// Starts the PNG DIR/NAME (e.g. "tbar_qz.png") of the given size in pixels.
+  /// @throws InputError if something other than a regular file is at DIR/NAME.
   void BeginPng(const std::string& name, int width, int height);
   void EndPng();
   /// One line of gnuplot script.
@@ -32,7 +36,7 @@ class PlotWriter {
  private:
   std::string dir_;
   std::string script_;
-  std::vector<std::string> pngs_;
+  std::vector<AtomicFile> pngs_;
   std::vector<std::string> temporaries_;
 };
 

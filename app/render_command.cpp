@@ -12,7 +12,7 @@
 #include "app/frame_recorder.h"
 #include "engine/scene_yaml.h"
 #include "engine/time_step.h"
-#include "geometry/errors.h"
+#include "common/errors.h"
 #include "render/png_writer.h"
 
 namespace ecpsim::app {

@@ -1,4 +1,5 @@
-// `ecpsim run SCENE -o DIR` and `ecpsim drop MESH -o DIR`: simulate and write the trajectory.
+// `ecpsim run SCENE -o DIR` and `ecpsim drop MESH -o DIR`: simulate and write the trajectory;
+// `ecpsim run --resume DIR` continues a run that stopped early.
 
 #include <unistd.h>
 
@@ -11,10 +12,16 @@
 #include <vector>
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
+#include "app/checkpoint.h"
 #include "app/commands.h"
 #include "app/frame_recorder.h"
+#include "app/interrupt.h"
+#include "app/output_folder.h"
+#include "app/run_origin.h"
 #include "app/simulation_run.h"
+#include "common/errors.h"
 #include "engine/scene_yaml.h"
 
 namespace ecpsim::app {
@@ -60,22 +67,36 @@ struct RunOptions {
   bool video = false;
   std::optional<double> fps;
   std::optional<int> width, height;
+  std::string resume;  // --resume DIR
 };
 
-// runs the scene, recording frames when asked; frames and video are finished also when the
-// run stops on a failure, so what was rendered stays valid
-RunSummary RunWithFrames(const engine::Scene& scene, const std::string& out_dir, bool frames,
-                         bool video) {
-  if (!frames && !video) return RunSimulation(scene, out_dir, isatty(fileno(stderr)) == 1);
-  std::error_code error;
-  std::filesystem::create_directories(out_dir, error);
-  FrameRecorder recorder(scene, out_dir, video);
+// the scene overrides that `ecpsim run`'s options stand for, in a fixed order
+std::vector<std::string> Overrides(const RunOptions& options) {
+  std::vector<std::string> overrides = options.overrides;
+  if (!options.model.empty()) overrides.push_back("model=" + options.model);
+  if (options.fps) overrides.push_back(fmt::format("output.fps={}", *options.fps));
+  if (options.width) overrides.push_back(fmt::format("output.width={}", *options.width));
+  if (options.height) overrides.push_back(fmt::format("output.height={}", *options.height));
+  if (options.h) overrides.push_back(fmt::format("h={}", *options.h));
+  if (options.duration) overrides.push_back(fmt::format("duration={}", *options.duration));
+  return overrides;
+}
+
+// runs the scene, recording frames when its origin asks for them; frames and video are finished
+// also when the run stops on a failure, so what was rendered stays valid
+RunSummary RunWithFrames(const engine::Scene& scene, const std::string& out_dir,
+                         RunSetup setup) {
+  const nlohmann::json& arguments = setup.origin.at("arguments");
+  const bool frames = arguments.at("frames").get<bool>(), video = arguments.at("video").get<bool>();
+  setup.progress = isatty(fileno(stderr)) == 1;
+  if (!frames) return RunSimulation(scene, out_dir, setup);
+  FrameRecorder recorder(scene, out_dir, video, setup.resume ? &setup.resume->state : nullptr);
+  setup.observer = [&](const engine::State& state, int iterations) {
+    recorder.Observe(state, iterations);
+  };
   RunSummary summary;
   try {
-    summary = RunSimulation(scene, out_dir, isatty(fileno(stderr)) == 1,
-                            [&](const engine::State& state, int iterations) {
-                              recorder.Observe(state, iterations);
-                            });
+    summary = RunSimulation(scene, out_dir, setup);
   } catch (...) {
     try {
       recorder.Finish();
@@ -90,6 +111,58 @@ RunSummary RunWithFrames(const engine::Scene& scene, const std::string& out_dir,
   return summary;
 }
 
+// runs the scene described by `arguments` (RunArguments, DropArguments) with SIGINT and SIGTERM
+// caught and prints the result; an interrupted run throws Interrupted once its outputs are
+// complete (main() exits 130 or 143). `resume`: the checkpoint to continue from, its origin
+// already checked.
+void RunAndReport(const engine::Scene& scene, const std::string& out_dir,
+                  const nlohmann::json& arguments, const Checkpoint* resume = nullptr) {
+  RunSetup setup;
+  setup.origin = RunOrigin(arguments, scene);
+  setup.resume = resume;
+  PrepareOutputFolder(out_dir, resume != nullptr);
+  const InterruptGuard guard;
+  const RunSummary summary = RunWithFrames(scene, out_dir, setup);
+  PrintResult(summary, out_dir);
+  if (summary.interrupt_signal != 0) {
+    throw Interrupted(summary.interrupt_signal,
+                      fmt::format("interrupted by {} at t = {} s after {} of {} steps; the outputs "
+                                  "in {} are complete up to there; continue with: ecpsim run "
+                                  "--resume {}",
+                                  SignalName(summary.interrupt_signal), summary.t_end,
+                                  summary.steps, summary.planned_steps, out_dir, out_dir));
+  }
+}
+
+// `ecpsim run --resume DIR [the run's own SCENE and options]`: continues the run in DIR from its
+// checkpoint, with the scene and settings it began with
+void Resume(const RunOptions& given) {
+  const std::string dir = given.resume;
+  const std::string path = (std::filesystem::path(dir) / "checkpoint.json").string();
+  const Checkpoint checkpoint = ReadCheckpoint(path);
+  const nlohmann::json& arguments = checkpoint.origin.at("arguments");
+  std::error_code error;
+  if (!given.out_dir.empty() && !std::filesystem::equivalent(given.out_dir, dir, error)) {
+    throw InputError(fmt::format("--resume {} -o {}: a resumed run writes into its own folder; "
+                                 "leave out -o or give the same folder",
+                                 dir, given.out_dir));
+  }
+  // a command line given with --resume must be the run's own
+  const bool more_given = !Overrides(given).empty() || given.frames || given.video;
+  if (!given.scene.empty() || more_given) {
+    if (given.scene.empty() ||
+        RunArguments(given.scene, Overrides(given), given.frames, given.video) != arguments) {
+      throw InputError(fmt::format("--resume {}: the run there is `{} -o {}`; give its command "
+                                   "line exactly, or nothing but --resume DIR",
+                                   dir, CommandLine(arguments), dir));
+    }
+  }
+  const engine::Scene scene = SceneOf(arguments);
+  RequireSameOrigin(checkpoint.origin, RunOrigin(arguments, scene), path);
+  CheckFitsScene(checkpoint, scene, path);
+  RunAndReport(scene, dir, arguments, &checkpoint);
+}
+
 }  // namespace
 
 void AddRunCommand(CLI::App& app) {
@@ -97,8 +170,9 @@ void AddRunCommand(CLI::App& app) {
   CLI::App* run = app.add_subcommand(
       "run", "Simulate a YAML scene (docs/scene_format.md); writes DIR/trajectory.csv and "
              "DIR/summary.json");
-  run->add_option("scene", options->scene, "scene file (YAML)")->required();
-  run->add_option("-o,--out", options->out_dir, "output folder (created if missing)")->required();
+  run->add_option("scene", options->scene, "scene file (YAML); required unless --resume");
+  run->add_option("-o,--out", options->out_dir,
+                  "output folder (created if missing); required unless --resume");
   run->add_option("--dt", options->h, "time step h in s (overrides the scene's h)")
       ->check(kFinitePositive);
   run->add_option("--duration", options->duration, "simulated time in s (overrides the scene's)")
@@ -121,18 +195,22 @@ void AddRunCommand(CLI::App& app) {
       ->check(CLI::Range(16, 8192));
   run->add_option("--height", options->height, "frame height in pixels (default 720)")
       ->check(CLI::Range(16, 8192));
+  run->add_option("--resume", options->resume,
+                  "continue the run in DIR that stopped early (Ctrl-C, SIGTERM, a solver "
+                  "failure) from its checkpoint.json, with the scene and settings it began with; "
+                  "the result is the same as a run that never stopped")
+      ->type_name("DIR");
   run->callback([options] {
-    std::vector<std::string> overrides = options->overrides;
-    if (!options->model.empty()) overrides.push_back("model=" + options->model);
-    if (options->fps) overrides.push_back(fmt::format("output.fps={}", *options->fps));
-    if (options->width) overrides.push_back(fmt::format("output.width={}", *options->width));
-    if (options->height) overrides.push_back(fmt::format("output.height={}", *options->height));
-    if (options->h) overrides.push_back(fmt::format("h={}", *options->h));
-    if (options->duration) overrides.push_back(fmt::format("duration={}", *options->duration));
+    if (!options->resume.empty()) {
+      Resume(*options);
+      return;
+    }
+    if (options->scene.empty()) throw CLI::RequiredError("scene");
+    if (options->out_dir.empty()) throw CLI::RequiredError("-o,--out");
+    const std::vector<std::string> overrides = Overrides(*options);
     const engine::Scene scene = engine::LoadScene(options->scene, overrides);
-    const RunSummary summary =
-        RunWithFrames(scene, options->out_dir, options->frames || options->video, options->video);
-    PrintResult(summary, options->out_dir);
+    RunAndReport(scene, options->out_dir,
+                 RunArguments(options->scene, overrides, options->frames, options->video));
   });
 }
 
@@ -170,8 +248,7 @@ void AddDropCommand(CLI::App& app) {
   drop->add_flag("--video", *video, "also render DIR/video.mp4 (needs the ffmpeg program)");
   drop->callback([options, out_dir, frames, video] {
     const engine::Scene scene = engine::MakeDropScene(*options);
-    const RunSummary summary = RunWithFrames(scene, *out_dir, *frames || *video, *video);
-    PrintResult(summary, *out_dir);
+    RunAndReport(scene, *out_dir, DropArguments(*options, *frames, *video));
   });
 }
 

@@ -6,17 +6,20 @@
 #include <cstdio>
 #include <exception>
 #include <filesystem>
-#include <vector>
+#include <optional>
+#include <string>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "app/atomic_file.h"
+#include "app/checkpoint.h"
+#include "app/interrupt.h"
 #include "app/trajectory_writer.h"
+#include "common/atomic_file.h"
+#include "common/errors.h"
 #include "engine/penetration.h"
 #include "engine/state.h"
 #include "engine/time_step.h"
-#include "geometry/errors.h"
 
 namespace ecpsim::app {
 namespace {
@@ -31,9 +34,21 @@ constexpr double kStepCountSlack = 1e-9;
 constexpr double kProgressInterval = 0.1;  // s of wall time
 constexpr int kProgressWidth = 40;         // characters
 
+// step counts are exact integers in a double up to 2^53 (t and the progress fraction use them);
+// a run that long would take decades anyway
+constexpr double kMaxSteps = 9007199254740992.0;  // 2^53
+
 long PlannedSteps(const engine::Scene& scene) {
   const double ratio = scene.duration / scene.h;
-  return std::max(1L, static_cast<long>(std::ceil(ratio * (1 - kStepCountSlack))));
+  const double nearest = std::round(ratio);
+  const double steps = std::abs(ratio - nearest) <= kStepCountSlack * ratio ? nearest
+                                                                            : std::ceil(ratio);
+  if (!(steps <= kMaxSteps)) {
+    throw InputError(fmt::format("{}: duration / h = {} / {} = {:g} steps: expected at most {:g} "
+                                 "steps; use a larger h or a shorter duration",
+                                 scene.source, scene.duration, scene.h, steps, kMaxSteps));
+  }
+  return std::max(1L, static_cast<long>(steps));
 }
 
 void DrawProgress(double fraction, double t) {
@@ -44,26 +59,17 @@ void DrawProgress(double fraction, double t) {
   std::fflush(stderr);
 }
 
-double Median(std::vector<double> values) {
-  if (values.empty()) return 0;
-  const size_t mid = values.size() / 2;
-  std::nth_element(values.begin(), values.begin() + mid, values.end());
-  if (values.size() % 2 == 1) return values[mid];
-  const double upper = values[mid];
-  return 0.5 * (upper + *std::max_element(values.begin(), values.begin() + mid));
-}
-
-void WriteSummary(const engine::Scene& scene, const RunSummary& s, double t_end, int rows,
-                  const std::string& path) {
+void WriteSummary(const engine::Scene& scene, const RunSummary& s, const std::string& path) {
   nlohmann::json json = {
       {"scene", scene.source},
       {"h", scene.h},
       {"duration", scene.duration},
-      {"t_end", t_end},
+      {"t_end", s.t_end},
       {"planned_steps", s.planned_steps},
       {"steps", s.steps},
-      {"rows", rows},
+      {"rows", s.rows},
       {"converged", s.converged},
+      {"interrupted", s.interrupt_signal != 0},
       {"failures", s.failures},
       {"retries", s.retries},
       {"iterations_mean", s.iterations_mean},
@@ -74,6 +80,12 @@ void WriteSummary(const engine::Scene& scene, const RunSummary& s, double t_end,
       {"wall_s", s.wall_s},
       {"median_step_us", s.median_step_us},
   };
+  if (s.interrupt_signal != 0) {
+    json["signal"] = SignalName(s.interrupt_signal);
+  }
+  if (s.resumed_from_step >= 0) {
+    json["resumed_from_step"] = s.resumed_from_step;
+  }
   if (!s.error.empty()) {
     json["error"] = s.error;
   }
@@ -82,8 +94,8 @@ void WriteSummary(const engine::Scene& scene, const RunSummary& s, double t_end,
 
 }  // namespace
 
-RunSummary RunSimulation(const engine::Scene& scene, const std::string& out_dir, bool progress,
-                         const StepObserver& observer) {
+RunSummary RunSimulation(const engine::Scene& scene, const std::string& out_dir,
+                         const RunSetup& setup) {
   std::error_code error;
   fs::create_directories(out_dir, error);
   if (error || !fs::is_directory(out_dir)) {
@@ -91,43 +103,66 @@ RunSummary RunSimulation(const engine::Scene& scene, const std::string& out_dir,
                                  "path",
                                  out_dir, error.message()));
   }
+  // refuse a FIFO, symlink or folder at summary.json now, not after the whole run
+  const std::string summary_path = (fs::path(out_dir) / "summary.json").string();
+  const std::string checkpoint_path = (fs::path(out_dir) / "checkpoint.json").string();
+  RequireReplaceable(summary_path);
+  RequireReplaceable(checkpoint_path);
   const Clock::time_point start = Clock::now();
   RunSummary summary;
   summary.planned_steps = PlannedSteps(scene);
 
-  engine::State state = engine::InitialState(scene);
-  TrajectoryWriter writer(scene, (fs::path(out_dir) / "trajectory.csv").string());
+  const Checkpoint* resume = setup.resume;
+  engine::State state = resume ? resume->state : engine::InitialState(scene);
+  RunTotals totals = resume ? resume->totals : RunTotals();
+  TrajectoryWriter writer(scene, (fs::path(out_dir) / "trajectory.csv").string(),
+                          resume ? std::optional<long>(resume->rows) : std::nullopt);
   const engine::PenetrationProbe probe(scene);
-  std::vector<double> step_us;
-  step_us.reserve(summary.planned_steps);
-  long iterations_total = 0;
   double last_drawn = -1;
   std::exception_ptr failure;
-  bool every_step_converged = true;
+  engine::StepReport report;  // of the step that led to `state`
+  report.converged = true;
+  bool row_written = true;               // the trajectory's last row is `state`
+  long rows_on_cadence = writer.rows();  // rows that an uninterrupted run also writes
+  bool stopped_in_step = false;          // engine::Step threw: `state` is the last good one
 
   try {
-    engine::StepReport initial;
-    initial.converged = true;
-    writer.Write(state, initial);
-    if (observer) observer(state, 0);
-    for (long k = 1; k <= summary.planned_steps; ++k) {
-      const Clock::time_point before = Clock::now();
-      const engine::StepReport report = engine::Step(scene, state);
-      step_us.push_back(std::chrono::duration<double, std::micro>(Clock::now() - before).count());
-
-      summary.steps = k;
-      every_step_converged = every_step_converged && report.converged;
-      summary.retries += report.retries;
-      iterations_total += report.iterations;
-      summary.iterations_max = std::max(summary.iterations_max, report.iterations);
-      summary.residual_max = std::max(summary.residual_max, report.residual);
-      summary.substeps_max = std::max(summary.substeps_max, report.substeps);
-      summary.max_penetration = std::max(summary.max_penetration, probe.MaxDepth(scene, state));
-      if (k % scene.output.every == 0 || k == summary.planned_steps) {
-        writer.Write(state, report);
+    if (!resume) {
+      writer.Write(state, report);
+      rows_on_cadence = writer.rows();
+      totals.max_penetration = probe.MaxDepth(scene, state);
+      if (setup.observer) setup.observer(state, 0);
+    }
+    for (long k = totals.steps + 1; k <= summary.planned_steps; ++k) {
+      // a signal stops the run between steps (app/interrupt.h)
+      if (const int signal = InterruptSignal(); signal != 0) {
+        summary.interrupt_signal = signal;
+        break;
       }
-      if (observer) observer(state, report.iterations);
-      if (progress) {
+      const Clock::time_point before = Clock::now();
+      try {
+        report = engine::Step(scene, state);
+      } catch (...) {
+        stopped_in_step = true;
+        throw;
+      }
+      totals.step_us.Add(std::chrono::duration<double, std::micro>(Clock::now() - before).count());
+
+      totals.steps = k;
+      totals.all_converged = totals.all_converged && report.converged;
+      totals.retries += report.retries;
+      totals.iterations += report.iterations;
+      totals.iterations_max = std::max(totals.iterations_max, report.iterations);
+      totals.residual_max = std::max(totals.residual_max, report.residual);
+      totals.substeps_max = std::max(totals.substeps_max, report.substeps);
+      totals.max_penetration = std::max(totals.max_penetration, probe.MaxDepth(scene, state));
+      row_written = k % scene.output.every == 0 || k == summary.planned_steps;
+      if (row_written) {
+        writer.Write(state, report);
+        rows_on_cadence = writer.rows();
+      }
+      if (setup.observer) setup.observer(state, report.iterations);
+      if (setup.progress) {
         const double wall = std::chrono::duration<double>(Clock::now() - start).count();
         if (wall - last_drawn >= kProgressInterval || k == summary.planned_steps) {
           DrawProgress(static_cast<double>(k) / summary.planned_steps, state.t);
@@ -135,7 +170,6 @@ RunSummary RunSimulation(const engine::Scene& scene, const std::string& out_dir,
         }
       }
     }
-    summary.converged = every_step_converged;
   } catch (const engine::SolverFailure& e) {
     summary.failures = 1;
     summary.error = e.what();
@@ -145,17 +179,42 @@ RunSummary RunSimulation(const engine::Scene& scene, const std::string& out_dir,
     summary.error = e.what();
     failure = std::current_exception();
   }
-  if (progress) {
+  if (setup.progress) {
     std::fputc('\n', stderr);
   }
 
+  // a run that stopped early ends its trajectory at the state it stopped in, as the summary does,
+  // and leaves that state in checkpoint.json
+  const bool stopped_early = summary.interrupt_signal != 0 || stopped_in_step;
+  if (stopped_early && !row_written) {
+    writer.Write(state, report);
+  }
   writer.Finish();
+  // wall time of the whole run, the earlier parts of a resumed one included
+  totals.wall_s += std::chrono::duration<double>(Clock::now() - start).count();
+  if (stopped_early) {
+    const Checkpoint checkpoint{setup.origin, rows_on_cadence, totals, state};
+    WriteCheckpoint(checkpoint_path, checkpoint);
+  } else if (!failure) {
+    // the run is complete: nothing is left to resume
+    fs::remove(checkpoint_path, error);
+  }
+
+  summary.steps = totals.steps;
+  summary.t_end = state.t;
+  summary.rows = writer.rows();
+  summary.retries = totals.retries;
   summary.iterations_mean =
-      summary.steps > 0 ? static_cast<double>(iterations_total) / summary.steps : 0.0;
-  summary.median_step_us = Median(step_us);
-  summary.wall_s = std::chrono::duration<double>(Clock::now() - start).count();
-  WriteSummary(scene, summary, state.t, writer.rows(),
-               (fs::path(out_dir) / "summary.json").string());
+      totals.steps > 0 ? static_cast<double>(totals.iterations) / totals.steps : 0.0;
+  summary.iterations_max = totals.iterations_max;
+  summary.residual_max = totals.residual_max;
+  summary.substeps_max = totals.substeps_max;
+  summary.max_penetration = totals.max_penetration;
+  summary.median_step_us = totals.step_us.Median();
+  summary.converged = totals.all_converged && !failure && summary.interrupt_signal == 0;
+  summary.resumed_from_step = resume ? resume->totals.steps : -1;
+  summary.wall_s = totals.wall_s;
+  WriteSummary(scene, summary, summary_path);
   if (failure) {
     std::rethrow_exception(failure);
   }

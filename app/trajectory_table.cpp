@@ -9,7 +9,7 @@
 
 #include <fmt/format.h>
 
-#include "geometry/errors.h"
+#include "common/errors.h"
 
 namespace ecpsim::app {
 namespace {

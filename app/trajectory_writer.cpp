@@ -1,12 +1,11 @@
 #include "app/trajectory_writer.h"
 
-#include <cerrno>
 #include <cmath>
-#include <cstring>
+#include <fstream>
 
 #include <fmt/format.h>
 
-#include "geometry/errors.h"
+#include "common/errors.h"
 
 namespace ecpsim::app {
 
@@ -36,26 +35,45 @@ std::vector<std::string> TrajectoryColumns(const engine::Scene& scene) {
   return columns;
 }
 
-TrajectoryWriter::TrajectoryWriter(const engine::Scene& scene, const std::string& path)
-    : columns_(TrajectoryColumns(scene)), path_(path) {
-  const std::string partial = path_ + ".partial";
-  file_ = std::fopen(partial.c_str(), "wb");
-  if (file_ == nullptr) {
-    throw InputError(fmt::format("{}: cannot create it ({}); expected a writable folder", partial,
-                                 std::strerror(errno)));
-  }
+TrajectoryWriter::TrajectoryWriter(const engine::Scene& scene, const std::string& path,
+                                   std::optional<long> keep_rows)
+    : columns_(TrajectoryColumns(scene)), file_(path) {
   std::string header;
   for (size_t i = 0; i < columns_.size(); ++i) {
     header += (i == 0 ? "" : ",") + columns_[i];
   }
-  header += '\n';
-  std::fputs(header.c_str(), file_);
-  std::fflush(file_);
+  stream_ = file_.Create();
+  try {
+    Append(header, true);
+    if (keep_rows) {
+      // the earlier part of a resumed run, byte for byte, streamed
+      std::ifstream earlier(path, std::ios::binary);
+      std::string line;
+      if (!std::getline(earlier, line) || line != header) {
+        throw InputError(fmt::format("{}: {}; expected the header of this scene's trajectory",
+                                     path, earlier ? "another header" : "missing or empty"));
+      }
+      for (long r = 0; r < *keep_rows; ++r) {
+        // a last line without its newline is incomplete
+        if (!std::getline(earlier, line) || earlier.eof()) {
+          throw InputError(fmt::format("{}: {} complete rows; expected at least the {} rows that "
+                                       "the checkpoint counts",
+                                       path, r, *keep_rows));
+        }
+        Append(line, false);
+      }
+      rows_ = *keep_rows;
+    }
+  } catch (...) {
+    std::fclose(stream_);  // file_ then removes the temporary file
+    throw;
+  }
 }
 
 TrajectoryWriter::~TrajectoryWriter() {
-  if (file_ != nullptr) {
-    std::fclose(file_);
+  // without Finish() the AtomicFile removes the temporary file
+  if (stream_ != nullptr) {
+    std::fclose(stream_);
   }
 }
 
@@ -87,27 +105,27 @@ void TrajectoryWriter::Write(const engine::State& state, const engine::StepRepor
   for (size_t i = 0; i < values.size(); ++i) {
     fmt::format_to(std::back_inserter(row), i == 0 ? "{}" : ",{}", values[i]);
   }
-  row.push_back('\n');
-  if (std::fwrite(row.data(), 1, row.size(), file_) != row.size() || std::fflush(file_) != 0) {
-    throw InputError(fmt::format("{}.partial: cannot write it (disk full?)", path_));
-  }
+  Append(std::string_view(row.data(), row.size()), true);
   ++rows_;
 }
 
+void TrajectoryWriter::Append(std::string_view line, bool flush) {
+  if (std::fwrite(line.data(), 1, line.size(), stream_) != line.size() ||
+      std::fputc('\n', stream_) == EOF || (flush && std::fflush(stream_) != 0)) {
+    throw InputError(fmt::format("{}: cannot write it (disk full?)", file_.temp_path()));
+  }
+}
+
 void TrajectoryWriter::Finish() {
-  if (file_ == nullptr) {
+  if (stream_ == nullptr) {
     return;
   }
-  const bool closed = std::fclose(file_) == 0;
-  file_ = nullptr;
-  const std::string partial = path_ + ".partial";
+  const bool closed = std::fclose(stream_) == 0;
+  stream_ = nullptr;
   if (!closed) {
-    throw InputError(fmt::format("{}: cannot write it (disk full?)", partial));
+    throw InputError(fmt::format("{}: cannot write it (disk full?)", file_.temp_path()));
   }
-  if (std::rename(partial.c_str(), path_.c_str()) != 0) {
-    throw InputError(fmt::format("{}: cannot rename it to {} ({})", partial, path_,
-                                 std::strerror(errno)));
-  }
+  file_.Commit();
 }
 
 }  // namespace ecpsim::app

@@ -14,7 +14,7 @@
 #include "engine/state.h"
 #include "engine/step_report.h"
 #include "geometry/convex_shape.h"
-#include "geometry/errors.h"
+#include "common/errors.h"
 
 namespace ecpsim::baselines {
 

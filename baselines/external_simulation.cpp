@@ -3,7 +3,7 @@
 #include <fmt/format.h>
 
 #include "baselines/engine_adapters.h"
-#include "geometry/errors.h"
+#include "common/errors.h"
 
 namespace ecpsim::baselines {
 

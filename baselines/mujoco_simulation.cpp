@@ -20,7 +20,7 @@
 #include "engine/step_report.h"
 #include "geometry/convex_hull.h"
 #include "geometry/convex_shape.h"
-#include "geometry/errors.h"
+#include "common/errors.h"
 
 namespace ecpsim::baselines {
 namespace {

@@ -17,7 +17,7 @@
 #include "engine/loads.h"
 #include "engine/step_report.h"
 #include "geometry/convex_hull.h"
-#include "geometry/errors.h"
+#include "common/errors.h"
 
 namespace ecpsim::baselines {
 namespace {

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <vector>
 
-#include "geometry/errors.h"
+#include "common/errors.h"
 
 namespace ecpsim::engine {
 namespace {

@@ -13,7 +13,7 @@
 #include "engine/planar_model.h"
 #include "engine/rotation.h"
 #include "engine/step_driver.h"
-#include "geometry/errors.h"
+#include "common/errors.h"
 
 namespace ecpsim::engine {
 namespace {

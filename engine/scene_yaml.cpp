@@ -13,7 +13,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "geometry/convex_hull.h"
-#include "geometry/errors.h"
+#include "common/errors.h"
 #include "geometry/mass_properties.h"
 #include "geometry/mesh_io.h"
 

@@ -3,7 +3,7 @@
 #include <fmt/format.h>
 
 #include "engine/time_step.h"
-#include "geometry/errors.h"
+#include "common/errors.h"
 
 namespace ecpsim::evaluation {
 namespace {

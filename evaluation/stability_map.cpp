@@ -9,7 +9,7 @@
 #include "evaluation/csv_file.h"
 #include "geometry/convex_hull.h"
 #include "geometry/convex_shape.h"
-#include "geometry/errors.h"
+#include "common/errors.h"
 #include "geometry/paper_bodies.h"
 
 namespace ecpsim::evaluation {

@@ -11,7 +11,7 @@
 #include "engine/planar_model.h"
 #include "engine/step_report.h"
 #include "geometry/convex_shape.h"
-#include "geometry/errors.h"
+#include "common/errors.h"
 
 namespace ecpsim::evaluation {
 namespace {

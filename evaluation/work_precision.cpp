@@ -8,7 +8,7 @@
 #include "evaluation/csv_file.h"
 #include "evaluation/error_metrics.h"
 #include "evaluation/trajectory_run.h"
-#include "geometry/errors.h"
+#include "common/errors.h"
 
 namespace ecpsim::evaluation {
 namespace {

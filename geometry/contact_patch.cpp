@@ -11,7 +11,7 @@
 #include <utility>
 
 #include "geometry/convex_hull.h"
-#include "geometry/errors.h"
+#include "common/errors.h"
 
 namespace ecpsim::geometry {
 namespace {

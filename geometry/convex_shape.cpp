@@ -8,7 +8,7 @@
 #include <Eigen/Geometry>
 #include <fmt/format.h>
 
-#include "geometry/errors.h"
+#include "common/errors.h"
 
 namespace ecpsim::geometry {
 namespace {

@@ -6,7 +6,7 @@
 #include <Eigen/Eigenvalues>
 #include <fmt/format.h>
 
-#include "geometry/errors.h"
+#include "common/errors.h"
 #include "geometry/mesh_topology.h"
 
 namespace ecpsim::geometry {

@@ -22,7 +22,8 @@
 #include <assimp/scene.h>
 #include <fmt/format.h>
 
-#include "geometry/errors.h"
+#include "common/atomic_file.h"
+#include "common/errors.h"
 #include "geometry/weld_vertices.h"
 
 namespace ecpsim::geometry {
@@ -80,34 +81,6 @@ const char* ExportFormat(std::string extension) {
   if (extension == ".stl") return "stlb";
   if (extension == ".ply") return "plyb";
   return nullptr;
-}
-
-// writes `size` bytes to `path` through a temporary file in the same folder and a rename, so a
-// reader never sees a half-written file
-void WriteAtomically(const std::string& path, const void* data, std::size_t size) {
-  std::string temp = path + ".tmp-XXXXXX";
-  const int fd = mkstemp(temp.data());
-  if (fd < 0) {
-    throw InputError(fmt::format("{}: cannot create a temporary file next to it: {}", path,
-                                 std::strerror(errno)));
-  }
-  // mkstemp creates the file 0600; give it the permissions a plain fopen would (0666 − umask)
-  const mode_t mask = ::umask(0);
-  ::umask(mask);
-  ::fchmod(fd, 0666 & ~mask);
-  std::FILE* file = fdopen(fd, "wb");
-  bool ok = file != nullptr;
-  if (ok) ok = std::fwrite(data, 1, size, file) == size;
-  if (file != nullptr)
-    ok = (std::fclose(file) == 0) && ok;
-  else
-    ::close(fd);
-  if (ok) ok = std::rename(temp.c_str(), path.c_str()) == 0;
-  if (!ok) {
-    const int error = errno;
-    std::remove(temp.c_str());
-    throw InputError(fmt::format("{}: cannot write the file: {}", path, std::strerror(error)));
-  }
 }
 
 }  // namespace
@@ -239,7 +212,7 @@ void SaveMesh(const TriangleMesh& mesh, const std::string& path) {
     throw InputError(
         fmt::format("{}: cannot export the mesh: {}", path, exporter.GetErrorString()));
   }
-  WriteAtomically(path, blob->data, blob->size);
+  WriteFileAtomically(path, std::string_view(static_cast<const char*>(blob->data), blob->size));
 }
 
 }  // namespace ecpsim::geometry

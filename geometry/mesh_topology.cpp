@@ -4,7 +4,7 @@
 #include <cstdlib>
 #include <vector>
 
-#include "geometry/errors.h"
+#include "common/errors.h"
 
 namespace ecpsim::geometry {
 

@@ -7,7 +7,7 @@
 #include <limits>
 #include <vector>
 
-#include "geometry/errors.h"
+#include "common/errors.h"
 
 namespace ecpsim::geometry {
 namespace {

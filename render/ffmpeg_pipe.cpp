@@ -19,7 +19,7 @@
 #include <unistd.h>
 #include <fmt/format.h>
 
-#include "geometry/errors.h"
+#include "common/errors.h"
 
 namespace ecpsim::render {
 namespace {
@@ -109,7 +109,7 @@ FfmpegPipe::FfmpegPipe(const std::string& path, int width, int height, double fp
     throw InputError(fmt::format("cannot write video '{}': the folder '{}' does not exist", path,
                                  folder.string()));
   }
-  temp_path_ = fmt::format("{}.tmp-{}", path, static_cast<long>(::getpid()));
+  file_.emplace(path);
   // ffmpeg's error output goes to a private temporary file, read back for messages
   std::string log_template =
       (std::filesystem::temp_directory_path() / "ecpsim-ffmpeg-XXXXXX").string();
@@ -129,7 +129,7 @@ FfmpegPipe::FfmpegPipe(const std::string& path, int width, int height, double fp
       // yuv420p halves the chroma resolution, so both sides must be even
       "-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2",
       "-c:v", "libx264", "-preset", "veryfast", "-crf", "18", "-pix_fmt", "yuv420p",
-      "-movflags", "+faststart", "-f", "mp4", temp_path_};
+      "-movflags", "+faststart", "-f", "mp4", file_->temp_path()};
   std::vector<char*> argv;
   for (const std::string& arg : args) argv.push_back(const_cast<char*>(arg.c_str()));
   argv.push_back(nullptr);
@@ -145,7 +145,10 @@ FfmpegPipe::FfmpegPipe(const std::string& path, int width, int height, double fp
   }
   pid_ = ::fork();
   if (pid_ == 0) {
-    // child: stdin from the pipe, stdout discarded, stderr to the log; dup2 clears close-on-exec
+    // child: stdin from the pipe, stdout discarded, stderr to the log; dup2 clears close-on-exec.
+    // Its own process group keeps a terminal's Ctrl-C away from it: ecpsim decides when the
+    // video ends (an interrupted run finishes it with the frames so far)
+    ::setpgid(0, 0);
     ::dup2(fds[0], STDIN_FILENO);
     ::dup2(null_fd, STDOUT_FILENO);
     ::dup2(log_fd, STDERR_FILENO);
@@ -167,12 +170,11 @@ FfmpegPipe::FfmpegPipe(const std::string& path, int width, int height, double fp
 
 FfmpegPipe::~FfmpegPipe() {
   if (pid_ > 0) {
-    // not finished: stop ffmpeg and leave no partial files behind
+    // not finished: stop ffmpeg; file_ then removes what it wrote
     if (stdin_fd_ >= 0) ::close(stdin_fd_);
     ::kill(pid_, SIGTERM);
     int status = 0;
     ::waitpid(pid_, &status, 0);
-    std::remove(temp_path_.c_str());
   }
   std::remove(log_path_.c_str());
 }
@@ -184,7 +186,7 @@ void FfmpegPipe::Fail(const std::string& what) {
   if (pid_ > 0) ::waitpid(pid_, &status, 0);
   pid_ = -1;
   const std::string log = ReadTail(log_path_);
-  std::remove(temp_path_.c_str());
+  file_.reset();  // removes the temporary video
   std::string exit;
   if (WIFEXITED(status)) exit = fmt::format("exit status {}", WEXITSTATUS(status));
   if (WIFSIGNALED(status)) exit = fmt::format("signal {}", WTERMSIG(status));
@@ -212,17 +214,17 @@ void FfmpegPipe::Finish() {
   pid_ = -1;
   if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
     const std::string log = ReadTail(log_path_);
-    std::remove(temp_path_.c_str());
+    file_.reset();  // removes the temporary video
     throw std::runtime_error(fmt::format("video '{}': ffmpeg failed ({}): {}", path_,
                                          WIFEXITED(status)
                                              ? fmt::format("exit status {}", WEXITSTATUS(status))
                                              : std::string("killed"),
                                          log));
   }
-  if (std::rename(temp_path_.c_str(), path_.c_str()) != 0) {
-    const std::string reason = std::strerror(errno);
-    std::remove(temp_path_.c_str());
-    throw InputError(fmt::format("cannot write video '{}': {}", path_, reason));
+  try {
+    file_->Commit();
+  } catch (const InputError& e) {
+    throw InputError(fmt::format("cannot write video '{}': {}", path_, e.what()));
   }
 }
 

@@ -7,7 +7,7 @@
 #include FT_FREETYPE_H
 #include <fmt/format.h>
 
-#include "geometry/errors.h"
+#include "common/errors.h"
 #include "render/gl_api.h"
 
 namespace ecpsim::render {

@@ -8,7 +8,7 @@
 
 #include <Eigen/Geometry>
 
-#include "geometry/errors.h"
+#include "common/errors.h"
 #include "render/gl_api.h"
 
 namespace ecpsim::render {

@@ -6,7 +6,7 @@
 
 #include <fmt/format.h>
 
-#include "geometry/errors.h"
+#include "common/errors.h"
 
 namespace ecpsim::render {
 namespace {
@@ -17,12 +17,15 @@ constexpr int kMaxThreads = 64;
 }  // namespace
 
 PngSequenceWriter::PngSequenceWriter(const std::string& directory, int threads, int max_queued,
-                                     int compression)
-    : directory_(directory), max_queued_(max_queued), compression_(compression) {
-  if (threads < 1 || threads > kMaxThreads || max_queued < 1) {
-    throw InputError(fmt::format("frames '{}': {} threads, {} queued: expected 1 to {} threads "
-                                 "and at least 1 queued frame",
-                                 directory, threads, max_queued, kMaxThreads));
+                                     int compression, int first_index)
+    : directory_(directory),
+      max_queued_(max_queued),
+      compression_(compression),
+      next_index_(first_index) {
+  if (threads < 1 || threads > kMaxThreads || max_queued < 1 || first_index < 0) {
+    throw InputError(fmt::format("frames '{}': {} threads, {} queued, first frame {}: expected 1 "
+                                 "to {} threads, at least 1 queued frame and a first frame >= 0",
+                                 directory, threads, max_queued, first_index, kMaxThreads));
   }
   std::error_code error;
   std::filesystem::create_directories(directory, error);

@@ -18,11 +18,12 @@ namespace ecpsim::render {
 class PngSequenceWriter {
  public:
   /// Creates `directory` if missing. `threads` encoders (≥ 1); Add blocks while `max_queued`
-  /// frames wait, bounding memory.
+  /// frames wait, bounding memory. The first frame added gets index `first_index` (> 0 continues
+  /// a sequence whose earlier frames are there already).
   /// @throws InputError if the directory cannot be created (naming it and the reason) or a count
   ///         is out of range.
   explicit PngSequenceWriter(const std::string& directory, int threads = 1, int max_queued = 4,
-                             int compression = kFastPngCompression);
+                             int compression = kFastPngCompression, int first_index = 0);
   /// Waits for the queued frames; errors not collected by Finish() are dropped.
   ~PngSequenceWriter();
   PngSequenceWriter(const PngSequenceWriter&) = delete;

@@ -1,6 +1,5 @@
 #include "render/png_writer.h"
 
-#include <atomic>
 #include <cerrno>
 #include <csetjmp>
 #include <cstdio>
@@ -8,16 +7,13 @@
 #include <string>
 
 #include <png.h>
-#include <unistd.h>
 #include <fmt/format.h>
 
-#include "geometry/errors.h"
+#include "common/atomic_file.h"
+#include "common/errors.h"
 
 namespace ecpsim::render {
 namespace {
-
-// distinguishes temporary files of concurrent writers in one process (threads) and across processes
-std::atomic<unsigned long> temp_counter{0};
 
 struct ErrorState {
   std::jmp_buf jump;
@@ -79,19 +75,15 @@ void WritePng(const std::string& path, const Image& image, int compression) {
     throw InputError(fmt::format("PNG '{}': compression = {}: expected a zlib level 0 to 9", path,
                                  compression));
   }
-  // the temporary file sits next to the target so that rename() stays on one file system
-  const std::string temp =
-      fmt::format("{}.tmp-{}-{}", path, static_cast<long>(::getpid()), temp_counter++);
-  std::FILE* file = std::fopen(temp.c_str(), "wb");
-  if (file == nullptr) {
-    throw InputError(fmt::format("cannot write PNG '{}': {}", path, std::strerror(errno)));
-  }
-  std::string error = WriteFile(file, image, compression);
-  if (std::fclose(file) != 0 && error.empty()) error = std::strerror(errno);
-  if (error.empty() && std::rename(temp.c_str(), path.c_str()) != 0) error = std::strerror(errno);
-  if (!error.empty()) {
-    std::remove(temp.c_str());
-    throw InputError(fmt::format("cannot write PNG '{}': {}", path, error));
+  try {
+    AtomicFile file(path);
+    std::FILE* stream = file.Create();
+    std::string error = WriteFile(stream, image, compression);
+    if (std::fclose(stream) != 0 && error.empty()) error = std::strerror(errno);
+    if (!error.empty()) throw InputError(error);
+    file.Commit();
+  } catch (const InputError& e) {
+    throw InputError(fmt::format("cannot write PNG '{}': {}", path, e.what()));
   }
 }
 

@@ -10,11 +10,12 @@ namespace ecpsim::render {
 /// Fast zlib level for frame sequences: ~3× faster than the default 6 for ~20% larger files.
 inline constexpr int kFastPngCompression = 1;
 
-/// Writes `image` as an 8-bit RGB PNG at `path`, atomically: to a temporary file in the same
-/// directory, then renamed over `path`, so readers never see a half-written file.
+/// Writes `image` as an 8-bit RGB PNG at `path`, atomically (common/atomic_file.h): to a temporary
+/// file in the same directory, then renamed over `path`, so readers never see a half-written file.
 /// `compression` is the zlib level, 0 (none) to 9 (smallest).
-/// @throws InputError naming the path and the system's reason if the file cannot be written, or
-///         if the image is empty or its buffer size does not match width × height × 3.
+/// @throws InputError naming the path and the system's reason if the file cannot be written, if
+///         something other than a regular file is at `path`, or if the image is empty or its
+///         buffer size does not match width × height × 3.
 void WritePng(const std::string& path, const Image& image, int compression = kFastPngCompression);
 
 /// Reads any PNG (grey, palette, RGBA, 16-bit: converted to 8-bit RGB; alpha composited on black

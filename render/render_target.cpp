@@ -9,7 +9,7 @@
 
 #include <fmt/format.h>
 
-#include "geometry/errors.h"
+#include "common/errors.h"
 #include "render/gl_api.h"
 
 namespace ecpsim::render {

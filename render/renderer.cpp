@@ -7,7 +7,7 @@
 
 #include <fmt/format.h>
 
-#include "geometry/errors.h"
+#include "common/errors.h"
 #include "render/background_cache.h"
 #include "render/draw_context.h"
 #include "render/gl_api.h"

@@ -6,7 +6,7 @@
 
 #include <fmt/format.h>
 
-#include "geometry/errors.h"
+#include "common/errors.h"
 
 namespace ecpsim::render {
 namespace {

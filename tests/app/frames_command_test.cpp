@@ -1,7 +1,10 @@
 // Runs the built `ecpsim` binary with --frames/--video and `ecpsim render`, and checks the images.
 
+#include <unistd.h>
+
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <string>
 
 #include <fmt/format.h>
@@ -77,6 +80,42 @@ TEST_F(FramesCommandTest, MissingFfmpegIsAClearErrorAndTheFramesStay) {
   EXPECT_TRUE(fs::exists(out / "frames" / "frame_000005.png"));
   EXPECT_TRUE(fs::exists(out / "trajectory.csv"));
   EXPECT_FALSE(fs::exists(out / "video.mp4"));
+}
+
+TEST_F(FramesCommandTest, ARerunRemovesTheEarlierRunsFramesAndVideoOnly) {
+  // a run at 20 frames/s with video, then one at 10 frames/s without, into the same folder
+  const fs::path out = dir_ / "out";
+  ASSERT_EQ(Run(fmt::format("run scenes/slide.yaml -o '{}' --video --fps 20 --width 64 "
+                            "--height 48",
+                            out.string())),
+            0)
+      << log_;
+  ASSERT_TRUE(fs::exists(out / "frames" / "frame_000010.png"));
+  // what is not a frame of ours stays: the user's notes, a link named like a frame, and a
+  // temporary file of a process that is still running (this test)
+  std::ofstream(out / "frames" / "notes.txt") << "keep";
+  std::ofstream(dir_ / "elsewhere.png") << "keep";
+  fs::create_symlink(dir_ / "elsewhere.png", out / "frames" / "frame_000020.png");
+  const std::string running = fmt::format("frame_000021.png.tmp-{}-0", getpid());
+  std::ofstream(out / "frames" / running) << "keep";
+  // a temporary file of a process that has ended goes (a PID above pid_max, which is 2^22)
+  std::ofstream(out / "frames" / "frame_000022.png.tmp-999999999-0") << "stale";
+
+  ASSERT_EQ(Run(fmt::format("run scenes/slide.yaml -o '{}' --frames --fps 10 --width 64 "
+                            "--height 48",
+                            out.string())),
+            0)
+      << log_;
+  std::set<std::string> names;
+  for (const auto& entry : fs::directory_iterator(out / "frames")) {
+    names.insert(entry.path().filename().string());
+  }
+  const std::set<std::string> expected = {
+      "frame_000000.png", "frame_000001.png", "frame_000002.png", "frame_000003.png",
+      "frame_000004.png", "frame_000005.png", "frame_000020.png", "notes.txt", running};
+  EXPECT_EQ(names, expected);
+  EXPECT_TRUE(fs::is_symlink(out / "frames" / "frame_000020.png"));
+  EXPECT_FALSE(fs::exists(out / "video.mp4"));  // the earlier run's video is not this run's
 }
 
 TEST_F(FramesCommandTest, RenderIsDeterministic) {

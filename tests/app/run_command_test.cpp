@@ -1,6 +1,7 @@
 // Runs the built `ecpsim` binary (run and drop) and checks its files: trajectory.csv and
 // summary.json.
 
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -17,7 +18,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "tests/cli_test.h"
+#include "tests/app/run_fixture.h"
 
 namespace ecpsim {
 namespace {
@@ -31,7 +32,7 @@ using ::testing::HasSubstr;
 constexpr double kMuG = 0.22 * 9.8;
 constexpr double kVelocityTolerance = 1e-8;  // m/s
 
-class RunCommandTest : public testing::CliTest {
+class RunCommandTest : public testing::RunFixture {
  protected:
   static std::vector<std::vector<std::string>> ReadCsv(const fs::path& path) {
     std::vector<std::vector<std::string>> rows;
@@ -43,11 +44,6 @@ class RunCommandTest : public testing::CliTest {
       rows.push_back(fields);
     }
     return rows;
-  }
-
-  static nlohmann::json ReadJson(const fs::path& path) {
-    std::ifstream in(path);
-    return nlohmann::json::parse(in);
   }
 
   // every data field parses completely as a finite double
@@ -72,7 +68,7 @@ TEST_F(RunCommandTest, SlideWritesTheTrajectoryAndSummary) {
   ASSERT_EQ(result.exit_code, 0) << result.output;
 
   const auto rows = ReadCsv(out / "trajectory.csv");
-  EXPECT_FALSE(fs::exists(out / "trajectory.csv.partial"));
+  EXPECT_THAT(Leftovers(out), ::testing::IsEmpty());
   // one body and one contact: no name prefixes
   const std::vector<std::string> expected = {
       "t",   "px",  "py",  "pz",  "qw", "qx", "qy", "qz", "vx",    "vy",    "vz",      "wx", "wy",
@@ -148,7 +144,7 @@ TEST_F(RunCommandTest, SolverFailureExitsWithThreeAndLeavesValidFiles) {
                                         ECPSIM_SOURCE_DIR, out.string()));
   EXPECT_EQ(result.exit_code, 3) << result.output;
   EXPECT_THAT(result.output, HasSubstr("solver failure"));
-  EXPECT_FALSE(fs::exists(out / "trajectory.csv.partial"));
+  EXPECT_THAT(Leftovers(out), ::testing::IsEmpty());
   const auto rows = ReadCsv(out / "trajectory.csv");
   const nlohmann::json summary = ReadJson(out / "summary.json");
   EXPECT_EQ(summary["failures"], 1);
@@ -176,6 +172,35 @@ TEST_F(RunCommandTest, DropLandsAMeshOnTheGround) {
   EXPECT_NEAR(std::stod(rows[1][3]), 1.55, 1e-12);
   EXPECT_NEAR(std::stod(rows.back()[3]), 1.5, 1e-6);
   EXPECT_LT(ReadJson(out / "summary.json")["max_penetration"].get<double>(), 1e-6);
+}
+
+TEST_F(RunCommandTest, AFifoOrSymlinkAtAnOutputIsRefusedBeforeTheRunAndLeftAlone) {
+  // a reader blocked on a FIFO, or a symlink pointing elsewhere, must not be replaced by a file
+  const fs::path out = dir_ / "out";
+  fs::create_directories(out);
+  ASSERT_EQ(::mkfifo((out / "summary.json").c_str(), 0600), 0);
+  testing::CliResult result =
+      Run(fmt::format("run scenes/slide.yaml -o '{}'", out.string()));
+  EXPECT_EQ(result.exit_code, 1) << result.output;
+  EXPECT_THAT(result.output, HasSubstr("summary.json: a FIFO (named pipe) is there; expected a "
+                                       "regular file or nothing"));
+  EXPECT_TRUE(fs::is_fifo(fs::symlink_status(out / "summary.json")));
+  EXPECT_FALSE(fs::exists(out / "trajectory.csv"));
+
+  fs::remove(out / "summary.json");
+  std::ofstream(dir_ / "elsewhere.csv") << "keep\n";
+  fs::create_symlink(dir_ / "elsewhere.csv", out / "trajectory.csv");
+  result = Run(fmt::format("run scenes/slide.yaml -o '{}'", out.string()));
+  EXPECT_EQ(result.exit_code, 1) << result.output;
+  EXPECT_THAT(result.output, HasSubstr("trajectory.csv: a symbolic link (to "));
+  EXPECT_TRUE(fs::is_symlink(out / "trajectory.csv"));
+  std::ifstream kept(dir_ / "elsewhere.csv");
+  std::string line;
+  std::getline(kept, line);
+  EXPECT_EQ(line, "keep");
+  EXPECT_FALSE(fs::exists(out / "summary.json"));
+  // nothing else is left in the folder: no temporary files
+  EXPECT_EQ(std::distance(fs::directory_iterator(out), fs::directory_iterator()), 1);
 }
 
 TEST_F(RunCommandTest, DeskRunsWithThePointModel) {

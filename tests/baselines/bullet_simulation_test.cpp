@@ -14,7 +14,7 @@
 #include "baselines/external_simulation.h"
 #include "engine/scene_yaml.h"
 #include "engine/time_step.h"
-#include "geometry/errors.h"
+#include "common/errors.h"
 
 namespace ecpsim::baselines {
 namespace {

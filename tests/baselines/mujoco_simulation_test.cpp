@@ -13,7 +13,7 @@
 #include "engine/penetration.h"
 #include "engine/scene_yaml.h"
 #include "engine/time_step.h"
-#include "geometry/errors.h"
+#include "common/errors.h"
 #include "tests/baselines/baseline_test_scenes.h"
 
 #ifdef ECPSIM_HAVE_MUJOCO

@@ -6,7 +6,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include "geometry/errors.h"
+#include "common/errors.h"
 
 namespace ecpsim::engine {
 namespace {

@@ -12,7 +12,7 @@
 #include "engine/scene_yaml.h"
 #include "engine/time_step.h"
 #include "geometry/convex_hull.h"
-#include "geometry/errors.h"
+#include "common/errors.h"
 #include "geometry/paper_bodies.h"
 #include "tests/engine/jacobian_check.h"
 #include "test_bodies.h"

@@ -12,7 +12,7 @@
 #include <unistd.h>
 
 #include "geometry/convex_shape.h"
-#include "geometry/errors.h"
+#include "common/errors.h"
 
 namespace ecpsim::engine {
 namespace {

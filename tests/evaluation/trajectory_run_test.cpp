@@ -9,7 +9,7 @@
 #include "evaluation/error_metrics.h"
 #include "evaluation/method.h"
 #include "evaluation/scenario.h"
-#include "geometry/errors.h"
+#include "common/errors.h"
 
 namespace ecpsim::evaluation {
 namespace {

@@ -6,7 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "evaluation/stability_map.h"
-#include "geometry/errors.h"
+#include "common/errors.h"
 
 namespace ecpsim::evaluation {
 namespace {

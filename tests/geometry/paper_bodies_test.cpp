@@ -9,7 +9,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include "geometry/errors.h"
+#include "common/errors.h"
 #include "geometry/mass_properties.h"
 #include "geometry/mesh_io.h"
 #include "geometry/mesh_topology.h"

@@ -9,7 +9,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
-#include "geometry/errors.h"
+#include "common/errors.h"
 #include "render/image_compare.h"
 #include "render/png_writer.h"
 

@@ -3,7 +3,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include "geometry/errors.h"
+#include "common/errors.h"
 #include "render/image_compare.h"
 
 namespace ecpsim::render {

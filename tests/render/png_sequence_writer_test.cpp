@@ -8,7 +8,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include "geometry/errors.h"
+#include "common/errors.h"
 #include "render/png_sequence_writer.h"
 #include "render/png_writer.h"
 

@@ -10,7 +10,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include "geometry/errors.h"
+#include "common/errors.h"
 #include "render/image_compare.h"
 #include "render/renderer.h"
 #include "tests/render/canonical_frames.h"

@@ -18,7 +18,7 @@
 #include "engine/time_step.h"
 #include "geometry/convex_hull.h"
 #include "geometry/convex_shape.h"
-#include "geometry/errors.h"
+#include "common/errors.h"
 #include "geometry/mass_properties.h"
 #include "geometry/paper_bodies.h"
 #include "render/image_compare.h"

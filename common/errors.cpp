@@ -1,4 +1,4 @@
-#include "geometry/errors.h"
+#include "common/errors.h"
 
 #include <cstdio>
 #include <cstdlib>

@@ -1,0 +1,145 @@
+#include "app/run_origin.h"
+
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+
+#include <fmt/format.h>
+
+#include "app/version.h"
+#include "common/errors.h"
+
+namespace ecpsim::app {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+// FNV-1a, 64 bits (Fowler, Noll, Vo): a fast hash that any change of the bytes changes with
+// overwhelming likelihood
+class Fnv1a {
+ public:
+  void Add(const void* data, std::size_t size) {
+    const auto* bytes = static_cast<const unsigned char*>(data);
+    for (std::size_t i = 0; i < size; ++i) hash_ = (hash_ ^ bytes[i]) * kPrime;
+  }
+  std::string Hex() const { return fmt::format("{:016x}", hash_); }
+
+ private:
+  static constexpr std::uint64_t kOffsetBasis = 0xcbf29ce484222325ULL;
+  static constexpr std::uint64_t kPrime = 0x100000001b3ULL;
+  std::uint64_t hash_ = kOffsetBasis;
+};
+
+// the path as an absolute, normalised one; symbolic links stay (a scene's meshes are found
+// relative to the scene file's own folder)
+std::string Absolute(const std::string& path) {
+  return fs::absolute(path).lexically_normal().string();
+}
+
+}  // namespace
+
+json RunArguments(const std::string& scene, const std::vector<std::string>& overrides,
+                  bool frames, bool video) {
+  return {{"command", "run"},
+          {"scene", Absolute(scene)},
+          {"overrides", overrides},
+          {"frames", frames || video},
+          {"video", video}};
+}
+
+json DropArguments(const engine::DropOptions& options, bool frames, bool video) {
+  return {{"command", "drop"},         {"mesh", Absolute(options.mesh)},
+          {"scale", options.scale},     {"height", options.height},
+          {"tilt_deg", options.tilt_deg}, {"spin", options.spin},
+          {"duration", options.duration}, {"h", options.h},
+          {"mass", options.mass},       {"frames", frames || video},
+          {"video", video}};
+}
+
+std::string CommandLine(const json& arguments) {
+  std::string line = "ecpsim " + arguments.value("command", std::string("?"));
+  if (arguments.value("command", "") == "run") {
+    line += " " + arguments.at("scene").get<std::string>();
+    for (const json& o : arguments.at("overrides")) line += " --set " + o.get<std::string>();
+  } else {
+    line += fmt::format(" {} --scale {} --height {} --tilt {} --spin {} --duration {} --dt {}",
+                        arguments.at("mesh").get<std::string>(), arguments.at("scale").dump(),
+                        arguments.at("height").dump(), arguments.at("tilt_deg").dump(),
+                        arguments.at("spin").dump(), arguments.at("duration").dump(),
+                        arguments.at("h").dump());
+    if (arguments.at("mass").get<double>() > 0) line += " --mass " + arguments.at("mass").dump();
+  }
+  if (arguments.value("video", false)) {
+    line += " --video";
+  } else if (arguments.value("frames", false)) {
+    line += " --frames";
+  }
+  return line;
+}
+
+engine::Scene SceneOf(const json& arguments) {
+  try {
+    arguments.at("frames").get<bool>();
+    arguments.at("video").get<bool>();
+    const std::string command = arguments.at("command").get<std::string>();
+    if (command == "run") {
+      return engine::LoadScene(arguments.at("scene").get<std::string>(),
+                               arguments.at("overrides").get<std::vector<std::string>>());
+    }
+    if (command == "drop") {
+      engine::DropOptions options;
+      options.mesh = arguments.at("mesh").get<std::string>();
+      options.scale = arguments.at("scale").get<double>();
+      options.height = arguments.at("height").get<double>();
+      options.tilt_deg = arguments.at("tilt_deg").get<double>();
+      options.spin = arguments.at("spin").get<double>();
+      options.duration = arguments.at("duration").get<double>();
+      options.h = arguments.at("h").get<double>();
+      options.mass = arguments.at("mass").get<double>();
+      return engine::MakeDropScene(options);
+    }
+  } catch (const json::exception& e) {
+    throw InputError(fmt::format("arguments {}: {}", arguments.dump(), e.what()));
+  }
+  throw InputError(fmt::format("arguments {}: expected those of `ecpsim run` or `ecpsim drop`",
+                               arguments.dump()));
+}
+
+json RunOrigin(const json& arguments, const engine::Scene& scene) {
+  Fnv1a inputs;
+  if (arguments.value("command", "") == "run") {
+    std::ifstream file(arguments.at("scene").get<std::string>(), std::ios::binary);
+    const std::string bytes{std::istreambuf_iterator<char>(file), {}};
+    inputs.Add(bytes.data(), bytes.size());
+  }
+  for (const engine::Body& body : scene.bodies) {
+    for (const Eigen::Vector3d& v : body.mesh.vertices) inputs.Add(v.data(), sizeof(double) * 3);
+    for (const Eigen::Vector3i& t : body.mesh.triangles) inputs.Add(t.data(), sizeof(int) * 3);
+  }
+  return {{"arguments", arguments}, {"inputs", inputs.Hex()}, {"ecpsim", kVersionText}};
+}
+
+void RequireSameOrigin(const json& stored, const json& now, const std::string& checkpoint_path) {
+  if (stored.value("ecpsim", "") != now.at("ecpsim")) {
+    throw InputError(fmt::format("{}: written by {}, this is {}; resume with the same build, or "
+                                 "start the run again",
+                                 checkpoint_path, stored.value("ecpsim", "an unknown version"),
+                                 now.at("ecpsim").get<std::string>()));
+  }
+  if (stored.value("inputs", "") != now.at("inputs")) {
+    const json& arguments = now.at("arguments");
+    const std::string input = arguments.value("command", "") == "run"
+                                  ? "the scene file " + arguments.at("scene").get<std::string>() +
+                                        " or a mesh it names"
+                                  : "the mesh " + arguments.at("mesh").get<std::string>();
+    throw InputError(fmt::format("{}: {} has changed since the run began (fingerprint {}, now "
+                                 "{}); a resumed run needs the same inputs: restore them, or "
+                                 "start the run again",
+                                 checkpoint_path, input, stored.value("inputs", "?"),
+                                 now.at("inputs").get<std::string>()));
+  }
+}
+
+}  // namespace ecpsim::app
