@@ -5,7 +5,7 @@
 
 #include <Eigen/Geometry>
 
-#include "geometry/errors.h"
+#include "common/errors.h"
 
 namespace ecpsim::engine {
 

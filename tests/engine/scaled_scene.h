@@ -14,7 +14,7 @@
 #include "engine/scene.h"
 #include "engine/state.h"
 #include "geometry/convex_shape.h"
-#include "geometry/errors.h"
+#include "common/errors.h"
 
 namespace ecpsim::engine::testing {
 
