@@ -72,24 +72,29 @@ VolumeIntegrals IntegrateVolume(const TriangleMesh& mesh, const Eigen::Vector3d&
 // their convex hull for every solid of positive density)
 void CheckCenterOfMassInside(const TriangleMesh& mesh, const Eigen::Vector3d& center,
                              double diagonal, const std::string& source) {
-  for (const auto& d : kPolytopeDirections) {
-    const Eigen::Vector3d direction = Eigen::Vector3d(d[0], d[1], d[2]).normalized();
-    double lo = std::numeric_limits<double>::infinity();
-    double hi = -lo;
-    for (const Eigen::Vector3d& v : mesh.vertices) {
-      const double x = direction.dot(v);
-      lo = std::min(lo, x);
-      hi = std::max(hi, x);
-    }
-    const double x = direction.dot(center);
-    const double slack = kCenterOfMassRoundOff * diagonal;
-    if (x < lo - slack || x > hi + slack) {
-      throw InputError(fmt::format(
-          "{}: the centre of mass ({:.6g}, {:.6g}, {:.6g}) m lies outside the mesh's vertices; "
-          "the parts of the mesh are probably wound in opposite senses (a mirrored or inside-out "
-          "part), which a solid's mass properties cannot come from",
-          source, center.x(), center.y(), center.z()));
-    }
+  // the extent of the vertices along each direction, in one pass over them
+  constexpr int kDirections = 13;
+  Eigen::Matrix<double, kDirections, 3> directions;
+  for (int d = 0; d < kDirections; ++d) {
+    const auto& x = kPolytopeDirections[d];
+    directions.row(d) = Eigen::Vector3d(x[0], x[1], x[2]).normalized().transpose();
+  }
+  Eigen::Matrix<double, kDirections, 1> lo =
+      Eigen::Matrix<double, kDirections, 1>::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Matrix<double, kDirections, 1> hi = -lo;
+  for (const Eigen::Vector3d& v : mesh.vertices) {
+    const Eigen::Matrix<double, kDirections, 1> x = directions * v;
+    lo = lo.cwiseMin(x);
+    hi = hi.cwiseMax(x);
+  }
+  const Eigen::Matrix<double, kDirections, 1> x = directions * center;
+  const double slack = kCenterOfMassRoundOff * diagonal;
+  if ((x.array() < lo.array() - slack).any() || (x.array() > hi.array() + slack).any()) {
+    throw InputError(fmt::format(
+        "{}: the centre of mass ({:.6g}, {:.6g}, {:.6g}) m lies outside the mesh's vertices; "
+        "the parts of the mesh are probably wound in opposite senses (a mirrored or inside-out "
+        "part), which a solid's mass properties cannot come from",
+        source, center.x(), center.y(), center.z()));
   }
 }
 
