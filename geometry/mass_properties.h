@@ -9,9 +9,6 @@
 
 namespace ecpsim::geometry {
 
-/// m³; a closed mesh enclosing no more than this (a 0.1 mm cube) is flat or degenerate, not a body.
-inline constexpr double kMinVolume = 1e-12;
-
 struct MassProperties {
   double volume = 0;                   // m³
   double mass = 0;                     // kg
@@ -22,9 +19,14 @@ struct MassProperties {
 };
 
 /// Mass properties of the solid bounded by `mesh` (metres) at uniform `density` (kg/m³).
-/// An inward-wound closed mesh is handled (the sign of the volume is flipped).
-/// @throws InputError if the mesh is open, inconsistently wound, or encloses ≤ kMinVolume, or if
-///         `density` is not finite and > 0. `source` names the mesh in the message.
+/// An inward-wound closed mesh is handled (the sign of the volume is flipped). Every threshold is
+/// relative to the mesh's own size, so a 0.1 mm part and a 1 km hull are treated alike.
+/// The results are checked as every solid's are: volume above round-off (> 1e-12 × bounding-box
+/// diagonal³), positive principal moments obeying I1 + I2 ≥ I3, and the centre of mass inside the
+/// vertices' bounding polytope; parts wound against each other fail these.
+/// @throws InputError if the mesh is open, inconsistently wound, flat, outside the size range of
+///         geometry/mesh_bounds.h, fails those checks, or if `density` is not finite and > 0 or
+///         makes mass or inertia leave the double range. `source` names the mesh in the message.
 MassProperties ComputeMassProperties(const TriangleMesh& mesh, double density,
                                      const std::string& source = "mesh");
 

@@ -17,60 +17,21 @@
 #include <vector>
 
 #include <assimp/Exporter.hpp>
-#include <assimp/Importer.hpp>
-#include <assimp/postprocess.h>
 #include <assimp/scene.h>
 #include <fmt/format.h>
 
 #include "common/atomic_file.h"
 #include "common/errors.h"
+#include "geometry/mesh_bounds.h"
+#include "geometry/mesh_reader_process.h"
 #include "geometry/weld_vertices.h"
 
 namespace ecpsim::geometry {
 namespace {
 
-Eigen::Matrix4d ToEigen(const aiMatrix4x4& m) {
-  Eigen::Matrix4d e;
-  e << m.a1, m.a2, m.a3, m.a4,  //
-      m.b1, m.b2, m.b3, m.b4,   //
-      m.c1, m.c2, m.c3, m.c4,   //
-      m.d1, m.d2, m.d3, m.d4;
-  return e;
-}
-
-// appends the triangles of every mesh under `node`, in the root frame (node transforms composed
-// in double precision); counts the faces that are points or lines
-void CollectTriangles(const aiScene& scene, const aiNode& node, const Eigen::Matrix4d& parent,
-                      TriangleMesh& out, std::size_t& other_faces) {
-  const Eigen::Matrix4d transform = parent * ToEigen(node.mTransformation);
-  for (unsigned m = 0; m < node.mNumMeshes; ++m) {
-    const aiMesh& mesh = *scene.mMeshes[node.mMeshes[m]];
-    const int base = static_cast<int>(out.vertices.size());
-    out.vertices.reserve(out.vertices.size() + mesh.mNumVertices);
-    // node transforms are affine (assimp composes rotations, scalings and translations)
-    const Eigen::Matrix3d linear = transform.topLeftCorner<3, 3>();
-    const Eigen::Vector3d translation = transform.topRightCorner<3, 1>();
-    const bool identity = transform == Eigen::Matrix4d::Identity();
-    for (unsigned v = 0; v < mesh.mNumVertices; ++v) {
-      const aiVector3D& p = mesh.mVertices[v];
-      const Eigen::Vector3d q(p.x, p.y, p.z);
-      out.vertices.push_back(identity ? q : Eigen::Vector3d(linear * q + translation));
-    }
-    out.triangles.reserve(out.triangles.size() + mesh.mNumFaces);
-    for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
-      const aiFace& face = mesh.mFaces[f];
-      if (face.mNumIndices != 3) {
-        ++other_faces;
-        continue;
-      }
-      out.triangles.emplace_back(base + static_cast<int>(face.mIndices[0]),
-                                 base + static_cast<int>(face.mIndices[1]),
-                                 base + static_cast<int>(face.mIndices[2]));
-    }
-  }
-  for (unsigned c = 0; c < node.mNumChildren; ++c) {
-    CollectTriangles(scene, *node.mChildren[c], transform, out, other_faces);
-  }
+// a length for messages; past the double range it says so instead of "inf"
+std::string Metres(double length) {
+  return std::isfinite(length) ? fmt::format("{:.3g} m", length) : "more than 1.8e308 m";
 }
 
 // assimp's exporter id for a file extension; obj without a material library, stl/ply binary
@@ -83,14 +44,9 @@ const char* ExportFormat(std::string extension) {
   return nullptr;
 }
 
-}  // namespace
-
-TriangleMesh LoadMesh(const std::string& path, double scale) {
-  if (!std::isfinite(scale) || scale <= 0.0) {
-    throw InputError(fmt::format("{}: scale = {}: expected a finite scale > 0", path, scale));
-  }
-
-  // check the file ourselves: assimp's messages for these cases are vague
+// the size of the regular file `path` in bytes; an InputError for a missing, special or empty file
+// (assimp's messages for these cases are vague)
+std::uintmax_t CheckMeshFile(const std::string& path) {
   std::error_code error;
   const std::filesystem::file_status status = std::filesystem::status(path, error);
   if (!std::filesystem::exists(status)) {
@@ -99,27 +55,37 @@ TriangleMesh LoadMesh(const std::string& path, double scale) {
   if (!std::filesystem::is_regular_file(status)) {
     throw InputError(fmt::format("{}: not a regular file; expected a mesh file", path));
   }
-  if (std::filesystem::file_size(path, error) == 0 && !error) {
-    throw InputError(fmt::format("{}: empty file; expected a mesh", path));
-  }
+  const std::uintmax_t file_bytes = std::filesystem::file_size(path, error);
+  if (error) throw InputError(fmt::format("{}: cannot read the file: {}", path, error.message()));
+  if (file_bytes == 0) throw InputError(fmt::format("{}: empty file; expected a mesh", path));
+  return file_bytes;
+}
 
-  // polygons become triangles; every other post-processing step is left out for speed (welding and
-  // the transforms are done below, in double precision)
-  Assimp::Importer importer;
-  const aiScene* scene = importer.ReadFile(path, aiProcess_Triangulate);
-  if (scene == nullptr) {
-    throw InputError(fmt::format("{}: cannot read the mesh: {}", path, importer.GetErrorString()));
+void CheckScale(const std::string& path, double scale) {
+  if (!std::isfinite(scale) || scale <= 0.0) {
+    throw InputError(fmt::format("{}: scale = {}: expected a finite scale > 0", path, scale));
   }
-  TriangleMesh mesh;
-  std::size_t other_faces = 0;
-  if (scene->mRootNode != nullptr) {
-    CollectTriangles(*scene, *scene->mRootNode, Eigen::Matrix4d::Identity(), mesh, other_faces);
-  }
+}
+
+}  // namespace
+
+TriangleMesh LoadMesh(const std::string& path, double scale) {
+  CheckScale(path, scale);
+  return LoadMesh(path, scale, MeshReaderLimitsForFile(CheckMeshFile(path)));
+}
+
+TriangleMesh LoadMesh(const std::string& path, double scale, const MeshReaderLimits& limits) {
+  CheckScale(path, scale);
+  CheckMeshFile(path);
+
+  // assimp runs in a limited child process: a crash or runaway on a corrupt file is an error
+  ImportedMesh imported = ReadMeshInReaderProcess(path, limits);
+  TriangleMesh mesh = std::move(imported.mesh);
   if (mesh.triangles.empty()) {
     throw InputError(fmt::format(
         "{}: no triangles in the file ({} meshes, {} point/line primitives); expected a triangle "
         "or polygon surface",
-        path, scene->mNumMeshes, other_faces));
+        path, imported.num_meshes, imported.other_faces));
   }
 
   // vertices no triangle uses (a point cloud beside the surface, a stray NaN) are dropped
@@ -139,17 +105,35 @@ TriangleMesh LoadMesh(const std::string& path, double scale) {
     mesh = std::move(compact);
   }
 
-  // every coordinate finite, before and after scaling
-  for (Eigen::Vector3d& v : mesh.vertices) {
+  // every coordinate finite (node transforms may overflow what the file stores)
+  for (const Eigen::Vector3d& v : mesh.vertices) {
     if (!v.allFinite()) {
-      throw InputError(fmt::format(
-          "{}: a vertex has a non-finite coordinate ({}, {}, {}); expected finite numbers", path,
-          v.x(), v.y(), v.z()));
+      throw InputError(
+          fmt::format("{}: a vertex has a non-finite coordinate ({}, {}, {}) after the file's node "
+                      "transforms; expected finite numbers",
+                      path, v.x(), v.y(), v.z()));
     }
-    v *= scale;
-    if (!v.allFinite()) {
-      throw InputError(fmt::format("{}: scale = {} overflows the coordinates", path, scale));
-    }
+  }
+
+  // the scaled mesh within the size range every later step computes without overflow or
+  // underflow (the bounds of the unscaled mesh, scaled: no overflow on the way)
+  const MeshBounds file_bounds = ComputeMeshBounds(mesh.vertices);
+  if (file_bounds.diagonal == 0.0) {
+    throw InputError(fmt::format(
+        "{}: all {} vertices coincide (a bounding-box diagonal of 0); expected a surface", path,
+        mesh.vertices.size()));
+  }
+  MeshBounds bounds;
+  bounds.diagonal = scale * file_bounds.diagonal;
+  bounds.max_abs = scale * file_bounds.max_abs;
+  if (!IsInSupportedSizeRange(bounds)) {
+    throw InputError(fmt::format(
+        "{}: scale = {:g} makes the mesh {} across (bounding-box diagonal; largest |coordinate| "
+        "{}); expected {}: choose a scale that converts the file's units to metres",
+        path, scale, Metres(bounds.diagonal), Metres(bounds.max_abs), SupportedSizeRangeText()));
+  }
+  if (scale != 1.0) {
+    for (Eigen::Vector3d& v : mesh.vertices) v *= scale;
   }
 
   TriangleMesh welded = WeldVertices(mesh, DefaultWeldTolerance(mesh));

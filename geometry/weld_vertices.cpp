@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "common/errors.h"
+#include "geometry/mesh_bounds.h"
 
 namespace ecpsim::geometry {
 namespace {
@@ -120,14 +121,7 @@ class CellTable {
 }  // namespace
 
 double DefaultWeldTolerance(const TriangleMesh& mesh) {
-  if (mesh.vertices.empty()) return 0.0;
-  Eigen::Vector3d lo = mesh.vertices.front();
-  Eigen::Vector3d hi = lo;
-  for (const Eigen::Vector3d& v : mesh.vertices) {
-    lo = lo.cwiseMin(v);
-    hi = hi.cwiseMax(v);
-  }
-  return kWeldFraction * (hi - lo).norm();
+  return kWeldFraction * ComputeMeshBounds(mesh.vertices).diagonal;
 }
 
 TriangleMesh WeldVertices(const TriangleMesh& mesh, double tolerance) {

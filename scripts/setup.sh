@@ -10,6 +10,9 @@ packages=(
   libgtest-dev libgmock-dev googletest libbenchmark-dev
   libyaml-cpp-dev libcli11-dev libmuparser-dev libfmt-dev nlohmann-json3-dev
   ffmpeg gnuplot-nox
+  # tests: assimp's own test models (a mirrored-transform FBX, and every file through `ecpsim hull`);
+  # Python generates the corrupt-mesh corpus (tests/fixtures/make_mesh_corpus.py)
+  assimp-testmodels python3
   libmujoco-dev libbullet-dev libode-dev
   # libmujoco-dev's CMake config names /usr/include/libqhull_r/ without depending on its package
   libqhull-dev

@@ -185,17 +185,90 @@ TEST(MassPropertiesTest, RejectsInconsistentWinding) {
               ThrowsMessage<InputError>(AllOf(HasSubstr("box"), HasSubstr("inconsistently"))));
 }
 
-TEST(MassPropertiesTest, RejectsFlatAndTinyMeshes) {
+TEST(MassPropertiesTest, RejectsFlatMeshes) {
   // a closed, consistently wound tetrahedron with all vertices in z = 0
   TriangleMesh flat = MakeUnitTetrahedron();
   flat.vertices[3] = Eigen::Vector3d(1.0, 1.0, 0.0);
   EXPECT_THAT([&] { ComputeMassProperties(flat, 1.0, "flat.obj"); },
               ThrowsMessage<InputError>(AllOf(HasSubstr("flat.obj"), HasSubstr("flat"))));
-  // a 1e-5 m cube: 1e-15 m³ ≤ kMinVolume
-  const TriangleMesh tiny =
-      MakeBoxMesh(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1e-5, 1e-5, 1e-5));
-  EXPECT_THAT([&] { ComputeMassProperties(tiny, 1.0, "tiny"); },
-              ThrowsMessage<InputError>(HasSubstr("degenerate")));
+  // a sheet 1e-13 m thick over 1 m: 1.7e-14 m³, below 1e-12 × diagonal³ (2.8e-12 m³), is
+  // round-off, not a solid
+  flat.vertices[3] = Eigen::Vector3d(1.0, 1.0, 1e-13);
+  EXPECT_THAT([&] { ComputeMassProperties(flat, 1.0, "sheet.obj"); },
+              ThrowsMessage<InputError>(AllOf(HasSubstr("sheet.obj"), HasSubstr("flat"))));
+}
+
+TEST(MassPropertiesTest, ScaleFreeFromBelowAMicrometreToAboveALightYear) {
+  // the unit cube scaled by L: volume L³, inertia L⁵/6 at density 1, whatever L in the range
+  // (the old absolute 1e-12 m³ threshold rejected everything below a 0.1 mm cube); L is a
+  // power of 2 here, so the scaled coordinates are exact and only the summation rounds
+  constexpr double kRoundOff = 1e-14;  // relative; 12 triangles of exact coordinates
+  for (int exponent : {-60, -20, -13, 0, 10, 60}) {
+    const double l = std::ldexp(1.0, exponent);
+    const MassProperties p = ComputeMassProperties(
+        MakeBoxMesh(Eigen::Vector3d::Zero(), Eigen::Vector3d::Constant(l)), 1.0);
+    EXPECT_NEAR(p.volume / std::pow(l, 3), 1.0, kRoundOff) << l;
+    EXPECT_NEAR(p.principal_moments.minCoeff() / (std::pow(l, 5) / 6), 1.0, kRoundOff) << l;
+    EXPECT_NEAR(p.principal_moments.maxCoeff() / (std::pow(l, 5) / 6), 1.0, kRoundOff) << l;
+  }
+}
+
+TEST(MassPropertiesTest, RejectsSizesOutsideTheSupportedRange) {
+  for (double l : {1e-21, 1e21}) {
+    const TriangleMesh cube = MakeBoxMesh(Eigen::Vector3d::Zero(), Eigen::Vector3d::Constant(l));
+    EXPECT_THAT([&] { ComputeMassProperties(cube, 1.0, "cube"); },
+                ThrowsMessage<InputError>(AllOf(HasSubstr("cube: the mesh is"),
+                                                HasSubstr("expected a bounding-box diagonal"))))
+        << l;
+  }
+  // a 1000 km cube 1e21 m from the origin (a smaller one would round away at that distance)
+  const TriangleMesh far =
+      MakeBoxMesh(Eigen::Vector3d::Constant(1e21), Eigen::Vector3d::Constant(1e21 + 1e6));
+  EXPECT_THAT([&] { ComputeMassProperties(far, 1.0, "far"); },
+              ThrowsMessage<InputError>(HasSubstr("every coordinate within")));
+}
+
+TEST(MassPropertiesTest, RejectsADensityOrMassBeyondDoublePrecision) {
+  // a 1e10 m cube is in range, but at density 1e300 its mass (1e330 kg) is not
+  const TriangleMesh big = MakeBoxMesh(Eigen::Vector3d::Zero(), Eigen::Vector3d::Constant(1e10));
+  EXPECT_THAT([&] { ComputeMassProperties(big, 1e300, "big"); },
+              ThrowsMessage<InputError>(AllOf(HasSubstr("big"), HasSubstr("beyond the range"))));
+  // 1e-300 kg over a 1e-15 m cube: the inertia (1e-330 kg·m²) underflows
+  const TriangleMesh small = MakeBoxMesh(Eigen::Vector3d::Zero(), Eigen::Vector3d::Constant(1e-15));
+  EXPECT_THAT([&] { ComputeMassPropertiesForMass(small, 1e-300, "small"); },
+              ThrowsMessage<InputError>(AllOf(HasSubstr("small"), HasSubstr("beyond the range"))));
+}
+
+TEST(MassPropertiesTest, RejectsPartsWoundAgainstEachOther) {
+  // an outward 2 m cube and, 8 m away, an inward 1 m cube: closed and consistently oriented part
+  // by part, with a positive total volume (7 m³), but the inside-out part is negative mass; the
+  // "centre of mass" then lies outside every vertex and the moments are not a solid's
+  TriangleMesh mesh = MakeBoxMesh(Eigen::Vector3d::Zero(), Eigen::Vector3d::Constant(2.0));
+  const TriangleMesh inward = MakeBoxMesh(Eigen::Vector3d(10, 0, 0), Eigen::Vector3d(11, 1, 1));
+  const int base = static_cast<int>(mesh.vertices.size());
+  mesh.vertices.insert(mesh.vertices.end(), inward.vertices.begin(), inward.vertices.end());
+  for (const Eigen::Vector3i& t : inward.triangles) {
+    mesh.triangles.emplace_back(base + t[0], base + t[2], base + t[1]);
+  }
+  EXPECT_THAT([&] { ComputeMassProperties(mesh, 1.0, "parts.fbx"); },
+              ThrowsMessage<InputError>(
+                  AllOf(HasSubstr("parts.fbx"), HasSubstr("wound in opposite senses"))));
+}
+
+TEST(MassPropertiesTest, ChecksAcceptThinPlatesAndNeedles) {
+  // box a × b × c, mass m: I = m/12 (b² + c², a² + c², a² + b²). A plate 1 × 1 × 1e-3 exceeds
+  // the triangle inequality by only 2 m c²/12 (1e-6 of I3), a needle 1e-3 × 1e-3 × 1 has a
+  // smallest moment 2e-6 of the others: both must pass the checks, with their exact values
+  constexpr double kRelative = 1e-9;  // of the largest moment: ≤ 10⁶ ulps, 12 triangles
+  const MassProperties plate =
+      ComputeMassProperties(MakeBoxMesh(Eigen::Vector3d::Zero(), Eigen::Vector3d(1, 1, 1e-3)), 1.0);
+  const double plate_mass = 1e-3;
+  EXPECT_NEAR(plate.principal_moments[0] + plate.principal_moments[1] - plate.principal_moments[2],
+              2 * plate_mass * 1e-6 / 12, kRelative * plate.principal_moments[2]);
+  const MassProperties needle = ComputeMassProperties(
+      MakeBoxMesh(Eigen::Vector3d::Zero(), Eigen::Vector3d(1e-3, 1e-3, 1)), 1.0);
+  EXPECT_NEAR(needle.principal_moments[0] / needle.principal_moments[2], 2e-6 / (1 + 1e-6),
+              kRelative);
 }
 
 TEST(MassPropertiesTest, RejectsBadDensityAndMass) {

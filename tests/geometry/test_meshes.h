@@ -3,8 +3,10 @@
 
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include "geometry/triangle_mesh.h"
 
@@ -65,6 +67,34 @@ inline TriangleMesh MakePrismMesh(int n, double radius, double length) {
     mesh.triangles.emplace_back(top_centre, a + n, b + n);  // top cap, +z
   }
   return mesh;
+}
+
+/// The signed volume (divergence theorem about the origin) of each connected part of `mesh`
+/// (triangles sharing vertices), in order of each part's first triangle: positive for a part
+/// wound outward.
+inline std::vector<double> ComponentVolumes(const TriangleMesh& mesh) {
+  // union-find over vertices joined by triangle edges
+  std::vector<int> parent(mesh.vertices.size());
+  for (std::size_t v = 0; v < parent.size(); ++v) parent[v] = static_cast<int>(v);
+  auto root = [&parent](int v) {
+    while (parent[v] != v) v = parent[v] = parent[parent[v]];
+    return v;
+  };
+  for (const Eigen::Vector3i& t : mesh.triangles) {
+    parent[root(t[1])] = root(t[0]);
+    parent[root(t[2])] = root(t[0]);
+  }
+  std::vector<int> part_of_root(mesh.vertices.size(), -1);
+  std::vector<double> volumes;
+  for (const Eigen::Vector3i& t : mesh.triangles) {
+    int& part = part_of_root[root(t[0])];
+    if (part < 0) {
+      part = static_cast<int>(volumes.size());
+      volumes.push_back(0.0);
+    }
+    volumes[part] += mesh.vertices[t[0]].dot(mesh.vertices[t[1]].cross(mesh.vertices[t[2]])) / 6;
+  }
+  return volumes;
 }
 
 /// The fixtures folder written by tests/fixtures/make_fixtures.py.

@@ -47,6 +47,15 @@ TEST(WeldVerticesTest, DefaultToleranceIsAFractionOfTheDiagonal) {
   EXPECT_EQ(DefaultWeldTolerance(TriangleMesh{}), 0.0);
 }
 
+TEST(WeldVerticesTest, DefaultToleranceStaysFiniteForHugeAndTinyMeshes) {
+  // the squared diagonal of a 1e200 m box overflows (that aborted `ecpsim hull --scale 1e200`),
+  // that of a 1e-200 m box underflows to 0; the tolerance itself is representable in both
+  for (double size : {1e200, 1e-200}) {
+    const TriangleMesh box = MakeBoxMesh(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, 2, 3) * size);
+    EXPECT_NEAR(DefaultWeldTolerance(box) / (1e-7 * std::sqrt(14.0) * size), 1.0, 1e-15) << size;
+  }
+}
+
 TEST(WeldVerticesTest, MergesWithinToleranceAcrossCellFaces) {
   // 2000 random points, each followed by a copy displaced by 0.9 tolerance in a random direction
   // (the grid cell is 16 tolerances, so about one pair in twelve, 0.9 × 1.5 / 16, straddles a
