@@ -10,6 +10,7 @@
 #include "engine/penetration.h"
 #include "engine/scene_limits.h"
 #include "engine/state.h"
+#include "geometry/convex_shape.h"
 
 namespace ecpsim::engine {
 namespace {
@@ -113,6 +114,24 @@ void CheckFriction(const std::vector<std::string>& mappings, const Friction& fri
 
 // ---- obstacles -------------------------------------------------------------------------------
 
+// a bounded fixture (a box) within kMaxDistanceInSizes of its size from the origin: farther, its
+// vertices round to fewer digits than its size has, and it can even collapse to a point
+void CheckFixturePosition(const Obstacle& obstacle, const std::string& at) {
+  const auto* polyhedron = dynamic_cast<const geometry::PolyhedralShape*>(obstacle.shape.get());
+  if (polyhedron == nullptr || polyhedron->hull().vertices.empty()) return;
+  geometry::TriangleMesh corners;
+  corners.vertices = polyhedron->hull().vertices;
+  const double size = MeshAcross(corners);
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3d& v : corners.vertices) center += v / corners.vertices.size();
+  if (!(size > 0 && center.norm() <= kMaxDistanceInSizes * size)) {
+    Fail({at + ".box.position", at + ".box.size", at}, Show(center),
+         fmt::format("obstacle \"{}\" within {:g} × its size {:.3g} m of the origin (doubles "
+                     "resolve a position |p| only to 2.2e-16 |p|)",
+                     obstacle.name, kMaxDistanceInSizes, size));
+  }
+}
+
 void CheckObstacles(const Scene& scene) {
   for (size_t o = 0; o < scene.obstacles.size(); ++o) {
     const Obstacle& obstacle = scene.obstacles[o];
@@ -124,6 +143,7 @@ void CheckObstacles(const Scene& scene) {
       }
     }
     if (!obstacle.shape) Fail({at}, "(no shape)", "an obstacle with a convex shape");
+    CheckFixturePosition(obstacle, at);
     CheckFriction({at + ".friction"}, obstacle.friction,
                   fmt::format("obstacle \"{}\"", obstacle.name));
   }

@@ -546,6 +546,10 @@ const BadScene kBadScenes[] = {
      "0.25}}\n    mass: 1\n    on_ground: true\n",
      "scene.yaml:9:16: bodies[0].on_ground = true: expected an initial pose of body \"body0\" "
      "whose mesh stays out of obstacle \"step\": a vertex is 0.5 m inside"},
+    {"BoxFixtureFarFromTheOrigin", "duration: 1\nobstacles:\n  - box: {size: [1e-3, 1e-3, 1e-3], "
+     "position: [1e150, 0, 0]}\n" ECPSIM_BODY "    mass: 1\n",
+     "scene.yaml:3:47: obstacles[0].box.position = [1e150, 0, 0]: expected obstacle \"obstacle0\" "
+     "within 1e+06 × its size"},
     {"DuplicateObstacleNameAfterTheGround", "duration: 1\nground: {}\nobstacles:\n"
      "  - {name: a, plane: {offset: -5}}\n  - {name: a, plane: {offset: -6}}\n" ECPSIM_BODY
      "    mass: 1\n",
