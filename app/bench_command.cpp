@@ -13,6 +13,7 @@
 #include "common/atomic_file.h"
 #include "app/bench_report.h"
 #include "app/commands.h"
+#include "app/option_checks.h"
 #include "evaluation/method.h"
 #include "evaluation/scenario.h"
 #include "evaluation/stability_map.h"
@@ -117,12 +118,8 @@ void Run(const BenchOptions& o) {
   const std::vector<evaluation::Method> methods =
       Select(evaluation::AllMethods(), o.methods, "--methods",
              [](const evaluation::Method& m) { return m.name; });
-  std::vector<double> steps = o.steps.empty() ? (o.quick ? kQuickSteps : kFullSteps) : o.steps;
-  for (double h : steps) {
-    if (!(h > 0) || !std::isfinite(h)) {
-      throw InputError(fmt::format("--steps {}: expected positive step sizes in s", h));
-    }
-  }
+  const std::vector<double> steps =
+      o.steps.empty() ? (o.quick ? kQuickSteps : kFullSteps) : o.steps;
   fs::create_directories(o.out_dir);
   std::vector<evaluation::WorkPrecisionRow> wp;
   std::vector<evaluation::StabilityRow> st;
@@ -181,7 +178,8 @@ void AddBenchCommand(CLI::App& app) {
   bench->add_option("--steps", o->steps,
                     "step sizes in s, each dividing 0.02 (default 0.02,0.01,0.005,0.002,0.001,"
                     "0.0005,0.0002)")
-      ->delimiter(',');
+      ->delimiter(',')
+      ->check(FinitePositive("--steps", engine::kTimeRange));
   bench->add_option("--shard", o->shard,
                     "run part i of N of the sweep (i/N); join the parts with --merge")
       ->capture_default_str();
@@ -194,7 +192,8 @@ void AddBenchCommand(CLI::App& app) {
   bench->add_option("--scenes", o->scenes_dir, "folder of desk.yaml, tbar.yaml, dumbbell.yaml")
       ->capture_default_str();
   bench->add_option("--cpu-limit", o->cpu_limit_s, "CPU seconds allowed per run")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(FinitePositive("--cpu-limit", engine::kTimeRange));
   bench->callback([o] { Run(*o); });
 }
 

@@ -147,7 +147,11 @@ void WriteCheckpoint(const std::string& path, const Checkpoint& checkpoint) {
       {"t", checkpoint.state.t},
       {"rows", checkpoint.rows},
       {"totals", TotalsJson(checkpoint.totals)},
-      {"state", {{"t", Exact(checkpoint.state.t)}, {"bodies", bodies}, {"contacts", contacts}}},
+      {"state",
+       {{"t", Exact(checkpoint.state.t)},
+        {"steps", checkpoint.state.steps},
+        {"bodies", bodies},
+        {"contacts", contacts}}},
   };
   WriteFileAtomically(path, file.dump(1) + "\n");
 }
@@ -176,6 +180,7 @@ Checkpoint ReadCheckpoint(const std::string& path) {
     checkpoint.totals = ReadTotals(file.at("totals"));
     const json& state = file.at("state");
     checkpoint.state.t = ReadExact(state.at("t"), "state.t");
+    checkpoint.state.steps = state.at("steps").get<std::int64_t>();
     for (std::size_t i = 0; i < state.at("bodies").size(); ++i) {
       checkpoint.state.bodies.push_back(
           ReadBody(state["bodies"][i], fmt::format("state.bodies[{}]", i)));

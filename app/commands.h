@@ -3,6 +3,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include "engine/scene.h"
+
 namespace ecpsim::app {
 
 /// `ecpsim hull MESH [--json] [--scale S] [--mass M | --density RHO]`
@@ -17,6 +19,9 @@ void AddRunCommand(CLI::App& app);
 
 /// `ecpsim drop MESH -o DIR [--height H] [--tilt DEG] [--spin W] [--duration T] [--mass M]`
 void AddDropCommand(CLI::App& app);
+
+/// Prints the scene's warnings (Scene::warnings), one line each on stderr.
+void PrintWarnings(const engine::Scene& scene);
 
 /// `ecpsim compare EXPECTED.png ACTUAL.png [--diff OUT.png] [--threshold N] [--max-fraction F]`
 /// (exit 0 same, 1 different, 2 bad input).

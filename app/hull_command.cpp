@@ -10,6 +10,8 @@
 #include <nlohmann/json.hpp>
 
 #include "app/commands.h"
+#include "app/option_checks.h"
+#include "engine/mesh_scale.h"
 #include "geometry/convex_hull.h"
 #include "common/errors.h"
 #include "geometry/mass_properties.h"
@@ -25,16 +27,11 @@ constexpr double kDefaultDensity = 1000.0;
 struct HullOptions {
   std::string mesh;
   bool json = false;
-  double scale = 1.0;
+  std::optional<double> scale;
+  std::optional<std::string> units;
   std::optional<double> mass;
   std::optional<double> density;
 };
-
-void RequireFinitePositive(const char* option, double value, const char* expected) {
-  if (!std::isfinite(value) || value <= 0.0) {
-    throw InputError(fmt::format("{} = {}: expected {}", option, value, expected));
-  }
-}
 
 nlohmann::json ToJson(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 
@@ -48,14 +45,14 @@ std::string Format(const Eigen::Vector3d& v) {
 }
 
 void RunHull(const HullOptions& options) {
-  RequireFinitePositive("--scale", options.scale, "a finite scale factor > 0");
-  if (options.mass) RequireFinitePositive("--mass", *options.mass, "a finite mass > 0 kg");
-  if (options.density) {
-    RequireFinitePositive("--density", *options.density, "a finite density > 0 kg/m³");
-  }
   const std::string& path = options.mesh;
-
-  const geometry::TriangleMesh mesh = geometry::LoadMesh(path, options.scale);
+  const engine::ScaledMesh scaled =
+      engine::LoadScaledMesh(path, options.scale, options.units, {"--scale", "--units"});
+  if (!scaled.warning.empty()) {
+    std::fprintf(stderr, "ecpsim: warning: %s\n", scaled.warning.c_str());
+  }
+  const geometry::TriangleMesh& mesh = scaled.mesh;
+  const double scale = scaled.scale;
   const geometry::MeshTopology topology = geometry::AnalyzeTopology(mesh);
   // the hull first: a flat mesh fails here with the hull's "coplanar" message
   const geometry::ConvexHull hull = geometry::ComputeConvexHull(mesh.vertices, path);
@@ -97,7 +94,7 @@ void RunHull(const HullOptions& options) {
 
     nlohmann::json out;
     out["mesh"] = path;
-    out["scale"] = options.scale;
+    out["scale"] = scale;
     out["vertices"] = mesh.vertices.size();
     out["triangles"] = mesh.triangles.size();
     out["closed"] = topology.closed;
@@ -117,7 +114,7 @@ void RunHull(const HullOptions& options) {
     return;
   }
 
-  std::string text = fmt::format("mesh {} (scale {})\n", path, options.scale);
+  std::string text = fmt::format("mesh {} (scale {})\n", path, scale);
   text += fmt::format(
       "  {} vertices, {} triangles; {}, {}\n", mesh.vertices.size(), mesh.triangles.size(),
       topology.closed ? "closed"
@@ -159,11 +156,20 @@ void AddHullCommand(CLI::App& app) {
   auto options = std::make_shared<HullOptions>();
   command->add_option("MESH", options->mesh, "mesh file (any format assimp reads)")->required();
   command->add_flag("--json", options->json, "print JSON instead of text");
-  command->add_option("--scale", options->scale, "multiply coordinates by S (e.g. 0.001 for mm)")
-      ->capture_default_str();
-  CLI::Option* mass = command->add_option("--mass", options->mass, "total mass M, kg");
-  CLI::Option* density = command->add_option("--density", options->density,
-                                             "uniform density RHO, kg/m³ (default 1000)");
+  command
+      ->add_option("--scale", options->scale,
+                   "multiply coordinates by S (e.g. 0.001 for mm; default 1)")
+      ->check(FinitePositive("--scale", engine::kMeshScaleRange));
+  command
+      ->add_option("--units", options->units,
+                   "the mesh's unit: mm, cm, m or in (the readable --scale; both must agree)")
+      ->check(KnownUnit("--units"));
+  CLI::Option* mass = command->add_option("--mass", options->mass, "total mass M, kg")
+                          ->check(FinitePositive("--mass", engine::kMassRange));
+  CLI::Option* density = command
+                             ->add_option("--density", options->density,
+                                          "uniform density RHO, kg/m³ (default 1000)")
+                             ->check(FinitePositive("--density", engine::kDensityRange));
   mass->excludes(density);
   command->callback([options] { RunHull(*options); });
 }

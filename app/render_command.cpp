@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "app/commands.h"
+#include "app/option_checks.h"
 #include "app/frame_recorder.h"
 #include "engine/scene_yaml.h"
 #include "engine/time_step.h"
@@ -35,21 +36,26 @@ void AddRenderCommand(CLI::App& app) {
                 "is deterministic on a given machine, for image-based regression tests");
   render->add_option("scene", options->scene, "scene file (YAML)")->required();
   render->add_option("-o,--out", options->out, "PNG file to write")->required();
-  render->add_option("--time", options->time, "simulated time of the frame, s (default 0)")
-      ->check(CLI::NonNegativeNumber);
+  render->add_option("--time", options->time,
+                     "simulated time of the frame, s, within the scene's duration (default 0)")
+      ->check(FiniteNumber("--time"));
   render->add_option("--set", options->overrides, "override a scene value, key=value");
   render->add_option("--width", options->width, "pixels (default: the scene's, else 1280)")
-      ->check(CLI::Range(16, 8192));
+      ->check(IntegerInRange("--width", engine::kMinFramePixels, engine::kMaxFramePixels));
   render->add_option("--height", options->height, "pixels (default: the scene's, else 720)")
-      ->check(CLI::Range(16, 8192));
+      ->check(IntegerInRange("--height", engine::kMinFramePixels, engine::kMaxFramePixels));
   render->callback([options] {
-    if (!std::isfinite(options->time)) {
-      throw InputError(fmt::format("--time = {}: expected a finite time >= 0 s", options->time));
-    }
     std::vector<std::string> overrides = options->overrides;
     if (options->width) overrides.push_back(fmt::format("output.width={}", *options->width));
     if (options->height) overrides.push_back(fmt::format("output.height={}", *options->height));
     const engine::Scene scene = engine::LoadScene(options->scene, overrides);
+    PrintWarnings(scene);
+    // the step count of a run bounds the stepping below
+    if (!(options->time >= 0 && options->time <= scene.duration)) {
+      throw InputError(fmt::format("--time = {}: expected a time in [0, {}] s, the scene's "
+                                   "duration",
+                                   options->time, scene.duration));
+    }
 
     // the state nearest to T
     engine::State state = engine::InitialState(scene);

@@ -21,32 +21,13 @@
 #include "app/output_folder.h"
 #include "app/run_origin.h"
 #include "app/simulation_run.h"
+#include "app/option_checks.h"
 #include "common/errors.h"
+#include "engine/drop_scene.h"
 #include "engine/scene_yaml.h"
 
 namespace ecpsim::app {
 namespace {
-
-// CLI11 check: a finite number > 0 (CLI::PositiveNumber lets NaN through)
-const CLI::Validator kFinitePositive(
-    [](std::string& text) -> std::string {
-      double value = 0;
-      if (!CLI::detail::lexical_cast(text, value) || !std::isfinite(value) || !(value > 0)) {
-        return fmt::format("value {}: expected a finite number > 0", text);
-      }
-      return "";
-    },
-    "FINITE>0");
-
-const CLI::Validator kFinite(
-    [](std::string& text) -> std::string {
-      double value = 0;
-      if (!CLI::detail::lexical_cast(text, value) || !std::isfinite(value)) {
-        return fmt::format("value {}: expected a finite number", text);
-      }
-      return "";
-    },
-    "FINITE");
 
 void PrintResult(const RunSummary& summary, const std::string& out_dir) {
   std::printf("%ld steps, %.2f Newton iterations per step (max %d), %ld retries, max "
@@ -165,6 +146,12 @@ void Resume(const RunOptions& given) {
 
 }  // namespace
 
+void PrintWarnings(const engine::Scene& scene) {
+  for (const std::string& warning : scene.warnings) {
+    std::fprintf(stderr, "ecpsim: warning: %s\n", warning.c_str());
+  }
+}
+
 void AddRunCommand(CLI::App& app) {
   auto options = std::make_shared<RunOptions>();
   CLI::App* run = app.add_subcommand(
@@ -174,9 +161,9 @@ void AddRunCommand(CLI::App& app) {
   run->add_option("-o,--out", options->out_dir,
                   "output folder (created if missing); required unless --resume");
   run->add_option("--dt", options->h, "time step h in s (overrides the scene's h)")
-      ->check(kFinitePositive);
+      ->check(FinitePositive("--dt", engine::kTimeRange));
   run->add_option("--duration", options->duration, "simulated time in s (overrides the scene's)")
-      ->check(kFinitePositive);
+      ->check(FinitePositive("--duration", engine::kTimeRange));
   run->add_option("--set", options->overrides,
                   "override a scene value, key=value with a dotted key, e.g. bodies.0.mass=3 "
                   "(repeatable)");
@@ -190,16 +177,17 @@ void AddRunCommand(CLI::App& app) {
   run->add_flag("--video", options->video,
                 "also render the frames into DIR/video.mp4 (H.264; needs the ffmpeg program)");
   run->add_option("--fps", options->fps, "frames per simulated second (default 30)")
-      ->check(kFinitePositive);
+      ->check(FinitePositive("--fps", engine::kMagnitudeRange));
   run->add_option("--width", options->width, "frame width in pixels (default 1280)")
-      ->check(CLI::Range(16, 8192));
+      ->check(IntegerInRange("--width", engine::kMinFramePixels, engine::kMaxFramePixels));
   run->add_option("--height", options->height, "frame height in pixels (default 720)")
-      ->check(CLI::Range(16, 8192));
+      ->check(IntegerInRange("--height", engine::kMinFramePixels, engine::kMaxFramePixels));
   run->add_option("--resume", options->resume,
                   "continue the run in DIR that stopped early (Ctrl-C, SIGTERM, a solver "
                   "failure) from its checkpoint.json, with the scene and settings it began with; "
                   "the result is the same as a run that never stopped")
       ->type_name("DIR");
+
   run->callback([options] {
     if (!options->resume.empty()) {
       Resume(*options);
@@ -209,6 +197,7 @@ void AddRunCommand(CLI::App& app) {
     if (options->out_dir.empty()) throw CLI::RequiredError("-o,--out");
     const std::vector<std::string> overrides = Overrides(*options);
     const engine::Scene scene = engine::LoadScene(options->scene, overrides);
+    PrintWarnings(scene);
     RunAndReport(scene, options->out_dir,
                  RunArguments(options->scene, overrides, options->frames, options->video));
   });
@@ -227,27 +216,31 @@ void AddDropCommand(CLI::App& app) {
   drop->add_option("--height", options->height,
                    "m, of the hull's lowest point above the ground at t = 0")
       ->capture_default_str()
-      ->check(kFinite);
+      ->check(FiniteNumber("--height"));
   drop->add_option("--tilt", options->tilt_deg, "initial rotation about x, degrees")
       ->capture_default_str()
-      ->check(kFinite);
+      ->check(FiniteNumber("--tilt"));
   drop->add_option("--spin", options->spin, "initial angular velocity about z, rad/s")
       ->capture_default_str()
-      ->check(kFinite);
+      ->check(FiniteNumber("--spin"));
   drop->add_option("--duration", options->duration, "simulated time, s")
       ->capture_default_str()
-      ->check(kFinitePositive);
-  drop->add_option("--dt", options->h, "time step, s")->capture_default_str()->check(
-      kFinitePositive);
-  drop->add_option("--mass", options->mass, "kg (default: density 1000 kg/m^3)")
-      ->check(kFinitePositive);
-  drop->add_option("--scale", options->scale, "mesh units to m, e.g. 0.001 for mm")
+      ->check(FinitePositive("--duration", engine::kTimeRange));
+  drop->add_option("--dt", options->h, "time step, s")
       ->capture_default_str()
-      ->check(kFinitePositive);
+      ->check(FinitePositive("--dt", engine::kTimeRange));
+  drop->add_option("--mass", options->mass, "kg (default: density 1000 kg/m^3)")
+      ->check(FinitePositive("--mass", engine::kMassRange));
+  drop->add_option("--scale", options->scale, "mesh units to m, e.g. 0.001 for mm (default 1)")
+      ->check(FinitePositive("--scale", engine::kMeshScaleRange));
+  drop->add_option("--units", options->units,
+                   "the mesh's unit: mm, cm, m or in (the readable --scale; both must agree)")
+      ->check(KnownUnit("--units"));
   drop->add_flag("--frames", *frames, "also render DIR/frames/frame_NNNNNN.png");
   drop->add_flag("--video", *video, "also render DIR/video.mp4 (needs the ffmpeg program)");
   drop->callback([options, out_dir, frames, video] {
     const engine::Scene scene = engine::MakeDropScene(*options);
+    PrintWarnings(scene);
     RunAndReport(scene, *out_dir, DropArguments(*options, *frames, *video));
   });
 }

@@ -49,13 +49,28 @@ json RunArguments(const std::string& scene, const std::vector<std::string>& over
           {"video", video}};
 }
 
+namespace {
+
+// an optional option as JSON: null when it was not given
+template <typename T>
+json Optional(const std::optional<T>& value) {
+  return value ? json(*value) : json(nullptr);
+}
+
+template <typename T>
+std::optional<T> ReadOptional(const json& node) {
+  return node.is_null() ? std::nullopt : std::optional<T>(node.get<T>());
+}
+
+}  // namespace
+
 json DropArguments(const engine::DropOptions& options, bool frames, bool video) {
-  return {{"command", "drop"},         {"mesh", Absolute(options.mesh)},
-          {"scale", options.scale},     {"height", options.height},
-          {"tilt_deg", options.tilt_deg}, {"spin", options.spin},
-          {"duration", options.duration}, {"h", options.h},
-          {"mass", options.mass},       {"frames", frames || video},
-          {"video", video}};
+  return {{"command", "drop"},           {"mesh", Absolute(options.mesh)},
+          {"scale", Optional(options.scale)}, {"units", Optional(options.units)},
+          {"height", options.height},     {"tilt_deg", options.tilt_deg},
+          {"spin", options.spin},         {"duration", options.duration},
+          {"h", options.h},               {"mass", Optional(options.mass)},
+          {"frames", frames || video},    {"video", video}};
 }
 
 std::string CommandLine(const json& arguments) {
@@ -64,12 +79,15 @@ std::string CommandLine(const json& arguments) {
     line += " " + arguments.at("scene").get<std::string>();
     for (const json& o : arguments.at("overrides")) line += " --set " + o.get<std::string>();
   } else {
-    line += fmt::format(" {} --scale {} --height {} --tilt {} --spin {} --duration {} --dt {}",
-                        arguments.at("mesh").get<std::string>(), arguments.at("scale").dump(),
-                        arguments.at("height").dump(), arguments.at("tilt_deg").dump(),
-                        arguments.at("spin").dump(), arguments.at("duration").dump(),
-                        arguments.at("h").dump());
-    if (arguments.at("mass").get<double>() > 0) line += " --mass " + arguments.at("mass").dump();
+    line += fmt::format(" {} --height {} --tilt {} --spin {} --duration {} --dt {}",
+                        arguments.at("mesh").get<std::string>(), arguments.at("height").dump(),
+                        arguments.at("tilt_deg").dump(), arguments.at("spin").dump(),
+                        arguments.at("duration").dump(), arguments.at("h").dump());
+    if (!arguments.at("scale").is_null()) line += " --scale " + arguments.at("scale").dump();
+    if (!arguments.at("units").is_null()) {
+      line += " --units " + arguments.at("units").get<std::string>();
+    }
+    if (!arguments.at("mass").is_null()) line += " --mass " + arguments.at("mass").dump();
   }
   if (arguments.value("video", false)) {
     line += " --video";
@@ -91,13 +109,14 @@ engine::Scene SceneOf(const json& arguments) {
     if (command == "drop") {
       engine::DropOptions options;
       options.mesh = arguments.at("mesh").get<std::string>();
-      options.scale = arguments.at("scale").get<double>();
+      options.scale = ReadOptional<double>(arguments.at("scale"));
+      options.units = ReadOptional<std::string>(arguments.at("units"));
       options.height = arguments.at("height").get<double>();
       options.tilt_deg = arguments.at("tilt_deg").get<double>();
       options.spin = arguments.at("spin").get<double>();
       options.duration = arguments.at("duration").get<double>();
       options.h = arguments.at("h").get<double>();
-      options.mass = arguments.at("mass").get<double>();
+      options.mass = ReadOptional<double>(arguments.at("mass"));
       return engine::MakeDropScene(options);
     }
   } catch (const json::exception& e) {

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "engine/scene.h"
+#include "engine/drop_scene.h"
 #include "engine/scene_yaml.h"
 
 namespace ecpsim::app {

@@ -18,6 +18,7 @@
 #include "common/atomic_file.h"
 #include "common/errors.h"
 #include "engine/penetration.h"
+#include "engine/scene_limits.h"
 #include "engine/state.h"
 #include "engine/time_step.h"
 
@@ -27,28 +28,17 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
-// duration / h within this relative slack of an integer counts as that integer, so 0.5 / 0.01
-// (49.999999999999993 or 50.000000000000007 in floating point) gives 50 steps, not 51
-constexpr double kStepCountSlack = 1e-9;
 // the progress bar is redrawn at most this often
 constexpr double kProgressInterval = 0.1;  // s of wall time
 constexpr int kProgressWidth = 40;         // characters
 
-// step counts are exact integers in a double up to 2^53 (t and the progress fraction use them);
-// a run that long would take decades anyway
-constexpr double kMaxSteps = 9007199254740992.0;  // 2^53
-
 long PlannedSteps(const engine::Scene& scene) {
-  const double ratio = scene.duration / scene.h;
-  const double nearest = std::round(ratio);
-  const double steps = std::abs(ratio - nearest) <= kStepCountSlack * ratio ? nearest
-                                                                            : std::ceil(ratio);
-  if (!(steps <= kMaxSteps)) {
-    throw InputError(fmt::format("{}: duration / h = {} / {} = {:g} steps: expected at most {:g} "
-                                 "steps; use a larger h or a shorter duration",
-                                 scene.source, scene.duration, scene.h, steps, kMaxSteps));
+  const std::string problem = engine::StepCountProblem(scene.duration, scene.h);
+  if (!problem.empty()) {
+    throw InputError(fmt::format("{}: duration = {}, h = {}: expected {}", scene.source,
+                                 scene.duration, scene.h, problem));
   }
-  return std::max(1L, static_cast<long>(steps));
+  return engine::PlannedSteps(scene.duration, scene.h);
 }
 
 void DrawProgress(double fraction, double t) {

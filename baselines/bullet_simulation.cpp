@@ -229,7 +229,7 @@ class BulletSimulation final : public ExternalSimulation {
     }
     // maxSubSteps = 0: exactly one internal step of h, no interpolation
     world_->stepSimulation(h, 0);
-    state_.t += h;
+    engine::AdvanceTime(h, state_);
     for (size_t b = 0; b < bodies_.size(); ++b) {
       const btTransform& X_WP = bodies_[b]->getWorldTransform();
       engine::BodyState& body = state_.bodies[b];

@@ -272,9 +272,8 @@ class MujocoSimulation final : public ExternalSimulation {
           fmt::format("{}: MuJoCo's contact buffer overflowed at t = {} s ({} contacts)", source_,
                       state_.t, data_->ncon));
     }
-    const double t = state_.t;
     ReadState();
-    state_.t = t + h_;
+    engine::AdvanceTime(h_, state_);
     RequireFiniteState("mujoco", state_, [this](std::size_t b) { return names_[b]; });
   }
 

@@ -183,7 +183,7 @@ class OdeSimulation final : public ExternalSimulation {
       dWorldQuickStep(world_, h);
     }
     dJointGroupEmpty(contact_group_);
-    state_.t += h;
+    engine::AdvanceTime(h, state_);
     for (size_t b = 0; b < bodies_.size(); ++b) {
       engine::BodyState& body = state_.bodies[b];
       const dReal* p = dBodyGetPosition(bodies_[b]);

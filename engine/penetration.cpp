@@ -51,32 +51,38 @@ PenetrationProbe::PenetrationProbe(const Scene& scene) {
   }
 }
 
+double PenetrationProbe::Depth(const Scene& scene, const State& state, int b, int o) const {
+  const Body& body = scene.bodies[b];
+  const Eigen::Matrix3d R_WB = state.bodies[b].Q_WB.toRotationMatrix();
+  const Eigen::Vector3d& p_WB = state.bodies[b].p_WB;
+  const geometry::ConvexShape& shape = *scene.obstacles[o].shape;
+  // depth = −max_j g_j(x); a vertex outside any one constraint is outside G
+  const auto depth = [&](const Eigen::Vector3d& v_B) {
+    const Eigen::Vector3d x = R_WB * v_B + p_WB;
+    double largest = shape.Value(0, x);
+    for (int j = 1; j < shape.NumConstraints() && largest < 0; ++j) {
+      largest = std::max(largest, shape.Value(j, x));
+    }
+    return -largest;
+  };
+  double deepest = 0;
+  if (IsHalfSpace(shape)) {
+    for (int i : half_space_vertices_[b]) {
+      deepest = std::max(deepest, depth(body.mesh.vertices[i]));
+    }
+  } else {
+    for (const Eigen::Vector3d& v : body.mesh.vertices) {
+      deepest = std::max(deepest, depth(v));
+    }
+  }
+  return deepest;
+}
+
 double PenetrationProbe::MaxDepth(const Scene& scene, const State& state) const {
   double deepest = 0;
   for (size_t b = 0; b < scene.bodies.size(); ++b) {
-    const Body& body = scene.bodies[b];
-    const Eigen::Matrix3d R_WB = state.bodies[b].Q_WB.toRotationMatrix();
-    const Eigen::Vector3d& p_WB = state.bodies[b].p_WB;
-    for (const Obstacle& obstacle : scene.obstacles) {
-      const geometry::ConvexShape& shape = *obstacle.shape;
-      // depth = −max_j g_j(x); a vertex outside any one constraint is outside G
-      const auto depth = [&](const Eigen::Vector3d& v_B) {
-        const Eigen::Vector3d x = R_WB * v_B + p_WB;
-        double largest = shape.Value(0, x);
-        for (int j = 1; j < shape.NumConstraints() && largest < 0; ++j) {
-          largest = std::max(largest, shape.Value(j, x));
-        }
-        return -largest;
-      };
-      if (IsHalfSpace(shape)) {
-        for (int i : half_space_vertices_[b]) {
-          deepest = std::max(deepest, depth(body.mesh.vertices[i]));
-        }
-      } else {
-        for (const Eigen::Vector3d& v : body.mesh.vertices) {
-          deepest = std::max(deepest, depth(v));
-        }
-      }
+    for (size_t o = 0; o < scene.obstacles.size(); ++o) {
+      deepest = std::max(deepest, Depth(scene, state, static_cast<int>(b), static_cast<int>(o)));
     }
   }
   return deepest;

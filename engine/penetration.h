@@ -23,6 +23,9 @@ class PenetrationProbe {
   /// m, ≥ 0: the largest depth of any mesh vertex of any body inside any obstacle at `state`.
   double MaxDepth(const Scene& scene, const State& state) const;
 
+  /// m, ≥ 0: the largest depth of body `body`'s mesh vertices inside obstacle `obstacle`.
+  double Depth(const Scene& scene, const State& state, int body, int obstacle) const;
+
   /// Per body, the mesh vertex indices checked against half-spaces (for tests).
   const std::vector<std::vector<int>>& half_space_vertices() const { return half_space_vertices_; }
 

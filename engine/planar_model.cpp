@@ -192,7 +192,7 @@ StepReport StepPlanarSliding(const Scene& scene, State& state) {
 
   state.bodies = std::move(next_bodies);
   state.contacts = std::move(next_contacts);
-  state.t += h;
+  AdvanceTime(h, state);
   return report;
 }
 

@@ -47,6 +47,9 @@ struct Body {
   Eigen::Quaterniond q0 = Eigen::Quaterniond::Identity();  // body → world
   Eigen::Vector3d v0 = Eigen::Vector3d::Zero();        // m/s, world
   Eigen::Vector3d w0 = Eigen::Vector3d::Zero();        // rad/s, world (spatial)
+  // true: the initial pose may overlap an obstacle deeper than ValidateScene's tolerance (the
+  // solver then pushes the body out in the first steps)
+  bool allow_initial_penetration = false;
 };
 
 /// A fixed convex body G (the ground, a tilted plane, a box fixture) in world coordinates.
@@ -85,6 +88,9 @@ struct OutputSettings {
 
 struct Scene {
   std::string source;                                   // file the scene came from, for messages
+  // one-line notes found while building the scene that are no errors (a mesh of implausible
+  // size: wrong units?), for the caller to show; the engine never prints
+  std::vector<std::string> warnings;
   Eigen::Vector3d gravity = Eigen::Vector3d(0, 0, -9.8);  // m/s²
   double h = 0.01;                                      // s, time step
   double duration = 1;                                  // s

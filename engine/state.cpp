@@ -27,6 +27,11 @@ bool IsFinite(const BodyState& body) {
          body.w_WB.allFinite();
 }
 
+void AdvanceTime(double h, State& state) {
+  ++state.steps;
+  state.t = static_cast<double>(state.steps) * h;
+}
+
 State InitialState(const Scene& scene) {
   State state;
   state.t = 0;

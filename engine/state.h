@@ -1,6 +1,7 @@
 #pragma once
 // The per-step data of a simulation (MuJoCo's mjData): poses, velocities, contact solutions.
 
+#include <cstdint>
 #include <vector>
 
 #include <Eigen/Core>
@@ -32,13 +33,18 @@ struct ContactState {
 };
 
 struct State {
-  double t = 0;  // s
+  double t = 0;            // s: steps · h (AdvanceTime), never a sum of roundings
+  std::int64_t steps = 0;  // steps taken since t = 0
   std::vector<BodyState> bodies;
   std::vector<ContactState> contacts;  // one per Scene::contacts entry
 };
 
 /// Whether a body's pose and velocities are all finite numbers.
 bool IsFinite(const BodyState& body);
+
+/// Counts a step of length h: t = steps · h, one rounding of an exact integer times h, so the
+/// time carries no round-off accumulated over the run (scene_limits.h, kMaxSteps).
+void AdvanceTime(double h, State& state);
 
 /// The state at t = 0 from the bodies' initial conditions; contacts start without a warm start.
 State InitialState(const Scene& scene);

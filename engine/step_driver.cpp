@@ -56,7 +56,7 @@ StepReport StepEveryBody(const Scene& scene, State& state, const std::string& mo
 
   state.bodies = std::move(next_bodies);
   state.contacts = std::move(next_contacts);
-  state.t += scene.h;
+  AdvanceTime(scene.h, state);
   return report;
 }
 

@@ -8,6 +8,7 @@
 #include <string>
 
 #include <fmt/format.h>
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include "render/png_writer.h"
@@ -129,10 +130,15 @@ TEST_F(FramesCommandTest, RenderIsDeterministic) {
   EXPECT_EQ(Run(fmt::format("compare '{}' '{}'", a.string(), b.string())), 0) << log_;
 }
 
-TEST_F(FramesCommandTest, RenderRejectsANegativeTime) {
-  EXPECT_NE(Run(fmt::format("render scenes/slide.yaml --time -1 -o '{}'",
-                            (dir_ / "x.png").string())),
-            0);
+TEST_F(FramesCommandTest, RenderRejectsATimeOutsideTheScene) {
+  // negative, beyond the scene's 0.5 s (it would step past its duration, forever for 1e300)
+  for (const char* time : {"-1", "0.6", "1e300", "nan"}) {
+    EXPECT_EQ(Run(fmt::format("render scenes/slide.yaml --time {} -o '{}'", time,
+                              (dir_ / "x.png").string())),
+              1)
+        << time;
+    EXPECT_THAT(log_, ::testing::HasSubstr(fmt::format("--time = {}: expected", time)));
+  }
   EXPECT_FALSE(fs::exists(dir_ / "x.png"));
 }
 

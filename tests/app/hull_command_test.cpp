@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <string>
 
+#include <fmt/format.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -137,6 +138,45 @@ TEST_F(HullCommandTest, BadInputGivesOneLineAndExitCodeOne) {
   ExpectOneLineError("hull " + Quote(FixturePath("box.obj")) + " --scale -1", "--scale = -1");
   ExpectOneLineError("hull " + Quote(FixturePath("box.obj")) + " --mass 0", "--mass = 0");
   ExpectOneLineError("hull " + Quote(FixturePath("box.obj")) + " --density nan", "--density");
+}
+
+TEST_F(HullCommandTest, NumericOptionsOutsideTheirRangesAreRejected) {
+  const std::string box = "hull " + Quote(FixturePath("box.obj"));
+  // coordinates 1e200 times the file's would overflow the mass properties
+  ExpectOneLineError(box + " --scale 1e200", "--scale = 1e200: expected a scale in [1e-06, 1e+06]");
+  ExpectOneLineError(box + " --scale nan", "--scale = nan: expected a finite scale > 0");
+  ExpectOneLineError(box + " --mass 1e151",
+                     "--mass = 1e151: expected a mass in [1e-150, 1e+150] kg");
+  ExpectOneLineError(box + " --density -inf", "--density = -inf: expected a finite density > 0");
+  ExpectOneLineError(box + " --units ft", "--units = ft: expected one of mm, cm, m, in");
+  ExpectOneLineError(box + " --units mm --scale 0.01",
+                     "--scale = 0.01 and --units = mm (0.001 m per unit) disagree");
+}
+
+TEST_F(HullCommandTest, UnitsScaleTheMesh) {
+  // the 1 × 2 × 3 box in centimetres: 6 cm³; --scale agreeing with --units is accepted
+  for (const char* options : {" --units cm", " --units cm --scale 0.01"}) {
+    const Result r = RunEcpsim("hull " + Quote(FixturePath("box.obj")) + " --json" + options, true);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const nlohmann::json j = nlohmann::json::parse(r.output);
+    EXPECT_EQ(j["scale"].get<double>(), 0.01);
+    EXPECT_NEAR(j["volume"].get<double>(), 6e-6, 6e-6 * kRoundOff);
+  }
+}
+
+TEST_F(HullCommandTest, MeshOfImplausibleSizeWarnsAboutItsUnits) {
+  // the box read as millimetres scaled by 100: 374 m across
+  const Result large = RunEcpsim("hull " + Quote(FixturePath("box.obj")) + " --scale 100", true);
+  ASSERT_EQ(large.exit_code, 0) << large.output;
+  EXPECT_THAT(large.output,
+              HasSubstr(fmt::format("ecpsim: warning: {} is 374 m across; if it is in metres use "
+                                    "--units m (or --scale 1)\n",
+                                    FixturePath("box.obj"))));
+  // the box scaled to 0.47 m across: no warning
+  const Result plausible =
+      RunEcpsim("hull " + Quote(FixturePath("box.obj")) + " --scale 0.125", true);
+  ASSERT_EQ(plausible.exit_code, 0) << plausible.output;
+  EXPECT_THAT(plausible.output, ::testing::Not(HasSubstr("warning")));
 }
 
 TEST_F(HullCommandTest, MassAndDensityAreMutuallyExclusive) {

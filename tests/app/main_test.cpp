@@ -49,7 +49,7 @@ TEST_F(MainTest, MissingArgumentExitsOneNamingTheCommand) {
 TEST_F(MainTest, BadOptionValueExitsOne) {
   // CLI11 itself would exit 105 (validation) here
   ExpectOneLineError(fmt::format("run scenes/slide.yaml -o '{}' --dt abc", (dir_ / "o").string()),
-                     "ecpsim run: error: --dt: value abc: expected a finite number > 0");
+                     "ecpsim: error: --dt = abc: expected a finite time > 0 s");
 }
 
 TEST_F(MainTest, UnexpectedArgumentExitsOne) {

@@ -203,6 +203,54 @@ TEST_F(RunCommandTest, AFifoOrSymlinkAtAnOutputIsRefusedBeforeTheRunAndLeftAlone
   EXPECT_EQ(std::distance(fs::directory_iterator(out), fs::directory_iterator()), 1);
 }
 
+TEST_F(RunCommandTest, NumericOptionsAreCheckedBeforeAnyWork) {
+  const std::string slide = fmt::format("'{}/scenes/slide.yaml'", ECPSIM_SOURCE_DIR);
+  const std::string out = (dir_ / "o").string();
+  for (const auto& [options, message] : std::vector<std::pair<std::string, std::string>>{
+           {"--dt nan", "--dt = nan: expected a finite time > 0 s"},
+           {"--dt 1e-300", "--dt = 1e-300: expected a time in [1e-150, 1e+150] s"},
+           {"--duration 1e20",
+            "--set duration=1e+20: duration = 1e+20: expected at most 4503599627370496 steps per run"},
+           {"--fps -1", "--fps = -1: expected a finite value > 0"},
+           {"--width 100000", "--width = 100000: expected an integer in [16, 8192]"}}) {
+    const testing::CliResult result =
+        Run(fmt::format("run {} -o '{}' {}", slide, out, options));
+    EXPECT_EQ(result.exit_code, 1) << options << ": " << result.output;
+    EXPECT_THAT(result.output, HasSubstr(message)) << options;
+  }
+  EXPECT_FALSE(fs::exists(dir_ / "o" / "summary.json"));
+}
+
+TEST_F(RunCommandTest, InitialPenetrationIsABadInputNamingThePosition) {
+  const testing::CliResult result = Run(fmt::format(
+      "run '{}/scenes/slide.yaml' -o '{}' --set 'bodies.0.position=[0, 0, -0.35]'",
+      ECPSIM_SOURCE_DIR, (dir_ / "o").string()));
+  EXPECT_EQ(result.exit_code, 1);
+  EXPECT_THAT(result.output,
+              HasSubstr("slide.yaml: --set bodies.0.position=[0, 0, -0.35]: bodies[0].position = "
+                        "[0, 0, -0.35]: expected an initial pose of body \"box\" whose mesh stays "
+                        "out of obstacle \"ground\": a vertex is 0.4 m inside"));
+}
+
+TEST_F(RunCommandTest, DropWarnsAboutAMeshInTheWrongUnit) {
+  const std::string box = fmt::format("{}/tests/fixtures/meshes/box.obj", ECPSIM_SOURCE_DIR);
+  // the 1 × 2 × 3 box declared in millimetres: 3.74 mm across, plausible, no warning
+  testing::CliResult result =
+      Run(fmt::format("drop '{}' -o '{}' --units mm --duration 0.02", box, (dir_ / "a").string()));
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  EXPECT_THAT(result.output, ::testing::Not(HasSubstr("warning")));
+  // scaled to 374 m: a warning on stderr, and the run goes on
+  result = Run(fmt::format("drop '{}' -o '{}' --scale 100 --duration 0.02", box,
+                           (dir_ / "b").string()));
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  EXPECT_THAT(result.output, HasSubstr(fmt::format("ecpsim: warning: {} is 374 m across; if it "
+                                                   "is in metres use --units m (or --scale 1)",
+                                                   box)));
+  result = Run(fmt::format("drop '{}' -o '{}' --units yd", box, (dir_ / "c").string()));
+  EXPECT_EQ(result.exit_code, 1);
+  EXPECT_THAT(result.output, HasSubstr("--units = yd: expected one of mm, cm, m, in"));
+}
+
 TEST_F(RunCommandTest, DeskRunsWithThePointModel) {
   const testing::CliResult result =
       Run(fmt::format("run '{}/scenes/desk.yaml' -o '{}' --model point --duration 0.5",

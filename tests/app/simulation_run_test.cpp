@@ -121,11 +121,13 @@ TEST_F(SimulationRunTest, MemoryDoesNotGrowWithTheStepCount) {
 
 TEST_F(SimulationRunTest, MaxPenetrationIncludesTheInitialState) {
   // slide.yaml's box (0.1 m tall) starts with its CM at 0.04 m: 0.01 m inside the ground at
-  // t = 0; the first step's non-penetration condition lifts it out
+  // t = 0 (allowed explicitly: without it the scene is refused); the first step's
+  // non-penetration condition lifts it out
   const fs::path out = dir_ / "out";
   const testing::CliResult result =
       Run(fmt::format("run scenes/slide.yaml -o '{}' --duration 0.05 --set "
-                      "'bodies.0.position=[0, 0, 0.04]'",
+                      "'bodies.0.position=[0, 0, 0.04]' --set "
+                      "bodies.0.allow_initial_penetration=true",
                       out.string()));
   ASSERT_EQ(result.exit_code, 0) << result.output;
   constexpr double kInitialDepth = 0.01;  // m, 0.05 − 0.04

@@ -429,10 +429,13 @@ const BadScene kBadScenes[] = {
      "scene.yaml:6:10: bodies[0].rpy = [0, 0, 0]: expected either `quaternion` or `rpy`"},
     {"InertiaNotPositiveDefinite", "duration: 1\n" ECPSIM_BODY
      "    mass: 1\n    inertia: [1, 1, -1]\n",
-     "scene.yaml:6:14: bodies[0].inertia = [1, 1, -1]: expected 3 (diagonal) or 9"},
+     "scene.yaml:6:14: bodies[0].inertia = [1, 1, -1]: expected an inertia of body \"body0\" "
+     "(kg·m², about the CM in body axes) that is symmetric, positive definite"},
     {"InertiaViolatesTriangleInequality", "duration: 1\n" ECPSIM_BODY
      "    mass: 1\n    inertia: [1, 1, 3]\n",
-     "bodies[0].inertia = [1, 1, 3]: expected 3 (diagonal) or 9 (row-major) values"},
+     "scene.yaml:6:14: bodies[0].inertia = [1, 1, 3]: expected an inertia of body \"body0\" "
+     "(kg·m², about the CM in body axes) that is symmetric, positive definite, each principal "
+     "moment <= the sum of the other two"},
     {"InertiaWithoutMass", "duration: 1\n" ECPSIM_BODY "    density: 1\n    inertia: [1, 1, 1]\n",
      "scene.yaml:6:14: bodies[0].inertia = [1, 1, 1]: expected `inertia` together with `mass`"},
     {"BadName", "duration: 1\nbodies:\n  - name: my box\n    shape: {sphere: {radius: 1}}\n"
@@ -480,6 +483,90 @@ const BadScene kBadScenes[] = {
     {"BodiesNotAList", "duration: 1\nbodies: {mass: 1}\n",
      "scene.yaml:2:9: bodies = {mass: 1}: expected a list of at least one body"},
     {"SyntaxError", "duration: [1, 2\nbodies: []\n", "scene.yaml:2:"},
+    // ---- values whose derived quantities would overflow, underflow or lose the run's steps
+    {"TooManySteps", "h: 1e-16\nduration: 1\n" ECPSIM_BODY "    mass: 1\n",
+     "scene.yaml:1:4: h = 1e-16: expected at most 4503599627370496 steps per run, here duration / "
+     "h = 1 / 1e-16 = 1e+16 steps"},
+    {"DurationBeyondTheStepLimit", "duration: 1e20\n" ECPSIM_BODY "    mass: 1\n",
+     "scene.yaml:1:11: duration = 1e20: expected at most 4503599627370496 steps per run"},
+    {"StepUnderflows", "h: 1e-300\nduration: 1\n" ECPSIM_BODY "    mass: 1\n",
+     "scene.yaml:1:4: h = 1e-300: expected a time in [1e-150, 1e+150] s"},
+    {"QuaternionOverflows", "duration: 1\n" ECPSIM_BODY
+     "    mass: 1\n    quaternion: [1e200, 1e200, 1e200, 1e200]\n",
+     "scene.yaml:6:18: bodies[0].quaternion[0] = 1e200: expected a list of 4 finite numbers [w, x, "
+     "y, z], not all zero; each a finite number within ±1e+150"},
+    {"HugeBox", "duration: 1\nbodies:\n  - shape: {box: {size: [1e200, 1e200, 1e200]}}\n"
+     "    mass: 1\n    position: [0, 0, 0]\n",
+     "scene.yaml:3:25: bodies[0].shape.box.size = [1e200, 1e200, 1e200]: expected a list of 3 "
+     "edge lengths > 0 m [x, y, z], each a length in [1e-20, 1e+20] m"},
+    {"TinyBox", "duration: 1\nbodies:\n  - shape: {box: {size: [1e-200, 1, 1]}}\n"
+     "    mass: 1\n    position: [0, 0, 0]\n",
+     "scene.yaml:3:25: bodies[0].shape.box.size = [1e-200, 1, 1]: expected a list of 3 edge "
+     "lengths > 0 m [x, y, z], each a length in [1e-20, 1e+20] m"},
+    {"HugeSphere", "duration: 1\nbodies:\n  - shape: {sphere: {radius: 1e31}}\n"
+     "    mass: 1\n    position: [0, 0, 0]\n",
+     "scene.yaml:3:30: bodies[0].shape.sphere.radius = 1e31: expected a length in [1e-20, "
+     "1e+20] m"},
+    {"MassTooLarge", "duration: 1\n" ECPSIM_BODY "    mass: 1e151\n",
+     "scene.yaml:5:11: bodies[0].mass = 1e151: expected a mass in [1e-150, 1e+150] kg"},
+    {"DensityOverflowsTheMass", "duration: 1\nbodies:\n  - shape: {box: {size: [1e19, 1e19, "
+     "1e19]}}\n    density: 1e100\n    position: [0, 0, 0]\n",
+     "scene.yaml:4:14: bodies[0].density = 1e100: expected a mass of body \"body0\" that is a mass "
+     "in [1e-150, 1e+150] kg; it is 1e+157 kg"},
+    {"InertiaUnderflows", "duration: 1\n" ECPSIM_BODY "    mass: 2e-150\n",
+     "scene.yaml:5:11: bodies[0].mass = 2e-150: expected principal moments of body \"body0\" that "
+     "are each a principal moment of inertia in [1e-150, 1e+150] kg·m²; it is 3.33e-151"},
+    {"VelocityOverflowsWhenSquared", "duration: 1\n" ECPSIM_BODY
+     "    mass: 1\n    velocity: [1e151, 0, 0]\n",
+     "scene.yaml:6:16: bodies[0].velocity[0] = 1e151: expected a list of 3 finite numbers"},
+    {"FarFromTheOrigin", "duration: 1\nbodies:\n  - shape: {box: {size: [1, 1, 1]}}\n"
+     "    position: [1e8, 0, 0.5]\n    mass: 1\n",
+     "scene.yaml:4:15: bodies[0].position = [1e8, 0, 0.5]: expected body \"body0\" within 1e+06 × "
+     "its size 1.73 m of the origin"},
+    {"NulInExpression", "duration: 1\n" ECPSIM_BODY
+     "    mass: 1\nloads:\n  - force: [\"t\\0*1000\", 0, 0]\n",
+     "scene.yaml:7:13: loads[0].force[0] = t\\x00*1000: expected a number or an expression of t in "
+     "quotes, without NUL characters"},
+    {"NulInMeshPath", "duration: 1\nbodies:\n  - mesh: \"meshes/cube.obj\\0.stl\"\n    mass: 1\n"
+     "    position: [0, 0, 0]\n",
+     "scene.yaml:3:11: bodies[0].mesh = meshes/cube.obj\\x00.stl: expected a mesh file path "
+     "(relative to the scene file), without NUL characters"},
+    {"StepLimitOfTheSolver", "duration: 1\n" ECPSIM_BODY
+     "    mass: 1\nsolver: {max_iterations: 100000}\n",
+     "scene.yaml:6:26: solver.max_iterations = 100000: expected an integer in [1, 10000]"},
+    {"FrameTooWide", "duration: 1\n" ECPSIM_BODY "    mass: 1\noutput: {width: 100000}\n",
+     "scene.yaml:6:17: output.width = 100000: expected an integer in [16, 8192]"},
+    // ---- an initial overlap with an obstacle
+    {"InitialPenetration", "duration: 1\nground: {}\n" ECPSIM_BODY "    mass: 1\n"
+     "    rpy: [45, 0, 0]\n",
+     "scene.yaml:5:15: bodies[0].position = [0, 0, 0.5]: expected an initial pose of body "
+     "\"body0\" whose mesh stays out of obstacle \"ground\""},
+    {"InitialPenetrationOfABoxFixture", "duration: 1\nground: {}\nobstacles:\n  - name: step\n"
+     "    box: {size: [1, 1, 1], position: [0, 0, 0.5]}\nbodies:\n  - shape: {sphere: {radius: "
+     "0.25}}\n    mass: 1\n    on_ground: true\n",
+     "scene.yaml:9:16: bodies[0].on_ground = true: expected an initial pose of body \"body0\" "
+     "whose mesh stays out of obstacle \"step\": a vertex is 0.5 m inside"},
+    {"BoxFixtureFarFromTheOrigin", "duration: 1\nobstacles:\n  - box: {size: [1e-3, 1e-3, 1e-3], "
+     "position: [1e150, 0, 0]}\n" ECPSIM_BODY "    mass: 1\n",
+     "scene.yaml:3:47: obstacles[0].box.position = [1e150, 0, 0]: expected obstacle \"obstacle0\" "
+     "within 1e+06 × its size"},
+    {"DuplicateObstacleNameAfterTheGround", "duration: 1\nground: {}\nobstacles:\n"
+     "  - {name: a, plane: {offset: -5}}\n  - {name: a, plane: {offset: -6}}\n" ECPSIM_BODY
+     "    mass: 1\n",
+     "scene.yaml:5:12: obstacles[1].name = a: expected a name no other obstacle has"},
+    // ---- mesh units
+    {"UnknownUnit", "duration: 1\nbodies:\n  - mesh: meshes/cube.obj\n    units: ft\n"
+     "    mass: 1\n    position: [0, 0, 0]\n",
+     "scene.yaml:4:12: bodies[0].units = ft: expected one of mm, cm, m, in"},
+    {"UnitsDisagreeWithScale", "duration: 1\nbodies:\n  - mesh: meshes/cube.obj\n    units: mm\n"
+     "    scale: 0.01\n    mass: 1\n    position: [0, 0, 0]\n",
+     "scene.yaml:4:12: bodies[0].units = mm: expected a unit agreeing with bodies[0].scale = 0.01 "
+     "(mm is 0.001 m)"},
+    {"UnitsWithoutMesh", "duration: 1\n" ECPSIM_BODY "    mass: 1\n    units: mm\n",
+     "scene.yaml:6:12: bodies[0].units = mm: expected `units` only together with `mesh`"},
+    {"ScaleOutOfRange", "duration: 1\nbodies:\n  - mesh: meshes/cube.obj\n    scale: 1e200\n"
+     "    mass: 1\n    position: [0, 0, 0]\n",
+     "scene.yaml:4:12: bodies[0].scale = 1e200: expected a scale in [1e-06, 1e+06]"},
 };
 #undef ECPSIM_BODY
 
@@ -562,6 +649,100 @@ bodies:
   EXPECT_NEAR(scene.bodies[0].inertia(2, 2), 6.0 / 6, 1e-12);
 }
 
+TEST_F(SceneYamlTest, UnitsScaleTheMeshLikeScale) {
+  const Scene scene = LoadText(R"yaml(duration: 1
+bodies:
+  - mesh: meshes/cube.obj
+    units: cm
+    density: 1000
+    position: [0, 0, 0]
+  - mesh: meshes/cube.obj
+    units: in
+    scale: 0.0254
+    mass: 1
+    position: [1, 0, 0]
+)yaml");
+  // a 1 cm cube of water: 1 g, I = m a² / 6
+  EXPECT_NEAR(scene.bodies[0].mass, 1e-3, 1e-3 * kTight);
+  EXPECT_NEAR(scene.bodies[0].inertia(0, 0), 1e-3 * 1e-4 / 6, 1e-7 * kTight);
+  EXPECT_NEAR(scene.bodies[1].hull->Support(Eigen::Vector3d(1, 1, 1)).x(), 0.0127, kTight);
+}
+
+TEST_F(SceneYamlTest, MeshOfImplausibleSizeGivesAWarningNamingTheSceneKeys) {
+  // a 1 m cube scaled to 100 m edges (173 m across)
+  const Scene large = LoadText(R"yaml(duration: 1
+bodies:
+  - mesh: meshes/cube.obj
+    scale: 100
+    mass: 1
+    position: [0, 0, 0]
+)yaml");
+  ASSERT_EQ(large.warnings.size(), 1u);
+  EXPECT_EQ(large.warnings[0],
+            fmt::format("{}:3:11: bodies[0].mesh: {} is 173 m across; if it is in metres use "
+                        "bodies[0].units: m (or bodies[0].scale: 1)",
+                        ScenePath(), (dir_ / "meshes/cube.obj").string()));
+  // a 0.5 m cube: no warning
+  const Scene plausible = LoadText(R"yaml(duration: 1
+bodies:
+  - mesh: meshes/cube.obj
+    scale: 0.5
+    mass: 1
+    position: [0, 0, 0]
+)yaml");
+  EXPECT_TRUE(plausible.warnings.empty());
+}
+
+TEST_F(SceneYamlTest, MeshWhoseSizeOverflowsItsInertiaIsLocated) {
+  // the unit cube's OBJ with every coordinate 1 written as 1e30
+  const std::string cube = kCubeObj;
+  std::string huge;
+  for (const char c : cube.substr(0, cube.find("f "))) {
+    huge += c == '1' ? std::string("1e30") : std::string(1, c);
+  }
+  Write("meshes/huge.obj", huge + cube.substr(cube.find("f ")));
+  EXPECT_THAT([&] {
+    LoadText("duration: 1\nbodies:\n  - mesh: meshes/huge.obj\n    mass: 1\n"
+             "    position: [0, 0, 0]\n");
+  },
+              ThrowsMessage<InputError>(AllOf(
+                  HasSubstr("scene.yaml:3:11: bodies[0].mesh: "),
+                  HasSubstr("huge.obj: scale = 1 makes the mesh 1.73e+30 m across"),
+                  HasSubstr("expected a bounding-box diagonal between 1e-20 m and 1e+20 m"))));
+}
+
+TEST_F(SceneYamlTest, InitialPenetrationIsAllowedPerBody) {
+  const Scene scene = LoadText(R"yaml(duration: 1
+ground: {}
+bodies:
+  - shape: {box: {size: [1, 1, 1]}}
+    mass: 1
+    position: [0, 0, 0.1]
+    allow_initial_penetration: true
+)yaml");
+  EXPECT_TRUE(scene.bodies[0].allow_initial_penetration);
+  EXPECT_THAT([&] {
+    LoadText("duration: 1\nground: {}\nbodies:\n  - shape: {box: {size: [1, 1, 1]}}\n"
+             "    mass: 1\n    position: [0, 0, 0.1]\n");
+  },
+              ThrowsMessage<InputError>(HasSubstr(
+                  "scene.yaml:6:15: bodies[0].position = [0, 0, 0.1]: expected an initial pose of "
+                  "body \"body0\" whose mesh stays out of obstacle \"ground\": a vertex is 0.4 m "
+                  "inside, more than 1.73e-06 m (1e-06 × the body's size 1.73 m); move the body, "
+                  "or allow it with bodies[0].allow_initial_penetration: true")));
+}
+
+TEST_F(SceneYamlTest, ValidationErrorsOfOverriddenValuesNameTheSet) {
+  EXPECT_THAT([&] {
+    LoadText("duration: 1\nground: {}\n" "bodies:\n  - shape: {box: {size: [1, 1, 1]}}\n"
+             "    mass: 1\n    position: [0, 0, 0.5]\n",
+             {"bodies.0.position=[0, 0, 0.1]"});
+  },
+              ThrowsMessage<InputError>(
+                  HasSubstr("scene.yaml: --set bodies.0.position=[0, 0, 0.1]: bodies[0].position = "
+                            "[0, 0, 0.1]: expected an initial pose")));
+}
+
 TEST_F(SceneYamlTest, ShippedSlideSceneLoadsWithThePaperNumbers) {
   const Scene scene = LoadScene(std::string(ECPSIM_SOURCE_DIR) + "/scenes/slide.yaml");
   EXPECT_EQ(scene.h, 0.01);
@@ -593,40 +774,6 @@ TEST_F(SceneYamlTest, ShippedTiltedBoxStandsOnOneEdge) {
   EXPECT_NEAR(box.p0.z() + (R * lowest).z(), 0, kTight);
   EXPECT_GT(std::abs(Eigen::AngleAxisd(box.q0).angle()), 0.3);
   EXPECT_EQ(box.v0, Eigen::Vector3d::Zero());
-}
-
-// ---- ecpsim drop -----------------------------------------------------------------------------
-
-TEST_F(SceneYamlTest, DropSceneHasTheMeshAboveTheGround) {
-  DropOptions options;
-  options.mesh = (dir_ / "meshes/cube.obj").string();
-  options.scale = 0.5;
-  options.height = 0.3;
-  options.tilt_deg = 90;
-  options.spin = 2;
-  options.duration = 0.5;
-  const Scene scene = MakeDropScene(options);
-  ASSERT_EQ(scene.bodies.size(), 1u);
-  const Body& body = scene.bodies[0];
-  EXPECT_EQ(body.name, "cube");
-  EXPECT_NEAR(body.mass, 1000 * 0.125, 1e-10);  // density 1000 kg/m³ by default
-  EXPECT_NEAR(body.p0.z(), 0.3 + 0.25, kTight);
-  EXPECT_EQ(body.w0, Eigen::Vector3d(0, 0, 2));
-  EXPECT_EQ(scene.duration, 0.5);
-  ASSERT_EQ(scene.contacts.size(), 1u);
-  EXPECT_EQ(scene.contacts[0].friction.mu, 0.22);
-  EXPECT_EQ(scene.contacts[0].friction.e_r, 0.1);
-  EXPECT_EQ(scene.obstacles[0].shape->Value(0, Eigen::Vector3d(0, 0, -0.5)), -0.5);
-
-  options.mass = 2;
-  EXPECT_NEAR(MakeDropScene(options).bodies[0].mass, 2, 1e-12);
-  options.height = -1;
-  EXPECT_THAT([&] { MakeDropScene(options); },
-              ThrowsMessage<InputError>(HasSubstr("--height = -1: expected a height >= 0 m")));
-  options.height = 0;
-  options.mesh = (dir_ / "none.stl").string();
-  EXPECT_THAT([&] { MakeDropScene(options); },
-              ThrowsMessage<InputError>(HasSubstr("none.stl: no such file")));
 }
 
 }  // namespace

@@ -1,0 +1,49 @@
+#pragma once
+// The checks an assembled Scene must pass before it runs, however it was built (a YAML file,
+// `ecpsim drop`, code): ranges, step count, finite masses, inertias and poses, initial overlap.
+
+#include <string>
+#include <vector>
+
+#include "engine/scene.h"
+#include "common/errors.h"
+
+namespace ecpsim::engine {
+
+/// A problem of a Scene, named by key paths of the scene format (docs/scene_format.md) so that
+/// it reads without a file, and the YAML loader can point at the line behind it. what() is
+/// "KEY = VALUE: expected EXPECTED", e.g. `bodies[0].mass = -1: expected a finite mass > 0 kg`.
+class SceneError : public InputError {
+ public:
+  SceneError(std::vector<std::string> keys, std::string value, std::string expected);
+
+  /// The keys the problem is about, the most specific first: a loader reports the first one its
+  /// file has, e.g. {"bodies[0].position", "bodies[0].on_ground", "bodies[0]"}. Obstacles are
+  /// indexed as in Scene::obstacles.
+  const std::vector<std::string>& keys() const { return keys_; }
+  /// The value as the Scene holds it, e.g. "(0, 0, -0.35)".
+  const std::string& value() const { return value_; }
+  /// What was expected, with the body or obstacle by name, e.g. "an initial pose of body \"box\"
+  /// whose mesh stays out of obstacle \"ground\" ...".
+  const std::string& expected() const { return expected_; }
+
+ private:
+  std::vector<std::string> keys_;
+  std::string value_;
+  std::string expected_;
+};
+
+/// Checks `scene` as a whole (docs/scene_format.md, "Checks and error messages"):
+/// - h and duration finite and in range, h ≤ duration, at most kMaxSteps steps;
+/// - at least one body; unique, valid names; every number finite and within its range
+///   (scene_limits.h): masses, principal moments of inertia and radii of gyration, mesh sizes,
+///   poses and velocities, gravity, friction, loads' windows and points, impulses, solver and
+///   output settings; inertias symmetric positive definite with the triangle inequality;
+///   unit-normalizable orientations; every body within kMaxDistanceInSizes of its size from the
+///   origin; contacts, loads and impulses naming existing bodies and obstacles;
+/// - no body's mesh deeper inside an obstacle at t = 0 than kInitialPenetrationTolerance × its
+///   size, unless Body::allow_initial_penetration.
+/// @throws SceneError for the first problem found.
+void ValidateScene(const Scene& scene);
+
+}  // namespace ecpsim::engine

@@ -1,0 +1,180 @@
+#pragma once
+// Internal to the scene loader (scene_yaml*.cpp, the only yaml-cpp users): typed readers of YAML
+// nodes whose every error names file:line:col (or the --set that made the node), the key, the
+// value as written and what was expected; and the readers of the format's parts.
+
+#include <fmt/format.h>
+#include <yaml-cpp/yaml.h>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "engine/scene.h"
+#include "engine/scene_limits.h"
+#include "common/errors.h"
+
+namespace ecpsim::engine::yaml {
+
+// ---- where a value came from -----------------------------------------------------------------
+
+/// An override applied by --set: its dotted key ("bodies.0.mass") and its text, for messages.
+struct Override {
+  std::string dotted_key;
+  std::string text;
+};
+
+struct Context {
+  std::string file;              // the scene file as given
+  std::filesystem::path folder;  // mesh paths are relative to it
+  std::vector<Override> overrides;
+};
+
+/// "file:line:col" (1-based) of `node`, or "file: --set TEXT" when an override made `key`.
+std::string Where(const Context& ctx, const YAML::Node& node, const std::string& key);
+
+/// The node's text for messages: scalars as written, lists and maps in flow style, cut to 60
+/// characters, control characters (NUL, ...) escaped as \xNN.
+std::string Show(const YAML::Node& node);
+
+/// Escapes control characters of `text` as \xNN, so that a message is one printable line.
+std::string Printable(const std::string& text);
+
+/// Throws InputError "WHERE: KEY = VALUE: expected EXPECTED".
+[[noreturn]] void Fail(const Context& ctx, const YAML::Node& node, const std::string& key,
+                       const std::string& expected);
+
+/// Runs `f`, re-throwing an InputError (of the mesh, hull or mass properties) with the scene
+/// location of `node` and `key` in front.
+template <typename F>
+auto WithLocation(const Context& ctx, const YAML::Node& node, const std::string& key, F&& f) {
+  try {
+    return f();
+  } catch (const InputError& e) {
+    throw InputError(fmt::format("{}: {}: {}", Where(ctx, node, key), key, e.what()));
+  }
+}
+
+/// "a.b" from ("a", "b"); "b" from ("", "b").
+std::string Child(const std::string& key, const std::string& child);
+/// "key[i]".
+std::string Index(const std::string& key, size_t i);
+
+/// The node at `key` ("bodies[0].shape.box.size[1]") under `root`; an undefined node when the
+/// tree has no such key.
+YAML::Node FindNode(const YAML::Node& root, const std::string& key);
+
+/// Applies the --set override "dotted.key=value" to the tree `root`, recording it in `applied`.
+/// @throws InputError naming the --set when it is not key=value, its value is not YAML, or its
+///         key does not fit the tree.
+void ApplyOverride(const Context& ctx, YAML::Node& root, const std::string& text,
+                   std::vector<Override>& applied);
+
+// ---- typed readers ---------------------------------------------------------------------------
+
+/// A YAML mapping whose keys were checked against the allowed set (unknown and duplicate keys
+/// are errors, with the closest valid key suggested).
+class MapNode {
+ public:
+  MapNode(const Context& ctx, const YAML::Node& node, std::string key,
+          const std::vector<std::string>& allowed);
+
+  bool Has(const std::string& k) const { return static_cast<bool>(node_[k]); }
+  YAML::Node Get(const std::string& k) const { return node_[k]; }
+  std::string Key(const std::string& k) const { return Child(key_, k); }
+  const std::string& key() const { return key_; }
+  const YAML::Node& node() const { return node_; }
+
+  /// The value of a required key, or an error at the mapping naming the key.
+  YAML::Node Require(const std::string& k, const std::string& expected) const;
+
+  /// An error about key `k`: at its value when present, else at this mapping as "(missing)".
+  [[noreturn]] void FailAt(const std::string& k, const std::string& expected) const;
+
+ private:
+  const Context& ctx_;
+  YAML::Node node_;
+  std::string key_;
+};
+
+/// A finite number within ±kMaxMagnitude.
+double ReadNumber(const Context& ctx, const YAML::Node& node, const std::string& key,
+                  const std::string& expected);
+/// A finite number > 0 (`expected` says so), then within `range` (the message names it).
+double ReadPositive(const Context& ctx, const YAML::Node& node, const std::string& key,
+                    const PositiveRange& range, const std::string& expected);
+/// An integer (its range: ValidateScene); `expected` names the range for the message.
+int ReadInt(const Context& ctx, const YAML::Node& node, const std::string& key,
+            const std::string& expected);
+bool ReadBool(const Context& ctx, const YAML::Node& node, const std::string& key);
+/// A non-empty string without NUL characters.
+std::string ReadString(const Context& ctx, const YAML::Node& node, const std::string& key,
+                       const std::string& expected);
+/// A body or obstacle name (IsValidName).
+std::string ReadName(const Context& ctx, const YAML::Node& node, const std::string& key);
+/// A list of `count` numbers as ReadNumber.
+Eigen::VectorXd ReadNumbers(const Context& ctx, const YAML::Node& node, const std::string& key,
+                            size_t count, const std::string& expected);
+/// [x, y, z] as ReadNumbers; `unit` goes into the message.
+Eigen::Vector3d ReadVector3(const Context& ctx, const YAML::Node& node, const std::string& key,
+                            const std::string& unit);
+/// [x, y, z] of lengths > 0 m within kLengthRange (edge lengths, radii).
+Eigen::Vector3d ReadLengths3(const Context& ctx, const YAML::Node& node, const std::string& key,
+                             const std::string& expected);
+
+// ---- the format's parts (docs/scene_format.md) -----------------------------------------------
+
+ContactModel ReadModel(const Context& ctx, const YAML::Node& node, const std::string& key);
+
+/// `quaternion` [w, x, y, z] (normalized) or `rpy` [deg] of `map`; identity when neither.
+Eigen::Quaterniond ReadOrientation(const Context& ctx, const MapNode& map);
+
+/// `friction: {mu, e_t, e_o, e_r}` applied key by key over `friction` (ranges: ValidateScene).
+Friction ReadFriction(const Context& ctx, const YAML::Node& node, const std::string& key,
+                      Friction friction);
+
+/// A convex primitive centred at the origin with its closed-form volume and inertia per kg.
+struct Primitive {
+  std::shared_ptr<const geometry::ConvexShape> shape;
+  double volume = 0;                                       // m³
+  Eigen::Matrix3d unit_inertia = Eigen::Matrix3d::Zero();  // kg·m² per kg, about the centre
+};
+/// `{box|sphere|cylinder|ellipsoid: ...}`.
+Primitive ReadPrimitive(const Context& ctx, const YAML::Node& node, const std::string& key);
+
+/// A box fixture or part: `size` from `box`, its centre from `pose`'s `position_key` (default
+/// the origin) minus `shift`, its orientation from `pose`'s `rpy` / `quaternion`.
+std::shared_ptr<const geometry::ConvexShape> ReadPosedBox(const Context& ctx, const MapNode& box,
+                                                          const MapNode& pose,
+                                                          const std::string& position_key,
+                                                          const Eigen::Vector3d& shift);
+
+/// `ground: {normal, offset, friction}`.
+Obstacle ReadGround(const Context& ctx, const YAML::Node& node, const std::string& key);
+/// An entry of `obstacles`: `{name, plane | box, friction}`.
+Obstacle ReadObstacle(const Context& ctx, const YAML::Node& node, const std::string& key,
+                      const std::string& default_name);
+
+/// What a body adds beyond engine::Body while loading: the mesh-frame shift for `at` points and
+/// the friction overrides applied on top of each obstacle's.
+struct BodyExtras {
+  Eigen::Vector3d center_of_mass = Eigen::Vector3d::Zero();  // m, in the mesh's own frame
+  std::optional<YAML::Node> friction;
+  std::string friction_key;
+};
+/// An entry of `bodies`; a mesh of implausible size adds a line to `warnings`.
+Body ReadBody(const Context& ctx, const YAML::Node& node, const std::string& key,
+              const std::string& default_name, BodyExtras& extras,
+              std::vector<std::string>& warnings);
+
+/// An entry of `loads` / `impulses` (bodies by name or index; `at` in the mesh frame).
+Load ReadLoad(const Context& ctx, const YAML::Node& node, const std::string& key,
+              const std::vector<Body>& bodies, const std::vector<BodyExtras>& extras);
+Impulse ReadImpulse(const Context& ctx, const YAML::Node& node, const std::string& key,
+                    const std::vector<Body>& bodies, const std::vector<BodyExtras>& extras);
+
+}  // namespace ecpsim::engine::yaml
