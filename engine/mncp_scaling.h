@@ -13,13 +13,19 @@
 namespace ecpsim::engine {
 
 struct Scales {
-  double length;    // m: radius of gyration
-  double velocity;  // m/s: of the body, at least g h
-  double impulse;   // N·s: mass × velocity
+  double length;      // m: radius of gyration
+  double velocity;    // m/s: of the body, or what the step's applied impulse adds to it
+  double impulse;     // N·s: mass × velocity
+  double resolution;  // m: the position change one step resolves, velocity × h, at most length
 };
 
-Scales BodyScales(const Body& body, const BodyState& state, const Eigen::Vector3d& gravity,
-                  double h);
+/// The body's scales for a step of length `h` from `state`, with `p_applied` (N·s; N·m·s, world
+/// frame) the impulse of gravity and loads over the step (BodyProblem::p_ext): the velocity scale
+/// is the larger of the body's own speed (|v| + |ω| L) and the velocity change the applied impulse
+/// alone would cause (|p| / m + |τ| / (m L)), so a body at rest under gravity gets g h; only a
+/// body at rest with nothing acting on it falls back on a thousandth of its length per step.
+Scales BodyScales(const Body& body, const BodyState& state,
+                  const Eigen::Matrix<double, 6, 1>& p_applied, double h);
 
 /// Unknowns are divided by these: velocities by V (angular by V/L), points and gaps by L,
 /// impulses by P (torsion by P e_r), σ by V; multipliers are dimensionless.
@@ -27,7 +33,10 @@ Eigen::VectorXd VariableScales(const BodyProblem& problem, const MncpLayout& lay
                                const Scales& s);
 
 /// Rows are multiplied by these: Newton–Euler by 1/P (1/(P L)), lengths by 1/L, friction rows by
-/// 1/(P V) (1/(P V e_r)), the cone by 1/P; the normal-cone rows are dimensionless.
+/// 1/(P V) (1/(P V e_r)), the cone by 1/P; the normal-cone rows are dimensionless. (The
+/// convergence measure asks the rows in metres for the step's resolution V·h instead,
+/// MncpResidual; scaling them so in the Newton iteration too puts their round-off, which does
+/// not shrink with h, far above the other rows and stalls the line search.)
 Eigen::VectorXd RowScales(const BodyProblem& problem, const MncpLayout& layout, const Scales& s);
 
 /// Whether the body moves at more than a small fraction of its velocity scale (the restart ladder

@@ -1,6 +1,7 @@
 #include "engine/mncp_system.h"
 
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 #include <type_traits>
 
@@ -154,7 +155,8 @@ ContactFrame MakeContactFrame(const Vector3d& N, const Vector3d& tangent_referen
 }
 
 double MncpResidual(const MncpLayout& layout, const Eigen::VectorXd& z, const Eigen::VectorXd& F,
-                    const Eigen::VectorXd& row_scale, const Eigen::VectorXd& var_scale) {
+                    const Eigen::VectorXd& row_scale, const Eigen::VectorXd& var_scale,
+                    const ResidualUnits& units) {
   // row by row (each row of the layout once), without a scaled copy of F: called every iterate
   double r = 0;
   const auto measure = [&](int i, double divisor) {
@@ -163,26 +165,32 @@ double MncpResidual(const MncpLayout& layout, const Eigen::VectorXd& z, const Ei
         i < layout.num_free ? std::abs(f) : std::abs(std::min(z[i] / var_scale[i], f));
     r = std::max(r, std::isfinite(e) ? e : INFINITY);
   };
-  // coordinates in units of the body's length (row_scale of a1 − a2 − sN is 1/L): rows computed
-  // from them are measured against max(1, |coordinates| / L) (see the header)
-  const auto coordinate_factor = [&](const MncpLayout::Contact& L) {
-    const double magnitude = std::max({z.segment<3>(L.a1).cwiseAbs().maxCoeff(),
-                                       z.segment<3>(L.a2).cwiseAbs().maxCoeff(), std::abs(z[L.s])});
-    return std::max(1.0, magnitude * row_scale[L.a1]);
+  // a length below which the coordinates' own round-off hides it: the tolerance's share of
+  // kCoordinateRoundOffUlps ulps of the largest coordinate (see the header)
+  const auto round_off_length = [&](const MncpLayout::Contact& L) {
+    const double magnitude =
+        std::max({z.segment<3>(L.a1).cwiseAbs().maxCoeff(),
+                  z.segment<3>(L.a2).cwiseAbs().maxCoeff(), std::abs(z[L.s]), units.coordinates});
+    return kCoordinateRoundOffUlps * DBL_EPSILON * magnitude / units.tolerance;
   };
   double moment_factor = 1;
   for (const MncpLayout::Contact& L : layout.contacts) {
-    const double factor = coordinate_factor(L);
+    // row_scale of the rows in metres is 1/L: they are measured against the step's resolution
+    // instead (divisor resolution / L), the moment and slip rows against L (divisor 1), either
+    // floored by the round-off length
+    const double floor = round_off_length(L);
+    const double gap = std::max(units.resolution, floor) / units.length;
+    const double factor = std::max(1.0, floor / units.length);
     moment_factor = std::max(moment_factor, factor);
     for (int i = 0; i < 3; ++i) {
-      measure(L.a1 + i, factor);
+      measure(L.a1 + i, gap);
       measure(L.a2 + i, 1);
     }
     for (int i : {L.p_t, L.p_o}) measure(i, factor);
     for (int i : {L.s, L.p_r, L.sigma}) measure(i, 1);
-    for (int i = 0; i < L.l_count; ++i) measure(L.l + i, factor);
-    for (int i = 0; i < L.l_g_count; ++i) measure(L.l_g + i, factor);
-    measure(L.p_n, factor);
+    for (int i = 0; i < L.l_count; ++i) measure(L.l + i, gap);
+    for (int i = 0; i < L.l_g_count; ++i) measure(L.l_g + i, gap);
+    measure(L.p_n, gap);
   }
   // Newton–Euler: the moment rows carry r × p with r = a1 − c⁺
   for (int i = 0; i < 3; ++i) {

@@ -85,15 +85,36 @@ struct ContactFrame {
 };
 ContactFrame MakeContactFrame(const Eigen::Vector3d& N, const Eigen::Vector3d& tangent_reference);
 
+/// What the convergence measure measures lengths against (see MncpResidual).
+struct ResidualUnits {
+  double length;       // m: the body's length L (radius of gyration)
+  double resolution;   // m: the position change one step resolves, V·h (at most L)
+  double tolerance;    // the solver's tolerance on the measure (dimensionless)
+  double coordinates;  // m: the largest |coordinate| of the body's centre of mass
+};
+
+/// Rows computed from world coordinates (y = R⁺ᵀ(a1 − c⁺) and the like: a rotation, two
+/// differences, then the Newton solve's own error) are not asked to be more precise than this
+/// many ulps of the largest coordinate involved — the ECPs' and the centre of mass's. A resting
+/// box's gap rows settle at ~100 ulps of its centre's height when h is so small (1e-10 s) that
+/// the step's resolution V·h is below round-off; 1.4e-14 m on a body 1 m from the origin.
+inline constexpr double kCoordinateRoundOffUlps = 64;
+
 /// The MNCP's convergence measure: McpResidual of the scaled problem (each row in its body's own
 /// unit, `row_scale` and `var_scale` from mncp_scaling.h), so it is dimensionless and means the
-/// same for a millimetre and a kilometre body. Rows whose value is computed from world
-/// coordinates (a1, a2, c⁺: the gap, the hull and obstacle constraints, a1 − a2 − sN, the moment
-/// r × p and the slip velocity ω × r) carry round-off of ≈ 1e-16 × |coordinates|, so they are
-/// measured against max(L, |coordinates|) rather than the body's length L alone: relative to the
-/// body near the origin, relative to the position for a body far from it.
+/// same for a millimetre and a kilometre body. Two refinements:
+/// - the rows in metres (a1 − a2 − sN, the hull and obstacle constraints, the gap s) are measured
+///   against the step's resolution V·h rather than the body's length L: a gap error δ is a
+///   velocity error δ/h, so this asks the gap for the precision the Newton–Euler rows ask of
+///   velocities (tolerance × V); against L, a step of 1e-10 s let a sliding box sink and rise
+///   freely by 1e-13 m, i.e. by 1e-3 m/s;
+/// - rows computed from world coordinates (those, plus the moment r × p and the slip ω × r, with
+///   r = a1 − c⁺) carry round-off of ≈ kCoordinateRoundOffUlps · ε · |x|, so a length below
+///   that divided by the tolerance is not resolved: for a body far from the origin (or at an
+///   absurdly small h) the measure is relative to its coordinates instead.
 double MncpResidual(const MncpLayout& layout, const Eigen::VectorXd& z, const Eigen::VectorXd& F,
-                    const Eigen::VectorXd& row_scale, const Eigen::VectorXd& var_scale);
+                    const Eigen::VectorXd& row_scale, const Eigen::VectorXd& var_scale,
+                    const ResidualUnits& units);
 
 /// Residual F(z) in physical units (rows as in MncpLayout). The friction cone row is written as
 /// μ p_n − ‖(p_t/e_t, p_o/e_o, p_r/e_r)‖ instead of the paper's ζ = (μ p_n)² − ‖…‖²: for p_n ≥ 0

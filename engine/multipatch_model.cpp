@@ -125,8 +125,9 @@ class MultiPatchStepper {
   bool Advance(double t, double h, BodyState& body, std::vector<ContactState>& contacts,
                StepReport& report, double& residual, std::string& tried) const {
     const Body& model = scene_.bodies[body_index_];
-    const Scales scales = BodyScales(model, body, scene_.gravity, h);
-    const MultiPatchProblem problem = MakeProblem(t, h, body, scales);
+    const BodyProblem start = StartOfStep(scene_, body_index_, body, t, h);
+    const Scales scales = BodyScales(model, body, start.p_ext, h);
+    const MultiPatchProblem problem = MakeProblem(start, scales);
     const MncpLayout layout = MakeLayout(problem.body);
     if (!FreeFlightIsFinite(problem.body, tried)) {
       residual = INFINITY;
@@ -166,7 +167,9 @@ class MultiPatchStepper {
     const VectorXd row_scale = RowScales(problem.body, layout, scales);
     const VectorXd var_scale = VariableScales(problem.body, layout, scales);
     options.measure = [&](const VectorXd& zz, const VectorXd& F) {
-      return MncpResidual(layout, zz, F, row_scale, var_scale);
+      return MncpResidual(layout, zz, F, row_scale, var_scale,
+                                {scales.length, scales.resolution, options.tolerance,
+                                 problem.body.c.cwiseAbs().maxCoeff()});
     };
     // the ladder as it is, then once more with iterates kept in the orthant of the
     // complementarity unknowns, as the hull model (engine/README.md, "Impacts")
@@ -192,12 +195,12 @@ class MultiPatchStepper {
   }
 
  private:
-  MultiPatchProblem MakeProblem(double t, double h, const BodyState& body,
-                                const Scales& scales) const {
+  // the body's problem at the start of the step (StartOfStep) with one block per part and plane
+  MultiPatchProblem MakeProblem(const BodyProblem& start, const Scales& scales) const {
     MultiPatchProblem problem;
     problem.weight_floor = kWeightFloorRel * scales.impulse;
     BodyProblem& p = problem.body;
-    p = StartOfStep(scene_, body_index_, body, t, h);
+    p = start;
     for (size_t g = 0; g < contact_ids_.size(); ++g) {
       const ContactPair& pair = scene_.contacts[contact_ids_[g]];
       const geometry::ConvexShape* plane = scene_.obstacles[pair.obstacle].shape.get();

@@ -63,8 +63,8 @@ StepReport StepPlanarSliding(const Scene& scene, State& state) {
         plane.Gradient(0, b.p_WB).normalized().z() < std::cos(kFlatTolerance) || hull == nullptr)
       throw fail("it needs a polyhedral hull on a horizontal plane");
     const Eigen::Matrix3d R = b.Q_WB.toRotationMatrix();
-    const Scales scales = BodyScales(body, b, scene.gravity, h);
-    const double support_tolerance = kSupportRelTolerance * scales.length;
+    const double support_tolerance =
+        kSupportRelTolerance * std::sqrt(body.inertia.trace() / body.mass);
     const int face = MostAlignedFace(*hull, R.transpose() * -Vector3d::UnitZ());
     if ((R * hull->hull().normals[face]).z() > -std::cos(kFlatTolerance))
       throw fail("the body is not flat on a face");
@@ -139,7 +139,9 @@ StepReport StepPlanarSliding(const Scene& scene, State& state) {
     const ContactState& previous = state.contacts[k];
     VectorXd z(4);
     z << previous.p_t, previous.p_o, previous.p_r, previous.sigma;
-    const double speed = scales.velocity;
+    Eigen::Matrix<double, 6, 1> p_ext = p_app;
+    p_ext.head<3>() += h * m * scene.gravity;
+    const double speed = BodyScales(body, b, p_ext, h).velocity;
     const VectorXd var_scale = (VectorXd(4) << p_n, p_n, p_n * fr.e_r, speed).finished();
     const VectorXd row_scale =
         (VectorXd(4) << 1 / (p_n * speed), 1 / (p_n * speed), 1 / (p_n * speed * fr.e_r), 1 / p_n)

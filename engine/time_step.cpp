@@ -54,8 +54,8 @@ class BodyStepper {
   bool Advance(double t, double h, BodyState& body, std::vector<ContactState>& contacts,
                StepReport& report, double& residual, std::string& tried) {
     const Body& model = scene_.bodies[body_index_];
-    const Scales scales = BodyScales(model, body, scene_.gravity, h);
     BodyProblem problem = MakeProblem(t, h, body);
+    const Scales scales = BodyScales(model, body, problem.p_ext, h);
     if (!FreeFlightIsFinite(problem, tried)) {
       residual = INFINITY;
       return false;
@@ -110,7 +110,9 @@ class BodyStepper {
           const VectorXd row_scale = RowScales(problem, layout, scales);
           const VectorXd var_scale = VariableScales(problem, layout, scales);
           options.measure = [&](const VectorXd& zz, const VectorXd& F) {
-            return MncpResidual(layout, zz, F, row_scale, var_scale);
+            return MncpResidual(layout, zz, F, row_scale, var_scale,
+                                {scales.length, scales.resolution, options.tolerance,
+                                 problem.c.cwiseAbs().maxCoeff()});
           };
           const McpResult result =
               SolveMcp(f, layout.num_free, row_scale, var_scale, z, options);
