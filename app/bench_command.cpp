@@ -156,8 +156,10 @@ std::vector<evaluation::DropRow> RunDrops(const BenchOptions& o, int shard_index
                                           int shard_count) {
   evaluation::DropSweepOptions sweep;
   sweep.kinds = o.drop_kinds;
-  sweep.seeds_per_kind = o.drop_seeds >= 0 ? o.drop_seeds : o.quick ? kQuickDropSeeds : kFullDropSeeds;
-  sweep.poses_per_file = o.drop_poses >= 0 ? o.drop_poses : o.quick ? kQuickDropPoses : kFullDropPoses;
+  sweep.seeds_per_kind =
+      o.drop_seeds >= 0 ? o.drop_seeds : o.quick ? kQuickDropSeeds : kFullDropSeeds;
+  sweep.poses_per_file =
+      o.drop_poses >= 0 ? o.drop_poses : o.quick ? kQuickDropPoses : kFullDropPoses;
   sweep.max_files = o.quick ? kQuickDropFiles : -1;
   sweep.only = o.drop_cases;
   if (!o.drop_steps.empty()) {

@@ -273,7 +273,9 @@ std::string DropMarkdown(const std::vector<evaluation::DropRow>& rows) {
   using evaluation::DropOutcome;
   using evaluation::DropRow;
   std::vector<std::string> kinds;
-  for (evaluation::MeshKind k : evaluation::AllMeshKinds()) kinds.push_back(evaluation::MeshKindName(k));
+  for (evaluation::MeshKind k : evaluation::AllMeshKinds()) {
+    kinds.push_back(evaluation::MeshKindName(k));
+  }
   kinds.push_back(evaluation::kFileKind);
   int dropped = 0, skipped = 0, files = 0, failures = 0;
   std::set<std::string> dropped_files;
@@ -336,7 +338,9 @@ std::string DropMarkdown(const std::vector<evaluation::DropRow>& rows) {
     if (total == 0) return;
     md += fmt::format("| {} | {} | {} |", label, evaluation::DropStepName(step), total);
     for (int k = 0; k < evaluation::kDropOutcomeCount; ++k) {
-      if (static_cast<DropOutcome>(k) != DropOutcome::kSkipped) md += fmt::format(" {} |", counts[k]);
+      if (static_cast<DropOutcome>(k) != DropOutcome::kSkipped) {
+        md += fmt::format(" {} |", counts[k]);
+      }
     }
     md += fmt::format(" {:.2g} | {} | {} | {} | {} | {:.3g} |\n", penetration, iterations, retries,
                       substepped, Ms(slowest), cpu);
@@ -351,7 +355,9 @@ std::string DropMarkdown(const std::vector<evaluation::DropRow>& rows) {
     if (r.outcome != DropOutcome::kSkipped && r.steps > 0) slowest.push_back(&r);
   }
   std::sort(slowest.begin(), slowest.end(),
-            [](const DropRow* a, const DropRow* b) { return a->max_step_cpu_s > b->max_step_cpu_s; });
+            [](const DropRow* a, const DropRow* b) {
+              return a->max_step_cpu_s > b->max_step_cpu_s;
+            });
   slowest.resize(std::min<size_t>(slowest.size(), kSlowestDrops));
   if (!slowest.empty()) {
     md += fmt::format("\n### The {} slowest steps\n\nCPU time of one `engine::Step` (thread CPU "
@@ -373,8 +379,9 @@ std::string DropMarkdown(const std::vector<evaluation::DropRow>& rows) {
   if (failures == 0) return md + "None.\n\n";
   md += "Rerun one with `ecpsim bench --no-work-precision --no-stability --drop-case CASE`, or "
         "run the very files the sweep ran, kept in `drop_failures/` (the mesh as OBJ in metres, "
-        "the scene for `ecpsim run`; named kind or file stem, seed and step).\n\n| case | outcome | mesh | size (m) | h (s) | lowest point (m) "
-        "| quaternion (w, x, y, z) | ω (rad/s) | steps done | message |\n"
+        "the scene for `ecpsim run`; named kind or file stem, seed and step).\n\n"
+        "| case | outcome | mesh | size (m) | h (s) | lowest point (m) | quaternion (w, x, y, z) "
+        "| ω (rad/s) | steps done | message |\n"
         "|---|---|---|---|---|---|---|---|---|---|\n";
   for (const DropRow& r : rows) {
     if (!evaluation::IsDropFailure(r.outcome)) continue;
@@ -386,8 +393,9 @@ std::string DropMarkdown(const std::vector<evaluation::DropRow>& rows) {
     md += fmt::format("| `{}` | {} | {} | {:.6g} | {:.3g} | {:.6g} | {:.4f}, {:.4f}, {:.4f}, "
                       "{:.4f} | {:.4g}, {:.4g}, {:.4g} | {} | {} |\n",
                       evaluation::DropCaseKey(r.Case()), evaluation::DropOutcomeName(r.outcome),
-                      r.kind == evaluation::kFileKind ? "" : r.mesh, r.size, r.h, r.height, r.q0.w(), r.q0.x(), r.q0.y(), r.q0.z(), r.w0.x(),
-                      r.w0.y(), r.w0.z(), r.steps, message);
+                      r.kind == evaluation::kFileKind ? "" : r.mesh, r.size, r.h, r.height,
+                      r.q0.w(), r.q0.x(), r.q0.y(), r.q0.z(), r.w0.x(), r.w0.y(), r.w0.z(),
+                      r.steps, message);
   }
   return md + "\n";
 }

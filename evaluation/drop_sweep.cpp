@@ -245,7 +245,8 @@ std::string DropName(const DropCase& c) {
   // a file's stem alone may repeat across a collection's folders: its path's hash tells apart
   const std::string mesh =
       c.kind == kFileKind
-          ? fmt::format("{}-{:06x}", fs::path(c.path).stem().string(), StableHash(c.path) & 0xffffff)
+          ? fmt::format("{}-{:06x}", fs::path(c.path).stem().string(),
+                        StableHash(c.path) & 0xffffff)
           : c.kind;
   return fmt::format("{}_{}{}", mesh, c.seed, c.step == DropStep::kScaled ? "_scaled" : "");
 }
@@ -534,7 +535,8 @@ std::string DropSweepCsv(const std::vector<DropRow>& rows) {
   for (const DropRow& r : rows) {
     csv += fmt::format(
         "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
-        r.kind, r.seed, DropStepName(r.step), CsvField(r.mesh), Exact(r.size), r.vertices, r.hull_faces,
+        r.kind, r.seed, DropStepName(r.step), CsvField(r.mesh), Exact(r.size), r.vertices,
+        r.hull_faces,
         Exact(r.height), Exact(r.q0.w()), Exact(r.q0.x()), Exact(r.q0.y()), Exact(r.q0.z()),
         Exact(r.w0.x()), Exact(r.w0.y()), Exact(r.w0.z()), Exact(r.h), Exact(r.duration),
         DropOutcomeName(r.outcome), r.steps, Short(r.max_penetration_rel),

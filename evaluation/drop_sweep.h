@@ -98,7 +98,8 @@ UnitMesh MakeUnitMesh(const DropCase& c);
 struct DropPose {
   double size = 0;    // m, bounding-box diagonal, log-uniform in [kDropMinSize, kDropMaxSize]
   Eigen::Quaterniond q0 = Eigen::Quaterniond::Identity();  // body → world, uniform
-  double height = 0;  // m, lowest hull point above the ground, [kDropMinHeight, kDropMaxHeight] × size
+  double height = 0;  // m, lowest hull point above the ground: [kDropMinHeight, kDropMaxHeight]
+                      // × size
   Eigen::Vector3d w0 = Eigen::Vector3d::Zero();  // rad/s, world; a random axis
   double h = 0;         // s, by the case's DropStep
   double duration = 0;  // s, whole steps: to fall, then kDropSettleTimes sqrt(size / g)

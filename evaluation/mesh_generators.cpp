@@ -315,7 +315,8 @@ GeneratedMesh Terrain(SeededRandom& random) {
   std::vector<Wave> waves;
   for (int w = 0; w < 3; ++w) {
     const double angle = random.Uniform(0, 2 * kPi), number = random.Uniform(1, 8) * 2 * kPi;
-    waves.push_back({number * Vector2d(std::cos(angle), std::sin(angle)), random.Uniform(0, 2 * kPi)});
+    const double phase = random.Uniform(0, 2 * kPi);
+    waves.push_back({number * Vector2d(std::cos(angle), std::sin(angle)), phase});
   }
   for (Vector3d& v : mesh.vertices) {
     if (v.z() != z) continue;

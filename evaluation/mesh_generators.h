@@ -19,7 +19,7 @@ enum class MeshKind {
   kTorus,         // major radius 1, minor 0.1–0.6, 8–96 × 6–32 segments
   kPlate,         // a prism over a convex 3–32-gon, 100 times wider than thick
   kNeedle,        // a prism over a convex 3–16-gon, 100 times longer than wide
-  kCoplanar,      // a box with faces cut into up to 24 × 24 quads, every vertex jittered 1e-9–1e-5
+  kCoplanar,      // a box, faces cut into up to 24 × 24 quads, vertices jittered 1e-9–1e-5
   kTerrain,       // a slab whose top is a grid of up to 48 × 48 heights with 1e-6–1e-2 relief
   kDisconnected,  // two or three separate boxes or convex polytopes in one mesh
 };

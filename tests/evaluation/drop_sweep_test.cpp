@@ -31,7 +31,8 @@ class DropSweepTest : public ::testing::Test {
  protected:
   void SetUp() override {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() / fmt::format("ecpsim_drop_sweep_{}_{}", getpid(), info->name());
+    dir_ = fs::temp_directory_path() /
+           fmt::format("ecpsim_drop_sweep_{}_{}", getpid(), info->name());
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }

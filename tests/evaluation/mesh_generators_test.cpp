@@ -125,7 +125,8 @@ INSTANTIATE_TEST_SUITE_P(MeshGenerators, EveryKind, ::testing::ValuesIn(AllMeshK
 TEST(MeshGeneratorsTest, ConvexPolytopesAreTheirOwnHulls) {
   for (int seed = 0; seed < kSeedsPerKind; ++seed) {
     const GeneratedMesh g = GenerateMesh(MeshKind::kConvex, seed);
-    const TriangleMesh hull = geometry::TriangulateHull(geometry::ComputeConvexHull(g.mesh.vertices));
+    const TriangleMesh hull =
+        geometry::TriangulateHull(geometry::ComputeConvexHull(g.mesh.vertices));
     EXPECT_EQ(hull.vertices.size(), g.mesh.vertices.size());
     // the hull merges faces whose planes agree to kCoplanarTolerance and fans them anew: the
     // two triangulations of such a face bound volumes that differ by less than that × its area,
