@@ -1,5 +1,6 @@
-// `ecpsim bench`: the work–precision sweep and the stability maps of every method (issue 6),
-// as CSV, PNG charts and results.md; shards of it for job schedulers, and their merge.
+// `ecpsim bench`: the work–precision sweep and the stability maps of every method (issue 6) and
+// the drop sweep (issue 14), as CSV, PNG charts and results.md; shards of it for job
+// schedulers, and their merge.
 
 #include <cmath>
 #include <cstdio>
@@ -14,6 +15,7 @@
 #include "app/bench_report.h"
 #include "app/commands.h"
 #include "app/option_checks.h"
+#include "evaluation/drop_sweep.h"
 #include "evaluation/method.h"
 #include "evaluation/scenario.h"
 #include "evaluation/stability_map.h"
@@ -25,6 +27,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// the public mesh collection the drop sweep drops by default (Debian's assimp-testmodels)
+constexpr const char* kDefaultMeshCollection = "/usr/share/assimp/models";
+
 struct BenchOptions {
   std::string out_dir = "out/bench";
   bool quick = false;
@@ -35,6 +40,13 @@ struct BenchOptions {
   std::string shard = "1/1";
   bool skip_work_precision = false;
   bool skip_stability = false;
+  bool skip_drops = false;
+  std::vector<std::string> drop_kinds;
+  std::vector<std::string> drop_steps;
+  int drop_seeds = -1;  // per generated kind; −1: kFullDropSeeds or kQuickDropSeeds
+  std::vector<std::string> drop_meshes = {kDefaultMeshCollection};
+  int drop_poses = -1;  // per collection file; −1: kFullDropPoses or kQuickDropPoses
+  std::vector<std::string> drop_cases;
   bool charts = true;
   std::vector<std::string> merge;
   std::string scenes_dir = ECPSIM_SCENES_DIR;
@@ -46,6 +58,16 @@ const std::vector<double> kFullSteps = {0.02, 0.01, 0.005, 0.002, 0.001, 0.0005,
 const std::vector<double> kQuickSteps = {0.01, 0.002};
 constexpr double kQuickConvergedDuration = 0.5;  // s of the desk, T-bar and dumbbell in --quick
 constexpr double kFullConvergedDuration = 1.0;   // s
+// the drop sweep: generated cases per kind, poses per collection file, and in --quick also the
+// first kQuickDropFiles files only
+constexpr int kFullDropSeeds = 120;
+constexpr int kFullDropPoses = 3;
+constexpr int kQuickDropSeeds = 3;
+constexpr int kQuickDropPoses = 1;
+constexpr int kQuickDropFiles = 10;
+const char* const kDropCsv = "drop_sweep.csv";
+const char* const kDropFailuresDir = "drop_failures";
+const char* const kDropScratchDir = "drop_scratch";
 
 void ParseShard(const std::string& text, int& index, int& count) {
   int used = 0;
@@ -79,14 +101,27 @@ void Progress(const std::string& line) { std::fprintf(stderr, "bench: %s\n", lin
 void Merge(const BenchOptions& o) {
   std::vector<evaluation::WorkPrecisionRow> wp;
   std::vector<evaluation::StabilityRow> st;
+  std::vector<evaluation::DropRow> drops;
+  fs::create_directories(o.out_dir);
   for (const std::string& dir : o.merge) {
     const fs::path wp_csv = fs::path(dir) / "work_precision.csv";
     const fs::path st_csv = fs::path(dir) / "stability.csv";
-    if (!fs::exists(wp_csv) && !fs::exists(st_csv)) {
+    const fs::path drop_csv = fs::path(dir) / kDropCsv;
+    if (!fs::exists(wp_csv) && !fs::exists(st_csv) && !fs::exists(drop_csv)) {
       throw InputError(fmt::format("--merge {}: neither work_precision.csv nor stability.csv "
-                                   "there (expected the output folder of an `ecpsim bench "
-                                   "--shard` run)",
-                                   dir));
+                                   "nor {} there (expected the output folder of an `ecpsim "
+                                   "bench --shard` run)",
+                                   dir, kDropCsv));
+    }
+    if (fs::exists(drop_csv)) {
+      for (auto& row : evaluation::ReadDropSweepCsv(drop_csv.string())) drops.push_back(row);
+      // the shard's reproductions of its failures
+      const fs::path failures = fs::path(dir) / kDropFailuresDir;
+      if (fs::is_directory(failures)) {
+        fs::create_directories(fs::path(o.out_dir) / kDropFailuresDir);
+        fs::copy(failures, fs::path(o.out_dir) / kDropFailuresDir,
+                 fs::copy_options::overwrite_existing | fs::copy_options::recursive);
+      }
     }
     if (fs::exists(wp_csv)) {
       for (auto& row : evaluation::ReadWorkPrecisionCsv(wp_csv.string())) wp.push_back(row);
@@ -95,7 +130,6 @@ void Merge(const BenchOptions& o) {
       for (auto& row : evaluation::ReadStabilityCsv(st_csv.string())) st.push_back(row);
     }
   }
-  fs::create_directories(o.out_dir);
   if (!wp.empty()) {
     WriteFileAtomically((fs::path(o.out_dir) / "work_precision.csv").string(),
                         evaluation::WorkPrecisionCsv(wp));
@@ -104,11 +138,56 @@ void Merge(const BenchOptions& o) {
     WriteFileAtomically((fs::path(o.out_dir) / "stability.csv").string(),
                         evaluation::StabilityCsv(st));
   }
-  for (const std::string& path : WriteBenchReport(o.out_dir, wp, st, o.charts)) {
+  if (!drops.empty()) {
+    evaluation::SortDropRows(drops);
+    WriteFileAtomically((fs::path(o.out_dir) / kDropCsv).string(),
+                        evaluation::DropSweepCsv(drops));
+  }
+  for (const std::string& path : WriteBenchReport(o.out_dir, wp, st, drops, o.charts)) {
     std::printf("wrote %s\n", path.c_str());
   }
-  std::printf("merged %zu work-precision rows and %zu stability rows from %zu folders\n",
-              wp.size(), st.size(), o.merge.size());
+  std::printf("merged %zu work-precision rows, %zu stability rows and %zu drop rows from %zu "
+              "folders\n",
+              wp.size(), st.size(), drops.size(), o.merge.size());
+}
+
+// the drop sweep's part of this shard: drop_sweep.csv, and the mesh and the scene of every
+// failed case in drop_failures/
+std::vector<evaluation::DropRow> RunDrops(const BenchOptions& o, int shard_index,
+                                          int shard_count) {
+  evaluation::DropSweepOptions sweep;
+  sweep.kinds = o.drop_kinds;
+  sweep.seeds_per_kind =
+      o.drop_seeds >= 0 ? o.drop_seeds : o.quick ? kQuickDropSeeds : kFullDropSeeds;
+  sweep.poses_per_file =
+      o.drop_poses >= 0 ? o.drop_poses : o.quick ? kQuickDropPoses : kFullDropPoses;
+  sweep.max_files = o.quick ? kQuickDropFiles : -1;
+  sweep.only = o.drop_cases;
+  if (!o.drop_steps.empty()) {
+    sweep.steps = Select(std::vector<evaluation::DropStep>{evaluation::DropStep::kFixed,
+                                                           evaluation::DropStep::kScaled},
+                         o.drop_steps, "--drop-steps",
+                         [](evaluation::DropStep step) -> std::string {
+                           return evaluation::DropStepName(step);
+                         });
+  }
+  sweep.cpu_limit_s = o.cpu_limit_s;
+  sweep.shard_index = shard_index;
+  sweep.shard_count = shard_count;
+  sweep.progress = Progress;
+  for (const std::string& dir : o.drop_meshes) {
+    // the default collection is optional (Debian's assimp-testmodels); a folder asked for is not
+    if (dir == kDefaultMeshCollection && !fs::is_directory(dir)) {
+      Progress(fmt::format("no {} (package assimp-testmodels): its meshes are left out", dir));
+      continue;
+    }
+    sweep.mesh_dirs.push_back(dir);
+  }
+  sweep.scratch_dir = (fs::path(o.out_dir) / kDropScratchDir).string();
+  sweep.failures_dir = (fs::path(o.out_dir) / kDropFailuresDir).string();
+  std::vector<evaluation::DropRow> rows = evaluation::RunDropSweep(sweep);
+  WriteFileAtomically((fs::path(o.out_dir) / kDropCsv).string(), evaluation::DropSweepCsv(rows));
+  return rows;
 }
 
 void Run(const BenchOptions& o) {
@@ -147,8 +226,11 @@ void Run(const BenchOptions& o) {
     WriteFileAtomically((fs::path(o.out_dir) / "stability.csv").string(),
                         evaluation::StabilityCsv(st));
   }
+  std::vector<evaluation::DropRow> drops;
+  if (!o.skip_drops) drops = RunDrops(o, shard_index, shard_count);
   // a shard's charts would show a part of the sweep: they are drawn by the merge
-  for (const std::string& path : WriteBenchReport(o.out_dir, wp, st, o.charts && shard_count == 1)) {
+  for (const std::string& path :
+       WriteBenchReport(o.out_dir, wp, st, drops, o.charts && shard_count == 1)) {
     std::printf("wrote %s\n", path.c_str());
   }
 }
@@ -162,7 +244,8 @@ void AddBenchCommand(CLI::App& app) {
                "MuJoCo, Bullet and ODE (where built), and stability maps (docs/benchmarks.md)");
   bench->add_option("-o,--output", o->out_dir, "output folder")->capture_default_str();
   bench->add_flag("--quick", o->quick,
-                  "steps 0.01 and 0.002 s only, converged scenes cut to 0.5 s (for CI)");
+                  "steps 0.01 and 0.002 s only, converged scenes cut to 0.5 s, 3 drops per "
+                  "mesh kind and 10 collection files (for CI)");
   bench->add_option("--scenarios", o->scenarios,
                     "work-precision scenarios (default all): slide, spin, push_slide, rest, "
                     "desk, tbar, dumbbell")
@@ -185,6 +268,29 @@ void AddBenchCommand(CLI::App& app) {
       ->capture_default_str();
   bench->add_flag("--no-work-precision", o->skip_work_precision, "skip the work-precision sweep");
   bench->add_flag("--no-stability", o->skip_stability, "skip the stability maps");
+  bench->add_flag("--no-drops", o->skip_drops, "skip the drop sweep");
+  bench->add_option("--drop-kinds", o->drop_kinds,
+                    "drop sweep: mesh kinds (default all): convex, l_shape, t_shape, u_shape, "
+                    "torus, plate, needle, coplanar, terrain, disconnected, file (the collection)")
+      ->delimiter(',');
+  bench->add_option("--drop-steps", o->drop_steps,
+                    "drop sweep: step sizes (default both): fixed (h = 0.01 s), scaled (h = "
+                    "0.01 s sqrt(size / 1 m))")
+      ->delimiter(',');
+  bench->add_option("--drop-seeds", o->drop_seeds,
+                    "drop sweep: cases per generated kind (default 120; --quick 3)")
+      ->check(CLI::NonNegativeNumber);
+  bench->add_option("--drop-meshes", o->drop_meshes,
+                    "drop sweep: folders of mesh files, searched recursively")
+      ->capture_default_str()
+      ->expected(1, -1);
+  bench->add_option("--drop-poses", o->drop_poses,
+                    "drop sweep: poses per collection file (default 3; --quick 1, first 10 files)")
+      ->check(CLI::NonNegativeNumber);
+  bench->add_option("--drop-case", o->drop_cases,
+                    "drop sweep: run only these cases, KIND:SEED or MESH_FILE:SEED (as "
+                    "results.md lists failures)")
+      ->expected(1, -1);
   bench->add_flag("!--no-charts", o->charts, "write CSV and results.md only");
   bench->add_option("--merge", o->merge,
                     "join the CSVs of these shard output folders into -o and draw the charts")

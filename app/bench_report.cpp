@@ -23,6 +23,9 @@ using evaluation::WorkPrecisionRow;
 
 // log axes cannot show 0: errors below this are drawn on it (and say so in the chart)
 constexpr double kErrorFloor = 1e-16;  // m
+// the drop sweep's tables: how many slowest cases, and how much of a failure's message
+constexpr size_t kSlowestDrops = 10;
+constexpr size_t kMessageLength = 300;  // characters
 
 // the distinct values of a field over rows, in the order of `canonical` (the order the sweep
 // runs them), then any others in first-seen order: merged shards interleave their rows
@@ -263,11 +266,146 @@ std::string ResultsMarkdown(const std::vector<WorkPrecisionRow>& wp,
   return md;
 }
 
+std::string Ms(double seconds) { return fmt::format("{:.3g}", 1e3 * seconds); }
+
+// the drop sweep: counts per kind × outcome, the slowest steps, every failure with its rerun
+std::string DropMarkdown(const std::vector<evaluation::DropRow>& rows) {
+  using evaluation::DropOutcome;
+  using evaluation::DropRow;
+  std::vector<std::string> kinds;
+  for (evaluation::MeshKind k : evaluation::AllMeshKinds()) {
+    kinds.push_back(evaluation::MeshKindName(k));
+  }
+  kinds.push_back(evaluation::kFileKind);
+  int dropped = 0, skipped = 0, files = 0, failures = 0;
+  std::set<std::string> dropped_files;
+  for (const DropRow& r : rows) {
+    if (r.outcome == DropOutcome::kSkipped) {
+      ++skipped;
+      continue;
+    }
+    ++dropped;
+    failures += evaluation::IsDropFailure(r.outcome);
+    if (r.kind == evaluation::kFileKind) ++files, dropped_files.insert(r.mesh);
+  }
+  std::string md = fmt::format(
+      "## Drop sweep\n\n{} drops: {} of generated meshes and {} of the {} closed meshes found in "
+      "the collection folders ({} more files skipped: they do not load or are not closed "
+      "solids, drop_sweep.csv says why). Each "
+      "mesh is scaled to a bounding-box diagonal (size) drawn log-uniformly in [{:g}, {:g}] m — "
+      "collection meshes too, whatever their units — at {:g} kg/m³ with `ecpsim drop`'s friction, "
+      "turned uniformly at random, its lowest point {:g}–{:g} × size above the ground, spinning "
+      "at up to {:g} × sqrt(g / size) about a random axis, for max({:g} s, fall + {:g} sqrt(size "
+      "/ g)), at two step sizes: `fixed` h = {:g} s whatever the size, and `scaled` h = {:g} s × "
+      "sqrt(size / 1 m) (with the duration's {:g} s scaled alike), which makes every drop the "
+      "dimensionless image of one at size 1 m. The bar: no failure, no mesh vertex deeper than "
+      "{:g} × size. **{} of {} drops failed.**\n\n",
+      dropped, dropped - files, files, dropped_files.size(), skipped, evaluation::kDropMinSize,
+      evaluation::kDropMaxSize, evaluation::kDropDensity, evaluation::kDropMinHeight,
+      evaluation::kDropMaxHeight, evaluation::kDropMaxSpin, evaluation::kDropMinDuration,
+      evaluation::kDropSettleTimes, evaluation::kDropStep, evaluation::kDropStep,
+      evaluation::kDropMinDuration, evaluation::kDropPenetrationBar, failures, dropped);
+
+  md += "| kind | h | drops |";
+  for (int k = 0; k < evaluation::kDropOutcomeCount; ++k) {
+    if (static_cast<DropOutcome>(k) != DropOutcome::kSkipped) {
+      md += fmt::format(" {} |", evaluation::DropOutcomeName(static_cast<DropOutcome>(k)));
+    }
+  }
+  md += " worst penetration ÷ size | max Newton iterations per step | retries | sub-stepped "
+        "steps | slowest step (ms) | CPU s |\n|---|---|";
+  for (int k = 0; k + 1 < evaluation::kDropOutcomeCount; ++k) md += "---|";
+  md += "---|---|---|---|---|---|---|\n";
+  const auto add_row = [&](const std::string& label, const std::string& kind,
+                           evaluation::DropStep step) {
+    int counts[evaluation::kDropOutcomeCount] = {};
+    int total = 0, iterations = 0;
+    long retries = 0, substepped = 0;
+    double penetration = 0, slowest = 0, cpu = 0;
+    for (const DropRow& r : rows) {
+      if ((!kind.empty() && r.kind != kind) || r.step != step ||
+          r.outcome == DropOutcome::kSkipped) {
+        continue;
+      }
+      ++counts[static_cast<int>(r.outcome)], ++total;
+      penetration = std::max(penetration, r.max_penetration_rel);
+      iterations = std::max(iterations, r.iterations_max);
+      retries += r.retries;
+      substepped += r.substepped;
+      slowest = std::max(slowest, r.max_step_cpu_s);
+      cpu += r.cpu_s;
+    }
+    if (total == 0) return;
+    md += fmt::format("| {} | {} | {} |", label, evaluation::DropStepName(step), total);
+    for (int k = 0; k < evaluation::kDropOutcomeCount; ++k) {
+      if (static_cast<DropOutcome>(k) != DropOutcome::kSkipped) {
+        md += fmt::format(" {} |", counts[k]);
+      }
+    }
+    md += fmt::format(" {:.2g} | {} | {} | {} | {} | {:.3g} |\n", penetration, iterations, retries,
+                      substepped, Ms(slowest), cpu);
+  };
+  for (evaluation::DropStep step : {evaluation::DropStep::kFixed, evaluation::DropStep::kScaled}) {
+    for (const std::string& kind : kinds) add_row(kind, kind, step);
+    add_row("**all**", "", step);
+  }
+
+  std::vector<const DropRow*> slowest;
+  for (const DropRow& r : rows) {
+    if (r.outcome != DropOutcome::kSkipped && r.steps > 0) slowest.push_back(&r);
+  }
+  std::sort(slowest.begin(), slowest.end(),
+            [](const DropRow* a, const DropRow* b) {
+              return a->max_step_cpu_s > b->max_step_cpu_s;
+            });
+  slowest.resize(std::min<size_t>(slowest.size(), kSlowestDrops));
+  if (!slowest.empty()) {
+    md += fmt::format("\n### The {} slowest steps\n\nCPU time of one `engine::Step` (thread CPU "
+                      "clock; the machine's load adds noise), with the case it belongs to.\n\n"
+                      "| case | mesh | size (m) | h (s) | mesh vertices | hull faces | slowest step "
+                      "(ms) | mean of its steps (ms) | steps | max Newton iterations |\n"
+                      "|---|---|---|---|---|---|---|---|---|---|\n",
+                      slowest.size());
+    for (const DropRow* r : slowest) {
+      md += fmt::format("| `{}` | {} | {:.3g} | {:.2g} | {} | {} | {} | {} | {} | {} |\n",
+                        evaluation::DropCaseKey(r->Case()),
+                        r->kind == evaluation::kFileKind ? "" : r->mesh, r->size, r->h, r->vertices,
+                        r->hull_faces, Ms(r->max_step_cpu_s), Ms(r->cpu_s / r->steps), r->steps,
+                        r->iterations_max);
+    }
+  }
+
+  md += "\n### Failures\n\n";
+  if (failures == 0) return md + "None.\n\n";
+  md += "Rerun one with `ecpsim bench --no-work-precision --no-stability --drop-case CASE`, or "
+        "run the very files the sweep ran, kept in `drop_failures/` (the mesh as OBJ in metres, "
+        "the scene for `ecpsim run`; named kind or file stem, seed and step).\n\n"
+        "| case | outcome | mesh | size (m) | h (s) | lowest point (m) | quaternion (w, x, y, z) "
+        "| ω (rad/s) | steps done | message |\n"
+        "|---|---|---|---|---|---|---|---|---|---|\n";
+  for (const DropRow& r : rows) {
+    if (!evaluation::IsDropFailure(r.outcome)) continue;
+    std::string message = r.message;
+    if (message.size() > kMessageLength) message = message.substr(0, kMessageLength) + " …";
+    for (char& c : message) {
+      if (c == '|') c = '/';
+    }
+    md += fmt::format("| `{}` | {} | {} | {:.6g} | {:.3g} | {:.6g} | {:.4f}, {:.4f}, {:.4f}, "
+                      "{:.4f} | {:.4g}, {:.4g}, {:.4g} | {} | {} |\n",
+                      evaluation::DropCaseKey(r.Case()), evaluation::DropOutcomeName(r.outcome),
+                      r.kind == evaluation::kFileKind ? "" : r.mesh, r.size, r.h, r.height,
+                      r.q0.w(), r.q0.x(), r.q0.y(), r.q0.z(), r.w0.x(), r.w0.y(), r.w0.z(),
+                      r.steps, message);
+  }
+  return md + "\n";
+}
+
 }  // namespace
 
 std::vector<std::string> WriteBenchReport(const std::string& dir,
                                           const std::vector<WorkPrecisionRow>& work_precision,
                                           const std::vector<StabilityRow>& stability,
+                                          const std::vector<evaluation::DropRow>& drops,
                                           bool charts) {
   std::vector<std::string> written;
   if (charts && (!work_precision.empty() || !stability.empty())) {
@@ -277,7 +415,9 @@ std::vector<std::string> WriteBenchReport(const std::string& dir,
     written = writer.Run();
   }
   const std::string results = (fs::path(dir) / "results.md").string();
-  WriteFileAtomically(results, ResultsMarkdown(work_precision, stability));
+  std::string markdown = ResultsMarkdown(work_precision, stability);
+  if (!drops.empty()) markdown += DropMarkdown(drops);
+  WriteFileAtomically(results, markdown);
   written.push_back(results);
   return written;
 }

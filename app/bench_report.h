@@ -1,10 +1,12 @@
 #pragma once
 // What `ecpsim bench` draws and writes from its rows: work–precision charts (one per scenario),
-// stability maps (one per map, a panel per method) and results.md with the tables.
+// stability maps (one per map, a panel per method) and results.md with the tables (the drop
+// sweep's too).
 
 #include <string>
 #include <vector>
 
+#include "evaluation/drop_sweep.h"
 #include "evaluation/stability_map.h"
 #include "evaluation/work_precision.h"
 
@@ -15,6 +17,7 @@ namespace ecpsim::app {
 /// @throws InputError if gnuplot fails or a file cannot be written.
 std::vector<std::string> WriteBenchReport(
     const std::string& dir, const std::vector<evaluation::WorkPrecisionRow>& work_precision,
-    const std::vector<evaluation::StabilityRow>& stability, bool charts);
+    const std::vector<evaluation::StabilityRow>& stability,
+    const std::vector<evaluation::DropRow>& drops, bool charts);
 
 }  // namespace ecpsim::app

@@ -3,6 +3,8 @@
 # merged into OUT with its charts and results.md; the charts shown in README.md are copied into
 # docs/figures/bench/. Usage: scripts/bench.sh [OUT] [extra ecpsim bench options…]
 # (default out/bench; e.g. scripts/bench.sh out/quick --quick). Shards: ECPSIM_SHARDS (default nproc).
+# The drop sweep's mesh collections: ECPSIM_DROP_MESHES (default Debian's assimp test models and
+# CGAL's demo meshes, unpacked into OUT/cgal-data).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out="${1:-out/bench}"
@@ -11,9 +13,18 @@ ecpsim="${ECPSIM:-./build/app/ecpsim}"
 shards="${ECPSIM_SHARDS:-$(nproc)}"
 mkdir -p "$out"
 
+cgal_data=/usr/share/doc/libcgal-dev/data.tar.gz  # package libcgal-demo
+drop_meshes="${ECPSIM_DROP_MESHES:-/usr/share/assimp/models}"
+if [ -z "${ECPSIM_DROP_MESHES:-}" ] && [ -f "$cgal_data" ]; then
+  mkdir -p "$out/cgal-data"
+  tar xzf "$cgal_data" -C "$out/cgal-data" data/meshes
+  drop_meshes="$drop_meshes $out/cgal-data/data/meshes"
+fi
+
 # each shard is one process with its own CSVs; a failed shard fails the script
+# shellcheck disable=SC2086  # drop_meshes is a list of folders
 seq 1 "$shards" | xargs -P "$shards" -I{} \
-  "$ecpsim" bench --shard "{}/$shards" -o "$out/shard_{}" "$@"
+  "$ecpsim" bench --shard "{}/$shards" -o "$out/shard_{}" --drop-meshes $drop_meshes "$@"
 "$ecpsim" bench --merge $(seq -f "$out/shard_%g" 1 "$shards") -o "$out"
 
 mkdir -p docs/figures/bench

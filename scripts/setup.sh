@@ -16,6 +16,8 @@ packages=(
   libmujoco-dev libbullet-dev libode-dev
   # libmujoco-dev's CMake config names /usr/include/libqhull_r/ without depending on its package
   libqhull-dev
+  # public meshes for `ecpsim bench`'s drop sweep: assimp's test models, CGAL's demo data
+  assimp-testmodels libcgal-demo
 )
 
 missing=()

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include "evaluation/drop_sweep.h"
 #include "evaluation/stability_map.h"
 #include "evaluation/work_precision.h"
 #include "tests/cli_test.h"
@@ -19,7 +20,12 @@ class BenchCommandTest : public CliTest {};
 
 // a sweep small enough for CI: two closed-form scenarios, one map, two step sizes
 const char* kSmallSweep =
-    "bench --methods hull,point --scenarios slide,push_slide --maps impact --steps 0.01,0.002";
+    "bench --methods hull,point --scenarios slide,push_slide --maps impact --steps 0.01,0.002 "
+    "--no-drops";
+// the drop sweep's smallest useful part: one seed of two kinds and one collection file
+const char* kSmallDrops =
+    "bench --no-work-precision --no-stability --drop-kinds l_shape,u_shape,file --drop-seeds 1 "
+    "--drop-poses 1";
 
 TEST_F(BenchCommandTest, WritesCsvChartsAndResults) {
   const fs::path out = dir_ / "bench";
@@ -64,6 +70,33 @@ TEST_F(BenchCommandTest, ShardsMergeIntoTheWholeSweep) {
       << merged.output;
 }
 
+TEST_F(BenchCommandTest, DropSweepShardsMergeIntoOneTable) {
+  // a closed tetrahedron is the collection
+  fs::create_directories(dir_ / "meshes");
+  std::ofstream(dir_ / "meshes" / "tetra.obj")
+      << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+  for (int shard = 1; shard <= 2; ++shard) {
+    const CliResult r = Run(fmt::format("{} --drop-meshes '{}' --shard {}/2 -o '{}'", kSmallDrops,
+                                        (dir_ / "meshes").string(), shard,
+                                        (dir_ / fmt::format("s{}", shard)).string()));
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+  }
+  const CliResult merged = Run(fmt::format("bench --merge '{}' '{}' -o '{}'",
+                                           (dir_ / "s1").string(), (dir_ / "s2").string(),
+                                           (dir_ / "all").string()));
+  ASSERT_EQ(merged.exit_code, 0) << merged.output;
+  // 2 kinds × 1 seed + 1 file × 1 pose, each at the fixed and the scaled step
+  const auto rows = evaluation::ReadDropSweepCsv((dir_ / "all" / "drop_sweep.csv").string());
+  ASSERT_EQ(rows.size(), 6u);
+  EXPECT_EQ(evaluation::DropCaseKey(rows.front().Case()), "l_shape:0");
+  EXPECT_EQ(rows.back().kind, evaluation::kFileKind);
+  std::ifstream results(dir_ / "all" / "results.md");
+  std::stringstream text;
+  text << results.rdbuf();
+  EXPECT_NE(text.str().find("## Drop sweep"), std::string::npos) << text.str();
+  EXPECT_NE(text.str().find("| u_shape | scaled | 1 |"), std::string::npos) << text.str();
+}
+
 TEST_F(BenchCommandTest, BadInputIsNamed) {
   CliResult r = Run("bench --shard 3/2 -o " + (dir_ / "x").string());
   EXPECT_EQ(r.exit_code, 1);
@@ -76,6 +109,16 @@ TEST_F(BenchCommandTest, BadInputIsNamed) {
           (dir_ / "x").string());
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.output.find("does not divide the sample interval"), std::string::npos) << r.output;
+  r = Run("bench --no-work-precision --no-stability --drop-case nosuch:1 -o " +
+          (dir_ / "x").string());
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("'nosuch' is neither a mesh kind nor a file"), std::string::npos)
+      << r.output;
+  r = Run("bench --no-work-precision --no-stability --drop-kinds cube -o " +
+          (dir_ / "x").string());
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("drop sweep kind 'cube': expected one of convex"), std::string::npos)
+      << r.output;
   r = Run("bench --merge " + dir_.string() + " -o " + (dir_ / "x").string());
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.output.find("neither work_precision.csv nor stability.csv"), std::string::npos)

@@ -1,0 +1,597 @@
+#include "evaluation/drop_sweep.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <map>
+
+#include <fmt/format.h>
+
+#include "engine/penetration.h"
+#include "engine/scene_yaml.h"
+#include "engine/state.h"
+#include "engine/step_report.h"
+#include "engine/time_step.h"
+#include "evaluation/csv_file.h"
+#include "evaluation/seeded_random.h"
+#include "geometry/convex_shape.h"
+#include "common/errors.h"
+#include "geometry/mass_properties.h"
+#include "geometry/mesh_io.h"
+
+namespace ecpsim::evaluation {
+namespace {
+
+namespace fs = std::filesystem;
+using Eigen::Vector3d;
+
+constexpr double kUnitSize = 1;  // m: DropStep::kScaled steps a body of this size with kDropStep
+
+// a mesh's companions in a collection folder, never meshes themselves
+const char* const kCompanionExtensions[] = {".png", ".jpg", ".jpeg", ".tga", ".bmp", ".dds",
+                                            ".gif", ".tif", ".tiff", ".ktx", ".mtl", ".txt",
+                                            ".md",  ".bin", ".glsl", ".pdf", ".html"};
+
+const std::vector<std::string> kHeader = {
+    "kind",       "seed",       "step",       "mesh",        "size",           "vertices",
+    "hull_faces", "height",     "q_w",         "q_x",            "q_y",
+    "q_z",        "w_x",        "w_y",         "w_z",            "h",
+    "duration",   "outcome",    "steps",       "max_penetration_rel", "energy_gain_rel",
+    "final_speed_rel", "iterations_max", "retries", "substepped", "cpu_s",
+    "wall_s",     "max_step_cpu_s", "message"};
+
+double ThreadCpuSeconds() {
+  timespec now{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
+  return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
+}
+
+double WallSeconds() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+
+// the seed of a case's pose stream: the kind (or the file) and the seed
+SeededRandom PoseRandom(const DropCase& c) {
+  return SeededRandom(c.seed, StableHash("drop pose " + (c.kind == kFileKind ? c.path : c.kind)));
+}
+
+MeshKind KindNamed(const std::string& name) {
+  for (MeshKind kind : AllMeshKinds()) {
+    if (name == MeshKindName(kind)) return kind;
+  }
+  std::string choices;
+  for (MeshKind kind : AllMeshKinds()) choices += std::string(MeshKindName(kind)) + ", ";
+  throw InputError(fmt::format("drop sweep kind '{}': expected one of {}{}", name, choices,
+                               kFileKind));
+}
+
+void CentreAndNormalize(geometry::TriangleMesh& mesh) {
+  Vector3d lo = Vector3d::Constant(INFINITY), hi = Vector3d::Constant(-INFINITY);
+  for (const Vector3d& v : mesh.vertices) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
+  const double diagonal = (hi - lo).norm();
+  ECPSIM_DEMAND(diagonal > 0);  // LoadMesh rejects files without a non-degenerate triangle
+  for (Vector3d& v : mesh.vertices) v = (v - (lo + hi) / 2) / diagonal;
+}
+
+double Energy(const engine::Scene& scene, const engine::BodyState& b) {
+  const engine::Body& body = scene.bodies[0];
+  const Eigen::Matrix3d R = b.Q_WB.toRotationMatrix();
+  const Eigen::Matrix3d I_W = R * body.inertia * R.transpose();
+  return 0.5 * body.mass * b.v_WB.squaredNorm() + 0.5 * b.w_WB.dot(I_W * b.w_WB) -
+         body.mass * scene.gravity.dot(b.p_WB);
+}
+
+std::string Exact(double value) { return fmt::format("{:.17g}", value); }
+std::string Short(double value) { return fmt::format("{:.6g}", value); }
+
+DropOutcome ParseOutcome(const CsvFile& file, size_t row, int column) {
+  for (int k = 0; k < kDropOutcomeCount; ++k) {
+    if (file.rows[row][column] == DropOutcomeName(static_cast<DropOutcome>(k))) {
+      return static_cast<DropOutcome>(k);
+    }
+  }
+  throw InputError(fmt::format("{}:{}: outcome '{}': expected ok, solver_failure, non_finite, "
+                               "energy_gain, penetration, cpu_limit, exception or skipped",
+                               file.path, row + 2, file.rows[row][column]));
+}
+
+DropStep ParseStep(const CsvFile& file, size_t row, int column) {
+  for (DropStep step : {DropStep::kFixed, DropStep::kScaled}) {
+    if (file.rows[row][column] == DropStepName(step)) return step;
+  }
+  throw InputError(fmt::format("{}:{}: step '{}': expected fixed or scaled", file.path, row + 2,
+                               file.rows[row][column]));
+}
+
+// the sweep's order of kinds: the generated ones, then the collection's files
+int KindRank(const std::string& kind) {
+  for (MeshKind k : AllMeshKinds()) {
+    if (kind == MeshKindName(k)) return static_cast<int>(k);
+  }
+  return kMeshKindCount;
+}
+
+}  // namespace
+
+const char* DropStepName(DropStep step) {
+  switch (step) {
+    case DropStep::kFixed:
+      return "fixed";
+    case DropStep::kScaled:
+      return "scaled";
+  }
+  return "unknown";
+}
+
+std::string DropCaseKey(const DropCase& c) {
+  return fmt::format("{}:{}{}", c.kind == kFileKind ? c.path : c.kind, c.seed,
+                     c.step == DropStep::kScaled ? ":scaled" : "");
+}
+
+DropCase ParseDropCaseKey(const std::string& full_key) {
+  const std::string kScaledSuffix = ":scaled";
+  const bool scaled = full_key.size() > kScaledSuffix.size() &&
+                      full_key.compare(full_key.size() - kScaledSuffix.size(),
+                                       kScaledSuffix.size(), kScaledSuffix) == 0;
+  const std::string key =
+      scaled ? full_key.substr(0, full_key.size() - kScaledSuffix.size()) : full_key;
+  const size_t colon = key.rfind(':');
+  const std::string name = colon == std::string::npos ? key : key.substr(0, colon);
+  const std::string seed = colon == std::string::npos ? "" : key.substr(colon + 1);
+  if (name.empty() || seed.empty() || seed.find_first_not_of("0123456789") != std::string::npos ||
+      seed.size() > 18) {
+    throw InputError(fmt::format("drop case '{}': expected KIND:SEED (e.g. convex:17) or "
+                                 "MESH_FILE:SEED with a whole seed, optionally then :scaled",
+                                 full_key));
+  }
+  DropCase c;
+  c.seed = std::stoull(seed);
+  c.step = scaled ? DropStep::kScaled : DropStep::kFixed;
+  for (MeshKind kind : AllMeshKinds()) {
+    if (name == MeshKindName(kind)) {
+      c.kind = name;
+      return c;
+    }
+  }
+  std::error_code error;
+  if (!fs::is_regular_file(name, error)) {
+    throw InputError(fmt::format("drop case '{}': '{}' is neither a mesh kind nor a file",
+                                 full_key, name));
+  }
+  c.kind = kFileKind;
+  c.path = name;
+  return c;
+}
+
+const char* DropOutcomeName(DropOutcome outcome) {
+  switch (outcome) {
+    case DropOutcome::kOk:
+      return "ok";
+    case DropOutcome::kSolverFailure:
+      return "solver_failure";
+    case DropOutcome::kNonFinite:
+      return "non_finite";
+    case DropOutcome::kEnergyGain:
+      return "energy_gain";
+    case DropOutcome::kPenetration:
+      return "penetration";
+    case DropOutcome::kCpuLimit:
+      return "cpu_limit";
+    case DropOutcome::kException:
+      return "exception";
+    case DropOutcome::kSkipped:
+      return "skipped";
+  }
+  return "unknown";
+}
+
+bool IsDropFailure(DropOutcome outcome) {
+  return outcome != DropOutcome::kOk && outcome != DropOutcome::kSkipped;
+}
+
+DropCase DropRow::Case() const {
+  DropCase c;
+  c.kind = kind;
+  c.seed = seed;
+  c.step = step;
+  if (kind == kFileKind) c.path = mesh;
+  return c;
+}
+
+UnitMesh MakeUnitMesh(const DropCase& c) {
+  if (c.kind != kFileKind) {
+    GeneratedMesh generated = GenerateMesh(KindNamed(c.kind), c.seed);
+    return {std::move(generated.mesh), std::move(generated.description)};
+  }
+  UnitMesh unit{geometry::LoadMesh(c.path), c.path};
+  CentreAndNormalize(unit.mesh);
+  // closed, consistently wound, not flat: the mass-property checks (their result is unused)
+  geometry::ComputeMassProperties(unit.mesh, kDropDensity, c.path);
+  return unit;
+}
+
+DropPose DrawDropPose(const DropCase& c) {
+  SeededRandom random = PoseRandom(c);
+  DropPose pose;
+  pose.size = random.LogUniform(kDropMinSize, kDropMaxSize);
+  pose.q0 = random.Rotation();
+  pose.height = random.Uniform(kDropMinHeight, kDropMaxHeight) * pose.size;
+  const double g = engine::Scene().gravity.norm();
+  pose.w0 = random.Uniform(0, kDropMaxSpin) * std::sqrt(g / pose.size) * random.UnitVector();
+  // kScaled: the time unit sqrt(size / g) relative to a 1 m body's
+  const double time_scale = c.step == DropStep::kScaled ? std::sqrt(pose.size / kUnitSize) : 1;
+  pose.h = kDropStep * time_scale;
+  // long enough to fall, then to tumble and settle; a whole number of steps
+  const double fall = std::sqrt(2 * pose.height / g);
+  const double settle = kDropSettleTimes * std::sqrt(pose.size / g);
+  const double least = kDropMinDuration * time_scale;
+  pose.duration = pose.h * std::ceil(std::max(least, fall + settle) / pose.h - 1e-9);
+  return pose;
+}
+
+geometry::TriangleMesh ScaleUnitMesh(const UnitMesh& unit, double size) {
+  geometry::TriangleMesh mesh = unit.mesh;
+  for (Vector3d& v : mesh.vertices) v = (v * size).cast<float>().cast<double>();
+  return mesh;
+}
+
+namespace {
+
+std::string DropName(const DropCase& c) {
+  // a file's stem alone may repeat across a collection's folders: its path's hash tells apart
+  const std::string mesh =
+      c.kind == kFileKind
+          ? fmt::format("{}-{:06x}", fs::path(c.path).stem().string(),
+                        StableHash(c.path) & 0xffffff)
+          : c.kind;
+  return fmt::format("{}_{}{}", mesh, c.seed, c.step == DropStep::kScaled ? "_scaled" : "");
+}
+
+}  // namespace
+
+DropFiles WriteDropFiles(const DropCase& c, const UnitMesh& unit, const std::string& dir) {
+  const DropPose pose = DrawDropPose(c);
+  DropFiles files;
+  files.name = DropName(c);
+  files.obj_path = (fs::path(dir) / (files.name + ".obj")).string();
+  files.yaml_path = (fs::path(dir) / (files.name + ".yaml")).string();
+  fs::create_directories(dir);
+  geometry::SaveMesh(ScaleUnitMesh(unit, pose.size), files.obj_path);
+  // the scene format's default ground friction is `ecpsim drop`'s (mu 0.22, e = 1, 1, 0.1 m)
+  const std::string yaml = fmt::format(
+      "# drop sweep case {key} ({mesh}); rerun it with\n"
+      "#   ecpsim bench --no-work-precision --no-stability --drop-case {key}\n"
+      "# or drop this scene with ecpsim run: the sweep loads these very files\n"
+      "duration: {duration}\n"
+      "h: {h}\n"
+      "ground: {{}}\n"
+      "bodies:\n"
+      "  - name: body\n"
+      "    mesh: {name}.obj  # bounding-box diagonal {size} m\n"
+      "    density: {density}\n"
+      "    quaternion: [{qw}, {qx}, {qy}, {qz}]\n"
+      "    lowest_point_height: {height}\n"
+      "    angular_velocity: [{wx}, {wy}, {wz}]\n",
+      fmt::arg("key", DropCaseKey(c)), fmt::arg("mesh", unit.description),
+      fmt::arg("duration", Exact(pose.duration)), fmt::arg("h", Exact(pose.h)),
+      fmt::arg("name", files.name), fmt::arg("size", Exact(pose.size)),
+      fmt::arg("density", Exact(kDropDensity)), fmt::arg("qw", Exact(pose.q0.w())),
+      fmt::arg("qx", Exact(pose.q0.x())), fmt::arg("qy", Exact(pose.q0.y())),
+      fmt::arg("qz", Exact(pose.q0.z())), fmt::arg("height", Exact(pose.height)),
+      fmt::arg("wx", Exact(pose.w0.x())), fmt::arg("wy", Exact(pose.w0.y())),
+      fmt::arg("wz", Exact(pose.w0.z())));
+  std::ofstream out(files.yaml_path);
+  out << yaml;
+  out.close();
+  if (!out) throw InputError(fmt::format("{}: cannot write the scene", files.yaml_path));
+  return files;
+}
+
+namespace {
+
+// the row of a case before it runs: what it is and its drawn pose
+DropRow CaseRow(const DropCase& c, const std::string& mesh) {
+  DropRow row;
+  row.kind = c.kind;
+  row.seed = c.seed;
+  row.step = c.step;
+  row.mesh = mesh;
+  const DropPose pose = DrawDropPose(c);
+  row.h = pose.h;
+  row.size = pose.size;
+  row.height = pose.height;
+  row.q0 = pose.q0;
+  row.w0 = pose.w0;
+  row.duration = pose.duration;
+  return row;
+}
+
+}  // namespace
+
+DropRow RunDropCase(const DropCase& c, const UnitMesh& unit, const std::string& dir,
+                    double cpu_limit_s) {
+  DropRow row = CaseRow(c, unit.description);
+  row.vertices = static_cast<int>(unit.mesh.vertices.size());
+  const double size = row.size;
+  const double wall_start = WallSeconds();
+  try {
+    const engine::Scene scene = engine::LoadScene(WriteDropFiles(c, unit, dir).yaml_path);
+    const engine::Body& body = scene.bodies[0];
+    if (const auto* hull = dynamic_cast<const geometry::PolyhedralShape*>(body.hull.get())) {
+      row.hull_faces = static_cast<int>(hull->hull().faces.size());
+    }
+
+    const double g = scene.gravity.norm();
+    const double energy_scale = body.mass * g * size;
+    const engine::PenetrationProbe probe(scene);
+    engine::State state = engine::InitialState(scene);
+    const double energy0 = Energy(scene, state.bodies[0]);
+    const long steps = std::lround(scene.duration / scene.h);
+    for (long k = 1; k <= steps; ++k) {
+      const double start = ThreadCpuSeconds();
+      engine::StepReport report;
+      try {
+        report = engine::Step(scene, state);
+      } catch (const engine::SolverFailure& failure) {
+        row.outcome = DropOutcome::kSolverFailure;
+        row.message = failure.what();
+      }
+      const double cpu = ThreadCpuSeconds() - start;
+      row.cpu_s += cpu;
+      row.max_step_cpu_s = std::max(row.max_step_cpu_s, cpu);
+      if (row.outcome != DropOutcome::kOk) break;
+      const engine::BodyState& b = state.bodies[0];
+      if (!engine::IsFinite(b)) {
+        row.outcome = DropOutcome::kNonFinite;
+        row.message = fmt::format("non-finite state at t = {} s", state.t);
+        break;
+      }
+      row.steps = k;
+      row.iterations_max = std::max(row.iterations_max, report.iterations);
+      row.retries += report.retries;
+      row.substepped += report.substeps > 1;
+      row.max_penetration_rel =
+          std::max(row.max_penetration_rel, probe.MaxDepth(scene, state) / size);
+      row.energy_gain_rel =
+          std::max(row.energy_gain_rel, (Energy(scene, b) - energy0) / energy_scale);
+      row.final_speed_rel =
+          (b.v_WB.norm() + size * b.w_WB.norm()) / std::sqrt(g * size);
+      if (row.cpu_s > cpu_limit_s) {
+        row.outcome = DropOutcome::kCpuLimit;
+        row.message = fmt::format("CPU limit of {} s reached at t = {} s", cpu_limit_s, state.t);
+        break;
+      }
+    }
+    if (row.outcome == DropOutcome::kOk && row.energy_gain_rel > kDropEnergyGainBar) {
+      row.outcome = DropOutcome::kEnergyGain;
+      row.message = fmt::format("energy rose by {:.3g} m |g| size", row.energy_gain_rel);
+    } else if (row.outcome == DropOutcome::kOk && row.max_penetration_rel > kDropPenetrationBar) {
+      row.outcome = DropOutcome::kPenetration;
+      row.message = fmt::format("a mesh vertex {:.3g} × size deep", row.max_penetration_rel);
+    }
+  } catch (const std::exception& error) {
+    row.outcome = DropOutcome::kException;
+    row.message = error.what();
+  }
+  row.wall_s = WallSeconds() - wall_start;
+  return row;
+}
+
+std::vector<std::string> CollectionFiles(const std::vector<std::string>& dirs) {
+  std::vector<std::string> files;
+  for (const std::string& dir : dirs) {
+    std::error_code error;
+    if (!fs::is_directory(dir, error)) {
+      throw InputError(fmt::format("mesh collection '{}': no such folder", dir));
+    }
+    for (const fs::directory_entry& entry : fs::recursive_directory_iterator(dir)) {
+      if (!entry.is_regular_file()) continue;
+      std::string extension = entry.path().extension().string();
+      std::transform(extension.begin(), extension.end(), extension.begin(),
+                     [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
+      const bool companion = std::find(std::begin(kCompanionExtensions),
+                                       std::end(kCompanionExtensions),
+                                       extension) != std::end(kCompanionExtensions);
+      if (!companion) files.push_back(entry.path().string());
+    }
+  }
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+std::vector<DropRow> RunDropSweep(const DropSweepOptions& o) {
+  ECPSIM_DEMAND(o.shard_count >= 1 && o.shard_index >= 1 && o.shard_index <= o.shard_count);
+  ECPSIM_DEMAND(!o.scratch_dir.empty() && !o.failures_dir.empty());
+  // the groups in order: one per generated case, one per file (all its poses)
+  std::vector<std::vector<DropCase>> groups;
+  if (!o.only.empty()) {
+    for (const std::string& key : o.only) groups.push_back({ParseDropCaseKey(key)});
+  } else {
+    bool files = o.kinds.empty();
+    std::vector<MeshKind> kinds = o.kinds.empty() ? AllMeshKinds() : std::vector<MeshKind>{};
+    for (const std::string& name : o.kinds) {
+      if (name == kFileKind) {
+        files = true;
+      } else {
+        kinds.push_back(KindNamed(name));
+      }
+    }
+    for (MeshKind kind : kinds) {
+      for (int seed = 0; seed < o.seeds_per_kind; ++seed) {
+        std::vector<DropCase> steps;
+        for (DropStep step : o.steps) {
+          steps.push_back(DropCase{MeshKindName(kind), "", static_cast<std::uint64_t>(seed), step});
+        }
+        groups.push_back(steps);
+      }
+    }
+    if (files) {
+      std::vector<std::string> paths = CollectionFiles(o.mesh_dirs);
+      if (o.max_files >= 0 && static_cast<int>(paths.size()) > o.max_files) {
+        paths.resize(o.max_files);
+      }
+      for (const std::string& path : paths) {
+        std::vector<DropCase> poses;
+        for (int pose = 0; pose < o.poses_per_file; ++pose) {
+          for (DropStep step : o.steps) {
+            poses.push_back(DropCase{kFileKind, path, static_cast<std::uint64_t>(pose), step});
+          }
+        }
+        groups.push_back(poses);
+      }
+    }
+  }
+
+  std::vector<DropRow> rows;
+  std::map<std::string, std::pair<int, int>> ok_of_kind;  // kind → (ok, cases), for progress
+  for (size_t g = 0; g < groups.size(); ++g) {
+    if (static_cast<int>(g % o.shard_count) != o.shard_index - 1 || groups[g].empty()) continue;
+    const DropCase& first = groups[g].front();
+    UnitMesh unit;
+    try {
+      unit = MakeUnitMesh(first);
+    } catch (const InputError& error) {
+      // a file that is not a closed solid is not part of the sweep; a generated mesh that is
+      // rejected is a failure of each of its cases
+      if (first.kind == kFileKind) {
+        DropRow skipped;
+        skipped.kind = kFileKind;
+        skipped.mesh = first.path;
+        skipped.outcome = DropOutcome::kSkipped;
+        skipped.message = error.what();
+        rows.push_back(skipped);
+        continue;
+      }
+      for (const DropCase& c : groups[g]) {
+        rows.push_back(CaseRow(c, "(rejected)"));
+        rows.back().outcome = DropOutcome::kException;
+        rows.back().message = error.what();
+      }
+      continue;
+    }
+    for (const DropCase& c : groups[g]) {
+      rows.push_back(RunDropCase(c, unit, o.scratch_dir, o.cpu_limit_s));
+      // a failed case's files are its reproduction; a passed case's are not kept
+      const bool failed = IsDropFailure(rows.back().outcome);
+      if (failed) {
+        fs::create_directories(o.failures_dir);
+        // a message naming the case's files names them where they are kept
+        std::string& message = rows.back().message;
+        const std::string scratch = (fs::path(o.scratch_dir) / "").string();
+        const std::string kept = (fs::path(o.failures_dir) / "").string();
+        for (size_t at = message.find(scratch); at != std::string::npos;
+             at = message.find(scratch, at + kept.size())) {
+          message.replace(at, scratch.size(), kept);
+        }
+      }
+      for (const char* extension : {".obj", ".yaml"}) {
+        const fs::path file = fs::path(o.scratch_dir) / (DropName(c) + extension);
+        std::error_code missing;  // a case that failed before writing its files has none
+        if (!fs::exists(file, missing)) continue;
+        if (failed) {
+          fs::rename(file, fs::path(o.failures_dir) / file.filename());
+        } else {
+          fs::remove(file);
+        }
+      }
+      auto& [ok, cases] = ok_of_kind[c.kind];
+      ok += rows.back().outcome == DropOutcome::kOk;
+      ++cases;
+      if (o.progress && IsDropFailure(rows.back().outcome)) {
+        o.progress(fmt::format("drop {}: {}: {:.200}", DropCaseKey(c),
+                               DropOutcomeName(rows.back().outcome), rows.back().message));
+      }
+    }
+  }
+  std::error_code not_empty;  // the scratch folder goes when nothing is left in it
+  fs::remove(o.scratch_dir, not_empty);
+  if (o.progress) {
+    for (const auto& [kind, counts] : ok_of_kind) {
+      o.progress(fmt::format("drop sweep {}: {} of {} cases ok", kind, counts.first,
+                             counts.second));
+    }
+  }
+  return rows;
+}
+
+void SortDropRows(std::vector<DropRow>& rows) {
+  std::stable_sort(rows.begin(), rows.end(), [](const DropRow& a, const DropRow& b) {
+    const int ka = KindRank(a.kind), kb = KindRank(b.kind);
+    if (ka != kb) return ka < kb;
+    if (a.kind == kFileKind && a.mesh != b.mesh) return a.mesh < b.mesh;
+    if (a.seed != b.seed) return a.seed < b.seed;
+    return a.step < b.step;
+  });
+}
+
+std::string DropSweepCsv(const std::vector<DropRow>& rows) {
+  std::string csv;
+  for (size_t i = 0; i < kHeader.size(); ++i) csv += (i ? "," : "") + kHeader[i];
+  csv += "\n";
+  for (const DropRow& r : rows) {
+    csv += fmt::format(
+        "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
+        r.kind, r.seed, DropStepName(r.step), CsvField(r.mesh), Exact(r.size), r.vertices,
+        r.hull_faces,
+        Exact(r.height), Exact(r.q0.w()), Exact(r.q0.x()), Exact(r.q0.y()), Exact(r.q0.z()),
+        Exact(r.w0.x()), Exact(r.w0.y()), Exact(r.w0.z()), Exact(r.h), Exact(r.duration),
+        DropOutcomeName(r.outcome), r.steps, Short(r.max_penetration_rel),
+        Short(r.energy_gain_rel), Short(r.final_speed_rel), r.iterations_max, r.retries,
+        r.substepped, Short(r.cpu_s), Short(r.wall_s), Short(r.max_step_cpu_s),
+        CsvField(r.message));
+  }
+  return csv;
+}
+
+std::vector<DropRow> ReadDropSweepCsv(const std::string& path) {
+  const CsvFile file = ReadCsvFile(path, kHeader);
+  std::vector<DropRow> rows;
+  for (size_t i = 0; i < file.rows.size(); ++i) {
+    DropRow r;
+    int c = 0;
+    const auto number = [&] { return file.Number(i, c++); };
+    const auto whole = [&] {
+      const double value = number();
+      if (value < 0 || value != std::floor(value)) {
+        throw InputError(fmt::format("{}:{}: column '{}' = '{}': expected a whole number ≥ 0",
+                                     path, i + 2, file.header[c - 1], file.rows[i][c - 1]));
+      }
+      return value;
+    };
+    r.kind = file.rows[i][c++];
+    r.seed = static_cast<std::uint64_t>(whole());
+    r.step = ParseStep(file, i, c++);
+    r.mesh = file.rows[i][c++];
+    r.size = number();
+    r.vertices = static_cast<int>(whole());
+    r.hull_faces = static_cast<int>(whole());
+    r.height = number();
+    r.q0.w() = number();
+    r.q0.x() = number();
+    r.q0.y() = number();
+    r.q0.z() = number();
+    for (int k = 0; k < 3; ++k) r.w0[k] = number();
+    r.h = number();
+    r.duration = number();
+    r.outcome = ParseOutcome(file, i, c++);
+    r.steps = static_cast<long>(whole());
+    r.max_penetration_rel = number();
+    r.energy_gain_rel = number();
+    r.final_speed_rel = number();
+    r.iterations_max = static_cast<int>(whole());
+    r.retries = static_cast<long>(whole());
+    r.substepped = static_cast<long>(whole());
+    r.cpu_s = number();
+    r.wall_s = number();
+    r.max_step_cpu_s = number();
+    r.message = file.rows[i][c++];
+    rows.push_back(r);
+  }
+  return rows;
+}
+
+}  // namespace ecpsim::evaluation

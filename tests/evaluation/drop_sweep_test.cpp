@@ -1,0 +1,246 @@
+// The drop sweep: case keys, drawn poses, the files a case runs from, the CSV, and a small
+// deterministic subset held to the bar.
+
+#include "evaluation/drop_sweep.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include <fmt/format.h>
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "engine/scene_yaml.h"
+#include "common/errors.h"
+#include "geometry/mass_properties.h"
+#include "geometry/mesh_io.h"
+
+namespace ecpsim::evaluation {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+using ::testing::ThrowsMessage;
+
+// a fresh temporary folder per test, removed afterwards
+class DropSweepTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::temp_directory_path() /
+           fmt::format("ecpsim_drop_sweep_{}_{}", getpid(), info->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  fs::path dir_;
+};
+
+void WriteText(const fs::path& path, const std::string& text) {
+  fs::create_directories(path.parent_path());
+  std::ofstream(path) << text;
+}
+
+TEST(DropCaseKeyTest, RoundTripsAndNamesBadKeys) {
+  for (const char* key : {"convex:17", "torus:0:scaled", "needle:123456"}) {
+    EXPECT_EQ(DropCaseKey(ParseDropCaseKey(key)), key);
+  }
+  const DropCase scaled = ParseDropCaseKey("plate:3:scaled");
+  EXPECT_EQ(scaled.kind, "plate");
+  EXPECT_EQ(scaled.seed, 3u);
+  EXPECT_EQ(scaled.step, DropStep::kScaled);
+  EXPECT_THAT([] { ParseDropCaseKey("convex"); },
+              ThrowsMessage<InputError>(HasSubstr("expected KIND:SEED")));
+  EXPECT_THAT([] { ParseDropCaseKey("convex:-1"); },
+              ThrowsMessage<InputError>(HasSubstr("with a whole seed")));
+  EXPECT_THAT([] { ParseDropCaseKey("sphere:1"); },
+              ThrowsMessage<InputError>(HasSubstr("'sphere' is neither a mesh kind nor a file")));
+}
+
+TEST(DrawDropPoseTest, WithinTheDrawnRangesAndTheSameForBothSteps) {
+  for (std::uint64_t seed = 0; seed < 50; ++seed) {
+    const DropPose fixed = DrawDropPose({"convex", "", seed, DropStep::kFixed});
+    const DropPose scaled = DrawDropPose({"convex", "", seed, DropStep::kScaled});
+    EXPECT_GE(fixed.size, kDropMinSize);
+    EXPECT_LE(fixed.size, kDropMaxSize);
+    EXPECT_GE(fixed.height, kDropMinHeight * fixed.size);
+    EXPECT_LE(fixed.height, kDropMaxHeight * fixed.size);
+    EXPECT_LE(fixed.w0.norm(), kDropMaxSpin * std::sqrt(9.8 / fixed.size));
+    EXPECT_NEAR(fixed.q0.norm(), 1, 1e-15);
+    EXPECT_EQ(fixed.h, kDropStep);
+    // a whole number of steps, at least the minimum and the fall
+    const double steps = fixed.duration / fixed.h;
+    EXPECT_NEAR(steps, std::round(steps), 1e-9 * steps);
+    EXPECT_GE(fixed.duration, kDropMinDuration);
+    EXPECT_GE(fixed.duration, std::sqrt(2 * fixed.height / 9.8));
+    // the scaled step is the dimensionless image of a 1 m drop: h and duration ∝ sqrt(size)
+    EXPECT_EQ(scaled.size, fixed.size);
+    EXPECT_EQ(scaled.q0.coeffs(), fixed.q0.coeffs());
+    EXPECT_EQ(scaled.w0, fixed.w0);
+    EXPECT_NEAR(scaled.h, kDropStep * std::sqrt(fixed.size), 1e-15 * scaled.h);
+  }
+}
+
+TEST_F(DropSweepTest, TheCaseFilesAreTheDropAsDrawn) {
+  const DropCase c{"l_shape", "", 5, DropStep::kFixed};
+  const UnitMesh unit = MakeUnitMesh(c);
+  const DropPose pose = DrawDropPose(c);
+  const DropFiles files = WriteDropFiles(c, unit, dir_.string());
+  EXPECT_EQ(files.name, "l_shape_5");
+
+  // the OBJ holds the float-rounded mesh exactly (9 significant digits round-trip a float)
+  const geometry::TriangleMesh scaled = ScaleUnitMesh(unit, pose.size);
+  const geometry::TriangleMesh loaded = geometry::LoadMesh(files.obj_path);
+  ASSERT_EQ(loaded.vertices.size(), scaled.vertices.size());
+  auto sorted = [](std::vector<Eigen::Vector3d> v) {
+    std::sort(v.begin(), v.end(), [](const auto& a, const auto& b) {
+      return std::lexicographical_compare(a.data(), a.data() + 3, b.data(), b.data() + 3);
+    });
+    return v;
+  };
+  EXPECT_EQ(sorted(loaded.vertices), sorted(scaled.vertices));
+
+  // the scene: its lowest mesh vertex at the drawn height, the drawn spin, h and duration
+  const engine::Scene scene = engine::LoadScene(files.yaml_path);
+  ASSERT_EQ(scene.bodies.size(), 1u);
+  const engine::Body& body = scene.bodies[0];
+  double lowest = INFINITY;
+  for (const Eigen::Vector3d& v : body.mesh.vertices) {
+    lowest = std::min(lowest, (body.p0 + body.q0 * v).z());
+  }
+  constexpr double kRoundOff = 1e-14;  // × size: a rotation and a few sums of coordinates
+  EXPECT_NEAR(lowest, pose.height, kRoundOff * pose.size);
+  EXPECT_NEAR(body.mass, kDropDensity * geometry::ComputeMassProperties(scaled, 1).volume,
+              kRoundOff * body.mass);
+  EXPECT_EQ(body.w0, pose.w0);
+  EXPECT_EQ(scene.h, pose.h);
+  EXPECT_EQ(scene.duration, pose.duration);
+  ASSERT_EQ(scene.contacts.size(), 1u);
+  const engine::Friction drop_defaults;  // `ecpsim drop`'s, the scene format's defaults
+  EXPECT_EQ(scene.contacts[0].friction.mu, drop_defaults.mu);
+  EXPECT_EQ(scene.contacts[0].friction.e_r, drop_defaults.e_r);
+}
+
+TEST_F(DropSweepTest, CollectionFilesSkipCompanionsAndBrokenMeshes) {
+  // a closed tetrahedron, an open one (three faces), a texture and a material library
+  const std::string vertices = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n";
+  WriteText(dir_ / "closed.obj", vertices + "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n");
+  WriteText(dir_ / "sub" / "open.obj", vertices + "f 1 3 2\nf 1 2 4\nf 1 4 3\n");
+  WriteText(dir_ / "skin.png", "not a mesh");
+  WriteText(dir_ / "sub" / "look.mtl", "newmtl x\n");
+  const std::vector<std::string> files = CollectionFiles({dir_.string()});
+  ASSERT_EQ(files.size(), 2u);
+  EXPECT_EQ(fs::path(files[0]).filename(), "closed.obj");
+  EXPECT_EQ(fs::path(files[1]).filename(), "open.obj");
+
+  DropSweepOptions options;
+  options.kinds = {kFileKind};
+  options.mesh_dirs = {dir_.string()};
+  options.poses_per_file = 2;
+  options.steps = {DropStep::kScaled};
+  options.scratch_dir = (dir_ / "scratch").string();
+  options.failures_dir = (dir_ / "failures").string();
+  const std::vector<DropRow> rows = RunDropSweep(options);
+  ASSERT_EQ(rows.size(), 3u);  // two poses of the tetrahedron, the open mesh skipped
+  EXPECT_EQ(rows[0].outcome, DropOutcome::kOk) << rows[0].message;
+  EXPECT_EQ(rows[1].outcome, DropOutcome::kOk) << rows[1].message;
+  EXPECT_EQ(rows[2].outcome, DropOutcome::kSkipped);
+  EXPECT_THAT(rows[2].message, HasSubstr("open.obj"));
+  // nothing failed: no files kept, the scratch folder gone
+  EXPECT_FALSE(fs::exists(options.failures_dir));
+  EXPECT_FALSE(fs::exists(options.scratch_dir));
+
+  EXPECT_THAT([&] { CollectionFiles({(dir_ / "nowhere").string()}); },
+              ThrowsMessage<InputError>(HasSubstr("no such folder")));
+}
+
+TEST_F(DropSweepTest, AFailedCaseKeepsItsFilesAndTheyRerunIt) {
+  // a CPU limit of 0 s fails any case after its first step: the outcome the check must catch
+  DropSweepOptions options;
+  options.only = {"u_shape:2"};
+  options.cpu_limit_s = 0;
+  options.scratch_dir = (dir_ / "scratch").string();
+  options.failures_dir = (dir_ / "failures").string();
+  const std::vector<DropRow> rows = RunDropSweep(options);
+  ASSERT_EQ(rows.size(), 1u);
+  EXPECT_EQ(rows[0].outcome, DropOutcome::kCpuLimit);
+  EXPECT_EQ(rows[0].steps, 1);
+  EXPECT_TRUE(fs::exists(dir_ / "failures" / "u_shape_2.obj"));
+  ASSERT_TRUE(fs::exists(dir_ / "failures" / "u_shape_2.yaml"));
+  EXPECT_NO_THROW(engine::LoadScene((dir_ / "failures" / "u_shape_2.yaml").string()));
+}
+
+TEST_F(DropSweepTest, CsvRoundTripsEveryField) {
+  DropRow row;
+  row.kind = "torus";
+  row.seed = 42;
+  row.step = DropStep::kScaled;
+  row.mesh = "radii 1 0.3 segments 12 x 8";
+  row.size = 0.0123456789012345;
+  row.vertices = 96;
+  row.hull_faces = 50;
+  row.height = 0.001;
+  row.q0 = Eigen::Quaterniond(0.5, -0.5, 0.5, -0.5);
+  row.w0 = Eigen::Vector3d(1.5, -2.25, 3);
+  row.h = 0.00111;
+  row.duration = 0.333;
+  row.outcome = DropOutcome::kSolverFailure;
+  row.steps = 77;
+  row.max_penetration_rel = 1.5e-13;
+  row.energy_gain_rel = 0.25;
+  row.final_speed_rel = 2e-3;
+  row.iterations_max = 120;
+  row.retries = 9;
+  row.substepped = 2;
+  row.cpu_s = 0.5;
+  row.wall_s = 0.75;
+  row.max_step_cpu_s = 0.0125;
+  row.message = "solver failed at t = 0.1 s, on body 'body'";
+  const fs::path csv = dir_ / "drop_sweep.csv";
+  WriteText(csv, DropSweepCsv({row}));
+  const std::vector<DropRow> read = ReadDropSweepCsv(csv.string());
+  ASSERT_EQ(read.size(), 1u);
+  const DropRow& r = read[0];
+  EXPECT_EQ(DropCaseKey(r.Case()), "torus:42:scaled");
+  EXPECT_EQ(r.mesh, row.mesh);
+  EXPECT_EQ(r.size, row.size);  // 17 digits: exact, so the case's pose is in the CSV
+  EXPECT_EQ(r.q0.coeffs(), row.q0.coeffs());
+  EXPECT_EQ(r.w0, row.w0);
+  EXPECT_EQ(r.h, row.h);
+  EXPECT_EQ(r.outcome, DropOutcome::kSolverFailure);
+  EXPECT_EQ(r.steps, 77);
+  EXPECT_EQ(r.retries, 9);
+  EXPECT_EQ(r.max_step_cpu_s, row.max_step_cpu_s);
+  EXPECT_EQ(r.message, "solver failed at t = 0.1 s; on body 'body'");  // CsvField: , → ;
+
+  WriteText(csv, DropSweepCsv({row}) + "torus,1,sideways" + std::string(26, ',') + "\n");
+  EXPECT_THAT([&] { ReadDropSweepCsv(csv.string()); },
+              ThrowsMessage<InputError>(HasSubstr("step 'sideways': expected fixed or scaled")));
+}
+
+// the bar on a small deterministic subset: the first seeds of every generated kind at
+// both step sizes; a failure here is a finding for the engine or the geometry, never a reason
+// to loosen the bar (docs/benchmarks.md, "Drop sweep")
+TEST_F(DropSweepTest, FirstSeedsOfEveryKindPassTheBar) {
+  constexpr int kSeeds = 2;
+  DropSweepOptions options;
+  for (MeshKind kind : AllMeshKinds()) options.kinds.push_back(MeshKindName(kind));
+  options.seeds_per_kind = kSeeds;
+  options.scratch_dir = (dir_ / "scratch").string();
+  options.failures_dir = (dir_ / "failures").string();
+  const std::vector<DropRow> rows = RunDropSweep(options);
+  ASSERT_EQ(rows.size(), 2u * kSeeds * kMeshKindCount);
+  for (const DropRow& row : rows) {
+    SCOPED_TRACE(DropCaseKey(row.Case()));
+    EXPECT_STREQ(DropOutcomeName(row.outcome), "ok") << row.message;
+    EXPECT_LE(row.max_penetration_rel, kDropPenetrationBar);
+    EXPECT_LE(row.energy_gain_rel, kDropEnergyGainBar);
+  }
+}
+
+}  // namespace
+}  // namespace ecpsim::evaluation
