@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <limits>
 #include <numeric>
+#include <tuple>
 #include <utility>
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -94,6 +95,51 @@ void FillRows(int rows, const std::vector<std::pair<int, int>>& entries, std::ve
   for (const auto& [row, value] : entries) values[cursor[row]++] = value;
 }
 
+// CGAL's convex_hull_3 shuffles its input with a process-wide random generator, so the labels of
+// the same hull differ from call to call (and a body's trajectory with the process's history).
+// Relabels vertices in lexicographic order of their coordinates (hull vertices are distinct),
+// starts each triangle at its smallest label (keeping its winding) and sorts the triangles, so
+// the hull of a point set is the same arrays in every run.
+void CanonicalOrder(TriangulatedHull& hull) {
+  const int num_vertices = static_cast<int>(hull.points.size());
+  const int num_triangles = static_cast<int>(hull.triangles.size());
+  std::vector<int> by_position(num_vertices);
+  std::iota(by_position.begin(), by_position.end(), 0);
+  std::sort(by_position.begin(), by_position.end(), [&](int a, int b) {
+    const Eigen::Vector3d& p = hull.points[a];
+    const Eigen::Vector3d& q = hull.points[b];
+    return std::tie(p.x(), p.y(), p.z()) < std::tie(q.x(), q.y(), q.z());
+  });
+  std::vector<int> vertex_label(num_vertices);
+  std::vector<Eigen::Vector3d> points(num_vertices);
+  for (int i = 0; i < num_vertices; ++i) {
+    vertex_label[by_position[i]] = i;
+    points[i] = hull.points[by_position[i]];
+  }
+  // relabelled triangles, rotated to start at their smallest vertex; `across` rotates alike
+  std::vector<std::array<int, 3>> triangles(num_triangles), across(num_triangles);
+  for (int t = 0; t < num_triangles; ++t) {
+    std::array<int, 3> tri;
+    for (int k = 0; k < 3; ++k) tri[k] = vertex_label[hull.triangles[t][k]];
+    const int first = static_cast<int>(std::min_element(tri.begin(), tri.end()) - tri.begin());
+    for (int k = 0; k < 3; ++k) {
+      triangles[t][k] = tri[(first + k) % 3];
+      across[t][k] = hull.across[t][(first + k) % 3];
+    }
+  }
+  std::vector<int> by_vertices(num_triangles);
+  std::iota(by_vertices.begin(), by_vertices.end(), 0);
+  std::sort(by_vertices.begin(), by_vertices.end(),
+            [&](int a, int b) { return triangles[a] < triangles[b]; });
+  std::vector<int> triangle_label(num_triangles);
+  for (int i = 0; i < num_triangles; ++i) triangle_label[by_vertices[i]] = i;
+  hull.points = std::move(points);
+  for (int i = 0; i < num_triangles; ++i) {
+    hull.triangles[i] = triangles[by_vertices[i]];
+    for (int k = 0; k < 3; ++k) hull.across[i][k] = triangle_label[across[by_vertices[i]][k]];
+  }
+}
+
 TriangulatedHull ExactHull(const std::vector<Point3>& points) {
   HullMesh mesh;
   CGAL::convex_hull_3(points.begin(), points.end(), mesh);
@@ -110,6 +156,7 @@ TriangulatedHull ExactHull(const std::vector<Point3>& points) {
       hull.across[f.idx()][k] = static_cast<int>(mesh.face(mesh.opposite(h)).idx());
     }
   }
+  CanonicalOrder(hull);
   const int num_vertices = static_cast<int>(hull.points.size());
   std::vector<std::pair<int, int>> fan_entries;
   std::vector<std::pair<int, int>> ring_entries;

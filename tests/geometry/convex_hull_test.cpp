@@ -4,6 +4,7 @@
 #include <cmath>
 #include <random>
 #include <set>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -277,6 +278,35 @@ TEST(ConvexHullTest, SpherePointsAreAllCorners) {
   EXPECT_EQ(triangles, 2 * points.size() - 4);
   EXPECT_GE(hull.faces.size(), 2 * points.size() - 4 - 10);
   ExpectValidHull(hull, points);
+}
+
+// Issue 14: CGAL's convex_hull_3 shuffles its input with a process-wide random generator, so the
+// same points gave the same hull with other vertex and face labels on every call — and a body's
+// trajectory depended on what the process had computed before. The hull is now canonical.
+TEST(ConvexHullTest, SamePointsGiveTheSameArraysOnEveryCall) {
+  std::mt19937 rng(5);
+  std::normal_distribution<double> normal;
+  std::vector<Eigen::Vector3d> points(700);
+  for (Eigen::Vector3d& p : points) {
+    p = Eigen::Vector3d(normal(rng), normal(rng), 0.3 * normal(rng)).normalized();
+  }
+  const ConvexHull first = ComputeConvexHull(points, "cloud");
+  for (int call = 0; call < 3; ++call) {
+    // other hulls in between advance CGAL's generator
+    ComputeConvexHull(std::vector<Eigen::Vector3d>(points.begin(), points.begin() + 100 + call),
+                      "other");
+    const ConvexHull again = ComputeConvexHull(points, "cloud");
+    EXPECT_EQ(again.vertices, first.vertices) << "call " << call;
+    EXPECT_EQ(again.faces, first.faces) << "call " << call;
+    EXPECT_EQ(again.normals, first.normals) << "call " << call;
+    EXPECT_EQ(again.offsets, first.offsets) << "call " << call;
+  }
+  // and the labels follow the coordinates: vertices in lexicographic order
+  EXPECT_TRUE(std::is_sorted(first.vertices.begin(), first.vertices.end(),
+                             [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+                               return std::tie(a.x(), a.y(), a.z()) <
+                                      std::tie(b.x(), b.y(), b.z());
+                             }));
 }
 
 TEST(ConvexHullTest, DegenerateInputsThrowNamingTheSource) {
