@@ -8,6 +8,7 @@
 #include <Eigen/Cholesky>
 #include <fmt/format.h>
 
+#include "engine/complementarity_solver.h"
 #include "engine/lemke_solver.h"
 #include "engine/mncp_system.h"
 #include "engine/rotation.h"
@@ -37,6 +38,12 @@ constexpr int kSmoothHullSegments = 48;
 // Lemke's solution is exact up to round-off in the scaled tableau (entries O(1)); a larger
 // complementarity residual means a numerically bad pivot sequence and the step is retried at h/2
 constexpr double kLcpResidualTol = 1e-9;  // relative to the velocity and impulse scales
+// the fallback Newton solve of an LCP Lemke could not finish: far more than the handful a
+// contact LCP needs from z = 0, a bound on the work of a hopeless one
+constexpr int kLcpNewtonIterations = 200;
+// dimensionless (the scaled LCP's entries are O(1)): the fallback's compliance, 1e-3 of the
+// residual bar kLcpResidualTol
+constexpr double kLcpNewtonRegularization = 1e-12;
 
 // one contact point: a hull vertex near an obstacle at the start of the step
 struct ContactPoint {
@@ -67,6 +74,40 @@ Vector6d WrenchColumn(const Vector3d& u, const Vector3d& r) {
   Vector6d column;
   column << u, r.cross(u);
   return column;
+}
+
+// w = M z + q, 0 ≤ z ⊥ w ≥ 0 (already scaled to O(1) entries) by SolveMcp from z = 0, on M plus
+// a compliance of kLcpNewtonRegularization on the first `m` (impulse) rows: a resting body's
+// coplanar points make that block singular and the solutions non-isolated, where semismooth
+// Newton stalls; regularized the solution is unique and moves by about the compliance, far below
+// the bar. Solved when the residual of the *original* LCP meets the same bar as Lemke's.
+// `pivots` counts Newton iterations.
+LcpResult SolveLcpNewton(const MatrixXd& M, const VectorXd& q, int m) {
+  MatrixXd regularized = M;
+  regularized.diagonal().head(m).array() += kLcpNewtonRegularization;
+  const McpFunction f = [&](const VectorXd& z, VectorXd* F, MatrixXd* J) {
+    *F = regularized * z + q;
+    if (J != nullptr) *J = regularized;
+  };
+  const VectorXd ones = VectorXd::Ones(q.size());
+  McpOptions options;
+  options.tolerance = kLcpResidualTol;
+  options.max_iterations = kLcpNewtonIterations;
+  options.project_nonnegative = true;
+  LcpResult result;
+  result.z = VectorXd::Zero(q.size());
+  const McpResult mcp = SolveMcp(f, 0, ones, ones, result.z, options);
+  result.w = M * result.z + q;
+  result.pivots = mcp.iterations;
+  result.residual = 0;
+  for (int i = 0; i < q.size(); ++i) {
+    result.residual = std::max({result.residual, -result.z[i], -result.w[i],
+                                std::abs(std::min(result.z[i], result.w[i]))});
+  }
+  result.status = mcp.converged && result.residual <= kLcpResidualTol && result.z.allFinite()
+                      ? LcpStatus::kSolved
+                      : LcpStatus::kRayTermination;
+  return result;
 }
 
 class PointContactStepper {
@@ -172,8 +213,16 @@ class PointContactStepper {
         // in place: on a disc of 49 points M is 490 × 490
         M.array().colwise() *= row_scale.array();
         M.array().rowwise() *= column_scale.transpose().array();
-        const LcpResult lcp = SolveLcpLemke(M, row_scale.cwiseProduct(q));
+        LcpResult lcp = SolveLcpLemke(M, row_scale.cwiseProduct(q));
         report.iterations += lcp.pivots;
+        if (lcp.status != LcpStatus::kSolved) {
+          // Lemke's pivoting can end on a ray of a degenerate LCP (coplanar resting points, in
+          // some orders) although a solution exists; the LCP as a complementarity problem for
+          // the semismooth Newton solver finds it
+          const LcpResult newton = SolveLcpNewton(M, row_scale.cwiseProduct(q), m);
+          report.iterations += newton.pivots;
+          if (newton.status == LcpStatus::kSolved) lcp = newton;
+        }
         if (lcp.status != LcpStatus::kSolved || !(lcp.residual <= kLcpResidualTol)) {
           residual = lcp.status == LcpStatus::kSolved ? lcp.residual : INFINITY;
           tried += fmt::format("{}Lemke at h = {:.3g} s: {} after {} pivots ({} contact points, "

@@ -37,6 +37,11 @@ std::unique_ptr<ExternalSimulation> RunOde(FrictionSetting setting, const engine
   return sim;
 }
 
+// m: QuickStep's 20 Gauss–Seidel sweeps leave a residual in a slide's stop distance that depends
+// on the order of the contacts; 1e-3 m is 0.6 % of the 0.165 m slide, far below the difference
+// between the pyramid and the cone that the tests tell apart (30 %)
+constexpr double kQuickStepResidual = 1e-3;
+
 TEST(OdeSimulation, CoulombBoxRestsOnThePlaneWithoutDrift) {
   const engine::Scene scene = BoxOnGroundScene();
   const auto sim = RunOde(FrictionSetting::kCoulomb, scene, 100);
@@ -52,13 +57,14 @@ TEST(OdeSimulation, SlidingBoxStopsAtTheDiscreteCoulombDistance) {
   const double discrete = DiscreteStopDistance(1, kSlideMu, kG, scene.h);
   const double continuous = 1 / (2 * kSlideMu * kG);
   // sliding along a friction direction of ODE's pyramid: μ λ_n every step, the semi-implicit
-  // Euler stop distance; Dantzig (kCoulomb) to round-off, kDefault's 20 QuickStep sweeps
-  // measured 3.8e-7 m long and 1.8e-4 m sideways (its Gauss–Seidel residual)
+  // Euler stop distance; Dantzig (kCoulomb) to round-off, kDefault's 20 QuickStep sweeps to
+  // their Gauss–Seidel residual, which depends on the order of the box's four contacts (the
+  // hull's vertex order: 3.8e-7 m and 1.4e-4 m long for two orders, 1.8e-4 m sideways)
   const auto coulomb = RunOde(FrictionSetting::kCoulomb, scene, 100);
   EXPECT_NEAR(coulomb->state().bodies[0].p_WB.x(), discrete, 1e-9);
   EXPECT_NEAR(coulomb->state().bodies[0].p_WB.y(), 0, kRestTolerance);
   const auto quick = RunOde(FrictionSetting::kDefault, scene, 100);
-  EXPECT_NEAR(quick->state().bodies[0].p_WB.x(), discrete, 1e-6);
+  EXPECT_NEAR(quick->state().bodies[0].p_WB.x(), discrete, kQuickStepResidual);
   EXPECT_NEAR(quick->state().bodies[0].p_WB.y(), 0, 1e-3);
   // which is v0 h/2 = 5 mm (2.9 %) short of the continuous v0²/(2μg)
   EXPECT_NEAR(coulomb->state().bodies[0].p_WB.x() / continuous - 1, -0.0294, 0.001);
@@ -67,8 +73,8 @@ TEST(OdeSimulation, SlidingBoxStopsAtTheDiscreteCoulombDistance) {
 TEST(OdeSimulation, DiagonalSlideFeelsTheConeWithCoulombAndThePyramidWithDefault) {
   // v0 at 45° to ODE's friction directions: kCoulomb's friction along the slip gives the Coulomb
   // stop distance; kDefault's pyramid resists each axis with μ λ_n, √2 μ λ_n in all, and stops
-  // the box after 1/√2 of it (the discrete sums differ slightly from exactly 1/√2); QuickStep's
-  // residual measured 2.6e-6 m
+  // the box after 1/√2 of it (the discrete sums differ slightly from exactly 1/√2), up to
+  // QuickStep's residual (measured 2.6e-6 m and 1.8e-4 m for two orders of the contacts)
   const Eigen::Vector3d v0 = Eigen::Vector3d(1, 1, 0) / std::sqrt(2.0);
   const engine::Scene scene = BoxOnGroundScene(v0);
   const auto coulomb = RunOde(FrictionSetting::kCoulomb, scene, 100);
@@ -77,7 +83,7 @@ TEST(OdeSimulation, DiagonalSlideFeelsTheConeWithCoulombAndThePyramidWithDefault
   const auto pyramid = RunOde(FrictionSetting::kDefault, scene, 100);
   EXPECT_NEAR(pyramid->state().bodies[0].p_WB.head<2>().norm(),
               std::sqrt(2.0) * DiscreteStopDistance(1 / std::sqrt(2.0), kSlideMu, kG, scene.h),
-              1e-5);
+              kQuickStepResidual);
 }
 
 TEST(OdeSimulation, CoulombBoxPushedBelowSlidingFrictionStays) {

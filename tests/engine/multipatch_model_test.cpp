@@ -274,7 +274,7 @@ TEST(MultiPatchSceneTest, RejectsAPartOutsideTheBody) {
               ::testing::ThrowsMessage<InputError>(
                   HasSubstr("bodies[0].parts[1] = {box: {size: [0.1, 0.1, 0.2]}, at: [0.25, 0.15, "
                             "0], rpy: ...: expected a part inside the body; its corner (0.3, 0.1, "
-                            "0.1) m (mesh frame) lies 0.1 m outside")));
+                            "-0.1) m (mesh frame) lies 0.1 m outside")));
 }
 
 // a 0.3 × 0.2 × 0.5 m block standing on two 0.05 m wide legs at its ends (parts), pushed at the
