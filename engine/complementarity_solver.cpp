@@ -20,19 +20,30 @@ constexpr double kMinStep = 1e-12;
 constexpr double kLinearSolveRelTol = 1e-6;
 // ... or when it is not a descent direction by this margin (cosine with −∇Ψ)
 constexpr double kMinDescentCosine = 1e-8;
+// the Levenberg–Marquardt damping μ = d ‖Φ‖ adapts d within these bounds by this factor
+constexpr double kDampingFactor = 4;
+constexpr double kMinDamping = 1e-6;
+constexpr double kMaxDamping = 1e6;
+// a Newton step the line search cut below this fraction is compared with a Levenberg–Marquardt
+// step (see SolveMcp)
+constexpr double kMinNewtonStep = 0.25;
 
 struct Reformulation {
   Eigen::VectorXd phi;  // Φ(x)
   Eigen::MatrixXd H;    // an element of the generalized Jacobian of Φ
 };
 
-// penalized Fischer–Burmeister φ_λ(a, b) = λ(√(a²+b²) − a − b) − (1−λ) a₊ b₊ and its derivative
-void PenalizedFb(double a, double b, double lambda, double* phi, double* da, double* db) {
+// penalized Fischer–Burmeister φ_λ(a, b) = λ(√(a²+b²) − a − b) − (1−λ) a₊ b₊ and the
+// derivative of its smoothing with √(a²+b²+2μ²) (Jacobian smoothing, Chen–Qi–Sun: the value is
+// the true φ_λ, the derivative is nonsingular where a and b are both near 0)
+void PenalizedFb(double a, double b, double lambda, double mu, double* phi, double* da,
+                 double* db) {
   const double r = std::hypot(a, b);
   *phi = lambda * (r - a - b) - (1 - lambda) * std::max(a, 0.0) * std::max(b, 0.0);
-  if (r > 0) {
-    *da = lambda * (a / r - 1);
-    *db = lambda * (b / r - 1);
+  const double rs = std::sqrt(r * r + 2 * mu * mu);
+  if (rs > 0) {
+    *da = lambda * (a / rs - 1);
+    *db = lambda * (b / rs - 1);
   } else {
     // at the kink any element of the generalized gradient will do; this is the (1,1)/√2 one
     *da = *db = lambda * (M_SQRT1_2 - 1);
@@ -52,12 +63,14 @@ struct ScaledStorage {
 class ScaledProblem {
  public:
   ScaledProblem(const McpFunction& f, int num_free, const Eigen::VectorXd& row_scale,
-                const Eigen::VectorXd& var_scale, double lambda, ScaledStorage& storage)
+                const Eigen::VectorXd& var_scale, double lambda, double smoothing,
+                ScaledStorage& storage)
       : f_(f),
         num_free_(num_free),
         row_scale_(row_scale),
         var_scale_(var_scale),
         lambda_(lambda),
+        smoothing_(smoothing),
         z_(storage.z),
         row_factor_(storage.row_factor),
         diagonal_(storage.diagonal),
@@ -74,6 +87,7 @@ class ScaledProblem {
     // ∂φ/∂F̃ on complementarity rows, diagonal is ∂φ/∂x there, formed in one pass over J
     row_factor_.resize(n);
     diagonal_.setZero(n);
+    double da, db;
     for (int i = 0; i < n; ++i) {
       const double Fs = row_scale_[i] * (*F)[i];
       if (i < num_free_) {
@@ -81,8 +95,14 @@ class ScaledProblem {
         row_factor_[i] = row_scale_[i];
         continue;
       }
-      double da, db;
-      PenalizedFb(x[i], Fs, lambda_, &out->phi[i], &da, &db);
+      PenalizedFb(x[i], Fs, lambda_, 0, &out->phi[i], &da, &db);
+    }
+    // the smoothing parameter shrinks with the residual, so the Newton iteration keeps its fast
+    // local convergence
+    const double mu = smoothing_ * out->phi.norm();
+    for (int i = num_free_; i < n; ++i) {
+      double phi;
+      PenalizedFb(x[i], row_scale_[i] * (*F)[i], lambda_, mu, &phi, &da, &db);
       row_factor_[i] = row_scale_[i] * db;
       diagonal_[i] = da;
     }
@@ -99,6 +119,7 @@ class ScaledProblem {
   const Eigen::VectorXd& row_scale_;
   const Eigen::VectorXd& var_scale_;
   double lambda_;
+  double smoothing_;
   Eigen::VectorXd& z_;
   Eigen::VectorXd& row_factor_;
   Eigen::VectorXd& diagonal_;
@@ -191,8 +212,8 @@ bool AllFinite(const Eigen::VectorXd& v) { return v.allFinite(); }
 // allocates nothing once its sizes have been seen
 struct Workspace {
   ScaledStorage scaled;
-  Eigen::VectorXd x, F, F_trial, gradient, direction, linear_residual, x_trial;
-  Reformulation current, trial;
+  Eigen::VectorXd x, F, F_trial, gradient, direction, linear_residual, x_trial, x_saved, F_saved;
+  Reformulation current, trial, saved;
   SmallLu lu;
   std::vector<double> recent_merits;
 };
@@ -242,7 +263,8 @@ McpResult SolveMcp(const McpFunction& f, int num_free, const Eigen::VectorXd& ro
   const int n = static_cast<int>(z.size());
   WorkspaceLease lease(n);
   Workspace& w = lease.Get();
-  ScaledProblem problem(f, num_free, row_scale, var_scale, options.fb_lambda, w.scaled);
+  ScaledProblem problem(f, num_free, row_scale, var_scale, options.fb_lambda,
+                        options.jacobian_smoothing, w.scaled);
   Eigen::VectorXd& x = w.x;
   Eigen::VectorXd& F = w.F;
   Eigen::VectorXd& F_trial = w.F_trial;
@@ -274,6 +296,10 @@ McpResult SolveMcp(const McpFunction& f, int num_free, const Eigen::VectorXd& ro
   Eigen::VectorXd& direction = w.direction;
   Eigen::VectorXd& linear_residual = w.linear_residual;
   Eigen::VectorXd& x_trial = w.x_trial;
+  Eigen::VectorXd& x_saved = w.x_saved;
+  Eigen::VectorXd& F_saved = w.F_saved;
+  Reformulation& saved = w.saved;
+  double lm_damping = 1;  // of ‖Φ‖, the Levenberg–Marquardt damping (adapted below)
   for (int iteration = 1; iteration <= options.max_iterations; ++iteration) {
     if (result.residual <= options.tolerance) {
       result.converged = true;
@@ -296,33 +322,67 @@ McpResult SolveMcp(const McpFunction& f, int num_free, const Eigen::VectorXd& ro
           linear_residual.norm() <= kLinearSolveRelTol * current.phi.norm() &&
           gradient.dot(direction) <= -kMinDescentCosine * gradient.norm() * direction.norm();
     }
-    if (!newton_ok) {
-      const double mu = std::max(current.phi.squaredNorm(), 1e-20);
+    const auto lm_direction = [&](double mu) {
       Eigen::MatrixXd normal = current.H.transpose() * current.H;
-      normal.diagonal().array() += mu;
+      normal.diagonal().array() += std::max(mu, 1e-20);
       direction = normal.ldlt().solve(-gradient);
       if (!AllFinite(direction) || gradient.dot(direction) >= 0) direction = -gradient;
-    }
+    };
+    if (!newton_ok) lm_direction(current.phi.squaredNorm());
 
     // non-monotone Armijo backtracking on Ψ = ½‖Φ‖²
     const double reference = *std::max_element(recent_merits.begin(), recent_merits.end());
-    const double slope = gradient.dot(direction);
     double step = 1;
     bool accepted = false;
     bool trial_has_jacobian = false;
-    while (step >= kMinStep) {
-      x_trial = x + step * direction;
-      if (project) x_trial.tail(n - num_free) = x_trial.tail(n - num_free).cwiseMax(0.0);
-      // the full step is usually accepted: evaluate it with its Jacobian, ready for the next
-      // iteration
-      trial_has_jacobian = step == 1;
-      problem.Evaluate(x_trial, &F_trial, &trial, trial_has_jacobian);
-      const double trial_merit = 0.5 * trial.phi.squaredNorm();
-      if (AllFinite(trial.phi) && trial_merit <= reference + kArmijo * step * slope) {
-        accepted = true;
-        break;
+    const auto line_search = [&]() {
+      const double slope = gradient.dot(direction);
+      step = 1;
+      accepted = false;
+      while (step >= kMinStep) {
+        x_trial = x + step * direction;
+        if (project) x_trial.tail(n - num_free) = x_trial.tail(n - num_free).cwiseMax(0.0);
+        // the full step is usually accepted: evaluate it with its Jacobian, ready for the next
+        // iteration
+        trial_has_jacobian = step == 1;
+        problem.Evaluate(x_trial, &F_trial, &trial, trial_has_jacobian);
+        const double trial_merit = 0.5 * trial.phi.squaredNorm();
+        if (AllFinite(trial.phi) && trial_merit <= reference + kArmijo * step * slope) {
+          accepted = true;
+          return;
+        }
+        step *= kBacktrack;
       }
-      step *= kBacktrack;
+    };
+    line_search();
+    // a Newton step cut short by the line search: the Newton matrix is nearly singular along
+    // some direction (an ECP free to slide along an edge while it rocks), where the full step
+    // overshoots; the Levenberg–Marquardt step with the larger damping μ = ‖Φ‖ (Fan–Yuan) leaves
+    // that direction alone. The better of the two trial points is kept.
+    if (options.levenberg_marquardt_rescue && newton_ok && (!accepted || step < kMinNewtonStep)) {
+      const bool newton_accepted = accepted;
+      const double newton_merit = 0.5 * trial.phi.squaredNorm();
+      const double newton_step = step;
+      const bool newton_jacobian = trial_has_jacobian;
+      std::swap(x_trial, x_saved);
+      std::swap(F_trial, F_saved);
+      std::swap(trial, saved);
+      lm_direction(lm_damping * current.phi.norm());
+      line_search();
+      const bool lm_better =
+          accepted && (!newton_accepted || 0.5 * trial.phi.squaredNorm() < newton_merit);
+      // the damping adapts as in a trust region: a full Levenberg–Marquardt step that won
+      // allows less damping next time, anything else asks for more
+      lm_damping = lm_better && step == 1 ? std::max(lm_damping / kDampingFactor, kMinDamping)
+                                          : std::min(lm_damping * kDampingFactor, kMaxDamping);
+      if (!lm_better && newton_accepted) {
+        std::swap(x_trial, x_saved);
+        std::swap(F_trial, F_saved);
+        std::swap(trial, saved);
+        accepted = true;
+        step = newton_step;
+        trial_has_jacobian = newton_jacobian;
+      }
     }
     if (!accepted) {
       // a last resort: a short steepest-descent step on the monotone merit

@@ -28,6 +28,15 @@ struct McpOptions {
   // of the line search is projected onto that orthant): no iterate can reach a stationary point
   // of the merit function with a negative multiplier (engine/README.md, "Impacts")
   bool project_nonnegative = false;
+  // the Newton matrix's complementarity rows from the smoothed φ(a, b) with √(a² + b² + 2μ²),
+  // μ = jacobian_smoothing × ‖Φ‖ (Chen–Qi–Sun's Jacobian smoothing): nonsingular where a pair is
+  // degenerate (a contact touching with zero force); 0 is the plain generalized Jacobian
+  double jacobian_smoothing = 0;
+  // a Newton step the line search cuts short is compared with a Levenberg–Marquardt step whose
+  // damping adapts like a trust region (engine/README.md, "Solver"): for problems whose solutions
+  // are isolated but whose Newton matrix can be nearly singular; problems with non-isolated
+  // solutions (the multi-patch model's) converge better on the plain iteration
+  bool levenberg_marquardt_rescue = false;
 };
 
 struct McpResult {

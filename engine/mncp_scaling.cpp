@@ -27,7 +27,6 @@ Scales BodyScales(const Body& body, const BodyState& state,
   s.velocity = std::max(own, applied);
   if (!(s.velocity > 0)) s.velocity = kRestVelocityLengthsPerStep * s.length / h;
   s.impulse = body.mass * s.velocity;
-  s.resolution = std::min(s.length, s.velocity * h);
   return s;
 }
 
@@ -62,6 +61,11 @@ Eigen::VectorXd RowScales(const BodyProblem& problem, const MncpLayout& layout, 
     scale[L.sigma] = 1 / s.impulse;
   }
   return scale;
+}
+
+double EnergyScale(const BodyProblem& problem, const Scales& scales) {
+  return problem.mass * scales.velocity * scales.velocity +
+         problem.p_ext.head<3>().norm() * scales.length / problem.h;
 }
 
 bool IsMoving(const BodyState& state, const Scales& scales) {

@@ -13,10 +13,9 @@
 namespace ecpsim::engine {
 
 struct Scales {
-  double length;      // m: radius of gyration
-  double velocity;    // m/s: of the body, or what the step's applied impulse adds to it
-  double impulse;     // N·s: mass × velocity
-  double resolution;  // m: the position change one step resolves, velocity × h, at most length
+  double length;    // m: radius of gyration
+  double velocity;  // m/s: of the body, or what the step's applied impulse adds to it
+  double impulse;   // N·s: mass × velocity
 };
 
 /// The body's scales for a step of length `h` from `state`, with `p_applied` (N·s; N·m·s, world
@@ -27,16 +26,17 @@ struct Scales {
 Scales BodyScales(const Body& body, const BodyState& state,
                   const Eigen::Matrix<double, 6, 1>& p_applied, double h);
 
+/// J: m V² + |p_ext| L / h for the body's velocity scale V and length L: its kinetic energy and
+/// the applied force's work over its own length.
+double EnergyScale(const BodyProblem& problem, const Scales& scales);
+
 /// Unknowns are divided by these: velocities by V (angular by V/L), points and gaps by L,
 /// impulses by P (torsion by P e_r), σ by V; multipliers are dimensionless.
 Eigen::VectorXd VariableScales(const BodyProblem& problem, const MncpLayout& layout,
                                const Scales& s);
 
 /// Rows are multiplied by these: Newton–Euler by 1/P (1/(P L)), lengths by 1/L, friction rows by
-/// 1/(P V) (1/(P V e_r)), the cone by 1/P; the normal-cone rows are dimensionless. (The
-/// convergence measure asks the rows in metres for the step's resolution V·h instead,
-/// MncpResidual; scaling them so in the Newton iteration too puts their round-off, which does
-/// not shrink with h, far above the other rows and stalls the line search.)
+/// 1/(P V) (1/(P V e_r)), the cone by 1/P; the normal-cone rows are dimensionless.
 Eigen::VectorXd RowScales(const BodyProblem& problem, const MncpLayout& layout, const Scales& s);
 
 /// Whether the body moves at more than a small fraction of its velocity scale (the restart ladder

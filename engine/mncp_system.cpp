@@ -145,6 +145,18 @@ EndPose PoseAfterStep(const BodyProblem& problem, const Vector3d& v, const Vecto
   return {problem.c + problem.h * v, ExpMap(problem.h * w) * problem.R};
 }
 
+double StepEnergyGain(const BodyProblem& problem, const Vector3d& v, const Vector3d& w) {
+  const EndPose end = PoseAfterStep(problem, v, w);
+  const Matrix3d inertia_end = end.R * problem.R.transpose() * problem.inertia_world *
+                               problem.R * end.R.transpose();
+  const double kinetic_start =
+      0.5 * problem.mass * problem.v.squaredNorm() + 0.5 * problem.w.dot(problem.inertia_world * problem.w);
+  const double kinetic_end = 0.5 * problem.mass * v.squaredNorm() + 0.5 * w.dot(inertia_end * w);
+  const double work = problem.p_ext.head<3>().dot(0.5 * (problem.v + v)) +
+                      problem.p_ext.tail<3>().dot(0.5 * (problem.w + w));
+  return kinetic_end - kinetic_start - work;
+}
+
 ContactFrame MakeContactFrame(const Vector3d& N, const Vector3d& tangent_reference) {
   ContactFrame frame;
   frame.n = N / std::max(N.norm(), kMinNormalLength);
@@ -175,22 +187,18 @@ double MncpResidual(const MncpLayout& layout, const Eigen::VectorXd& z, const Ei
   };
   double moment_factor = 1;
   for (const MncpLayout::Contact& L : layout.contacts) {
-    // row_scale of the rows in metres is 1/L: they are measured against the step's resolution
-    // instead (divisor resolution / L), the moment and slip rows against L (divisor 1), either
-    // floored by the round-off length
-    const double floor = round_off_length(L);
-    const double gap = std::max(units.resolution, floor) / units.length;
-    const double factor = std::max(1.0, floor / units.length);
+    // rows in metres (row_scale 1/L), moments and slips: floored by the round-off length
+    const double factor = std::max(1.0, round_off_length(L) / units.length);
     moment_factor = std::max(moment_factor, factor);
     for (int i = 0; i < 3; ++i) {
-      measure(L.a1 + i, gap);
+      measure(L.a1 + i, factor);
       measure(L.a2 + i, 1);
     }
     for (int i : {L.p_t, L.p_o}) measure(i, factor);
     for (int i : {L.s, L.p_r, L.sigma}) measure(i, 1);
-    for (int i = 0; i < L.l_count; ++i) measure(L.l + i, gap);
-    for (int i = 0; i < L.l_g_count; ++i) measure(L.l_g + i, gap);
-    measure(L.p_n, gap);
+    for (int i = 0; i < L.l_count; ++i) measure(L.l + i, factor);
+    for (int i = 0; i < L.l_g_count; ++i) measure(L.l_g + i, factor);
+    measure(L.p_n, factor);
   }
   // Newton–Euler: the moment rows carry r × p with r = a1 − c⁺
   for (int i = 0; i < 3; ++i) {

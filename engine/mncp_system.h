@@ -79,6 +79,13 @@ struct EndPose {
 EndPose PoseAfterStep(const BodyProblem& problem, const Eigen::Vector3d& v,
                       const Eigen::Vector3d& w);
 
+/// J: the body's kinetic energy at the end of the step minus at its start, minus the work of the
+/// applied impulses (gravity and loads, BodyProblem::p_ext) over the mean velocity — what the
+/// contact impulses added. A physical step has it ≤ 0 up to the integrator's O(h²); free flight
+/// has exactly 0 in its linear part and ≤ 0 in its rotational part (implicit gyroscopic term).
+double StepEnergyGain(const BodyProblem& problem, const Eigen::Vector3d& v,
+                      const Eigen::Vector3d& w);
+
 /// The contact frame (n, t, o) from the obstacle's normal-cone combination N = Σ l_G ∇g.
 struct ContactFrame {
   Eigen::Vector3d n, t, o;
@@ -88,30 +95,25 @@ ContactFrame MakeContactFrame(const Eigen::Vector3d& N, const Eigen::Vector3d& t
 /// What the convergence measure measures lengths against (see MncpResidual).
 struct ResidualUnits {
   double length;       // m: the body's length L (radius of gyration)
-  double resolution;   // m: the position change one step resolves, V·h (at most L)
   double tolerance;    // the solver's tolerance on the measure (dimensionless)
   double coordinates;  // m: the largest |coordinate| of the body's centre of mass
 };
 
 /// Rows computed from world coordinates (y = R⁺ᵀ(a1 − c⁺) and the like: a rotation, two
 /// differences, then the Newton solve's own error) are not asked to be more precise than this
-/// many ulps of the largest coordinate involved — the ECPs' and the centre of mass's. A resting
-/// box's gap rows settle at ~100 ulps of its centre's height when h is so small (1e-10 s) that
-/// the step's resolution V·h is below round-off; 1.4e-14 m on a body 1 m from the origin.
+/// many ulps of the largest coordinate involved — the ECPs' and the centre of mass's;
+/// 1.4e-14 m on a body 1 m from the origin.
 inline constexpr double kCoordinateRoundOffUlps = 64;
 
 /// The MNCP's convergence measure: McpResidual of the scaled problem (each row in its body's own
 /// unit, `row_scale` and `var_scale` from mncp_scaling.h), so it is dimensionless and means the
-/// same for a millimetre and a kilometre body. Two refinements:
-/// - the rows in metres (a1 − a2 − sN, the hull and obstacle constraints, the gap s) are measured
-///   against the step's resolution V·h rather than the body's length L: a gap error δ is a
-///   velocity error δ/h, so this asks the gap for the precision the Newton–Euler rows ask of
-///   velocities (tolerance × V); against L, a step of 1e-10 s let a sliding box sink and rise
-///   freely by 1e-13 m, i.e. by 1e-3 m/s;
-/// - rows computed from world coordinates (those, plus the moment r × p and the slip ω × r, with
-///   r = a1 − c⁺) carry round-off of ≈ kCoordinateRoundOffUlps · ε · |x|, so a length below
-///   that divided by the tolerance is not resolved: for a body far from the origin (or at an
-///   absurdly small h) the measure is relative to its coordinates instead.
+/// same for a millimetre and a kilometre body. Rows computed from world coordinates (a1 − a2 −
+/// sN, the hull and obstacle constraints, the gap s, the moment r × p and the slip ω × r, with
+/// r = a1 − c⁺) carry round-off of ≈ kCoordinateRoundOffUlps · ε · |x|, so a length below that
+/// divided by the tolerance is not resolved: for a body far from the origin the measure is
+/// relative to its coordinates instead of its length L. (The gap's tolerance, tolerance × L,
+/// is a velocity error tolerance × L / h: negligible at any step a scene needs — 2e-8 m/s on a
+/// 0.2 m body at h = 1e-5 s — but at h = 1e-10 s a sliding box's contact chatters by it.)
 double MncpResidual(const MncpLayout& layout, const Eigen::VectorXd& z, const Eigen::VectorXd& F,
                     const Eigen::VectorXd& row_scale, const Eigen::VectorXd& var_scale,
                     const ResidualUnits& units);

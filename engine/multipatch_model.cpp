@@ -168,7 +168,7 @@ class MultiPatchStepper {
     const VectorXd var_scale = VariableScales(problem.body, layout, scales);
     options.measure = [&](const VectorXd& zz, const VectorXd& F) {
       return MncpResidual(layout, zz, F, row_scale, var_scale,
-                                {scales.length, scales.resolution, options.tolerance,
+                                {scales.length, options.tolerance,
                                  problem.body.c.cwiseAbs().maxCoeff()});
     };
     // the ladder as it is, then once more with iterates kept in the orthant of the

@@ -22,7 +22,7 @@ StepReport StepEveryBody(const Scene& scene, State& state, const std::string& mo
     std::string tried;
     double residual = 0;
     bool solved = false;
-    for (int substeps : {1, 2, 4}) {
+    for (int substeps : {1, 2, 4, 16}) {
       BodyState body = state.bodies[b];
       std::vector<ContactState> contacts;
       for (int id : contact_ids) contacts.push_back(state.contacts[id]);

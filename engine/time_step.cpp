@@ -30,6 +30,20 @@ constexpr double kWindowCheckRelTol = 1e-9;
 // rad: the largest rotation h|ω⁺| of one step; beyond π the end pose Exp(hω⁺) R is reached by a
 // smaller rotation too, so the step's solution is not unique (an alias)
 constexpr double kMaxStepRotation = M_PI;
+// a converged step may gain at most this fraction of the body's energy scale m V² + |p_ext| L / h
+// (kinetic, and the potential over its own length) beyond the applied loads' work: the implicit
+// step dissipates O(h²) where it is resolved, and the spurious roots the drop sweep found at
+// coarse dimensionless steps (a 3 cm plate whose |ω| jumped from 3.7 to 193 rad/s in one step)
+// gained 1.6e-2 to 0.94 of it
+constexpr double kMaxEnergyGainRel = 1e-3;
+// the solver's Jacobian smoothing per unit of ‖Φ‖ (McpOptions): measured on the drop sweep's
+// failures, 0.1 solved 4 of the 6 steps left without it (0.01 and 1 fewer)
+constexpr double kJacobianSmoothing = 0.1;
+// a hull face whose multiplier exceeds this fraction of the contact's largest one counts as
+// active when looking for a degenerate vertex (SolveAtDegenerateVertex): far above round-off,
+// far below the multipliers of faces that carry the contact (measured down to 1.9e-6 of it on
+// an anchor mesh's five-face vertex)
+constexpr double kDegenerateActiveFraction = 1e-9;
 // growing the window this many times (each by the faces around the constraints the solution
 // violated) before the guess counts as failed: a step never falls back to every hull face, whose
 // dense Newton matrix costs in proportion to the hull (11,000 unknowns for a fine UV sphere); one
@@ -83,6 +97,10 @@ class BodyStepper {
       }
     }
 
+    // a body that starts the step inside an obstacle (allowed at t = 0, or round-off) is pushed
+    // out within the step: the contact may give it the energy of that ejection
+    const double ejection_energy = EjectionEnergy(problem, contacts);
+
     // in contact (or about to be): the warm start, then the guesses that fit the body's motion
     const bool have_warm_start = contacts.empty() || contacts[0].warm_start.size() > 0;
     const bool was_in_contact = std::any_of(contacts.begin(), contacts.end(),
@@ -93,6 +111,8 @@ class BodyStepper {
     McpOptions options;
     options.tolerance = scene_.solver.tolerance;
     options.max_iterations = scene_.solver.max_iterations;
+    options.jacobian_smoothing = kJacobianSmoothing;
+    options.levenberg_marquardt_rescue = true;
 
     // the ladder as it is first; only when every guess fails, again with iterates kept in the
     // orthant of the complementarity unknowns (engine/README.md, "Impacts": the merit function
@@ -101,44 +121,33 @@ class BodyStepper {
     for (const bool project : {false, true}) {
       options.project_nonnegative = project;
       for (Guess guess : ladder) {
+        const auto note = [&](const std::string& what) {
+          tried += fmt::format("{}{}{} (h = {:g} s): {}", tried.empty() ? "" : "; ",
+                               GuessName(guess), project ? " (projected)" : "", h, what);
+          ++report.retries;
+        };
         for (int growth = 0; growth <= kMaxWindowGrowth; ++growth) {
           const MncpLayout layout = MakeLayout(problem);
           VectorXd z = MakeGuess(guess, problem, layout, body, contacts, scales);
-          const McpFunction f = [&](const VectorXd& zz, VectorXd* F, Eigen::MatrixXd* J) {
-            EvaluateMncp(problem, layout, zz, F, J);
-          };
-          const VectorXd row_scale = RowScales(problem, layout, scales);
-          const VectorXd var_scale = VariableScales(problem, layout, scales);
-          options.measure = [&](const VectorXd& zz, const VectorXd& F) {
-            return MncpResidual(layout, zz, F, row_scale, var_scale,
-                                {scales.length, scales.resolution, options.tolerance,
-                                 problem.c.cwiseAbs().maxCoeff()});
-          };
-          const McpResult result =
-              SolveMcp(f, layout.num_free, row_scale, var_scale, z, options);
-          report.iterations += result.iterations;
-          residual = result.residual;
-          // a turn of more than π in one step is an alias: Exp(hω⁺) has the same end pose for a
-          // smaller ω⁺, so such a root of the MNCP is a spurious one (it can gain energy)
-          const bool aliased = result.converged && h * z.segment<3>(3).norm() > kMaxStepRotation;
-          if (!result.converged || !z.allFinite() || aliased) {
-            tried += fmt::format("{}{}{} (h = {:g} s): {} {:.3g} after {} iterations",
-                                 tried.empty() ? "" : "; ", GuessName(guess),
-                                 project ? " (projected)" : "", h,
-                                 aliased ? "aliased rotation, residual" : "residual",
-                                 result.residual, result.iterations);
-            ++report.retries;
+          Attempt attempt = Solve(problem, layout, z, options, scales, ejection_energy, report);
+          residual = attempt.residual;
+          // Newton stalls just above the tolerance where four or more hull faces meet at the
+          // ECP (a quad mesh's vertex): one of them is the one to leave out
+          if (attempt.outcome == Outcome::kUnconverged &&
+              SolveAtDegenerateVertex(problem, layout, z, options, scales, ejection_energy,
+                                      h, body, contacts, report)) {
+            return true;
+          }
+          if (attempt.outcome != Outcome::kSolved) {
+            note(attempt.Describe());
             break;
           }
           // a converged windowed solution must also solve the full-hull problem: else the
           // window grows around the constraints it violates, and the step is solved again
           if (GrowViolatedWindows(problem, layout, z, scales)) {
             if (growth < kMaxWindowGrowth) continue;
-            tried += fmt::format("{}{}{} (h = {:g} s): the hull window still left out violated "
-                                 "faces after {} growths",
-                                 tried.empty() ? "" : "; ", GuessName(guess),
-                                 project ? " (projected)" : "", h, kMaxWindowGrowth);
-            ++report.retries;
+            note(fmt::format("the hull window still left out violated faces after {} growths",
+                             kMaxWindowGrowth));
             break;
           }
           Commit(problem, layout, z, h, body, contacts);
@@ -150,6 +159,117 @@ class BodyStepper {
   }
 
  private:
+  enum class Outcome { kSolved, kUnconverged, kAliased, kGainsEnergy };
+
+  // one solve of the MNCP of `problem` (laid out as `layout`) from `z`, and whether its root is
+  // acceptable
+  struct Attempt {
+    Outcome outcome = Outcome::kUnconverged;
+    double residual = INFINITY;
+    int iterations = 0;
+    std::string Describe() const {
+      const char* what = outcome == Outcome::kAliased       ? "aliased rotation, residual"
+                         : outcome == Outcome::kGainsEnergy ? "energy gain, residual"
+                                                            : "residual";
+      return fmt::format("{} {:.3g} after {} iterations", what, residual, iterations);
+    }
+  };
+
+  Attempt Solve(const BodyProblem& problem, const MncpLayout& layout, VectorXd& z,
+                McpOptions& options, const Scales& scales, double ejection_energy,
+                StepReport& report) const {
+    const McpFunction f = [&](const VectorXd& zz, VectorXd* F, Eigen::MatrixXd* J) {
+      EvaluateMncp(problem, layout, zz, F, J);
+    };
+    const VectorXd row_scale = RowScales(problem, layout, scales);
+    const VectorXd var_scale = VariableScales(problem, layout, scales);
+    options.measure = [&](const VectorXd& zz, const VectorXd& F) {
+      return MncpResidual(layout, zz, F, row_scale, var_scale,
+                          {scales.length, options.tolerance, problem.c.cwiseAbs().maxCoeff()});
+    };
+    const McpResult result = SolveMcp(f, layout.num_free, row_scale, var_scale, z, options);
+    options.measure = nullptr;
+    report.iterations += result.iterations;
+    Attempt attempt;
+    attempt.residual = result.residual;
+    attempt.iterations = result.iterations;
+    if (!result.converged || !z.allFinite()) return attempt;
+    // a turn of more than π in one step is an alias: Exp(hω⁺) has the same end pose for a
+    // smaller ω⁺, so such a root of the MNCP is a spurious one (it can gain energy); so is one
+    // that gains energy the applied loads did not give (engine/README.md, "Roots that gain
+    // energy"): the contact can only take energy away
+    if (problem.h * z.segment<3>(3).norm() > kMaxStepRotation) {
+      attempt.outcome = Outcome::kAliased;
+    } else if (StepEnergyGain(problem, z.segment<3>(0), z.segment<3>(3)) >
+               kMaxEnergyGainRel * EnergyScale(problem, scales) + ejection_energy) {
+      attempt.outcome = Outcome::kGainsEnergy;
+    } else {
+      attempt.outcome = Outcome::kSolved;
+    }
+    return attempt;
+  }
+
+  // Where four or more hull faces meet at the ECP, their multipliers are not unique and their
+  // planes (merged from near-coplanar triangles) meet only up to the merge tolerance: the true
+  // support is one of the tiny vertices where three of them meet, and Newton stalls just above
+  // the tolerance between them. Re-solves from the stalled `z` with each of those faces left
+  // out of the window in turn (the smallest multipliers first); a solution whose window check
+  // passes — the face left out holds, as every face outside the window must — is exact.
+  bool SolveAtDegenerateVertex(const BodyProblem& problem, const MncpLayout& layout,
+                               const VectorXd& z, McpOptions& options, const Scales& scales,
+                               double ejection_energy, double h, BodyState& body,
+                               std::vector<ContactState>& contacts, StepReport& report) const {
+    if (!z.allFinite()) return false;
+    for (size_t k = 0; k < problem.contacts.size(); ++k) {
+      const MncpLayout::Contact& L = layout.contacts[k];
+      const double largest = z.segment(L.l, L.l_count).maxCoeff();
+      std::vector<int> active;  // indices into the window, by increasing multiplier
+      for (int i = 0; i < L.l_count; ++i)
+        if (z[L.l + i] > kDegenerateActiveFraction * largest) active.push_back(i);
+      if (active.size() < 4) continue;
+      std::sort(active.begin(), active.end(), [&](int a, int b) { return z[L.l + a] < z[L.l + b]; });
+      for (size_t drop = 0; drop + 3 < active.size(); ++drop) {
+        BodyProblem reduced = problem;
+        std::vector<int>& window = reduced.contacts[k].window;
+        window.erase(window.begin() + active[drop]);
+        const MncpLayout reduced_layout = MakeLayout(reduced);
+        VectorXd rz = RemapWindows(problem, layout, z, reduced, reduced_layout);
+        const Attempt attempt =
+            Solve(reduced, reduced_layout, rz, options, scales, ejection_energy, report);
+        if (attempt.outcome != Outcome::kSolved) continue;
+        // the face left out (and any other outside the window) must hold: then it is exact
+        BodyProblem checked = reduced;
+        if (GrowViolatedWindows(checked, reduced_layout, rz, scales)) continue;
+        Commit(reduced, reduced_layout, rz, h, body, contacts);
+        return true;
+      }
+    }
+    return false;
+  }
+
+  // `z` of `from` (laid out as `from_layout`) moved to `to`'s layout: the same unknowns, hull
+  // multipliers matched by face index (0 for a face new to a window)
+  static VectorXd RemapWindows(const BodyProblem& from, const MncpLayout& from_layout,
+                               const VectorXd& z, const BodyProblem& to,
+                               const MncpLayout& to_layout) {
+    VectorXd out = VectorXd::Zero(to_layout.size);
+    out.head<6>() = z.head<6>();
+    for (size_t k = 0; k < to.contacts.size(); ++k) {
+      const MncpLayout::Contact& A = from_layout.contacts[k];
+      const MncpLayout::Contact& B = to_layout.contacts[k];
+      out.segment<10>(B.a1) = z.segment<10>(A.a1);
+      out.segment(B.l_g, B.l_g_count) = z.segment(A.l_g, A.l_g_count);
+      out[B.p_n] = z[A.p_n];
+      out[B.sigma] = z[A.sigma];
+      const std::vector<int>& old_window = from.contacts[k].window;
+      for (int i = 0; i < B.l_count; ++i) {
+        const auto it = std::find(old_window.begin(), old_window.end(), to.contacts[k].window[i]);
+        if (it != old_window.end()) out[B.l + i] = z[A.l + (it - old_window.begin())];
+      }
+    }
+    return out;
+  }
+
   BodyProblem MakeProblem(double t, double h, const BodyState& body) const {
     const Body& model = scene_.bodies[body_index_];
     BodyProblem p = StartOfStep(scene_, body_index_, body, t, h);
@@ -174,6 +294,20 @@ class BodyStepper {
       if (!(obstacle.Value(0, z.segment<3>(layout.contacts[k].a1)) > 0)) return false;
     }
     return true;
+  }
+
+  // J: twice the kinetic energy of moving the body out of its deepest start-of-step penetration
+  // of any obstacle within one step, plus the applied impulse's work over that depth
+  static double EjectionEnergy(const BodyProblem& problem, const std::vector<ContactState>& contacts) {
+    double depth = 0;
+    for (size_t k = 0; k < problem.contacts.size(); ++k) {
+      const ContactProblem& cp = problem.contacts[k];
+      const Vector3d lowest = problem.c + problem.R * cp.hull->Support(problem.R.transpose() * -contacts[k].n);
+      const double g = cp.obstacle->Value(LargestConstraint(*cp.obstacle, lowest), lowest);
+      depth = std::max(depth, -g);
+    }
+    const double speed = depth / problem.h;
+    return problem.mass * speed * speed + problem.p_ext.head<3>().norm() * speed;
   }
 
   // fixes each contact's tangent reference: the world axis least aligned with the last normal
