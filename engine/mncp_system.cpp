@@ -124,7 +124,8 @@ BodyProblem StartOfStep(const Scene& scene, int body, const BodyState& state, do
   p.v = state.v_WB;
   p.w = state.w_WB;
   p.p_ext = AppliedImpulse(scene.loads, scene.impulses, body, t, h, p.R);
-  p.p_ext.head<3>() += h * model.mass * scene.gravity;
+  p.p_gravity = h * model.mass * scene.gravity;
+  p.p_ext.head<3>() += p.p_gravity;
   p.free = SolveFreeFlight(p);
   return p;
 }
@@ -152,9 +153,10 @@ double StepEnergyGain(const BodyProblem& problem, const Vector3d& v, const Vecto
   const double kinetic_start =
       0.5 * problem.mass * problem.v.squaredNorm() + 0.5 * problem.w.dot(problem.inertia_world * problem.w);
   const double kinetic_end = 0.5 * problem.mass * v.squaredNorm() + 0.5 * w.dot(inertia_end * w);
-  const double work = problem.p_ext.head<3>().dot(0.5 * (problem.v + v)) +
-                      problem.p_ext.tail<3>().dot(0.5 * (problem.w + w));
-  return kinetic_end - kinetic_start - work;
+  const double potential_change = -problem.p_gravity.dot(v);
+  const double loads_work = (problem.p_ext.head<3>() - problem.p_gravity).dot(0.5 * (problem.v + v)) +
+                            problem.p_ext.tail<3>().dot(0.5 * (problem.w + w));
+  return kinetic_end - kinetic_start + potential_change - loads_work;
 }
 
 ContactFrame MakeContactFrame(const Vector3d& N, const Vector3d& tangent_reference) {

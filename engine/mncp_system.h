@@ -36,6 +36,7 @@ struct BodyProblem {
   Eigen::Vector3d c, v, w;              // CM position, velocity, spatial angular velocity
   Eigen::Matrix3d R;                    // body → world at the start of the step
   Eigen::Matrix<double, 6, 1> p_ext;    // N·s, N·m·s: gravity + applied loads over the step
+  Eigen::Vector3d p_gravity = Eigen::Vector3d::Zero();  // N·s: gravity's part of p_ext, h m g
   // the step's velocities without contact: m (v⁺ − v) = p_ext,f and
   // I_w (ω⁺ − ω) + h ω⁺ × I_w ω⁺ = p_ext,τ (solved once here: every guess starts from it)
   FreeFlight free;
@@ -79,10 +80,11 @@ struct EndPose {
 EndPose PoseAfterStep(const BodyProblem& problem, const Eigen::Vector3d& v,
                       const Eigen::Vector3d& w);
 
-/// J: the body's kinetic energy at the end of the step minus at its start, minus the work of the
-/// applied impulses (gravity and loads, BodyProblem::p_ext) over the mean velocity — what the
-/// contact impulses added. A physical step has it ≤ 0 up to the integrator's O(h²); free flight
-/// has exactly 0 in its linear part and ≤ 0 in its rotational part (implicit gyroscopic term).
+/// J: the body's energy (kinetic and gravitational, −m g·c) at the end of the step minus at its
+/// start, minus the work of the applied loads over the mean velocity — what the contact
+/// impulses added. The potential changes by −h m g·v⁺ (the step moves c by h v⁺). Free flight has
+/// it ≤ 0 (the implicit step dissipates −½ m |g h|² and, by the implicit gyroscopic term,
+/// rotational energy); a contact only takes energy away.
 double StepEnergyGain(const BodyProblem& problem, const Eigen::Vector3d& v,
                       const Eigen::Vector3d& w);
 
