@@ -24,6 +24,9 @@ constexpr double kMinDescentCosine = 1e-8;
 constexpr double kDampingFactor = 4;
 constexpr double kMinDamping = 1e-6;
 constexpr double kMaxDamping = 1e6;
+// a residual that has not fallen by this fraction of its best value for
+// McpOptions::stall_iterations iterations has stalled
+constexpr double kStallProgress = 0.5;
 // a Newton step the line search cut below this fraction is compared with a Levenberg–Marquardt
 // step (see SolveMcp)
 constexpr double kMinNewtonStep = 0.25;
@@ -300,6 +303,8 @@ McpResult SolveMcp(const McpFunction& f, int num_free, const Eigen::VectorXd& ro
   Eigen::VectorXd& F_saved = w.F_saved;
   Reformulation& saved = w.saved;
   double lm_damping = 1;  // of ‖Φ‖, the Levenberg–Marquardt damping (adapted below)
+  double best_residual = result.residual;  // and the iteration that reached it (stall test)
+  int best_iteration = 0;
   for (int iteration = 1; iteration <= options.max_iterations; ++iteration) {
     if (result.residual <= options.tolerance) {
       result.converged = true;
@@ -414,6 +419,14 @@ McpResult SolveMcp(const McpFunction& f, int num_free, const Eigen::VectorXd& ro
     recent_merits.push_back(0.5 * current.phi.squaredNorm());
     if (static_cast<int>(recent_merits.size()) > options.nonmonotone_memory)
       recent_merits.erase(recent_merits.begin());
+    // a stalled solve gives up early: the caller has other guesses and smaller steps to try
+    if (result.residual < best_residual * (1 - kStallProgress)) {
+      best_residual = result.residual;
+      best_iteration = iteration;
+    } else if (options.stall_iterations > 0 &&
+               iteration - best_iteration >= options.stall_iterations) {
+      break;
+    }
   }
   result.converged = result.residual <= options.tolerance;
   return result;

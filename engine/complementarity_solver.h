@@ -37,6 +37,9 @@ struct McpOptions {
   // are isolated but whose Newton matrix can be nearly singular; problems with non-isolated
   // solutions (the multi-patch model's) converge better on the plain iteration
   bool levenberg_marquardt_rescue = false;
+  // stop, unconverged, when the measure has not halved for this many iterations (0: never):
+  // for callers with other guesses to try, a stalled solve's remaining iterations are wasted
+  int stall_iterations = 0;
 };
 
 struct McpResult {

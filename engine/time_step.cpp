@@ -39,6 +39,11 @@ constexpr double kMaxEnergyGainRel = 1e-3;
 // the solver's Jacobian smoothing per unit of ‖Φ‖ (McpOptions): measured on the drop sweep's
 // failures, 0.1 solved 4 of the 6 steps left without it (0.01 and 1 fewer)
 constexpr double kJacobianSmoothing = 0.1;
+// a solve whose residual has not halved in this many iterations gives up for the next guess:
+// Newton halves it every iteration near a solution, and the slowest recoveries seen (the adaptive
+// Levenberg–Marquardt steps out of an impact's near-singular Newton matrix, the stability map's
+// 10 m/s case at h = 2e-4 s) went 30 iterations without halving before they converged
+constexpr int kStallIterations = 45;
 // a hull face whose multiplier exceeds this fraction of the contact's largest one counts as
 // active when looking for a degenerate vertex (SolveAtDegenerateVertex): far above round-off,
 // far below the multipliers of faces that carry the contact (measured down to 1.9e-6 of it on
@@ -113,6 +118,7 @@ class BodyStepper {
     options.max_iterations = scene_.solver.max_iterations;
     options.jacobian_smoothing = kJacobianSmoothing;
     options.levenberg_marquardt_rescue = true;
+    options.stall_iterations = kStallIterations;
 
     // the ladder as it is first; only when every guess fails, again with iterates kept in the
     // orthant of the complementarity unknowns (engine/README.md, "Impacts": the merit function
