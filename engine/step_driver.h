@@ -1,6 +1,6 @@
 #pragma once
 // The per-body loop shared by the MNCP contact models: each body's step at h, then as 2 sub-steps
-// of h/2, then 4 of h/4, committing the state only when every body is solved.
+// of h/2, then 4 of h/4, then 16 of h/16, committing the state only when every body is solved.
 
 #include <functional>
 #include <string>

@@ -49,6 +49,9 @@ constexpr int kStallIterations = 45;
 // far below the multipliers of faces that carry the contact (measured down to 1.9e-6 of it on
 // an anchor mesh's five-face vertex)
 constexpr double kDegenerateActiveFraction = 1e-9;
+// faces left out at most when a degenerate vertex is resolved: enough for six faces at a vertex
+// (a fan of triangles, a quad mesh's pole) to come down to three
+constexpr int kMaxDegenerateDrops = 3;
 // growing the window this many times (each by the faces around the constraints the solution
 // violated) before the guess counts as failed: a step never falls back to every hull face, whose
 // dense Newton matrix costs in proportion to the hull (11,000 unknowns for a fine UV sphere); one
@@ -219,13 +222,16 @@ class BodyStepper {
   // planes (merged from near-coplanar triangles) meet only up to the merge tolerance: the true
   // support is one of the tiny vertices where three of them meet, and Newton stalls just above
   // the tolerance between them. Re-solves from the stalled `z` with each of those faces left
-  // out of the window in turn (the smallest multipliers first); a solution whose window check
-  // passes — the face left out holds, as every face outside the window must — is exact.
+  // out of the window in turn (the smallest multipliers first; where five or more meet, the
+  // reduced problem may stall again at four and leaves out one more, up to `depth` in all); a
+  // solution whose window check passes — the faces left out hold, as every face outside the
+  // window must — is exact.
   bool SolveAtDegenerateVertex(const BodyProblem& problem, const MncpLayout& layout,
                                const VectorXd& z, McpOptions& options, const Scales& scales,
                                double ejection_energy, double h, BodyState& body,
-                               std::vector<ContactState>& contacts, StepReport& report) const {
-    if (!z.allFinite()) return false;
+                               std::vector<ContactState>& contacts, StepReport& report,
+                               int depth = kMaxDegenerateDrops) const {
+    if (depth == 0 || !z.allFinite()) return false;
     for (size_t k = 0; k < problem.contacts.size(); ++k) {
       const MncpLayout::Contact& L = layout.contacts[k];
       const double largest = z.segment(L.l, L.l_count).maxCoeff();
@@ -242,6 +248,11 @@ class BodyStepper {
         VectorXd rz = RemapWindows(problem, layout, z, reduced, reduced_layout);
         const Attempt attempt =
             Solve(reduced, reduced_layout, rz, options, scales, ejection_energy, report);
+        if (attempt.outcome == Outcome::kUnconverged &&
+            SolveAtDegenerateVertex(reduced, reduced_layout, rz, options, scales, ejection_energy,
+                                    h, body, contacts, report, depth - 1)) {
+          return true;
+        }
         if (attempt.outcome != Outcome::kSolved) continue;
         // the face left out (and any other outside the window) must hold: then it is exact
         BodyProblem checked = reduced;

@@ -8,7 +8,7 @@
 namespace ecpsim::engine {
 
 /// Advances `state` by scene.h: solves one MNCP per body (its contacts coupled), with warm start,
-/// the restart ladder and h/2, h/4 sub-steps on failure (engine/README.md).
+/// the restart ladder and h/2, h/4, h/16 sub-steps on failure (engine/README.md).
 /// @throws SolverFailure naming time, body and residual; `state` is then unchanged.
 StepReport Step(const Scene& scene, State& state);
 
