@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <variant>
 #include <vector>
 
 #include <fmt/format.h>
@@ -17,7 +18,7 @@ namespace {
 using nlohmann::json;
 
 // the format's version: a reader refuses any other (a changed State means a new version)
-constexpr int kFormat = 1;
+constexpr int kFormat = 2;  // 2: warm starts typed by model
 
 // exact doubles: C99 hexadecimal floats ("0x1.999999999999ap-4") read back to the same bits,
 // infinities and NaN included
@@ -72,12 +73,49 @@ engine::BodyState ReadBody(const json& node, const std::string& key) {
   return b;
 }
 
+// {"model": "hull", ...} with the model's unknowns, or null for no warm start
+json WarmStartJson(const engine::WarmStart& warm) {
+  if (const auto* hull = std::get_if<engine::HullWarmStart>(&warm)) {
+    return {{"model", "hull"},
+            {"s", Exact(hull->s)},
+            {"l_g", Exact(hull->l_g)},
+            {"window", hull->window},
+            {"l", Exact(hull->l)}};
+  }
+  if (const auto* multipatch = std::get_if<engine::MultiPatchWarmStart>(&warm)) {
+    json parts = json::array();
+    for (const Eigen::VectorXd& part : multipatch->parts) parts.push_back(Exact(part));
+    return {{"model", "multipatch"}, {"parts", parts}};
+  }
+  return nullptr;
+}
+
+engine::WarmStart ReadWarmStart(const json& node, const std::string& key) {
+  if (node.is_null()) return std::monostate();
+  const std::string model = node.at("model").get<std::string>();
+  if (model == "hull") {
+    engine::HullWarmStart hull;
+    hull.s = ReadExact(node.at("s"), key + ".s");
+    hull.l_g = ReadExactVector(node.at("l_g"), key + ".l_g", -1);
+    hull.window = node.at("window").get<std::vector<int>>();
+    hull.l = ReadExactVector(node.at("l"), key + ".l", static_cast<Eigen::Index>(hull.window.size()));
+    return hull;
+  }
+  if (model == "multipatch") {
+    engine::MultiPatchWarmStart multipatch;
+    const json& parts = node.at("parts");
+    for (std::size_t i = 0; i < parts.size(); ++i)
+      multipatch.parts.push_back(ReadExactVector(parts[i], fmt::format("{}.parts[{}]", key, i), -1));
+    return multipatch;
+  }
+  throw InputError(fmt::format("{}.model = \"{}\": expected \"hull\" or \"multipatch\"", key, model));
+}
+
 json ContactJson(const engine::ContactState& c) {
   return {{"a1", Exact(c.a1)},       {"a2", Exact(c.a2)},       {"p_n", Exact(c.p_n)},
           {"p_t", Exact(c.p_t)},     {"p_o", Exact(c.p_o)},     {"p_r", Exact(c.p_r)},
           {"sigma", Exact(c.sigma)}, {"n", Exact(c.n)},         {"t", Exact(c.t)},
-          {"o", Exact(c.o)},         {"warm_start", Exact(c.warm_start)},
-          {"window", c.window}};
+          {"o", Exact(c.o)},         {"warm_start", WarmStartJson(c.warm_start)}};
 }
 
 engine::ContactState ReadContact(const json& node, const std::string& key) {
@@ -92,8 +130,7 @@ engine::ContactState ReadContact(const json& node, const std::string& key) {
   c.n = ReadVector3(node.at("n"), key + ".n");
   c.t = ReadVector3(node.at("t"), key + ".t");
   c.o = ReadVector3(node.at("o"), key + ".o");
-  c.warm_start = ReadExactVector(node.at("warm_start"), key + ".warm_start", -1);
-  c.window = node.at("window").get<std::vector<int>>();
+  c.warm_start = ReadWarmStart(node.at("warm_start"), key + ".warm_start");
   return c;
 }
 

@@ -13,7 +13,7 @@
 #include "app/interrupt.h"
 #include "app/version.h"
 #include "common/errors.h"
-#include "engine/planar_model.h"
+#include "engine/step_report.h"
 #include "engine/step_report.h"
 
 namespace {

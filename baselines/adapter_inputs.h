@@ -29,7 +29,7 @@ struct HalfSpacePlane {
 ///         polyhedral shape with exactly one constraint (the adapters model half-spaces only).
 inline HalfSpacePlane HalfSpaceOf(const engine::Scene& scene, int o, const char* engine) {
   const engine::Obstacle& obstacle = scene.obstacles[static_cast<std::size_t>(o)];
-  const auto* polyhedron = dynamic_cast<const geometry::PolyhedralShape*>(obstacle.shape.get());
+  const auto* polyhedron = obstacle.shape->AsPolyhedron();
   if (polyhedron == nullptr || polyhedron->NumConstraints() != 1) {
     throw InputError(fmt::format(
         "{}: obstacles[{}] '{}': the {} adapter models half-spaces only (one plane n·y ≤ d); "

@@ -95,7 +95,7 @@ void IgnoreWarning(const char*) {}
 
 /// Body-frame vertices of the body's convex hull (of its mesh, or of its primitive's tessellation).
 std::vector<Vector3d> HullVertices(const engine::Body& body, const std::string& where) {
-  if (const auto* poly = dynamic_cast<const geometry::PolyhedralShape*>(body.hull.get());
+  if (const auto* poly = body.hull->AsPolyhedron();
       poly != nullptr && !poly->hull().vertices.empty()) {
     return poly->hull().vertices;
   }

@@ -11,7 +11,7 @@ namespace ecpsim::engine {
 
 std::vector<int> SelectWindow(const geometry::ConvexShape& hull,
                               const Eigen::Vector3d& direction_B, int rings, bool use_window) {
-  const auto* polyhedron = dynamic_cast<const geometry::PolyhedralShape*>(&hull);
+  const auto* polyhedron = hull.AsPolyhedron();
   if (polyhedron == nullptr || !use_window || rings < 0) {
     std::vector<int> all(hull.NumConstraints());
     std::iota(all.begin(), all.end(), 0);
@@ -23,7 +23,7 @@ std::vector<int> SelectWindow(const geometry::ConvexShape& hull,
 std::vector<int> WindowViolations(const geometry::ConvexShape& hull,
                                   const std::vector<int>& window, int active,
                                   const Eigen::Vector3d& y_B, double tolerance) {
-  const auto* polyhedron = dynamic_cast<const geometry::PolyhedralShape*>(&hull);
+  const auto* polyhedron = hull.AsPolyhedron();
   if (polyhedron == nullptr || static_cast<int>(window.size()) == hull.NumConstraints()) return {};
   const geometry::ConvexHull& h = polyhedron->hull();
   std::vector<int> violated;
@@ -41,7 +41,7 @@ std::vector<int> WindowViolations(const geometry::ConvexShape& hull,
 
 std::vector<int> GrowWindow(const geometry::ConvexShape& hull, const std::vector<int>& window,
                             const std::vector<int>& violated) {
-  const auto* polyhedron = dynamic_cast<const geometry::PolyhedralShape*>(&hull);
+  const auto* polyhedron = hull.AsPolyhedron();
   ECPSIM_DEMAND(polyhedron != nullptr);  // only polyhedra have windows smaller than the hull
   const geometry::ConvexHull& h = polyhedron->hull();
   std::vector<int> grown = window;

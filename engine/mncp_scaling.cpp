@@ -98,6 +98,13 @@ std::vector<Guess> RestartLadder(bool have_warm_start, bool was_in_contact, bool
   return ladder;
 }
 
+std::vector<Guess> RestartLadder(bool have_warm_start, const std::vector<ContactState>& contacts,
+                                 const BodyState& state, const Scales& scales) {
+  const bool was_in_contact = std::any_of(contacts.begin(), contacts.end(),
+                                          [](const ContactState& c) { return c.p_n > 0; });
+  return RestartLadder(have_warm_start, was_in_contact, IsMoving(state, scales));
+}
+
 int MostOpposedWindowConstraint(const ContactProblem& cp, const Eigen::Matrix3d& R,
                                 const Eigen::Vector3d& y_B, const Eigen::Vector3d& N) {
   int best = 0;

@@ -51,6 +51,11 @@ const char* GuessName(Guess guess);
 /// guesses that fit its motion (a free-flight warm start is a poor guess for an impact).
 std::vector<Guess> RestartLadder(bool have_warm_start, bool was_in_contact, bool moving);
 
+/// The same for a body in `state` whose contacts ended the last step as `contacts`: in contact
+/// if any carried a normal impulse, moving as IsMoving says.
+std::vector<Guess> RestartLadder(bool have_warm_start, const std::vector<ContactState>& contacts,
+                                 const BodyState& state, const Scales& scales);
+
 /// For a guess: the index into cp.window of the hull constraint whose world normal at y_B (body
 /// frame, end-of-step rotation R) is most opposed to the obstacle's N — it carries the normal cone.
 int MostOpposedWindowConstraint(const ContactProblem& cp, const Eigen::Matrix3d& R,

@@ -5,14 +5,14 @@
 #include <memory>
 #include <numeric>
 #include <string>
+#include <variant>
 
 #include <fmt/format.h>
 
 #include "engine/complementarity_solver.h"
 #include "engine/mncp_scaling.h"
-#include "engine/planar_model.h"
+#include "engine/obstacle_queries.h"
 #include "engine/rotation.h"
-#include "engine/step_driver.h"
 #include "common/errors.h"
 
 namespace ecpsim::engine {
@@ -48,7 +48,7 @@ constexpr double kWeightFloorRel = 1e-12;
 // faces' pairs (f_i = 0, l_i = 0) degenerate at the solution, and since a1_i is free on the face
 // (the multi-patch MNCP has non-isolated solutions) Newton keeps it there and converges slowly
 Vector3d SupportFeatureCentroid(const geometry::ConvexShape& part, const Vector3d& direction) {
-  const auto* polyhedron = dynamic_cast<const geometry::PolyhedralShape*>(&part);
+  const auto* polyhedron = part.AsPolyhedron();
   const Vector3d support = part.Support(direction);
   if (polyhedron == nullptr) return support;
   const Vector3d d = direction.normalized();
@@ -112,7 +112,7 @@ class MultiPatchStepper {
     }
     for (int id : contact_ids_) {
       const geometry::ConvexShape& shape = *scene.obstacles[scene.contacts[id].obstacle].shape;
-      if (shape.NumConstraints() != 1 || !shape.IsLinear(0)) {
+      if (!shape.IsHalfSpace()) {
         throw ModelInvalid(fmt::format(
             "multipatch model: body '{}' touches obstacle '{}', which is not a half-space; the "
             "model combines the parts' ECPs on one plane; use --model hull",
@@ -121,17 +121,18 @@ class MultiPatchStepper {
     }
   }
 
-  // one step of length h; returns false if every guess failed
-  bool Advance(double t, double h, BodyState& body, std::vector<ContactState>& contacts,
-               StepReport& report, double& residual, std::string& tried) const {
+  // one step of length h; not solved if every guess failed
+  AdvanceResult Advance(double t, double h, BodyState& body,
+                        std::vector<ContactState>& contacts) const {
+    AdvanceResult result;
     const Body& model = scene_.bodies[body_index_];
     const BodyProblem start = StartOfStep(scene_, body_index_, body, t, h);
     const Scales scales = BodyScales(model, body, start.p_ext, h);
     const MultiPatchProblem problem = MakeProblem(start, scales);
     const MncpLayout layout = MakeLayout(problem.body);
-    if (!FreeFlightIsFinite(problem.body, tried)) {
-      residual = INFINITY;
-      return false;
+    if (!FreeFlightIsFinite(problem.body, result.tried)) {
+      result.residual = INFINITY;
+      return result;
     }
 
     // free flight: every part ends the step strictly above its plane when no contact acts, so
@@ -145,18 +146,16 @@ class MultiPatchStepper {
       }
       if (apart) {
         Commit(problem, layout, z, h, body, contacts);
-        return true;
+        result.solved = true;
+        return result;
       }
     }
 
     // in contact: the warm start, then the guesses that fit the body's motion
     bool have_warm_start = true;
     for (int g = 0; g < problem.num_groups; ++g)
-      have_warm_start &= contacts[g].warm_start.size() == WarmStartSize(layout, problem, g);
-    const bool was_in_contact = std::any_of(contacts.begin(), contacts.end(),
-                                            [](const ContactState& c) { return c.p_n > 0; });
-    const bool moving = IsMoving(body, scales);
-    const std::vector<Guess> ladder = RestartLadder(have_warm_start, was_in_contact, moving);
+      have_warm_start &= FitsWarmStart(layout, problem, g, contacts[g].warm_start);
+    const std::vector<Guess> ladder = RestartLadder(have_warm_start, contacts, body, scales);
 
     McpOptions options;
     options.tolerance = scene_.solver.tolerance;
@@ -177,21 +176,22 @@ class MultiPatchStepper {
       options.project_nonnegative = project;
       for (Guess guess : ladder) {
         VectorXd z = MakeGuess(guess, problem, layout, body, contacts, scales);
-        const McpResult result = SolveMcp(f, layout.num_free, row_scale, var_scale, z, options);
-        report.iterations += result.iterations;
-        residual = result.residual;
-        if (result.converged && z.allFinite()) {
+        const McpResult solve = SolveMcp(f, layout.num_free, row_scale, var_scale, z, options);
+        result.iterations += solve.iterations;
+        result.residual = solve.residual;
+        if (solve.converged && z.allFinite()) {
           Commit(problem, layout, z, h, body, contacts);
-          return true;
+          result.solved = true;
+          return result;
         }
-        tried += fmt::format("{}{}{} (h = {:g} s): residual {:.3g} after {} iterations",
-                             tried.empty() ? "" : "; ", GuessName(guess),
-                             project ? " (projected)" : "", h, result.residual,
-                             result.iterations);
-        ++report.retries;
+        result.tried += fmt::format("{}{}{} (h = {:g} s): residual {:.3g} after {} iterations",
+                                    result.tried.empty() ? "" : "; ", GuessName(guess),
+                                    project ? " (projected)" : "", h, solve.residual,
+                                    solve.iterations);
+        ++result.retries;
       }
     }
-    return false;
+    return result;
   }
 
  private:
@@ -204,15 +204,12 @@ class MultiPatchStepper {
     for (size_t g = 0; g < contact_ids_.size(); ++g) {
       const ContactPair& pair = scene_.contacts[contact_ids_[g]];
       const geometry::ConvexShape* plane = scene_.obstacles[pair.obstacle].shape.get();
-      // the tangent reference: the world axis least aligned with the plane's normal
-      int axis;
-      plane->Gradient(0, Vector3d::Zero()).cwiseAbs().minCoeff(&axis);
       for (const geometry::ConvexShape* part : parts_) {
         ContactProblem cp;
         cp.hull = part;
         cp.obstacle = plane;
         cp.friction = pair.friction;
-        cp.tangent_reference = Vector3d::Unit(axis);
+        cp.tangent_reference = TangentReference(plane->Gradient(0, Vector3d::Zero()));
         cp.window.resize(part->NumConstraints());
         std::iota(cp.window.begin(), cp.window.end(), 0);
         p.contacts.push_back(cp);
@@ -223,12 +220,19 @@ class MultiPatchStepper {
     return problem;
   }
 
-  // the length of group g's warm start: its blocks' unknowns
-  static int WarmStartSize(const MncpLayout& layout, const MultiPatchProblem& problem, int g) {
-    int size = 0;
-    for (size_t i = 0; i < problem.group.size(); ++i)
-      if (problem.group[i] == g) size += BlockSize(layout.contacts[i]);
-    return size;
+  // whether `warm` holds a block of the right size for every part of group g
+  static bool FitsWarmStart(const MncpLayout& layout, const MultiPatchProblem& problem, int g,
+                            const WarmStart& warm) {
+    const auto* parts = std::get_if<MultiPatchWarmStart>(&warm);
+    if (parts == nullptr) return false;
+    size_t part = 0;
+    for (size_t i = 0; i < problem.group.size(); ++i) {
+      if (problem.group[i] != g) continue;
+      if (part >= parts->parts.size() || parts->parts[part].size() != BlockSize(layout.contacts[i]))
+        return false;
+      ++part;
+    }
+    return part == parts->parts.size();
   }
 
   VectorXd MakeGuess(Guess guess, const MultiPatchProblem& problem, const MncpLayout& layout,
@@ -242,12 +246,11 @@ class MultiPatchStepper {
     if (guess == Guess::kWarm) {
       z.segment<3>(0) = body.v_WB;
       z.segment<3>(3) = body.w_WB;
-      std::vector<int> offset(problem.num_groups, 0);
+      std::vector<int> part(problem.num_groups, 0);
       for (size_t i = 0; i < bp.contacts.size(); ++i) {
-        const MncpLayout::Contact& L = layout.contacts[i];
         const int g = problem.group[i];
-        UnpackBlock(L, contacts[g].warm_start.segment(offset[g], BlockSize(L)), z);
-        offset[g] += BlockSize(L);
+        UnpackBlock(layout.contacts[i],
+                    std::get<MultiPatchWarmStart>(contacts[g].warm_start).parts[part[g]++], z);
       }
       return z;
     }
@@ -331,8 +334,7 @@ class MultiPatchStepper {
       c.a1 = CombinedEcp(problem, layout, z, g);
       c.a2 = CombinedEcp(problem, layout, z, g, true);
       c.p_n = c.p_t = c.p_o = c.p_r = c.sigma = 0;
-      c.window.clear();
-      c.warm_start.resize(0);
+      MultiPatchWarmStart warm;
       double weighted_sigma = 0;
       for (size_t i = 0; i < problem.group.size(); ++i) {
         if (problem.group[i] != g) continue;
@@ -348,11 +350,9 @@ class MultiPatchStepper {
         c.p_o += z[L.p_o];
         c.p_r += EquivalentMoment(frame, z.segment<3>(L.a1) - c.a1, z[L.p_t], z[L.p_o], z[L.p_r]);
         weighted_sigma += p_n * std::max(z[L.sigma], 0.0);
-        const VectorXd block = PackBlock(L, z);
-        VectorXd joined(c.warm_start.size() + block.size());
-        joined << c.warm_start, block;
-        c.warm_start = joined;
+        warm.parts.push_back(PackBlock(L, z));
       }
+      c.warm_start = std::move(warm);
       // without a normal impulse any σ ≥ 0 solves the MNCP (trap 2); report the canonical 0
       c.sigma = c.p_n > 0 ? weighted_sigma / c.p_n : 0.0;
     }
@@ -501,14 +501,9 @@ void EvaluateMultiPatch(const MultiPatchProblem& problem, const MncpLayout& layo
   }
 }
 
-StepReport StepMultiPatch(const Scene& scene, State& state) {
-  return StepEveryBody(scene, state, "multipatch model: ",
-                       [&scene](int body, const std::vector<int>& contact_ids, double t, double h,
-                                BodyState& b, std::vector<ContactState>& contacts,
-                                StepReport& report, double& residual, std::string& tried) {
-                         return MultiPatchStepper(scene, body, contact_ids)
-                             .Advance(t, h, b, contacts, report, residual, tried);
-                       });
+AdvanceResult MultiPatchModel::Advance(const Island& island, double t, double h,
+                                       IslandState& state) const {
+  return AdvanceOneBody<MultiPatchStepper>(scene_, island, t, h, state);
 }
 
 }  // namespace ecpsim::engine

@@ -3,10 +3,12 @@
 // complementarity block per convex part of a body, friction about the parts' combined ECP.
 // The equations are written out in engine/README.md, "The multi-patch model".
 
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
 
+#include "engine/contact_model.h"
 #include "engine/mncp_system.h"
 #include "engine/scene.h"
 #include "engine/state.h"
@@ -43,14 +45,23 @@ Eigen::Vector3d CombinedEcp(const MultiPatchProblem& problem, const MncpLayout& 
 void EvaluateMultiPatch(const MultiPatchProblem& problem, const MncpLayout& layout,
                         const Eigen::VectorXd& z, Eigen::VectorXd* F, Eigen::MatrixXd* J);
 
-/// One step of the multi-patch model for every body (ContactModel::kMultiPatch). A body's parts
-/// are Body::parts, or its hull alone when it has none (then the model is the hull model). Each
-/// scene contact's ContactState reports the combined solution: a1, a2 the p_n-weighted mean ECPs,
-/// p_n, p_t, p_o the sums over the parts, p_r = Σ p_rE,i (the friction moment about a1 along n),
-/// σ the p_n-weighted mean of the σ_i; its warm_start holds the parts' unknowns.
-/// @throws ModelInvalid (engine/planar_model.h) if a contact's obstacle is not a half-space;
-///         SolverFailure naming time, body and residual when the step (also as 2 × h/2 and
-///         4 × h/4) cannot be solved; `state` is then unchanged.
-StepReport StepMultiPatch(const Scene& scene, State& state);
+/// The multi-patch model (ContactModel::kMultiPatch) for islands of one body. A body's parts are
+/// Body::parts, or its hull alone when it has none (then the model is the hull model). Each scene
+/// contact's ContactState reports the combined solution: a1, a2 the p_n-weighted mean ECPs, p_n,
+/// p_t, p_o the sums over the parts, p_r = Σ p_rE,i (the friction moment about a1 along n), σ the
+/// p_n-weighted mean of the σ_i; its warm start (MultiPatchWarmStart) holds the parts' unknowns.
+class MultiPatchModel final : public ContactModelStepper {
+ public:
+  explicit MultiPatchModel(const Scene& scene) : scene_(scene) {}
+  std::string MessagePrefix() const override { return "multipatch model: "; }
+  /// Free flight in closed form, else the warm start and the restart ladder (plain, then with
+  /// projected iterates).
+  /// @throws ModelInvalid if a contact's obstacle is not a half-space.
+  AdvanceResult Advance(const Island& island, double t, double h,
+                        IslandState& state) const override;
+
+ private:
+  const Scene& scene_;
+};
 
 }  // namespace ecpsim::engine

@@ -10,14 +10,10 @@
 namespace ecpsim::engine {
 namespace {
 
-bool IsHalfSpace(const geometry::ConvexShape& shape) {
-  return shape.NumConstraints() == 1 && shape.IsLinear(0);
-}
-
 // the mesh vertices that are (bit for bit) the vertices of a polyhedral hull computed from the
 // mesh; empty when the hull is a primitive or any hull vertex is not a mesh vertex
 std::vector<int> HullVerticesInMesh(const Body& body) {
-  const auto* polyhedron = dynamic_cast<const geometry::PolyhedralShape*>(body.hull.get());
+  const auto* polyhedron = body.hull->AsPolyhedron();
   if (polyhedron == nullptr || polyhedron->hull().vertices.empty()) {
     return {};
   }
@@ -66,7 +62,7 @@ double PenetrationProbe::Depth(const Scene& scene, const State& state, int b, in
     return -largest;
   };
   double deepest = 0;
-  if (IsHalfSpace(shape)) {
+  if (shape.IsHalfSpace()) {
     for (int i : half_space_vertices_[b]) {
       deepest = std::max(deepest, depth(body.mesh.vertices[i]));
     }

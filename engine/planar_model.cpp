@@ -9,6 +9,7 @@
 #include "engine/contact_window.h"
 #include "engine/mncp_scaling.h"
 #include "engine/rotation.h"
+#include "common/errors.h"
 
 namespace ecpsim::engine {
 namespace {
@@ -34,168 +35,158 @@ int MostAlignedFace(const geometry::PolyhedralShape& hull, const Vector3d& direc
 
 }  // namespace
 
-StepReport StepPlanarSliding(const Scene& scene, State& state) {
-  const double h = scene.h;
-  StepReport report;
-  report.converged = true;
-  std::vector<BodyState> next_bodies = state.bodies;
-  std::vector<ContactState> next_contacts = state.contacts;
+AdvanceResult PlanarModel::Advance(const Island& island, double t, double h,
+                                  IslandState& state) const {
+  const Scene& scene = scene_;
+  ECPSIM_DEMAND(island.bodies.size() == 1);
+  const Body& body = scene.bodies[island.bodies[0]];
+  const BodyState b = state.bodies[0];
+  const auto fail = [&](const std::string& why) {
+    return ModelInvalid(fmt::format(
+        "planar model invalid at t = {:.6g} s on body '{}': {}; use --model hull", t, body.name,
+        why));
+  };
+  if (island.contacts.size() != 1) throw fail("it needs exactly one obstacle (the plane) per body");
+  const ContactPair& pair = scene.contacts[island.contacts[0]];
+  const geometry::ConvexShape& plane = *scene.obstacles[pair.obstacle].shape;
 
-  for (int k = 0; k < static_cast<int>(scene.contacts.size()); ++k) {
-    const ContactPair& pair = scene.contacts[k];
-    const Body& body = scene.bodies[pair.body];
-    const BodyState& b = state.bodies[pair.body];
-    const geometry::ConvexShape& plane = *scene.obstacles[pair.obstacle].shape;
-    const auto fail = [&](const std::string& why) {
-      return ModelInvalid(fmt::format(
-          "planar model invalid at t = {:.6g} s on body '{}': {}; use --model hull", state.t,
-          body.name, why));
-    };
+  // the model's assumptions: a horizontal plane, the body flat on one hull face and not moving
+  // vertically or tipping
+  const auto* hull = body.hull->AsPolyhedron();
+  if (!plane.IsHalfSpace() ||
+      plane.Gradient(0, b.p_WB).normalized().z() < std::cos(kFlatTolerance) || hull == nullptr)
+    throw fail("it needs a polyhedral hull on a horizontal plane");
+  const Eigen::Matrix3d R = b.Q_WB.toRotationMatrix();
+  const double support_tolerance =
+      kSupportRelTolerance * std::sqrt(body.inertia.trace() / body.mass);
+  const int face = MostAlignedFace(*hull, R.transpose() * -Vector3d::UnitZ());
+  if ((R * hull->hull().normals[face]).z() > -std::cos(kFlatTolerance))
+    throw fail("the body is not flat on a face");
+  // CM height above the plane, constant in this model
+  const Vector3d lowest = b.p_WB + R * hull->Support(R.transpose() * -Vector3d::UnitZ());
+  const double height = plane.Value(0, b.p_WB) - plane.Value(0, lowest);
+  if (std::abs(plane.Value(0, lowest)) > support_tolerance)
+    throw fail(fmt::format("its lowest point is {:.3g} m off the plane", plane.Value(0, lowest)));
 
-    // the model's assumptions: a horizontal plane, the body flat on one hull face and not moving
-    // vertically or tipping
-    const auto* hull = dynamic_cast<const geometry::PolyhedralShape*>(body.hull.get());
-    const int contacts_of_body = static_cast<int>(std::count_if(
-        scene.contacts.begin(), scene.contacts.end(),
-        [&](const ContactPair& other) { return other.body == pair.body; }));
-    if (contacts_of_body != 1) throw fail("it needs exactly one obstacle (the plane) per body");
-    if (plane.NumConstraints() != 1 || !plane.IsLinear(0) ||
-        plane.Gradient(0, b.p_WB).normalized().z() < std::cos(kFlatTolerance) || hull == nullptr)
-      throw fail("it needs a polyhedral hull on a horizontal plane");
-    const Eigen::Matrix3d R = b.Q_WB.toRotationMatrix();
-    const double support_tolerance =
-        kSupportRelTolerance * std::sqrt(body.inertia.trace() / body.mass);
-    const int face = MostAlignedFace(*hull, R.transpose() * -Vector3d::UnitZ());
-    if ((R * hull->hull().normals[face]).z() > -std::cos(kFlatTolerance))
-      throw fail("the body is not flat on a face");
-    // CM height above the plane, constant in this model
-    const Vector3d lowest = b.p_WB + R * hull->Support(R.transpose() * -Vector3d::UnitZ());
-    const double height = plane.Value(0, b.p_WB) - plane.Value(0, lowest);
-    if (std::abs(plane.Value(0, lowest)) > support_tolerance)
-      throw fail(fmt::format("its lowest point is {:.3g} m off the plane", plane.Value(0, lowest)));
+  // impulses over the step: gravity, applied loads (at the start of the step, as the hull model)
+  const Eigen::Matrix<double, 6, 1> p_app =
+      AppliedImpulse(scene.loads, scene.impulses, pair.body, t, h, R);
+  const double m = body.mass;
+  const double I = (R * body.inertia * R.transpose())(2, 2);
+  const double p_n = -m * scene.gravity.z() * h - p_app[2];
+  if (!(p_n > 0)) throw fail(fmt::format("p_n = {:.3g} N·s ≤ 0 (it would lift off)", p_n));
+  const Friction& fr = pair.friction;
+  const double px = p_app[0], py = p_app[1], ptx = p_app[3], pty = p_app[4], ptz = p_app[5];
 
-    // impulses over the step: gravity, applied loads (at the start of the step, as the hull model)
-    const Eigen::Matrix<double, 6, 1> p_app =
-        AppliedImpulse(scene.loads, scene.impulses, pair.body, state.t, h, R);
-    const double m = body.mass;
-    const double I = (R * body.inertia * R.transpose())(2, 2);
-    const double p_n = -m * scene.gravity.z() * h - p_app[2];
-    if (!(p_n > 0)) throw fail(fmt::format("p_n = {:.3g} N·s ≤ 0 (it would lift off)", p_n));
-    const Friction& fr = pair.friction;
-    const double px = p_app[0], py = p_app[1], ptx = p_app[3], pty = p_app[4], ptz = p_app[5];
-
-    // unknowns z = (p_t, p_o, p_r, σ); rows: the three friction equations and the cone
-    struct Kinematics {
-      double vx, vy, w, rx, ry, vt, vo;
-    };
-    const auto kinematics = [&](const VectorXd& z) {
-      Kinematics k;
-      k.vx = b.v_WB.x() + (z[0] + px) / m;
-      k.vy = b.v_WB.y() + (z[1] + py) / m;
-      // friction at r − q_z e_z adds (p_τx p_t + p_τy p_o)/p_n about z when tipping torques act
-      k.w = b.w_WB.z() + (z[2] + ptz + (ptx * z[0] + pty * z[1]) / p_n) / I;
-      k.rx = (pty - height * z[0]) / p_n;
-      k.ry = -(height * z[1] + ptx) / p_n;
-      k.vt = k.vx - k.w * k.ry;
-      k.vo = k.vy + k.w * k.rx;
-      return k;
-    };
-    const double A = fr.e_t * fr.e_t * fr.mu * p_n, B = fr.e_o * fr.e_o * fr.mu * p_n,
-                 C = fr.e_r * fr.e_r * fr.mu * p_n;
-    const McpFunction f = [&](const VectorXd& z, VectorXd* F, Eigen::MatrixXd* J) {
-      const Kinematics k = kinematics(z);
-      const double sigma = z[3];
-      const double p_hat = std::sqrt(z[0] * z[0] / (fr.e_t * fr.e_t) +
-                                     z[1] * z[1] / (fr.e_o * fr.e_o) +
-                                     z[2] * z[2] / (fr.e_r * fr.e_r));
-      F->resize(4);
-      (*F) << A * k.vt + z[0] * sigma, B * k.vo + z[1] * sigma, C * k.w + z[2] * sigma,
-          fr.mu * p_n - p_hat;
-      if (J == nullptr) return;
-      const double dw_dt = ptx / (p_n * I), dw_do = pty / (p_n * I), dw_dr = 1 / I;
-      const double drx_dt = -height / p_n, dry_do = -height / p_n;
-      J->setZero(4, 4);
-      // v_t = v_x − w r_y, v_o = v_y + w r_x
-      (*J)(0, 0) = A * (1 / m - k.ry * dw_dt) + sigma;
-      (*J)(0, 1) = A * (-k.ry * dw_do - k.w * dry_do);
-      (*J)(0, 2) = A * (-k.ry * dw_dr);
-      (*J)(0, 3) = z[0];
-      (*J)(1, 0) = B * (k.rx * dw_dt + k.w * drx_dt);
-      (*J)(1, 1) = B * (1 / m + k.rx * dw_do) + sigma;
-      (*J)(1, 2) = B * (k.rx * dw_dr);
-      (*J)(1, 3) = z[1];
-      (*J)(2, 0) = C * dw_dt;
-      (*J)(2, 1) = C * dw_do;
-      (*J)(2, 2) = C * dw_dr + sigma;
-      (*J)(2, 3) = z[2];
-      if (p_hat > 0) {
-        (*J)(3, 0) = -z[0] / (fr.e_t * fr.e_t * p_hat);
-        (*J)(3, 1) = -z[1] / (fr.e_o * fr.e_o * p_hat);
-        (*J)(3, 2) = -z[2] / (fr.e_r * fr.e_r * p_hat);
-      }
-    };
-
-    // warm start from the last step, else the sliding guess
-    const ContactState& previous = state.contacts[k];
-    VectorXd z(4);
-    z << previous.p_t, previous.p_o, previous.p_r, previous.sigma;
-    Eigen::Matrix<double, 6, 1> p_ext = p_app;
-    p_ext.head<3>() += h * m * scene.gravity;
-    const double speed = BodyScales(body, b, p_ext, h).velocity;
-    const VectorXd var_scale = (VectorXd(4) << p_n, p_n, p_n * fr.e_r, speed).finished();
-    const VectorXd row_scale =
-        (VectorXd(4) << 1 / (p_n * speed), 1 / (p_n * speed), 1 / (p_n * speed * fr.e_r), 1 / p_n)
-            .finished();
-    McpOptions options;
-    options.tolerance = scene.solver.tolerance;
-    options.max_iterations = scene.solver.max_iterations;
-    McpResult result = SolveMcp(f, 3, row_scale, var_scale, z, options);
-    if (!result.converged) {
-      z << 0, 0, 0, speed;
-      const McpResult retry = SolveMcp(f, 3, row_scale, var_scale, z, options);
-      result.iterations += retry.iterations;
-      result.residual = retry.residual;
-      result.converged = retry.converged;
-      ++report.retries;
+  // unknowns z = (p_t, p_o, p_r, σ); rows: the three friction equations and the cone
+  struct Kinematics {
+    double vx, vy, w, rx, ry, vt, vo;
+  };
+  const auto kinematics = [&](const VectorXd& z) {
+    Kinematics k;
+    k.vx = b.v_WB.x() + (z[0] + px) / m;
+    k.vy = b.v_WB.y() + (z[1] + py) / m;
+    // friction at r − q_z e_z adds (p_τx p_t + p_τy p_o)/p_n about z when tipping torques act
+    k.w = b.w_WB.z() + (z[2] + ptz + (ptx * z[0] + pty * z[1]) / p_n) / I;
+    k.rx = (pty - height * z[0]) / p_n;
+    k.ry = -(height * z[1] + ptx) / p_n;
+    k.vt = k.vx - k.w * k.ry;
+    k.vo = k.vy + k.w * k.rx;
+    return k;
+  };
+  const double A = fr.e_t * fr.e_t * fr.mu * p_n, B = fr.e_o * fr.e_o * fr.mu * p_n,
+               C = fr.e_r * fr.e_r * fr.mu * p_n;
+  const McpFunction f = [&](const VectorXd& z, VectorXd* F, Eigen::MatrixXd* J) {
+    const Kinematics k = kinematics(z);
+    const double sigma = z[3];
+    const double p_hat = std::sqrt(z[0] * z[0] / (fr.e_t * fr.e_t) +
+                                   z[1] * z[1] / (fr.e_o * fr.e_o) +
+                                   z[2] * z[2] / (fr.e_r * fr.e_r));
+    F->resize(4);
+    (*F) << A * k.vt + z[0] * sigma, B * k.vo + z[1] * sigma, C * k.w + z[2] * sigma,
+        fr.mu * p_n - p_hat;
+    if (J == nullptr) return;
+    const double dw_dt = ptx / (p_n * I), dw_do = pty / (p_n * I), dw_dr = 1 / I;
+    const double drx_dt = -height / p_n, dry_do = -height / p_n;
+    J->setZero(4, 4);
+    // v_t = v_x − w r_y, v_o = v_y + w r_x
+    (*J)(0, 0) = A * (1 / m - k.ry * dw_dt) + sigma;
+    (*J)(0, 1) = A * (-k.ry * dw_do - k.w * dry_do);
+    (*J)(0, 2) = A * (-k.ry * dw_dr);
+    (*J)(0, 3) = z[0];
+    (*J)(1, 0) = B * (k.rx * dw_dt + k.w * drx_dt);
+    (*J)(1, 1) = B * (1 / m + k.rx * dw_do) + sigma;
+    (*J)(1, 2) = B * (k.rx * dw_dr);
+    (*J)(1, 3) = z[1];
+    (*J)(2, 0) = C * dw_dt;
+    (*J)(2, 1) = C * dw_do;
+    (*J)(2, 2) = C * dw_dr + sigma;
+    (*J)(2, 3) = z[2];
+    if (p_hat > 0) {
+      (*J)(3, 0) = -z[0] / (fr.e_t * fr.e_t * p_hat);
+      (*J)(3, 1) = -z[1] / (fr.e_o * fr.e_o * p_hat);
+      (*J)(3, 2) = -z[2] / (fr.e_r * fr.e_r * p_hat);
     }
-    report.iterations += result.iterations;
-    report.residual = std::max(report.residual, result.residual);
-    if (!result.converged) {
-      throw SolverFailure(fmt::format(
-          "planar model: solver failed at t = {:.6g} s on body '{}': residual {:.3g}", state.t,
-          body.name, result.residual));
-    }
+  };
 
-    // the step: horizontal motion and yaw only
-    const Kinematics kin = kinematics(z);
-    BodyState& next = next_bodies[pair.body];
-    next.v_WB = Vector3d(kin.vx, kin.vy, 0);
-    next.w_WB = Vector3d(0, 0, kin.w);
-    next.p_WB = b.p_WB + h * next.v_WB;
-    next.Q_WB = IntegrateOrientation(b.Q_WB, next.w_WB, h);
-
-    // the ECP must stay on the support face: otherwise the body tips and the model is invalid
-    ContactState& c = next_contacts[k];
-    c.a1 = Vector3d(next.p_WB.x() + kin.rx, next.p_WB.y() + kin.ry, next.p_WB.z() - height);
-    c.a2 = c.a1;
-    const Vector3d y = next.Q_WB.toRotationMatrix().transpose() * (c.a1 - next.p_WB);
-    if (!WindowViolations(*hull, {face}, face, y, support_tolerance).empty())
-      throw fail(fmt::format("the ECP ({:.4g}, {:.4g}) m left the support face (it would tip)",
-                             c.a1.x(), c.a1.y()));
-    c.p_n = p_n;
-    c.p_t = z[0];
-    c.p_o = z[1];
-    c.p_r = z[2];
-    c.sigma = std::max(z[3], 0.0);
-    c.n = Vector3d::UnitZ();
-    c.t = Vector3d::UnitX();
-    c.o = Vector3d::UnitY();
+  // warm start from the last step, else the sliding guess
+  const ContactState& previous = state.contacts[0];
+  VectorXd z(4);
+  z << previous.p_t, previous.p_o, previous.p_r, previous.sigma;
+  Eigen::Matrix<double, 6, 1> p_ext = p_app;
+  p_ext.head<3>() += h * m * scene.gravity;
+  const double speed = BodyScales(body, b, p_ext, h).velocity;
+  const VectorXd var_scale = (VectorXd(4) << p_n, p_n, p_n * fr.e_r, speed).finished();
+  const VectorXd row_scale =
+      (VectorXd(4) << 1 / (p_n * speed), 1 / (p_n * speed), 1 / (p_n * speed * fr.e_r), 1 / p_n)
+          .finished();
+  McpOptions options;
+  options.tolerance = scene.solver.tolerance;
+  options.max_iterations = scene.solver.max_iterations;
+  AdvanceResult result;
+  McpResult solve = SolveMcp(f, 3, row_scale, var_scale, z, options);
+  if (!solve.converged) {
+    result.tried = fmt::format("warm start (h = {:g} s): residual {:.3g} after {} iterations", h,
+                               solve.residual, solve.iterations);
+    ++result.retries;
+    result.iterations += solve.iterations;
+    z << 0, 0, 0, speed;
+    solve = SolveMcp(f, 3, row_scale, var_scale, z, options);
+  }
+  result.iterations += solve.iterations;
+  result.residual = solve.residual;
+  if (!solve.converged) {
+    result.tried += fmt::format("; sliding guess (h = {:g} s): residual {:.3g} after {} iterations",
+                                h, solve.residual, solve.iterations);
+    return result;
   }
 
-  state.bodies = std::move(next_bodies);
-  state.contacts = std::move(next_contacts);
-  AdvanceTime(h, state);
-  return report;
+  // the step: horizontal motion and yaw only
+  const Kinematics kin = kinematics(z);
+  BodyState& next = state.bodies[0];
+  next.v_WB = Vector3d(kin.vx, kin.vy, 0);
+  next.w_WB = Vector3d(0, 0, kin.w);
+  next.p_WB = b.p_WB + h * next.v_WB;
+  next.Q_WB = IntegrateOrientation(b.Q_WB, next.w_WB, h);
+
+  // the ECP must stay on the support face: otherwise the body tips and the model is invalid
+  ContactState& c = state.contacts[0];
+  c.a1 = Vector3d(next.p_WB.x() + kin.rx, next.p_WB.y() + kin.ry, next.p_WB.z() - height);
+  c.a2 = c.a1;
+  const Vector3d y = next.Q_WB.toRotationMatrix().transpose() * (c.a1 - next.p_WB);
+  if (!WindowViolations(*hull, {face}, face, y, support_tolerance).empty())
+    throw fail(fmt::format("the ECP ({:.4g}, {:.4g}) m left the support face (it would tip)",
+                           c.a1.x(), c.a1.y()));
+  c.p_n = p_n;
+  c.p_t = z[0];
+  c.p_o = z[1];
+  c.p_r = z[2];
+  c.sigma = std::max(z[3], 0.0);
+  c.n = Vector3d::UnitZ();
+  c.t = Vector3d::UnitX();
+  c.o = Vector3d::UnitY();
+  result.solved = true;
+  return result;
 }
 
 }  // namespace ecpsim::engine

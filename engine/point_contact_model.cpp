@@ -12,7 +12,8 @@
 #include "engine/lemke_solver.h"
 #include "engine/mncp_system.h"
 #include "engine/rotation.h"
-#include "engine/step_driver.h"
+#include "engine/obstacle_queries.h"
+#include "common/errors.h"
 
 namespace ecpsim::engine {
 namespace {
@@ -56,15 +57,8 @@ struct ContactPoint {
   Vector3d directions[kPointContactFrictionDirections];  // unit tangents at equal angles
 };
 
-// the world axis least aligned with n projected on the tangent plane (as the hull model)
-Vector3d TangentReference(const Vector3d& n) {
-  int axis;
-  n.cwiseAbs().minCoeff(&axis);
-  return Vector3d::Unit(axis);
-}
-
 std::vector<Vector3d> HullVertices(const geometry::ConvexShape& hull) {
-  if (const auto* polyhedron = dynamic_cast<const geometry::PolyhedralShape*>(&hull))
+  if (const auto* polyhedron = hull.AsPolyhedron())
     return polyhedron->hull().vertices;
   return hull.Tessellate(kSmoothHullSegments).vertices;
 }
@@ -115,8 +109,9 @@ class PointContactStepper {
   PointContactStepper(const Scene& scene, int body_index, const std::vector<int>& contact_ids)
       : scene_(scene), body_index_(body_index), contact_ids_(contact_ids) {}
 
-  bool Advance(double t, double h, BodyState& body, std::vector<ContactState>& contacts,
-               StepReport& report, double& residual, std::string& tried) const {
+  AdvanceResult Advance(double t, double h, BodyState& body,
+                        std::vector<ContactState>& contacts) const {
+    AdvanceResult result;
     const Body& model = scene_.bodies[body_index_];
     const BodyProblem problem = StartOfStep(scene_, body_index_, body, t, h);
     const FreeFlight& free = problem.free;
@@ -214,22 +209,22 @@ class PointContactStepper {
         M.array().colwise() *= row_scale.array();
         M.array().rowwise() *= column_scale.transpose().array();
         LcpResult lcp = SolveLcpLemke(M, row_scale.cwiseProduct(q));
-        report.iterations += lcp.pivots;
+        result.iterations += lcp.pivots;
         if (lcp.status != LcpStatus::kSolved) {
           // Lemke's pivoting can end on a ray of a degenerate LCP (coplanar resting points, in
           // some orders) although a solution exists; the LCP as a complementarity problem for
           // the semismooth Newton solver finds it
           const LcpResult newton = SolveLcpNewton(M, row_scale.cwiseProduct(q), m);
-          report.iterations += newton.pivots;
+          result.iterations += newton.pivots;
           if (newton.status == LcpStatus::kSolved) lcp = newton;
         }
         if (lcp.status != LcpStatus::kSolved || !(lcp.residual <= kLcpResidualTol)) {
-          residual = lcp.status == LcpStatus::kSolved ? lcp.residual : INFINITY;
-          tried += fmt::format("{}Lemke at h = {:.3g} s: {} after {} pivots ({} contact points, "
-                               "LCP size {}, scaled residual {:.3g})",
-                               tried.empty() ? "" : "; ", h, LcpStatusName(lcp.status),
-                               lcp.pivots, k, size, lcp.residual);
-          return false;
+          result.residual = lcp.status == LcpStatus::kSolved ? lcp.residual : INFINITY;
+          result.tried = fmt::format("Lemke at h = {:.3g} s: {} after {} pivots ({} contact "
+                                     "points, LCP size {}, scaled residual {:.3g})",
+                                     h, LcpStatusName(lcp.status), lcp.pivots, k, size,
+                                     lcp.residual);
+          return result;
         }
         lcp_residual = lcp.residual;
         const VectorXd z = column_scale.cwiseProduct(lcp.z);
@@ -241,10 +236,10 @@ class PointContactStepper {
       }
     }
     if (!v.allFinite() || !w.allFinite()) {
-      residual = INFINITY;
-      tried += fmt::format("{}Lemke at h = {:.3g} s: non-finite velocities ({} contact points)",
-                           tried.empty() ? "" : "; ", h, k);
-      return false;
+      result.residual = INFINITY;
+      result.tried = fmt::format("Lemke at h = {:.3g} s: non-finite velocities ({} contact points)",
+                                 h, k);
+      return result;
     }
 
     // the pose advances with v⁺ as in the hull model
@@ -253,7 +248,7 @@ class PointContactStepper {
     body.Q_WB = IntegrateOrientation(body.Q_WB, w, h);
     body.v_WB = v;
     body.w_WB = w;
-    residual = lcp_residual;
+    result.residual = lcp_residual;
 
     // per obstacle: summed impulses at their centre of pressure (points moved with the body)
     for (size_t c = 0; c < contact_ids_.size(); ++c) {
@@ -288,9 +283,7 @@ class PointContactStepper {
         for (int j = 0; j < d; ++j) f_i += impulses[k + d * i + j] * points[i].directions[j];
         p_r += frame.n.dot((end.c + end.R * points[i].y_B - state.a1).cross(f_i));
       }
-      const int j = LargestConstraint(obstacle, state.a1);
-      const Vector3d gradient = obstacle.Gradient(j, state.a1);
-      state.a2 = state.a1 - obstacle.Value(j, state.a1) * gradient / gradient.squaredNorm();
+      state.a2 = ProjectOntoObstacle(obstacle, state.a1).first;
       state.p_n = p_n;
       state.p_t = frame.t.dot(friction);
       state.p_o = frame.o.dot(friction);
@@ -298,11 +291,11 @@ class PointContactStepper {
       state.n = frame.n;
       state.t = frame.t;
       state.o = frame.o;
-      // the hull model's warm start does not apply to this model
-      state.warm_start.resize(0);
-      state.window.clear();
+      // the model needs no warm start (Lemke starts from its own basis)
+      state.warm_start = std::monostate();
     }
-    return true;
+    result.solved = true;
+    return result;
   }
 
  private:
@@ -313,14 +306,9 @@ class PointContactStepper {
 
 }  // namespace
 
-StepReport StepPointContact(const Scene& scene, State& state) {
-  return StepEveryBody(scene, state, "point model: ",
-                       [&scene](int body, const std::vector<int>& contact_ids, double t, double h,
-                                BodyState& b, std::vector<ContactState>& contacts,
-                                StepReport& report, double& residual, std::string& tried) {
-                         return PointContactStepper(scene, body, contact_ids)
-                             .Advance(t, h, b, contacts, report, residual, tried);
-                       });
+AdvanceResult PointContactModel::Advance(const Island& island, double t, double h,
+                                         IslandState& state) const {
+  return AdvanceOneBody<PointContactStepper>(scene_, island, t, h, state);
 }
 
 }  // namespace ecpsim::engine

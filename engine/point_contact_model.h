@@ -3,9 +3,10 @@
 // polyhedral (linearized) friction cone and one linear complementarity problem per step
 // (Stewart & Trinkle 1996, Anitescu & Potra 1997), geometrically explicit.
 
+#include <string>
+
+#include "engine/contact_model.h"
 #include "engine/scene.h"
-#include "engine/state.h"
-#include "engine/step_report.h"
 
 namespace ecpsim::engine {
 
@@ -14,7 +15,7 @@ namespace ecpsim::engine {
 /// by up to 1 − cos(π/d) (7.6 % for d = 8) depending on the sliding direction.
 constexpr int kPointContactFrictionDirections = 8;
 
-/// One step of the point-contact model for every body (ContactModel::kPointLcp):
+/// The point-contact model (ContactModel::kPointLcp), for islands of one body:
 /// - at the start of the step, every hull vertex whose gap ψ to an obstacle (the obstacle's
 ///   largest constraint value, m) is below an activation distance becomes a contact point with
 ///   the obstacle's normal at that vertex (explicit geometry: positions of the start of the step);
@@ -25,10 +26,18 @@ constexpr int kPointContactFrictionDirections = 8;
 ///   v⁺ is eliminated and the LCP solved by Lemke's method;
 /// - the pose is advanced with v⁺ as in the hull model (p += h v⁺, Q ← Exp(h ω⁺) Q).
 /// Friction ellipsoids reduce to Coulomb's μ (torsion comes from the spread of the points).
-/// StepReport::iterations counts Lemke pivots. The contact states (ContactState) hold the
-/// summed normal/friction impulses and their centre of pressure as a1.
-/// @throws SolverFailure naming time, body and what failed (ray termination, pivot limit, a
-///         non-finite result); `state` is unchanged then.
-StepReport StepPointContact(const Scene& scene, State& state);
+/// AdvanceResult::iterations counts Lemke pivots; not solved (with what failed: ray termination,
+/// pivot limit, a non-finite result) when the LCP has no acceptable solution. The contact states
+/// (ContactState) hold the summed normal/friction impulses and their centre of pressure as a1.
+class PointContactModel final : public ContactModelStepper {
+ public:
+  explicit PointContactModel(const Scene& scene) : scene_(scene) {}
+  std::string MessagePrefix() const override { return "point model: "; }
+  AdvanceResult Advance(const Island& island, double t, double h,
+                        IslandState& state) const override;
+
+ private:
+  const Scene& scene_;
+};
 
 }  // namespace ecpsim::engine

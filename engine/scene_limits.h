@@ -33,7 +33,7 @@ inline constexpr long kMaxSteps = 1L << 52;
 
 /// A body's vertices in world coordinates carry a round-off of ε·|p|; within 1e6 body sizes of
 /// the origin that is ≤ 2.2e-10 of its size, below the engine's geometric tolerances (1e-9 of
-/// the size, time_step.cpp, multipatch_model.cpp).
+/// the size, hull_model.cpp, multipatch_model.cpp).
 inline constexpr double kMaxDistanceInSizes = 1e6;
 
 /// × the body's size (bounding-box diagonal): an initial pose whose mesh reaches deeper into an

@@ -117,7 +117,7 @@ void CheckFriction(const std::vector<std::string>& mappings, const Friction& fri
 // a bounded fixture (a box) within kMaxDistanceInSizes of its size from the origin: farther, its
 // vertices round to fewer digits than its size has, and it can even collapse to a point
 void CheckFixturePosition(const Obstacle& obstacle, const std::string& at) {
-  const auto* polyhedron = dynamic_cast<const geometry::PolyhedralShape*>(obstacle.shape.get());
+  const auto* polyhedron = obstacle.shape->AsPolyhedron();
   if (polyhedron == nullptr || polyhedron->hull().vertices.empty()) return;
   geometry::TriangleMesh corners;
   corners.vertices = polyhedron->hull().vertices;

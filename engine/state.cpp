@@ -2,25 +2,9 @@
 
 #include <algorithm>
 
+#include "engine/obstacle_queries.h"
+
 namespace ecpsim::engine {
-
-int LargestConstraint(const geometry::ConvexShape& obstacle, const Eigen::Vector3d& point) {
-  int best = 0;
-  double best_value = obstacle.Value(0, point);
-  for (int j = 1; j < obstacle.NumConstraints(); ++j) {
-    const double value = obstacle.Value(j, point);
-    if (value > best_value) {
-      best_value = value;
-      best = j;
-    }
-  }
-  return best;
-}
-
-Eigen::Vector3d ObstacleNormalToward(const geometry::ConvexShape& obstacle,
-                                     const Eigen::Vector3d& point) {
-  return obstacle.Gradient(LargestConstraint(obstacle, point), point).normalized();
-}
 
 bool IsFinite(const BodyState& body) {
   return body.p_WB.allFinite() && body.Q_WB.coeffs().allFinite() && body.v_WB.allFinite() &&

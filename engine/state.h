@@ -2,6 +2,7 @@
 // The per-step data of a simulation (MuJoCo's mjData): poses, velocities, contact solutions.
 
 #include <cstdint>
+#include <variant>
 #include <vector>
 
 #include <Eigen/Core>
@@ -18,6 +19,25 @@ struct BodyState {
   Eigen::Vector3d w_WB = Eigen::Vector3d::Zero();             // rad/s, world frame
 };
 
+/// The hull model's unknowns of one contact that ContactState's own fields do not hold: the gap s,
+/// the obstacle's multipliers l_G and the hull multipliers l of its window (sorted face indices).
+struct HullWarmStart {
+  double s = 0;
+  Eigen::VectorXd l_g;
+  std::vector<int> window;
+  Eigen::VectorXd l;
+};
+
+/// The multi-patch model's unknowns of one contact: per convex part of the body its block
+/// [a1, a2, s, p_t, p_o, p_r, l…, l_G…, p_n, σ] (engine/multipatch_model.cpp).
+struct MultiPatchWarmStart {
+  std::vector<Eigen::VectorXd> parts;
+};
+
+/// A contact's warm start for the next step, typed by the model that wrote it (none: the planar
+/// and point models start from the contact's fields, a model switch starts afresh).
+using WarmStart = std::variant<std::monostate, HullWarmStart, MultiPatchWarmStart>;
+
 /// The solution of one contact's part of the MNCP at the end of the last step.
 struct ContactState {
   Eigen::Vector3d a1 = Eigen::Vector3d::Zero();  // m, ECP on the body's hull (world)
@@ -27,9 +47,7 @@ struct ContactState {
   Eigen::Vector3d n = Eigen::Vector3d::UnitZ();  // contact frame: normal out of G ...
   Eigen::Vector3d t = Eigen::Vector3d::UnitX();  // ... and tangents
   Eigen::Vector3d o = Eigen::Vector3d::UnitY();
-  // warm start for the next step: the full unknown vector and its window of hull constraints
-  Eigen::VectorXd warm_start;
-  std::vector<int> window;
+  WarmStart warm_start;
 };
 
 struct State {
@@ -48,13 +66,5 @@ void AdvanceTime(double h, State& state);
 
 /// The state at t = 0 from the bodies' initial conditions; contacts start without a warm start.
 State InitialState(const Scene& scene);
-
-/// Index of the obstacle constraint with the largest value at `point` (world): the face of G a
-/// body at `point` is in front of (for a half-space, 0).
-int LargestConstraint(const geometry::ConvexShape& obstacle, const Eigen::Vector3d& point);
-
-/// Unit outward normal of that constraint at `point`: the side of G a body at `point` faces.
-Eigen::Vector3d ObstacleNormalToward(const geometry::ConvexShape& obstacle,
-                                     const Eigen::Vector3d& point);
 
 }  // namespace ecpsim::engine

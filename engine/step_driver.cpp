@@ -2,60 +2,94 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 #include <fmt/format.h>
 
 namespace ecpsim::engine {
-StepReport StepEveryBody(const Scene& scene, State& state, const std::string& model_prefix,
-                         const AdvanceBody& advance) {
+namespace {
+
+// the sub-step ladder: the step at h, then in 2, 4 and 16 equal parts (engine/README.md: hard
+// impacts and bodies far smaller than g h² need the last rung)
+constexpr int kSubsteps[] = {1, 2, 4, 16};
+
+IslandState Gather(const Island& island, const State& state) {
+  IslandState local;
+  for (int b : island.bodies) local.bodies.push_back(state.bodies[b]);
+  for (int k : island.contacts) local.contacts.push_back(state.contacts[k]);
+  return local;
+}
+
+std::string BodyNames(const Scene& scene, const Island& island) {
+  std::string names;
+  for (int b : island.bodies)
+    names += fmt::format("{}'{}'", names.empty() ? "" : ", ", scene.bodies[b].name);
+  return names;
+}
+
+}  // namespace
+
+std::vector<Island> FormIslands(const Scene& scene) {
+  std::vector<Island> islands(scene.bodies.size());
+  for (size_t b = 0; b < scene.bodies.size(); ++b) islands[b].bodies = {static_cast<int>(b)};
+  for (size_t k = 0; k < scene.contacts.size(); ++k)
+    islands[scene.contacts[k].body].contacts.push_back(static_cast<int>(k));
+  return islands;
+}
+
+StepReport StepIslands(const Scene& scene, State& state, const ContactModelStepper& model) {
   StepReport report;
   report.converged = true;
-  std::vector<BodyState> next_bodies = state.bodies;
-  std::vector<ContactState> next_contacts = state.contacts;
+  State next = state;
 
-  for (int b = 0; b < static_cast<int>(scene.bodies.size()); ++b) {
-    std::vector<int> contact_ids;
-    for (int k = 0; k < static_cast<int>(scene.contacts.size()); ++k)
-      if (scene.contacts[k].body == b) contact_ids.push_back(k);
-
-    // the ladder at h, then 2 sub-steps of h/2, 4 of h/4, 16 of h/16 (engine/README.md)
+  for (const Island& island : FormIslands(scene)) {
     std::string tried;
     double residual = 0;
     bool solved = false;
-    for (int substeps : {1, 2, 4, 16}) {
-      BodyState body = state.bodies[b];
-      std::vector<ContactState> contacts;
-      for (int id : contact_ids) contacts.push_back(state.contacts[id]);
+    for (int substeps : kSubsteps) {
+      IslandState local = Gather(island, state);
       const double h = scene.h / substeps;
+      double island_residual = 0;
       bool ok = true;
       for (int i = 0; i < substeps && ok; ++i) {
-        ok = advance(b, contact_ids, state.t + i * h, h, body, contacts, report, residual, tried);
+        AdvanceResult result = model.Advance(island, state.t + i * h, h, local);
+        report.iterations += result.iterations;
+        report.retries += result.retries;
+        residual = result.residual;
+        island_residual = std::max(island_residual, result.residual);
+        if (!result.tried.empty())
+          tried += fmt::format("{}{}", tried.empty() ? "" : "; ", result.tried);
+        ok = result.solved;
         // a solved step can still overflow (e.g. the explicit gyroscopic term feeding a fast
         // spin, engine/README.md): such a state is never committed
-        if (ok && !IsFinite(body)) {
+        if (ok && !std::all_of(local.bodies.begin(), local.bodies.end(),
+                               [](const BodyState& b) { return IsFinite(b); })) {
           ok = false;
           residual = INFINITY;
           tried += fmt::format("{}a non-finite state (h = {:g} s)", tried.empty() ? "" : "; ", h);
         }
       }
       if (!ok) continue;
-      next_bodies[b] = body;
-      for (size_t k = 0; k < contact_ids.size(); ++k) next_contacts[contact_ids[k]] = contacts[k];
+      for (size_t i = 0; i < island.bodies.size(); ++i)
+        next.bodies[island.bodies[i]] = local.bodies[i];
+      for (size_t i = 0; i < island.contacts.size(); ++i)
+        next.contacts[island.contacts[i]] = local.contacts[i];
       report.substeps = std::max(report.substeps, substeps);
-      report.residual = std::max(report.residual, residual);
+      report.residual = std::max(report.residual, island_residual);
       solved = true;
       break;
     }
     if (!solved) {
       throw SolverFailure(fmt::format(
-          "{}solver failed at t = {:.6g} s on body '{}': residual {:.3g} > tolerance {:.3g}; "
+          "{}solver failed at t = {:.6g} s on body {}: residual {:.3g} > tolerance {:.3g}; "
           "tried {}",
-          model_prefix, state.t, scene.bodies[b].name, residual, scene.solver.tolerance, tried));
+          model.MessagePrefix(), state.t, BodyNames(scene, island), residual,
+          scene.solver.tolerance, tried));
     }
   }
 
-  state.bodies = std::move(next_bodies);
-  state.contacts = std::move(next_contacts);
+  state.bodies = std::move(next.bodies);
+  state.contacts = std::move(next.contacts);
   AdvanceTime(scene.h, state);
   return report;
 }

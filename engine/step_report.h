@@ -1,5 +1,5 @@
 #pragma once
-// What one time step's solve reports, and the error raised when it cannot be solved.
+// What one time step's solve reports, and the errors raised when it cannot be solved.
 
 #include <stdexcept>
 #include <string>
@@ -11,12 +11,20 @@ struct StepReport {
   int iterations = 0;        // Newton iterations, summed over bodies and sub-steps
   double residual = 0;       // max over bodies of the unscaled residual (see engine/README.md)
   int retries = 0;           // restarts of the ladder used (0 when the warm start converged)
-  int substeps = 1;          // 1, 2 or 4
+  int substeps = 1;          // 1, 2, 4 or 16
 };
 
 /// The step could not be solved after every retry. The message names time, body, residual and
 /// what was tried.
 class SolverFailure : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// The scene's contact model does not apply to the scene or stopped applying during the run (the
+/// planar model's body is not flat or would tip; an obstacle a model cannot handle). The message
+/// names time or body and the violated condition.
+class ModelInvalid : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
 };

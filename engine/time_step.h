@@ -1,5 +1,5 @@
 #pragma once
-// One time step of the geometrically implicit MNCP scheme for every body of a scene.
+// One time step of a scene with its contact model.
 
 #include "engine/scene.h"
 #include "engine/state.h"
@@ -7,9 +7,10 @@
 
 namespace ecpsim::engine {
 
-/// Advances `state` by scene.h: solves one MNCP per body (its contacts coupled), with warm start,
+/// Advances `state` by scene.h with the scene's contact model, island by island, with warm start,
 /// the restart ladder and h/2, h/4, h/16 sub-steps on failure (engine/README.md).
-/// @throws SolverFailure naming time, body and residual; `state` is then unchanged.
+/// @throws SolverFailure naming time, body and residual; ModelInvalid where the model does not
+///         apply. `state` is then unchanged.
 StepReport Step(const Scene& scene, State& state);
 
 }  // namespace ecpsim::engine

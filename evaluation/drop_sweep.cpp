@@ -321,7 +321,7 @@ DropRow RunDropCase(const DropCase& c, const UnitMesh& unit, const std::string& 
   try {
     const engine::Scene scene = engine::LoadScene(WriteDropFiles(c, unit, dir).yaml_path);
     const engine::Body& body = scene.bodies[0];
-    if (const auto* hull = dynamic_cast<const geometry::PolyhedralShape*>(body.hull.get())) {
+    if (const auto* hull = body.hull->AsPolyhedron()) {
       row.hull_faces = static_cast<int>(hull->hull().faces.size());
     }
 

@@ -8,7 +8,7 @@
 #include <fmt/format.h>
 
 #include "engine/penetration.h"
-#include "engine/planar_model.h"
+#include "engine/step_report.h"
 #include "engine/step_report.h"
 #include "geometry/convex_shape.h"
 #include "common/errors.h"
@@ -23,7 +23,7 @@ using Eigen::Vector3d;
 constexpr int kSmoothHullSegments = 96;
 
 std::vector<Vector3d> HullVertices(const geometry::ConvexShape& hull) {
-  if (const auto* polyhedron = dynamic_cast<const geometry::PolyhedralShape*>(&hull)) {
+  if (const auto* polyhedron = hull.AsPolyhedron()) {
     return polyhedron->hull().vertices;
   }
   return hull.Tessellate(kSmoothHullSegments).vertices;

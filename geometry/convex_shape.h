@@ -38,6 +38,13 @@ class ConvexShape {
 
   /// A closed triangle mesh of the boundary for display (smooth shapes with `segments` around).
   virtual TriangleMesh Tessellate(int segments = 48) const = 0;
+
+  /// The shape as a polyhedron (its vertices, faces and normals), or null for a smooth one.
+  virtual const class PolyhedralShape* AsPolyhedron() const { return nullptr; }
+
+  /// Whether the shape is one linear constraint: a half-space, the ground or a tilted plane
+  /// (the planar and multi-patch models need one; free flight has a closed-form test for it).
+  bool IsHalfSpace() const { return NumConstraints() == 1 && IsLinear(0); }
 };
 
 /// A convex polyhedron n_i · y ≤ d_i (linear constraints, f_i = n_i · y − d_i).
@@ -61,6 +68,7 @@ class PolyhedralShape final : public ConvexShape {
   /// sharing the shape (the engine and a frame builder) cannot change each other's answers.
   int SupportVertex(const Eigen::Vector3d& direction) const;
   TriangleMesh Tessellate(int segments = 48) const override;
+  const PolyhedralShape* AsPolyhedron() const override { return this; }
 
  private:
   // the largest of the vertices connected to `v` (value `best`) through vertices within a

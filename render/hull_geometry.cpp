@@ -60,7 +60,7 @@ HullGeometry MakeHullGeometry(const geometry::ConvexHull& hull) {
 }
 
 HullGeometry MakeHullGeometry(const geometry::ConvexShape& shape, int segments) {
-  if (const auto* polyhedron = dynamic_cast<const geometry::PolyhedralShape*>(&shape)) {
+  if (const auto* polyhedron = shape.AsPolyhedron()) {
     return MakeHullGeometry(polyhedron->hull());
   }
   HullGeometry geometry;

@@ -24,7 +24,7 @@ constexpr double kStandardGravity = 9.80665;  // m/s²
 constexpr int kSegments = 48;
 
 std::optional<geometry::Plane> AsPlane(const geometry::ConvexShape& shape) {
-  if (shape.NumConstraints() != 1 || !shape.IsLinear(0)) return std::nullopt;
+  if (!shape.IsHalfSpace()) return std::nullopt;
   // f(y) = n · y − d with |n| = 1: the gradient is n and f(0) = −d
   geometry::Plane plane;
   plane.normal = shape.Gradient(0, Eigen::Vector3d::Zero()).normalized();

@@ -8,7 +8,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include "engine/planar_model.h"
+#include "engine/step_report.h"
 #include "engine/scene_yaml.h"
 #include "engine/time_step.h"
 #include "geometry/convex_hull.h"

@@ -73,7 +73,7 @@ TEST(PenetrationTest, HullVerticesGiveTheExactDepthOfANonConvexMesh) {
   const Scene scene = MakeGroundScene({body});
   const PenetrationProbe probe(scene);
   const auto& candidates = probe.half_space_vertices()[0];
-  const auto* hull = dynamic_cast<const geometry::PolyhedralShape*>(body.hull.get());
+  const auto* hull = body.hull->AsPolyhedron();
   EXPECT_EQ(candidates.size(), hull->hull().vertices.size());
   EXPECT_LT(candidates.size(), body.mesh.vertices.size());
 

@@ -36,7 +36,7 @@ struct FroudeUnits {
 /// A polyhedral shape (a hull or a half-space) with every length × L.
 inline std::shared_ptr<const geometry::ConvexShape> ScaledPolyhedron(
     const geometry::ConvexShape& shape, double L) {
-  const auto* polyhedron = dynamic_cast<const geometry::PolyhedralShape*>(&shape);
+  const auto* polyhedron = shape.AsPolyhedron();
   ECPSIM_DEMAND(polyhedron != nullptr);  // the scale tests use polyhedral hulls and planes only
   geometry::ConvexHull hull = polyhedron->hull();
   for (Eigen::Vector3d& v : hull.vertices) v *= L;

@@ -42,7 +42,7 @@ TEST(SceneLimitsTest, StepTimesStayDistinctUpToTheStepLimit) {
 }
 
 TEST(SceneLimitsTest, PositionsWithinTheDistanceLimitResolveBelowTheEngineTolerance) {
-  // the engine's geometric tolerances are 1e-9 of a body's size (time_step.cpp)
+  // the engine's geometric tolerances are 1e-9 of a body's size (hull_model.cpp)
   EXPECT_LT(kMaxDistanceInSizes * DBL_EPSILON, 1e-9);
 }
 

@@ -321,7 +321,7 @@ TEST(WindowTest, SameTrajectoryAsFullHull) {
     ASSERT_TRUE(Step(windowed, a).converged);
     ASSERT_TRUE(Step(full, b).converged);
     expect_same(a.bodies[0], b.bodies[0], 1e-11, a.t);
-    ASSERT_LT(a.contacts[0].window.size(), static_cast<size_t>(hull->NumConstraints()));
+    ASSERT_LT(std::get<HullWarmStart>(a.contacts[0].warm_start).window.size(), static_cast<size_t>(hull->NumConstraints()));
   }
   // whole trajectories through the landing and the first facet switches: the tumbling faceted
   // body amplifies round-off differences (≈ 1e-13 per step) by roughly 10× per 0.1 s, so the
@@ -360,7 +360,7 @@ TEST(WindowTest, FineUvSphereDropKeepsASmallWindow) {
   for (int i = 0; i < 100; ++i) {
     const StepReport report = Step(scene, state);
     ASSERT_TRUE(report.converged) << "t = " << state.t;
-    largest_window = std::max(largest_window, state.contacts[0].window.size());
+    largest_window = std::max(largest_window, std::get<HullWarmStart>(state.contacts[0].warm_start).window.size());
   }
   // it landed and rolls on the ground
   EXPECT_GT(state.contacts[0].p_n, 0);

@@ -1,0 +1,64 @@
+#pragma once
+// The interface every contact model implements (hull, planar, multi-patch, point): advance one
+// contact island — bodies whose contacts couple them within the step, with those contacts — by
+// one step or sub-step. The driver (step_driver.h) forms the islands, runs the sub-step ladder
+// and commits; a model only solves.
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "engine/scene.h"
+#include "engine/state.h"
+#include "common/errors.h"
+
+namespace ecpsim::engine {
+
+/// Bodies solved together and their contacts (indices into Scene::bodies and Scene::contacts,
+/// ascending).
+struct Island {
+  std::vector<int> bodies;
+  std::vector<int> contacts;
+};
+
+/// The part of the State an island's step reads and writes, in the island's orders.
+struct IslandState {
+  std::vector<BodyState> bodies;
+  std::vector<ContactState> contacts;
+};
+
+/// What one attempt to advance an island reports.
+struct AdvanceResult {
+  bool solved = false;
+  double residual = 0;   // the accepted solution's convergence measure (failed: the last one)
+  int iterations = 0;    // solver iterations (Lemke pivots for the point model), all attempts
+  int retries = 0;       // guesses that failed before the accepted one
+  std::string tried;     // what failed, for SolverFailure's message ("; "-separated)
+};
+
+class ContactModelStepper {
+ public:
+  virtual ~ContactModelStepper() = default;
+  /// What the model's failure messages start with ("" for the hull model, "planar model: ").
+  virtual std::string MessagePrefix() const = 0;
+  /// Advances `state` from time t by h. When the result is not solved, `state` holds no
+  /// meaningful values (the driver discards it).
+  /// @throws ModelInvalid where the model does not apply.
+  virtual AdvanceResult Advance(const Island& island, double t, double h,
+                                IslandState& state) const = 0;
+};
+
+/// For a model that solves one body with its contacts at a time: `Stepper(scene, body,
+/// contact_ids).Advance(t, h, body_state, contact_states)` on the island's one body.
+template <typename Stepper>
+AdvanceResult AdvanceOneBody(const Scene& scene, const Island& island, double t, double h,
+                             IslandState& state) {
+  ECPSIM_DEMAND(island.bodies.size() == 1);
+  return Stepper(scene, island.bodies[0], island.contacts)
+      .Advance(t, h, state.bodies[0], state.contacts);
+}
+
+/// The stepper of `scene.model` for `scene` (which it references: it must outlive the stepper).
+std::unique_ptr<ContactModelStepper> MakeContactModel(const Scene& scene);
+
+}  // namespace ecpsim::engine

@@ -1,0 +1,124 @@
+#include "engine/step_driver.h"
+
+#include <string>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "engine/hull_model.h"
+#include "engine/time_step.h"
+#include "tests/engine/test_bodies.h"
+
+namespace ecpsim::engine {
+namespace {
+
+using Eigen::Vector3d;
+using ::testing::AllOf;
+using ::testing::HasSubstr;
+using testing::MakeBoxBody;
+using testing::MakeGroundScene;
+
+// A model that moves each body by h along x and solves only sub-steps of at most `largest_h`
+// (for the body named "stubborn"; every other body at any h): the driver's ladder is what is
+// under test, with the outcome known in advance.
+class SubstepModel final : public ContactModelStepper {
+ public:
+  explicit SubstepModel(const Scene& scene, double largest_h) : scene_(scene), largest_h_(largest_h) {}
+  std::string MessagePrefix() const override { return "test model: "; }
+  AdvanceResult Advance(const Island& island, double, double h, IslandState& state) const override {
+    AdvanceResult result;
+    ++calls;
+    result.iterations = 1;
+    const bool stubborn = scene_.bodies[island.bodies[0]].name == "stubborn";
+    if (stubborn && h > largest_h_) {
+      result.residual = 0.5;
+      result.retries = 1;
+      result.tried = "refused";
+      state.bodies[0].p_WB.setConstant(NAN);  // a failed attempt's state must never be committed
+      return result;
+    }
+    for (BodyState& b : state.bodies) b.p_WB.x() += h;
+    result.residual = h;
+    result.solved = true;
+    return result;
+  }
+  mutable int calls = 0;
+
+ private:
+  const Scene& scene_;
+  double largest_h_;
+};
+
+Scene TwoBoxes() {
+  Body a = MakeBoxBody(Vector3d(0.1, 0.1, 0.1), 1);
+  a.name = "easy";
+  a.p0 = Vector3d(0, 0, 1);
+  Body b = a;
+  b.name = "stubborn";
+  b.p0 = Vector3d(1, 0, 1);
+  return MakeGroundScene({a, b});
+}
+
+TEST(FormIslandsTest, EveryBodyIsAnIslandWithItsObstacleContacts) {
+  const Scene scene = TwoBoxes();
+  const std::vector<Island> islands = FormIslands(scene);
+  ASSERT_EQ(islands.size(), 2u);
+  for (int b = 0; b < 2; ++b) {
+    EXPECT_EQ(islands[b].bodies, std::vector<int>{b});
+    ASSERT_EQ(islands[b].contacts.size(), 1u);
+    EXPECT_EQ(scene.contacts[islands[b].contacts[0]].body, b);
+  }
+}
+
+TEST(StepIslandsTest, AnIslandThatFailsAtHIsSteppedInTheFirstSubstepsThatSolve) {
+  const Scene scene = TwoBoxes();
+  State state = InitialState(scene);
+  // solvable at h/4 only: the ladder tries h, then 2 × h/2 (the first fails), then 4 × h/4
+  const SubstepModel model(scene, scene.h / 4);
+  const StepReport report = StepIslands(scene, state, model);
+  EXPECT_EQ(report.substeps, 4);
+  EXPECT_EQ(report.retries, 2);
+  EXPECT_EQ(model.calls, 1 + 1 + 1 + 4);
+  // each body moved by h (the stubborn one in four roundings of x + h/4: a few ulps of 1), and
+  // the failed attempts' NaN never reached the state
+  constexpr double kFourRoundings = 4 * 2.3e-16;  // m, 4 ulps of |x| ≈ 1
+  EXPECT_EQ(state.bodies[0].p_WB.x(), scene.h);
+  EXPECT_NEAR(state.bodies[1].p_WB.x(), 1 + scene.h, kFourRoundings);
+  EXPECT_EQ(state.steps, 1);
+  // the largest residual of any island's accepted sub-steps (the easy body's, solved at h)
+  EXPECT_EQ(report.residual, scene.h);
+}
+
+TEST(StepIslandsTest, AnIslandThatNeverSolvesNamesTimeBodyAndWhatWasTriedAndLeavesTheState) {
+  const Scene scene = TwoBoxes();
+  State state = InitialState(scene);
+  const State before = state;
+  const SubstepModel model(scene, scene.h / 100);  // below the ladder's last rung, h/16
+  EXPECT_THAT([&] { StepIslands(scene, state, model); },
+              ::testing::ThrowsMessage<SolverFailure>(
+                  AllOf(HasSubstr("test model: solver failed at t = 0 s on body 'stubborn'"),
+                        HasSubstr("residual 0.5"), HasSubstr("tried refused; refused"))));
+  EXPECT_EQ(state.steps, 0);
+  for (size_t b = 0; b < state.bodies.size(); ++b)
+    EXPECT_EQ(state.bodies[b].p_WB, before.bodies[b].p_WB);
+}
+
+TEST(StepIslandsTest, TheHullModelThroughTheDriverIsTheStep) {
+  // the driver with the hull model is what Step runs: bit-identical states
+  Body box = MakeBoxBody(Vector3d(0.3, 0.2, 0.1), 2);
+  box.p0 = Vector3d(0, 0, 0.2);
+  box.v0 = Vector3d(0.4, 0.1, 0);
+  box.w0 = Vector3d(0.5, 1, 2);
+  const Scene scene = MakeGroundScene({box});
+  State a = InitialState(scene), b = a;
+  const HullModel hull(scene);
+  for (int i = 0; i < 40; ++i) {
+    StepIslands(scene, a, hull);
+    Step(scene, b);
+    ASSERT_EQ(a.bodies[0].p_WB, b.bodies[0].p_WB);
+    ASSERT_EQ(a.bodies[0].Q_WB.coeffs(), b.bodies[0].Q_WB.coeffs());
+  }
+}
+
+}  // namespace
+}  // namespace ecpsim::engine
