@@ -41,6 +41,23 @@ Eigen::Quaterniond QuaternionExp(const Eigen::Vector3d& phi) {
   return Eigen::Quaterniond(std::cos(half), s * phi.x(), s * phi.y(), s * phi.z());
 }
 
+Eigen::Vector3d QuaternionLog(const Eigen::Quaterniond& q) {
+  // q and −q are one rotation: the half with w ≥ 0 is the shortest arc
+  const double sign = q.w() < 0 ? -1.0 : 1.0;
+  const Eigen::Vector3d u = sign * q.vec();
+  const double s = u.norm();
+  if (s == 0) return Eigen::Vector3d::Zero();
+  // θ = 2 atan2(|u|, w) keeps every digit at any angle (acos(w) loses half of them near 0 and
+  // π), and atan2(s, w) / s has no cancellation as s → 0
+  return (2 * std::atan2(s, sign * q.w()) / s) * u;
+}
+
+Eigen::Quaterniond RpyToQuaternion(const Eigen::Vector3d& rpy) {
+  return Eigen::AngleAxisd(rpy.z(), Eigen::Vector3d::UnitZ()) *
+         Eigen::AngleAxisd(rpy.y(), Eigen::Vector3d::UnitY()) *
+         Eigen::AngleAxisd(rpy.x(), Eigen::Vector3d::UnitX());
+}
+
 Eigen::Matrix3d LeftJacobian(const Eigen::Vector3d& phi) {
   const double theta = phi.norm();
   const Eigen::Matrix3d K = Skew(phi);

@@ -33,19 +33,6 @@ int ReadBodyReference(const Context& ctx, const MapNode& map, const std::vector<
   return index;
 }
 
-TimeFunction ReadComponent(const Context& ctx, const YAML::Node& node, const std::string& key) {
-  if (!node.IsScalar()) {
-    Fail(ctx, node, key, "a number or an expression of t in quotes");
-  }
-  double value = 0;
-  if (YAML::convert<double>::decode(node, value)) {
-    return TimeFunction(ReadNumber(ctx, node, key, "a finite number or an expression of t"));
-  }
-  const std::string expression =
-      ReadString(ctx, node, key, "a number or an expression of t in quotes");
-  return TimeFunction(expression, fmt::format("{}: {}", Where(ctx, node, key), key));
-}
-
 // `start` and `end` (ordering: ValidateScene)
 void ReadWindow(const Context& ctx, const MapNode& map, double& start, double& end) {
   start = map.Has("start")
@@ -63,6 +50,19 @@ Eigen::Vector3d ReadPoint(const Context& ctx, const MapNode& map, const BodyExtr
 
 }  // namespace
 
+TimeFunction ReadTimeFunction(const Context& ctx, const YAML::Node& node, const std::string& key) {
+  if (!node.IsScalar()) {
+    Fail(ctx, node, key, "a number or an expression of t in quotes");
+  }
+  double value = 0;
+  if (YAML::convert<double>::decode(node, value)) {
+    return TimeFunction(ReadNumber(ctx, node, key, "a finite number or an expression of t"));
+  }
+  const std::string expression =
+      ReadString(ctx, node, key, "a number or an expression of t in quotes");
+  return TimeFunction(expression, fmt::format("{}: {}", Where(ctx, node, key), key));
+}
+
 Load ReadLoad(const Context& ctx, const YAML::Node& node, const std::string& key,
               const std::vector<Body>& bodies, const std::vector<BodyExtras>& extras) {
   const MapNode map(ctx, node, key, {"body", "force", "torque", "at", "start", "end"});
@@ -78,9 +78,9 @@ Load ReadLoad(const Context& ctx, const YAML::Node& node, const std::string& key
     Fail(ctx, components, map.Key(name),
          "a list of 3 components [x, y, z] (world frame), each a number or an expression of t");
   }
-  load.x = ReadComponent(ctx, components[0], Index(map.Key(name), 0));
-  load.y = ReadComponent(ctx, components[1], Index(map.Key(name), 1));
-  load.z = ReadComponent(ctx, components[2], Index(map.Key(name), 2));
+  load.x = ReadTimeFunction(ctx, components[0], Index(map.Key(name), 0));
+  load.y = ReadTimeFunction(ctx, components[1], Index(map.Key(name), 1));
+  load.z = ReadTimeFunction(ctx, components[2], Index(map.Key(name), 2));
   if (map.Has("at")) {
     if (load.kind == Load::Kind::kTorque) {
       map.FailAt("at", "`at` only with a force (a torque has no point)");

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/kinematic_motion.h"
 #include "engine/scene.h"
 #include "engine/scene_limits.h"
 #include "common/errors.h"
@@ -170,6 +171,13 @@ struct BodyExtras {
 Body ReadBody(const Context& ctx, const YAML::Node& node, const std::string& key,
               const std::string& default_name, BodyExtras& extras,
               std::vector<std::string>& warnings);
+
+/// A number or a quoted muparser expression of t (a load component, a motion coordinate).
+TimeFunction ReadTimeFunction(const Context& ctx, const YAML::Node& node, const std::string& key);
+
+/// A kinematic body's `motion: {expressions | waypoints | velocity: ...}` (docs/scene_format.md,
+/// "Kinematic bodies"); later errors of the motion (PoseAt, StepTwist) name `key`'s location.
+KinematicMotion ReadMotion(const Context& ctx, const YAML::Node& node, const std::string& key);
 
 /// An entry of `loads` / `impulses` (bodies by name or index; `at` in the mesh frame).
 Load ReadLoad(const Context& ctx, const YAML::Node& node, const std::string& key,

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "engine/rotation.h"
 #include "engine/scene_yaml_reader.h"
 #include "geometry/convex_shape.h"
 
@@ -14,14 +15,6 @@ using geometry::ConvexShape;
 constexpr double kMinQuaternionNorm = 1e-9;
 // a plane normal shorter than this has no direction
 constexpr double kMinNormalLength = 1e-12;
-
-// R = Rz(yaw) · Ry(pitch) · Rx(roll) from [roll, pitch, yaw] in degrees
-Eigen::Quaterniond FromRpyDegrees(const Eigen::Vector3d& rpy_deg) {
-  const Eigen::Vector3d rpy = rpy_deg * (M_PI / 180);
-  return Eigen::AngleAxisd(rpy.z(), Eigen::Vector3d::UnitZ()) *
-         Eigen::AngleAxisd(rpy.y(), Eigen::Vector3d::UnitY()) *
-         Eigen::AngleAxisd(rpy.x(), Eigen::Vector3d::UnitX());
-}
 
 int ReadAxis(const Context& ctx, const YAML::Node& node, const std::string& key) {
   const std::string expected = "an axis x, y or z";
@@ -78,7 +71,8 @@ Eigen::Quaterniond ReadOrientation(const Context& ctx, const MapNode& map) {
     return Eigen::Quaterniond(q[0], q[1], q[2], q[3]).normalized();
   }
   if (map.Has("rpy")) {
-    return FromRpyDegrees(ReadVector3(ctx, map.Get("rpy"), map.Key("rpy"), "degrees"));
+    return RpyToQuaternion(ReadVector3(ctx, map.Get("rpy"), map.Key("rpy"), "degrees") *
+                           (M_PI / 180));
   }
   return Eigen::Quaterniond::Identity();
 }

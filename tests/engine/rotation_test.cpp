@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <limits>
+
 namespace ecpsim::engine {
 namespace {
 
@@ -39,6 +42,42 @@ TEST(RotationTest, IntegrateOrientationStaysUnit) {
   // a constant spin: the composition equals one exponential of the total angle
   const Eigen::Matrix3d expected = ExpMap(w * 100.0);
   EXPECT_LT((Q.toRotationMatrix() - expected).norm(), 1e-9);
+}
+
+TEST(RotationTest, QuaternionLogInvertsQuaternionExp) {
+  // a few ulps of the angle, relative for small angles (atan2 and the products keep relative
+  // precision as the angle → 0), absolute for O(1) ones
+  constexpr double kLogRoundOff = 8 * std::numeric_limits<double>::epsilon();
+  const Eigen::Vector3d axis = Eigen::Vector3d(1, -2, 2) / 3;
+  for (double angle : {0.0, 1e-150, 1e-12, 1e-7, 0.5, 3.0, M_PI - 1e-6}) {
+    const Eigen::Vector3d phi = angle * axis;
+    const Eigen::Quaterniond q = QuaternionExp(phi);
+    const double tolerance = kLogRoundOff * angle;
+    EXPECT_LE((QuaternionLog(q) - phi).norm(), tolerance) << "angle " << angle;
+    // −q is the same rotation: the same shortest arc
+    EXPECT_LE((QuaternionLog(Eigen::Quaterniond(-q.coeffs())) - phi).norm(), tolerance)
+        << "angle " << angle;
+    // not normalized: the same angle
+    EXPECT_LE((QuaternionLog(Eigen::Quaterniond(3 * q.coeffs())) - phi).norm(), tolerance)
+        << "angle " << angle;
+  }
+  // a turn of 3π/2 is the shortest arc of −π/2
+  const Eigen::Quaterniond q(Eigen::AngleAxisd(1.5 * M_PI, Eigen::Vector3d::UnitZ()));
+  EXPECT_LE((QuaternionLog(q) - Eigen::Vector3d(0, 0, -M_PI / 2)).norm(), kLogRoundOff * M_PI);
+}
+
+TEST(RotationTest, RpyTurnsAboutWorldXThenYThenZ) {
+  // unit vectors a few flops from exact right angles: ulps of 1
+  constexpr double kAxisRoundOff = 1e-15;
+  // roll 90° takes y to z, then yaw 90° takes x to y and leaves z
+  const Eigen::Matrix3d R =
+      RpyToQuaternion(Eigen::Vector3d(M_PI / 2, 0, M_PI / 2)).toRotationMatrix();
+  EXPECT_LT((R * Eigen::Vector3d::UnitX() - Eigen::Vector3d::UnitY()).norm(), kAxisRoundOff);
+  EXPECT_LT((R * Eigen::Vector3d::UnitY() - Eigen::Vector3d::UnitZ()).norm(), kAxisRoundOff);
+  // pitch 90° takes z to x, then yaw 90° takes x to y
+  const Eigen::Matrix3d P =
+      RpyToQuaternion(Eigen::Vector3d(0, M_PI / 2, M_PI / 2)).toRotationMatrix();
+  EXPECT_LT((P * Eigen::Vector3d::UnitZ() - Eigen::Vector3d::UnitY()).norm(), kAxisRoundOff);
 }
 
 }  // namespace
