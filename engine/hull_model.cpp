@@ -48,6 +48,12 @@ constexpr int kStallIterations = 45;
 // far below the multipliers of faces that carry the contact (measured down to 1.9e-6 of it on
 // an anchor mesh's five-face vertex)
 constexpr double kDegenerateActiveFraction = 1e-9;
+// a hull face whose multiplier is below this fraction of the contact's largest carries no
+// measurable part of the contact: at a stalled iterate such faces are weakly active (f_i ≈ 0 and
+// l_i ≈ 0 together, the degenerate pairs of the Fischer–Burmeister function), measured at
+// 1e-9…1e-12 of the largest around a 52 m handle's rolling edge whose carrying faces had 0.43
+// and 0.57 (SolveOnCarryingFaces)
+constexpr double kCarryingFraction = 1e-6;
 // faces left out at most when a degenerate vertex is resolved: enough for six faces at a vertex
 // (a fan of triangles, a quad mesh's pole) to come down to three. A vertex with more active
 // faces than three plus the drops left is tried one face at a time without going deeper: the
@@ -131,11 +137,14 @@ class BodyStepper {
           VectorXd z = MakeGuess(guess, problem, layout, body, contacts, scales);
           Attempt attempt = Solve(problem, layout, z, options, scales, ejection_energy, result);
           result.residual = attempt.residual;
-          // Newton stalls just above the tolerance where four or more hull faces meet at the
-          // ECP (a quad mesh's vertex): one of them is the one to leave out
+          // Newton stalls just above the tolerance where faces are weakly active at the
+          // solution, or where four or more hull faces meet at the ECP (a quad mesh's vertex):
+          // the faces that carry the contact alone, or one face left out, solve it
           if (attempt.outcome == Outcome::kUnconverged &&
-              SolveAtDegenerateVertex(problem, layout, z, options, scales, ejection_energy,
-                                      h, body, contacts, result)) {
+              (SolveOnCarryingFaces(problem, layout, z, options, scales, ejection_energy, h,
+                                    body, contacts, result) ||
+               SolveAtDegenerateVertex(problem, layout, z, options, scales, ejection_energy,
+                                       h, body, contacts, result))) {
             result.solved = true;
             return result;
           }
@@ -247,16 +256,54 @@ class BodyStepper {
                                     h, body, contacts, result, depth - 1)) {
           return true;
         }
-        if (attempt.outcome != Outcome::kSolved) continue;
-        // the face left out (and any other outside the window) must hold: then it is exact
-        BodyProblem checked = reduced;
-        if (GrowViolatedWindows(checked, reduced_layout, rz, scales)) continue;
-        Commit(reduced, reduced_layout, rz, h, body, contacts);
-        result.residual = attempt.residual;
-        return true;
+        if (AcceptReduced(reduced, reduced_layout, rz, attempt, scales, h, body, contacts,
+                          result)) {
+          return true;
+        }
       }
     }
     return false;
+  }
+
+  // Re-solves from the stalled `z` with each window cut to the faces that carry the contact
+  // (multiplier above kCarryingFraction of the largest): the weakly active faces left out, the
+  // reduced problem's pairs are no longer degenerate. Exact when its window check passes.
+  bool SolveOnCarryingFaces(const BodyProblem& problem, const MncpLayout& layout,
+                            const VectorXd& z, McpOptions& options, const Scales& scales,
+                            double ejection_energy, double h, BodyState& body,
+                            std::vector<ContactState>& contacts, AdvanceResult& result) const {
+    if (!z.allFinite()) return false;
+    BodyProblem reduced = problem;
+    bool cut = false;
+    for (size_t k = 0; k < problem.contacts.size(); ++k) {
+      const MncpLayout::Contact& L = layout.contacts[k];
+      const double largest = z.segment(L.l, L.l_count).maxCoeff();
+      if (!(largest > 0)) continue;
+      std::vector<int> carrying;  // stays sorted, as windows are
+      for (int i = 0; i < L.l_count; ++i)
+        if (z[L.l + i] > kCarryingFraction * largest) carrying.push_back(problem.contacts[k].window[i]);
+      cut |= carrying.size() < problem.contacts[k].window.size();
+      reduced.contacts[k].window = std::move(carrying);
+    }
+    if (!cut) return false;
+    const MncpLayout reduced_layout = MakeLayout(reduced);
+    VectorXd rz = RemapWindows(problem, layout, z, reduced, reduced_layout);
+    const Attempt attempt =
+        Solve(reduced, reduced_layout, rz, options, scales, ejection_energy, result);
+    return AcceptReduced(reduced, reduced_layout, rz, attempt, scales, h, body, contacts, result);
+  }
+
+  // commits a solution of a problem whose windows were cut (faces left out) when it converged
+  // and every face outside its windows holds (the window check): then it is exact
+  bool AcceptReduced(const BodyProblem& reduced, const MncpLayout& layout, const VectorXd& z,
+                     const Attempt& attempt, const Scales& scales, double h, BodyState& body,
+                     std::vector<ContactState>& contacts, AdvanceResult& result) const {
+    if (attempt.outcome != Outcome::kSolved) return false;
+    BodyProblem checked = reduced;
+    if (GrowViolatedWindows(checked, layout, z, scales)) return false;
+    Commit(reduced, layout, z, h, body, contacts);
+    result.residual = attempt.residual;
+    return true;
   }
 
   // `z` of `from` (laid out as `from_layout`) moved to `to`'s layout: the same unknowns, hull
