@@ -27,6 +27,8 @@ constexpr double kMinNormalLength = 1e-12;
 constexpr int kFreeFlightIterations = 50;
 constexpr double kFreeFlightTolerance = 1e-15;  // × (|I_w ω| + |τ h|), round-off level
 
+}  // namespace
+
 // The angular Newton–Euler row without contact: I_w (ω⁺ − ω) + h ω⁺ × I_w ω⁺ (implicit
 // gyroscopic impulse, engine/README.md), and its derivative in ω⁺
 Vector3d GyroscopicResidual(const BodyProblem& problem, const Vector3d& w) {
@@ -37,6 +39,8 @@ Matrix3d GyroscopicJacobian(const BodyProblem& problem, const Vector3d& w) {
   const Matrix3d& I = problem.inertia_world;
   return I + problem.h * (Skew(w) * I - Skew(I * w));
 }
+
+namespace {
 
 FreeFlight SolveFreeFlight(const BodyProblem& problem) {
   // I_w (ω⁺ − ω) + h ω⁺ × I_w ω⁺ = p_ext,τ by Newton from the explicit estimate; the solution
@@ -62,10 +66,7 @@ FreeFlight SolveFreeFlight(const BodyProblem& problem) {
   return {problem.v + problem.p_ext.head<3>() / problem.mass, w};
 }
 
-// derivatives of the contact frame with respect to N = Σ l_G ∇g (see MakeContactFrame)
-struct FrameDerivatives {
-  Matrix3d dn_dN, dt_dN, do_dN;
-};
+}  // namespace
 
 FrameDerivatives ContactFrameDerivatives(const Vector3d& N, const ContactFrame& frame,
                                          const Vector3d& e) {
@@ -80,8 +81,6 @@ FrameDerivatives ContactFrameDerivatives(const Vector3d& N, const ContactFrame& 
   const Matrix3d do_dn = -Skew(t) + Skew(n) * dt_dn;
   return {dn_dN, dt_dn * dn_dN, do_dn * dn_dN};
 }
-
-}  // namespace
 
 MncpLayout MakeLayout(const BodyProblem& problem) {
   MncpLayout layout;
@@ -143,7 +142,12 @@ bool FreeFlightIsFinite(const BodyProblem& problem, std::string& tried) {
 }
 
 EndPose PoseAfterStep(const BodyProblem& problem, const Vector3d& v, const Vector3d& w) {
-  return {problem.c + problem.h * v, ExpMap(problem.h * w) * problem.R};
+  return PoseAfterStep(problem.c, problem.R, problem.h, v, w);
+}
+
+EndPose PoseAfterStep(const Vector3d& c, const Matrix3d& R, double h, const Vector3d& v,
+                      const Vector3d& w) {
+  return {c + h * v, ExpMap(h * w) * R};
 }
 
 double StepEnergyGain(const BodyProblem& problem, const Vector3d& v, const Vector3d& w) {
@@ -168,46 +172,57 @@ ContactFrame MakeContactFrame(const Vector3d& N, const Vector3d& tangent_referen
   return frame;
 }
 
+ScaledRowResidual::ScaledRowResidual(int num_free, const Eigen::VectorXd& z,
+                                     const Eigen::VectorXd& F, const Eigen::VectorXd& row_scale,
+                                     const Eigen::VectorXd& var_scale)
+    : num_free_(num_free), z_(z), F_(F), row_scale_(row_scale), var_scale_(var_scale) {}
+
+void ScaledRowResidual::AddRow(int i, double divisor) {
+  const double f = row_scale_[i] * F_[i] / divisor;
+  const double e = i < num_free_ ? std::abs(f) : std::abs(std::min(z_[i] / var_scale_[i], f));
+  value_ = std::max(value_, std::isfinite(e) ? e : INFINITY);
+}
+
+void ScaledRowResidual::AddContact(const MncpLayout::Contact& L, double factor) {
+  // rows in metres (row_scale 1/L), moments and slips: floored by the round-off length
+  for (int i = 0; i < 3; ++i) {
+    AddRow(L.a1 + i, factor);
+    AddRow(L.a2 + i, 1);
+  }
+  for (int i : {L.p_t, L.p_o}) AddRow(i, factor);
+  for (int i : {L.s, L.p_r, L.sigma}) AddRow(i, 1);
+  for (int i = 0; i < L.l_count; ++i) AddRow(L.l + i, factor);
+  for (int i = 0; i < L.l_g_count; ++i) AddRow(L.l_g + i, factor);
+  AddRow(L.p_n, factor);
+}
+
+double ContactRoundOffLength(const MncpLayout::Contact& L, const Eigen::VectorXd& z,
+                             double coordinates, double tolerance) {
+  const double magnitude =
+      std::max({z.segment<3>(L.a1).cwiseAbs().maxCoeff(),
+                z.segment<3>(L.a2).cwiseAbs().maxCoeff(), std::abs(z[L.s]), coordinates});
+  return kCoordinateRoundOffUlps * DBL_EPSILON * magnitude / tolerance;
+}
+
 double MncpResidual(const MncpLayout& layout, const Eigen::VectorXd& z, const Eigen::VectorXd& F,
                     const Eigen::VectorXd& row_scale, const Eigen::VectorXd& var_scale,
                     const ResidualUnits& units) {
   // row by row (each row of the layout once), without a scaled copy of F: called every iterate
-  double r = 0;
-  const auto measure = [&](int i, double divisor) {
-    const double f = row_scale[i] * F[i] / divisor;
-    const double e =
-        i < layout.num_free ? std::abs(f) : std::abs(std::min(z[i] / var_scale[i], f));
-    r = std::max(r, std::isfinite(e) ? e : INFINITY);
-  };
-  // a length below which the coordinates' own round-off hides it: the tolerance's share of
-  // kCoordinateRoundOffUlps ulps of the largest coordinate (see the header)
-  const auto round_off_length = [&](const MncpLayout::Contact& L) {
-    const double magnitude =
-        std::max({z.segment<3>(L.a1).cwiseAbs().maxCoeff(),
-                  z.segment<3>(L.a2).cwiseAbs().maxCoeff(), std::abs(z[L.s]), units.coordinates});
-    return kCoordinateRoundOffUlps * DBL_EPSILON * magnitude / units.tolerance;
-  };
+  ScaledRowResidual r(layout.num_free, z, F, row_scale, var_scale);
   double moment_factor = 1;
   for (const MncpLayout::Contact& L : layout.contacts) {
-    // rows in metres (row_scale 1/L), moments and slips: floored by the round-off length
-    const double factor = std::max(1.0, round_off_length(L) / units.length);
+    // a length below which the coordinates' own round-off hides it (see the header)
+    const double factor = std::max(
+        1.0, ContactRoundOffLength(L, z, units.coordinates, units.tolerance) / units.length);
     moment_factor = std::max(moment_factor, factor);
-    for (int i = 0; i < 3; ++i) {
-      measure(L.a1 + i, factor);
-      measure(L.a2 + i, 1);
-    }
-    for (int i : {L.p_t, L.p_o}) measure(i, factor);
-    for (int i : {L.s, L.p_r, L.sigma}) measure(i, 1);
-    for (int i = 0; i < L.l_count; ++i) measure(L.l + i, factor);
-    for (int i = 0; i < L.l_g_count; ++i) measure(L.l_g + i, factor);
-    measure(L.p_n, factor);
+    r.AddContact(L, factor);
   }
   // Newton–Euler: the moment rows carry r × p with r = a1 − c⁺
   for (int i = 0; i < 3; ++i) {
-    measure(i, 1);
-    measure(3 + i, moment_factor);
+    r.AddRow(i, 1);
+    r.AddRow(3 + i, moment_factor);
   }
-  return r;
+  return r.value();
 }
 
 void EvaluateMncp(const BodyProblem& problem, const MncpLayout& layout, const Eigen::VectorXd& z,

@@ -79,6 +79,14 @@ struct EndPose {
 };
 EndPose PoseAfterStep(const BodyProblem& problem, const Eigen::Vector3d& v,
                       const Eigen::Vector3d& w);
+/// The same for a pose (c, R) at the start of a step of `h` seconds (a kinematic body's).
+EndPose PoseAfterStep(const Eigen::Vector3d& c, const Eigen::Matrix3d& R, double h,
+                      const Eigen::Vector3d& v, const Eigen::Vector3d& w);
+
+/// The angular Newton–Euler row without contact, I_w (ω⁺ − ω) + h ω⁺ × I_w ω⁺ (the implicit
+/// gyroscopic impulse, engine/README.md; N·m·s), and its derivative in ω⁺ (kg·m²).
+Eigen::Vector3d GyroscopicResidual(const BodyProblem& problem, const Eigen::Vector3d& w);
+Eigen::Matrix3d GyroscopicJacobian(const BodyProblem& problem, const Eigen::Vector3d& w);
 
 /// J: the body's energy (kinetic and gravitational, −m g·c) at the end of the step minus at its
 /// start, minus the work of the applied loads over the mean velocity — what the contact
@@ -93,6 +101,13 @@ struct ContactFrame {
   Eigen::Vector3d n, t, o;
 };
 ContactFrame MakeContactFrame(const Eigen::Vector3d& N, const Eigen::Vector3d& tangent_reference);
+
+/// Derivatives of MakeContactFrame(N, e)'s axes with respect to N (1/m where N is a gradient).
+struct FrameDerivatives {
+  Eigen::Matrix3d dn_dN, dt_dN, do_dN;
+};
+FrameDerivatives ContactFrameDerivatives(const Eigen::Vector3d& N, const ContactFrame& frame,
+                                         const Eigen::Vector3d& e);
 
 /// What the convergence measure measures lengths against (see MncpResidual).
 struct ResidualUnits {
@@ -119,6 +134,35 @@ inline constexpr double kCoordinateRoundOffUlps = 64;
 double MncpResidual(const MncpLayout& layout, const Eigen::VectorXd& z, const Eigen::VectorXd& F,
                     const Eigen::VectorXd& row_scale, const Eigen::VectorXd& var_scale,
                     const ResidualUnits& units);
+
+/// MncpResidual's parts, shared with the island measure (island_mncp.h): the largest scaled row
+/// error seen so far over rows added one at a time (an equation row i < num_free counts
+/// |F̃_i| / divisor, a complementarity row |min(z̃_i, F̃_i / divisor)|; non-finite: ∞).
+class ScaledRowResidual {
+ public:
+  /// The vectors are referenced, not copied: they must outlive this object.
+  ScaledRowResidual(int num_free, const Eigen::VectorXd& z, const Eigen::VectorXd& F,
+                    const Eigen::VectorXd& row_scale, const Eigen::VectorXd& var_scale);
+  void AddRow(int i, double divisor);
+  /// The rows of one contact block, those that carry world-coordinate round-off (see
+  /// MncpResidual) divided by `factor` ≥ 1.
+  void AddContact(const MncpLayout::Contact& L, double factor);
+  double value() const { return value_; }
+
+ private:
+  int num_free_;
+  const Eigen::VectorXd& z_;
+  const Eigen::VectorXd& F_;
+  const Eigen::VectorXd& row_scale_;
+  const Eigen::VectorXd& var_scale_;
+  double value_ = 0;
+};
+
+/// m: the length below which a contact's rows in metres are not resolved (MncpResidual): the
+/// tolerance's share of kCoordinateRoundOffUlps ulps of the largest of |a1|, |a2|, |s| and
+/// `coordinates` (the largest |coordinate| of the centres of mass involved).
+double ContactRoundOffLength(const MncpLayout::Contact& L, const Eigen::VectorXd& z,
+                             double coordinates, double tolerance);
 
 /// Residual F(z) in physical units (rows as in MncpLayout). The friction cone row is written as
 /// μ p_n − ‖(p_t/e_t, p_o/e_o, p_r/e_r)‖ instead of the paper's ζ = (μ p_n)² − ‖…‖²: for p_n ≥ 0
