@@ -8,7 +8,9 @@
 //
 // An island of one body whose contacts are all fixed is today's MNCP to the bit: layout, F, J,
 // measure and energy equal MakeLayout, EvaluateMncp, MncpResidual and StepEnergyGain exactly
-// (the same floating-point operations in the same order; tests/engine/island_mncp_test.cpp).
+// (both are built from the blocks of mncp_system.h — LayOutContacts, AddBodyRows,
+// AddContactRows, ScaledRowResidual — and do the same floating-point operations in the same
+// order; tests/engine/island_mncp_test.cpp).
 
 #include <vector>
 

@@ -9,6 +9,22 @@ namespace {
 
 using Other = IslandContact::Other;
 
+// a vector of the island's scales: each body's part at its ν⁺ in its own Scales, each contact's
+// block in ContactScales
+template <typename BodyPart, typename ContactPart>
+Eigen::VectorXd IslandScaleVector(const IslandProblem& problem, const IslandLayout& layout,
+                                  const IslandScales& scales, BodyPart body_part,
+                                  ContactPart contact_part) {
+  Eigen::VectorXd scale = Eigen::VectorXd::Ones(layout.size);
+  for (int b = 0; b < layout.num_bodies; ++b)
+    body_part(IslandLayout::Velocity(b), scales.bodies[b], scale);
+  for (size_t k = 0; k < layout.contacts.size(); ++k) {
+    contact_part(layout.contacts[k], problem.contacts[k].friction,
+                 ContactScales(problem, scales, static_cast<int>(k)), scale);
+  }
+  return scale;
+}
+
 }  // namespace
 
 Scales ContactScales(const IslandProblem& problem, const IslandScales& scales, int contact) {
@@ -23,26 +39,12 @@ Scales ContactScales(const IslandProblem& problem, const IslandScales& scales, i
 
 Eigen::VectorXd IslandVariableScales(const IslandProblem& problem, const IslandLayout& layout,
                                      const IslandScales& scales) {
-  Eigen::VectorXd scale = Eigen::VectorXd::Ones(layout.size);
-  for (int b = 0; b < layout.num_bodies; ++b)
-    SetVelocityScales(IslandLayout::Velocity(b), scales.bodies[b], scale);
-  for (size_t k = 0; k < layout.contacts.size(); ++k) {
-    SetContactVariableScales(layout.contacts[k], problem.contacts[k].friction,
-                             ContactScales(problem, scales, static_cast<int>(k)), scale);
-  }
-  return scale;
+  return IslandScaleVector(problem, layout, scales, SetVelocityScales, SetContactVariableScales);
 }
 
 Eigen::VectorXd IslandRowScales(const IslandProblem& problem, const IslandLayout& layout,
                                 const IslandScales& scales) {
-  Eigen::VectorXd scale = Eigen::VectorXd::Ones(layout.size);
-  for (int b = 0; b < layout.num_bodies; ++b)
-    SetNewtonEulerRowScales(IslandLayout::Velocity(b), scales.bodies[b], scale);
-  for (size_t k = 0; k < layout.contacts.size(); ++k) {
-    SetContactRowScales(layout.contacts[k], problem.contacts[k].friction,
-                        ContactScales(problem, scales, static_cast<int>(k)), scale);
-  }
-  return scale;
+  return IslandScaleVector(problem, layout, scales, SetNewtonEulerRowScales, SetContactRowScales);
 }
 
 IslandResidualUnits MakeIslandResidualUnits(const IslandProblem& problem,
