@@ -33,34 +33,48 @@ Scales BodyScales(const Body& body, const BodyState& state,
 Eigen::VectorXd VariableScales(const BodyProblem& problem, const MncpLayout& layout,
                                const Scales& s) {
   Eigen::VectorXd scale = Eigen::VectorXd::Ones(layout.size);
-  scale.segment<3>(0).setConstant(s.velocity);
-  scale.segment<3>(3).setConstant(s.velocity / s.length);
-  for (size_t k = 0; k < layout.contacts.size(); ++k) {
-    const MncpLayout::Contact& L = layout.contacts[k];
-    scale.segment<7>(L.a1).setConstant(s.length);  // a1, a2, s
-    scale[L.p_t] = scale[L.p_o] = scale[L.p_n] = s.impulse;
-    scale[L.p_r] = s.impulse * problem.contacts[k].friction.e_r;
-    scale[L.sigma] = s.velocity;
-  }
+  SetVelocityScales(0, s, scale);
+  for (size_t k = 0; k < layout.contacts.size(); ++k)
+    SetContactVariableScales(layout.contacts[k], problem.contacts[k].friction, s, scale);
   return scale;
 }
 
 Eigen::VectorXd RowScales(const BodyProblem& problem, const MncpLayout& layout, const Scales& s) {
   Eigen::VectorXd scale = Eigen::VectorXd::Ones(layout.size);
-  scale.segment<3>(0).setConstant(1 / s.impulse);
-  scale.segment<3>(3).setConstant(1 / (s.impulse * s.length));
-  for (size_t k = 0; k < layout.contacts.size(); ++k) {
-    const MncpLayout::Contact& L = layout.contacts[k];
-    const double e_r = problem.contacts[k].friction.e_r;
-    scale.segment<3>(L.a1).setConstant(1 / s.length);  // a1 − a2 − s N
-    scale[L.p_t] = scale[L.p_o] = 1 / (s.impulse * s.velocity);
-    scale[L.p_r] = 1 / (s.impulse * s.velocity * e_r);
-    scale.segment(L.l, L.l_count).setConstant(1 / s.length);
-    scale.segment(L.l_g, L.l_g_count).setConstant(1 / s.length);
-    scale[L.p_n] = 1 / s.length;
-    scale[L.sigma] = 1 / s.impulse;
-  }
+  SetNewtonEulerRowScales(0, s, scale);
+  for (size_t k = 0; k < layout.contacts.size(); ++k)
+    SetContactRowScales(layout.contacts[k], problem.contacts[k].friction, s, scale);
   return scale;
+}
+
+void SetVelocityScales(int index, const Scales& s, Eigen::VectorXd& scale) {
+  scale.segment<3>(index).setConstant(s.velocity);
+  scale.segment<3>(index + 3).setConstant(s.velocity / s.length);
+}
+
+void SetContactVariableScales(const MncpLayout::Contact& L, const Friction& friction,
+                              const Scales& s, Eigen::VectorXd& scale) {
+  scale.segment<7>(L.a1).setConstant(s.length);  // a1, a2, s
+  scale[L.p_t] = scale[L.p_o] = scale[L.p_n] = s.impulse;
+  scale[L.p_r] = s.impulse * friction.e_r;
+  scale[L.sigma] = s.velocity;
+}
+
+void SetNewtonEulerRowScales(int index, const Scales& s, Eigen::VectorXd& scale) {
+  scale.segment<3>(index).setConstant(1 / s.impulse);
+  scale.segment<3>(index + 3).setConstant(1 / (s.impulse * s.length));
+}
+
+void SetContactRowScales(const MncpLayout::Contact& L, const Friction& friction, const Scales& s,
+                         Eigen::VectorXd& scale) {
+  const double e_r = friction.e_r;
+  scale.segment<3>(L.a1).setConstant(1 / s.length);  // a1 − a2 − s N
+  scale[L.p_t] = scale[L.p_o] = 1 / (s.impulse * s.velocity);
+  scale[L.p_r] = 1 / (s.impulse * s.velocity * e_r);
+  scale.segment(L.l, L.l_count).setConstant(1 / s.length);
+  scale.segment(L.l_g, L.l_g_count).setConstant(1 / s.length);
+  scale[L.p_n] = 1 / s.length;
+  scale[L.sigma] = 1 / s.impulse;
 }
 
 double EnergyScale(const BodyProblem& problem, const Scales& scales) {

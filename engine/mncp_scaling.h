@@ -39,6 +39,16 @@ Eigen::VectorXd VariableScales(const BodyProblem& problem, const MncpLayout& lay
 /// 1/(P V) (1/(P V e_r)), the cone by 1/P; the normal-cone rows are dimensionless.
 Eigen::VectorXd RowScales(const BodyProblem& problem, const MncpLayout& layout, const Scales& s);
 
+/// The parts of VariableScales and RowScales, shared with the island's scaling
+/// (island_scaling.h): one body's ν⁺ at z[index … index + 5] and its Newton–Euler rows, and one
+/// contact block with `friction`, all in the units of `s`.
+void SetVelocityScales(int index, const Scales& s, Eigen::VectorXd& scale);
+void SetNewtonEulerRowScales(int index, const Scales& s, Eigen::VectorXd& scale);
+void SetContactVariableScales(const MncpLayout::Contact& L, const Friction& friction,
+                              const Scales& s, Eigen::VectorXd& scale);
+void SetContactRowScales(const MncpLayout::Contact& L, const Friction& friction, const Scales& s,
+                         Eigen::VectorXd& scale);
+
 /// Whether the body moves at more than a small fraction of its velocity scale (the restart ladder
 /// starts from the sliding guess then, else from the resting one).
 bool IsMoving(const BodyState& state, const Scales& scales);

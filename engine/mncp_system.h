@@ -2,7 +2,10 @@
 // The mixed nonlinear complementarity problem of one body for one time step: its unknowns, the
 // residual of the paper's "Summary of the discrete-time dynamic model" and its analytic Jacobian.
 // The equations, unknowns and the handling of the active facet are written out in engine/README.md.
+// Its per-body and per-contact building blocks (the end of this file) also build the MNCP of an
+// island of bodies in contact with each other (island_mncp.h).
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -61,6 +64,12 @@ struct MncpLayout {
 
 MncpLayout MakeLayout(const BodyProblem& problem);
 
+/// The contact blocks of a layout whose first `first` unknowns are ν⁺ of one or more bodies:
+/// per contact k its free block (a1, a2, s, p_t, p_o, p_r) from `first` on, then the
+/// complementarity blocks with counts[k] = {l_count, l_g_count}. MakeLayout is LayOutContacts(6,
+/// …); island_mncp.h's MakeIslandLayout lays out several bodies with it.
+MncpLayout LayOutContacts(int first, const std::vector<std::array<int, 2>>& counts);
+
 /// The body part of a BodyProblem (no contacts yet) for body `body` of `scene` at `state`, for the
 /// step [t, t + h]: world inertia, gravity and applied loads at the start of the step
 /// (FORMULATION.md trap 4), and the free-flight velocities with the implicit gyroscopic impulse
@@ -79,6 +88,14 @@ struct EndPose {
 };
 EndPose PoseAfterStep(const BodyProblem& problem, const Eigen::Vector3d& v,
                       const Eigen::Vector3d& w);
+/// The same for a pose (c, R) at the start of a step of `h` seconds (a kinematic body's).
+EndPose PoseAfterStep(const Eigen::Vector3d& c, const Eigen::Matrix3d& R, double h,
+                      const Eigen::Vector3d& v, const Eigen::Vector3d& w);
+
+/// The angular Newton–Euler row without contact, I_w (ω⁺ − ω) + h ω⁺ × I_w ω⁺ (the implicit
+/// gyroscopic impulse, engine/README.md; N·m·s), and its derivative in ω⁺ (kg·m²).
+Eigen::Vector3d GyroscopicResidual(const BodyProblem& problem, const Eigen::Vector3d& w);
+Eigen::Matrix3d GyroscopicJacobian(const BodyProblem& problem, const Eigen::Vector3d& w);
 
 /// J: the body's energy (kinetic and gravitational, −m g·c) at the end of the step minus at its
 /// start, minus the work of the applied loads over the mean velocity — what the contact
@@ -93,6 +110,13 @@ struct ContactFrame {
   Eigen::Vector3d n, t, o;
 };
 ContactFrame MakeContactFrame(const Eigen::Vector3d& N, const Eigen::Vector3d& tangent_reference);
+
+/// Derivatives of MakeContactFrame(N, e)'s axes with respect to N (1/m where N is a gradient).
+struct FrameDerivatives {
+  Eigen::Matrix3d dn_dN, dt_dN, do_dN;
+};
+FrameDerivatives ContactFrameDerivatives(const Eigen::Vector3d& N, const ContactFrame& frame,
+                                         const Eigen::Vector3d& e);
 
 /// What the convergence measure measures lengths against (see MncpResidual).
 struct ResidualUnits {
@@ -120,6 +144,35 @@ double MncpResidual(const MncpLayout& layout, const Eigen::VectorXd& z, const Ei
                     const Eigen::VectorXd& row_scale, const Eigen::VectorXd& var_scale,
                     const ResidualUnits& units);
 
+/// MncpResidual's parts, shared with the island measure (island_mncp.h): the largest scaled row
+/// error seen so far over rows added one at a time (an equation row i < num_free counts
+/// |F̃_i| / divisor, a complementarity row |min(z̃_i, F̃_i / divisor)|; non-finite: ∞).
+class ScaledRowResidual {
+ public:
+  /// The vectors are referenced, not copied: they must outlive this object.
+  ScaledRowResidual(int num_free, const Eigen::VectorXd& z, const Eigen::VectorXd& F,
+                    const Eigen::VectorXd& row_scale, const Eigen::VectorXd& var_scale);
+  void AddRow(int i, double divisor);
+  /// The rows of one contact block, those that carry world-coordinate round-off (see
+  /// MncpResidual) divided by `factor` ≥ 1.
+  void AddContact(const MncpLayout::Contact& L, double factor);
+  double value() const { return value_; }
+
+ private:
+  int num_free_;
+  const Eigen::VectorXd& z_;
+  const Eigen::VectorXd& F_;
+  const Eigen::VectorXd& row_scale_;
+  const Eigen::VectorXd& var_scale_;
+  double value_ = 0;
+};
+
+/// m: the length below which a contact's rows in metres are not resolved (MncpResidual): the
+/// tolerance's share of kCoordinateRoundOffUlps ulps of the largest of |a1|, |a2|, |s| and
+/// `coordinates` (the largest |coordinate| of the centres of mass involved).
+double ContactRoundOffLength(const MncpLayout::Contact& L, const Eigen::VectorXd& z,
+                             double coordinates, double tolerance);
+
 /// Residual F(z) in physical units (rows as in MncpLayout). The friction cone row is written as
 /// μ p_n − ‖(p_t/e_t, p_o/e_o, p_r/e_r)‖ instead of the paper's ζ = (μ p_n)² − ‖…‖²: for p_n ≥ 0
 /// both have the same sign and the same zeros, so 0 ≤ σ ⊥ · ≥ 0 has the same solutions, but ζ has
@@ -129,5 +182,50 @@ double MncpResidual(const MncpLayout& layout, const Eigen::VectorXd& z, const Ei
 /// Jacobian ∂F/∂z, including the dependence of the hull geometry on q⁺ = q + h G(q) ν⁺.
 void EvaluateMncp(const BodyProblem& problem, const MncpLayout& layout, const Eigen::VectorXd& z,
                   Eigen::VectorXd* F, Eigen::MatrixXd* J);
+
+// --- the building blocks of EvaluateMncp, shared with the island MNCP (island_mncp.h) ---
+
+/// A body's motion over the step as a contact's rows see it: its end pose and velocities and,
+/// when the velocities are unknowns, their index in z and the derivatives of the end pose in ω⁺.
+struct StepMotion {
+  EndPose end;
+  Eigen::Vector3d v, w;  // m/s, rad/s (world): ν⁺, or a kinematic body's prescribed twist
+  int column = -1;       // z index of v⁺ (ω⁺ at + 3); −1: prescribed, no unknowns
+  // J_l(hω⁺): ∂(R⁺ x_B)/∂ω⁺ = −h [R⁺ x_B]× J_l(hω⁺)
+  Eigen::Matrix3d Jl_plus = Eigen::Matrix3d::Zero();
+  // Rᵀ J_l(−hω⁺): ∂y/∂ω⁺ = h [y]× Rᵀ J_l(−hω⁺) for y = R⁺ᵀ(x − c⁺)
+  Eigen::Matrix3d Rt_Jl_minus = Eigen::Matrix3d::Zero();
+};
+
+/// Sets the contact-free Newton–Euler rows of `problem`'s body, whose ν⁺ is z[column … +5]: F's
+/// six rows and, if `J` is not null, its two diagonal 3 × 3 blocks (F and J already sized and
+/// zeroed). Returns the body's motion (the derivatives only with J).
+StepMotion AddBodyRows(const BodyProblem& problem, int column, const Eigen::VectorXd& z,
+                       Eigen::VectorXd& F, Eigen::MatrixXd* J);
+
+/// What one contact joins: F's hull (body frame) and window, G's shape (world frame when G is
+/// fixed, else its own frame) and window — null: all of G's constraints, in order — and the
+/// friction between them. The pointers must outlive the call.
+struct ContactSides {
+  const geometry::ConvexShape* hull;
+  const std::vector<int>* window;
+  const geometry::ConvexShape* other;
+  const std::vector<int>* other_window;
+  Friction friction;
+  Eigen::Vector3d tangent_reference;  // world, fixed during the step
+};
+
+/// Sets contact L's rows and, if `J` is not null, their Jacobian, and adds the contact's wrench
+/// to the Newton–Euler rows of F (`body`) and, when G is a dynamic body (`other` with a column),
+/// the opposite wrench to G's: the equations of EvaluateIslandMncp (island_mncp.h). `other` is G's
+/// motion (fixed G: null, then these are EvaluateMncp's rows to the bit).
+void AddContactRows(const ContactSides& sides, const MncpLayout::Contact& L,
+                    const StepMotion& body, const StepMotion* other, double h,
+                    const Eigen::VectorXd& z, Eigen::VectorXd& F, Eigen::MatrixXd* J);
+
+/// N = Σ_j l_G,j ∇g_j of contact L at z in world coordinates (|N| ≈ 1 at a solution), G at
+/// `other`'s end pose (null: fixed); the contact frame is MakeContactFrame(N, …).
+Eigen::Vector3d ContactNormalCombination(const ContactSides& sides, const MncpLayout::Contact& L,
+                                         const StepMotion* other, const Eigen::VectorXd& z);
 
 }  // namespace ecpsim::engine
