@@ -22,9 +22,12 @@ std::vector<std::string> TrajectoryColumns(const engine::Scene& scene) {
   const bool several_contacts = scene.contacts.size() > 1;
   for (const engine::ContactPair& pair : scene.contacts) {
     const std::string prefix =
-        several_contacts ? scene.bodies[pair.body].name + "." +
-                               scene.obstacles[pair.obstacle].name + "."
-                         : "";
+        several_contacts
+            ? scene.bodies[pair.body].name + "." +
+                  (pair.WithBody() ? scene.bodies[pair.other_body].name
+                                   : scene.obstacles[pair.obstacle].name) +
+                  "."
+            : "";
     for (const char* c : {"a1x", "a1y", "a1z", "a2x", "a2y", "a2z", "pn", "pt", "po", "pr",
                           "sigma"}) {
       columns.push_back(prefix + c);

@@ -1,5 +1,9 @@
 #include "engine/contact_model.h"
 
+#include <fmt/format.h>
+
+#include "engine/step_report.h"
+
 #include "engine/hull_model.h"
 #include "engine/multipatch_model.h"
 #include "engine/planar_model.h"
@@ -8,6 +12,18 @@
 namespace ecpsim::engine {
 
 std::unique_ptr<ContactModelStepper> MakeContactModel(const Scene& scene) {
+  // only the hull model has contacts between two moving hulls (the planar and multi-patch models
+  // combine ECPs on one fixed plane; the point model's vertices against a body: not yet)
+  if (scene.model != ContactModel::kHull) {
+    for (const ContactPair& pair : scene.contacts) {
+      if (!pair.WithBody()) continue;
+      throw ModelInvalid(fmt::format(
+          "{} model: bodies '{}' and '{}' can touch each other; the model handles contacts with "
+          "fixed obstacles only; use --model hull (or exclude the pair under `pairs:`)",
+          ContactModelName(scene.model), scene.bodies[pair.body].name,
+          scene.bodies[pair.other_body].name));
+    }
+  }
   switch (scene.model) {
     case ContactModel::kPlanar:
       return std::make_unique<PlanarModel>(scene);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <string>
 #include <variant>
 
@@ -9,6 +10,8 @@
 
 #include "engine/complementarity_solver.h"
 #include "engine/contact_window.h"
+#include "engine/island_mncp.h"
+#include "engine/island_scaling.h"
 #include "engine/mncp_scaling.h"
 #include "engine/mncp_system.h"
 #include "engine/obstacle_queries.h"
@@ -65,40 +68,52 @@ constexpr int kMaxDegenerateDrops = 3;
 // growth is what a solution that moved past the window's rim needs, the rest is margin
 constexpr int kMaxWindowGrowth = 6;
 
-class BodyStepper {
+using Other = IslandContact::Other;
+
+class IslandStepper {
  public:
-  BodyStepper(const Scene& scene, int body_index, std::vector<int> contact_ids)
-      : scene_(scene), body_index_(body_index), contact_ids_(std::move(contact_ids)) {}
+  IslandStepper(const Scene& scene, const Island& island) : scene_(scene), island_(island) {}
 
-  // one step of length h from (body, contacts); not solved if every guess failed
-  AdvanceResult Advance(double t, double h, BodyState& body, std::vector<ContactState>& contacts) {
+  // one step of length h from `state`; not solved if every guess failed
+  AdvanceResult Advance(double t, double h, IslandState& state) const {
     AdvanceResult result;
-    const Body& model = scene_.bodies[body_index_];
-    BodyProblem problem = MakeProblem(t, h, body);
-    const Scales scales = BodyScales(model, body, problem.p_ext, h);
-    if (!FreeFlightIsFinite(problem, result.tried)) {
-      result.residual = INFINITY;
-      return result;
+    IslandProblem problem = MakeProblem(t, h, state);
+    IslandScales scales;
+    for (size_t i = 0; i < island_.bodies.size(); ++i) {
+      const BodyProblem& body = problem.bodies[i];
+      scales.bodies.push_back(
+          BodyScales(scene_.bodies[island_.bodies[i]], state.bodies[i], body.p_ext, h));
+      if (!FreeFlightIsFinite(body, result.tried)) {
+        result.residual = INFINITY;
+        return result;
+      }
     }
 
-    // windows around the support feature at the predicted pose, in the direction of −n
-    const Matrix3d R_predicted = ExpMap(h * body.w_WB) * problem.R;
-    for (size_t k = 0; k < contact_ids_.size(); ++k) {
-      ContactProblem& cp = problem.contacts[k];
-      const Vector3d direction_B = R_predicted.transpose() * -contacts[k].n;
-      cp.window = SelectWindow(*cp.hull, direction_B, scene_.solver.window_rings,
-                               scene_.solver.use_window);
+    RaiseToIslandVelocity(problem, scales);
+
+    // windows around the support features at the predicted poses: F's in the direction of −n,
+    // a moving G's in +n
+    for (size_t k = 0; k < problem.contacts.size(); ++k) {
+      IslandContact& cp = problem.contacts[k];
+      const Vector3d& n = state.contacts[k].n;
+      cp.window = SelectWindow(*cp.hull, PredictedRotation(problem, cp.body).transpose() * -n,
+                               scene_.solver.window_rings, scene_.solver.use_window);
+      if (cp.other_kind != Other::kFixed) {
+        cp.other_window =
+            SelectWindow(*cp.other_shape, PredictedOtherRotation(problem, cp).transpose() * n,
+                         scene_.solver.window_rings, scene_.solver.use_window);
+      }
     }
 
-    // free flight: if every hull ends the step strictly above its half-space obstacle when no
-    // contact acts, then p = 0 with ν⁺ = ν + M⁻¹ p_ext *is* the MNCP's solution (p_n = 0 ⊥ s > 0;
-    // a1, a2 the closest points), so it is taken in closed form — the reduced system of trap 2,
-    // exact, and free of the degenerate σ and of round-off in far-apart coordinates
+    // free flight: if every hull ends the step strictly apart from its G when no contact acts,
+    // then p = 0 with ν⁺ = ν + M⁻¹ p_ext *is* the MNCP's solution (p_n = 0 ⊥ s > 0; a1, a2 the
+    // closest points), so it is taken in closed form — the reduced system of trap 2, exact, and
+    // free of the degenerate σ and of round-off in far-apart coordinates
     {
-      const MncpLayout layout = MakeLayout(problem);
-      const VectorXd z = MakeGuess(Guess::kSeparated, problem, layout, body, contacts, scales);
-      if (AllContactsApart(problem, layout, z)) {
-        Commit(problem, layout, z, h, body, contacts);
+      const IslandLayout layout = MakeIslandLayout(problem);
+      const VectorXd z = MakeGuess(Guess::kSeparated, problem, layout, state, scales);
+      if (AllContactsApart(problem, layout, z, state)) {
+        Commit(problem, layout, z, state);
         result.solved = true;
         return result;
       }
@@ -106,12 +121,19 @@ class BodyStepper {
 
     // a body that starts the step inside an obstacle (allowed at t = 0, or round-off) is pushed
     // out within the step: the contact may give it the energy of that ejection
-    const double ejection_energy = EjectionEnergy(problem, contacts);
+    const double ejection_energy = EjectionEnergy(problem, state);
 
-    // in contact (or about to be): the warm start, then the guesses that fit the body's motion
+    // in contact (or about to be): the warm start, then the guesses that fit the bodies' motion
     const bool have_warm_start =
-        contacts.empty() || std::holds_alternative<HullWarmStart>(contacts[0].warm_start);
-    const std::vector<Guess> ladder = RestartLadder(have_warm_start, contacts, body, scales);
+        state.contacts.empty() ||
+        std::holds_alternative<HullWarmStart>(state.contacts[0].warm_start);
+    bool moving = false;
+    for (size_t i = 0; i < state.bodies.size(); ++i)
+      moving |= IsMoving(state.bodies[i], scales.bodies[i]);
+    const bool was_in_contact =
+        std::any_of(state.contacts.begin(), state.contacts.end(),
+                    [](const ContactState& c) { return c.p_n > 0; });
+    const std::vector<Guess> ladder = RestartLadder(have_warm_start, was_in_contact, moving);
 
     McpOptions options;
     options.tolerance = scene_.solver.tolerance;
@@ -133,18 +155,18 @@ class BodyStepper {
           ++result.retries;
         };
         for (int growth = 0; growth <= kMaxWindowGrowth; ++growth) {
-          const MncpLayout layout = MakeLayout(problem);
-          VectorXd z = MakeGuess(guess, problem, layout, body, contacts, scales);
+          const IslandLayout layout = MakeIslandLayout(problem);
+          VectorXd z = MakeGuess(guess, problem, layout, state, scales);
           Attempt attempt = Solve(problem, layout, z, options, scales, ejection_energy, result);
           result.residual = attempt.residual;
           // Newton stalls just above the tolerance where faces are weakly active at the
           // solution, or where four or more hull faces meet at the ECP (a quad mesh's vertex):
           // the faces that carry the contact alone, or one face left out, solve it
           if (attempt.outcome == Outcome::kUnconverged &&
-              (SolveOnCarryingFaces(problem, layout, z, options, scales, ejection_energy, h,
-                                    body, contacts, result) ||
+              (SolveOnCarryingFaces(problem, layout, z, options, scales, ejection_energy, state,
+                                    result) ||
                SolveAtDegenerateVertex(problem, layout, z, options, scales, ejection_energy,
-                                       h, body, contacts, result))) {
+                                       state, result))) {
             result.solved = true;
             return result;
           }
@@ -160,7 +182,7 @@ class BodyStepper {
                              kMaxWindowGrowth));
             break;
           }
-          Commit(problem, layout, z, h, body, contacts);
+          Commit(problem, layout, z, state);
           result.solved = true;
           return result;
         }
@@ -186,17 +208,17 @@ class BodyStepper {
     }
   };
 
-  Attempt Solve(const BodyProblem& problem, const MncpLayout& layout, VectorXd& z,
-                McpOptions& options, const Scales& scales, double ejection_energy,
+  Attempt Solve(const IslandProblem& problem, const IslandLayout& layout, VectorXd& z,
+                McpOptions& options, const IslandScales& scales, double ejection_energy,
                 AdvanceResult& result) const {
     const McpFunction f = [&](const VectorXd& zz, VectorXd* F, Eigen::MatrixXd* J) {
-      EvaluateMncp(problem, layout, zz, F, J);
+      EvaluateIslandMncp(problem, layout, zz, F, J);
     };
-    const VectorXd row_scale = RowScales(problem, layout, scales);
-    const VectorXd var_scale = VariableScales(problem, layout, scales);
+    const VectorXd row_scale = IslandRowScales(problem, layout, scales);
+    const VectorXd var_scale = IslandVariableScales(problem, layout, scales);
+    const IslandResidualUnits units = MakeIslandResidualUnits(problem, scales, options.tolerance);
     options.measure = [&](const VectorXd& zz, const VectorXd& F) {
-      return MncpResidual(layout, zz, F, row_scale, var_scale,
-                          {scales.length, options.tolerance, problem.c.cwiseAbs().maxCoeff()});
+      return IslandMncpResidual(problem, layout, zz, F, row_scale, var_scale, units);
     };
     const McpResult solve = SolveMcp(f, layout.num_free, row_scale, var_scale, z, options);
     options.measure = nullptr;
@@ -209,10 +231,13 @@ class BodyStepper {
     // smaller ω⁺, so such a root of the MNCP is a spurious one (it can gain energy); so is one
     // that gains energy the applied loads did not give (engine/README.md, "Roots that gain
     // energy"): the contact can only take energy away
-    if (problem.h * z.segment<3>(3).norm() > kMaxStepRotation) {
+    bool aliased = false;
+    for (int b = 0; b < layout.num_bodies; ++b)
+      aliased |= problem.h * z.segment<3>(IslandLayout::Velocity(b) + 3).norm() > kMaxStepRotation;
+    if (aliased) {
       attempt.outcome = Outcome::kAliased;
-    } else if (StepEnergyGain(problem, z.segment<3>(0), z.segment<3>(3)) >
-               kMaxEnergyGainRel * EnergyScale(problem, scales) + ejection_energy) {
+    } else if (IslandStepEnergyGain(problem, layout, z) >
+               kMaxEnergyGainRel * IslandEnergyScale(problem, scales) + ejection_energy) {
       attempt.outcome = Outcome::kGainsEnergy;
     } else {
       attempt.outcome = Outcome::kSolved;
@@ -224,14 +249,13 @@ class BodyStepper {
   // planes (merged from near-coplanar triangles) meet only up to the merge tolerance: the true
   // support is one of the tiny vertices where three of them meet, and Newton stalls just above
   // the tolerance between them. Re-solves from the stalled `z` with each of those faces left
-  // out of the window in turn (the smallest multipliers first; where five or more meet, the
+  // out of F's window in turn (the smallest multipliers first; where five or more meet, the
   // reduced problem may stall again at four and leaves out one more, up to `depth` in all); a
   // solution whose window check passes — the faces left out hold, as every face outside the
   // window must — is exact.
-  bool SolveAtDegenerateVertex(const BodyProblem& problem, const MncpLayout& layout,
-                               const VectorXd& z, McpOptions& options, const Scales& scales,
-                               double ejection_energy, double h, BodyState& body,
-                               std::vector<ContactState>& contacts, AdvanceResult& result,
+  bool SolveAtDegenerateVertex(const IslandProblem& problem, const IslandLayout& layout,
+                               const VectorXd& z, McpOptions& options, const IslandScales& scales,
+                               double ejection_energy, IslandState& state, AdvanceResult& result,
                                int depth = kMaxDegenerateDrops) const {
     if (depth == 0 || !z.allFinite()) return false;
     for (size_t k = 0; k < problem.contacts.size(); ++k) {
@@ -243,21 +267,20 @@ class BodyStepper {
       if (active.size() < 4) continue;
       std::sort(active.begin(), active.end(), [&](int a, int b) { return z[L.l + a] < z[L.l + b]; });
       for (size_t drop = 0; drop + 3 < active.size(); ++drop) {
-        BodyProblem reduced = problem;
+        IslandProblem reduced = problem;
         std::vector<int>& window = reduced.contacts[k].window;
         window.erase(window.begin() + active[drop]);
-        const MncpLayout reduced_layout = MakeLayout(reduced);
+        const IslandLayout reduced_layout = MakeIslandLayout(reduced);
         VectorXd rz = RemapWindows(problem, layout, z, reduced, reduced_layout);
         const Attempt attempt =
             Solve(reduced, reduced_layout, rz, options, scales, ejection_energy, result);
         const bool can_reach_three = active.size() <= static_cast<size_t>(3 + depth);
         if (attempt.outcome == Outcome::kUnconverged && can_reach_three &&
             SolveAtDegenerateVertex(reduced, reduced_layout, rz, options, scales, ejection_energy,
-                                    h, body, contacts, result, depth - 1)) {
+                                    state, result, depth - 1)) {
           return true;
         }
-        if (AcceptReduced(reduced, reduced_layout, rz, attempt, scales, h, body, contacts,
-                          result)) {
+        if (AcceptReduced(reduced, reduced_layout, rz, attempt, scales, state, result)) {
           return true;
         }
       }
@@ -265,15 +288,15 @@ class BodyStepper {
     return false;
   }
 
-  // Re-solves from the stalled `z` with each window cut to the faces that carry the contact
-  // (multiplier above kCarryingFraction of the largest): the weakly active faces left out, the
-  // reduced problem's pairs are no longer degenerate. Exact when its window check passes.
-  bool SolveOnCarryingFaces(const BodyProblem& problem, const MncpLayout& layout,
-                            const VectorXd& z, McpOptions& options, const Scales& scales,
-                            double ejection_energy, double h, BodyState& body,
-                            std::vector<ContactState>& contacts, AdvanceResult& result) const {
+  // Re-solves from the stalled `z` with each of F's windows cut to the faces that carry the
+  // contact (multiplier above kCarryingFraction of the largest): the weakly active faces left
+  // out, the reduced problem's pairs are no longer degenerate. Exact when its window check passes.
+  bool SolveOnCarryingFaces(const IslandProblem& problem, const IslandLayout& layout,
+                            const VectorXd& z, McpOptions& options, const IslandScales& scales,
+                            double ejection_energy, IslandState& state,
+                            AdvanceResult& result) const {
     if (!z.allFinite()) return false;
-    BodyProblem reduced = problem;
+    IslandProblem reduced = problem;
     bool cut = false;
     for (size_t k = 0; k < problem.contacts.size(); ++k) {
       const MncpLayout::Contact& L = layout.contacts[k];
@@ -281,110 +304,224 @@ class BodyStepper {
       if (!(largest > 0)) continue;
       std::vector<int> carrying;  // stays sorted, as windows are
       for (int i = 0; i < L.l_count; ++i)
-        if (z[L.l + i] > kCarryingFraction * largest) carrying.push_back(problem.contacts[k].window[i]);
+        if (z[L.l + i] > kCarryingFraction * largest)
+          carrying.push_back(problem.contacts[k].window[i]);
       cut |= carrying.size() < problem.contacts[k].window.size();
       reduced.contacts[k].window = std::move(carrying);
     }
     if (!cut) return false;
-    const MncpLayout reduced_layout = MakeLayout(reduced);
+    const IslandLayout reduced_layout = MakeIslandLayout(reduced);
     VectorXd rz = RemapWindows(problem, layout, z, reduced, reduced_layout);
     const Attempt attempt =
         Solve(reduced, reduced_layout, rz, options, scales, ejection_energy, result);
-    return AcceptReduced(reduced, reduced_layout, rz, attempt, scales, h, body, contacts, result);
+    return AcceptReduced(reduced, reduced_layout, rz, attempt, scales, state, result);
   }
 
   // commits a solution of a problem whose windows were cut (faces left out) when it converged
   // and every face outside its windows holds (the window check): then it is exact
-  bool AcceptReduced(const BodyProblem& reduced, const MncpLayout& layout, const VectorXd& z,
-                     const Attempt& attempt, const Scales& scales, double h, BodyState& body,
-                     std::vector<ContactState>& contacts, AdvanceResult& result) const {
+  bool AcceptReduced(const IslandProblem& reduced, const IslandLayout& layout, const VectorXd& z,
+                     const Attempt& attempt, const IslandScales& scales, IslandState& state,
+                     AdvanceResult& result) const {
     if (attempt.outcome != Outcome::kSolved) return false;
-    BodyProblem checked = reduced;
+    IslandProblem checked = reduced;
     if (GrowViolatedWindows(checked, layout, z, scales)) return false;
-    Commit(reduced, layout, z, h, body, contacts);
+    Commit(reduced, layout, z, state);
     result.residual = attempt.residual;
     return true;
   }
 
-  // `z` of `from` (laid out as `from_layout`) moved to `to`'s layout: the same unknowns, hull
+  // the face index → multiplier of `from_window` carried to `to_window` (0 for a face new to it)
+  static void CarryByFace(const std::vector<int>& from_window, const VectorXd& from, int from_at,
+                          const std::vector<int>& to_window, VectorXd& to, int to_at) {
+    for (size_t i = 0; i < to_window.size(); ++i) {
+      const auto it = std::find(from_window.begin(), from_window.end(), to_window[i]);
+      if (it != from_window.end()) to[to_at + i] = from[from_at + (it - from_window.begin())];
+    }
+  }
+
+  // `z` of `from` (laid out as `from_layout`) moved to `to`'s layout: the same unknowns,
   // multipliers matched by face index (0 for a face new to a window)
-  static VectorXd RemapWindows(const BodyProblem& from, const MncpLayout& from_layout,
-                               const VectorXd& z, const BodyProblem& to,
-                               const MncpLayout& to_layout) {
+  static VectorXd RemapWindows(const IslandProblem& from, const IslandLayout& from_layout,
+                               const VectorXd& z, const IslandProblem& to,
+                               const IslandLayout& to_layout) {
     VectorXd out = VectorXd::Zero(to_layout.size);
-    out.head<6>() = z.head<6>();
+    out.head(IslandLayout::Velocity(to_layout.num_bodies)) =
+        z.head(IslandLayout::Velocity(from_layout.num_bodies));
     for (size_t k = 0; k < to.contacts.size(); ++k) {
       const MncpLayout::Contact& A = from_layout.contacts[k];
       const MncpLayout::Contact& B = to_layout.contacts[k];
       out.segment<10>(B.a1) = z.segment<10>(A.a1);
-      out.segment(B.l_g, B.l_g_count) = z.segment(A.l_g, A.l_g_count);
+      CarryByFace(from.contacts[k].other_window, z, A.l_g, to.contacts[k].other_window, out, B.l_g);
       out[B.p_n] = z[A.p_n];
       out[B.sigma] = z[A.sigma];
-      const std::vector<int>& old_window = from.contacts[k].window;
-      for (int i = 0; i < B.l_count; ++i) {
-        const auto it = std::find(old_window.begin(), old_window.end(), to.contacts[k].window[i]);
-        if (it != old_window.end()) out[B.l + i] = z[A.l + (it - old_window.begin())];
-      }
+      CarryByFace(from.contacts[k].window, z, A.l, to.contacts[k].window, out, B.l);
     }
     return out;
   }
 
-  BodyProblem MakeProblem(double t, double h, const BodyState& body) const {
-    const Body& model = scene_.bodies[body_index_];
-    BodyProblem p = StartOfStep(scene_, body_index_, body, t, h);
-    for (int id : contact_ids_) {
+  // A body's own velocity scale (its speed, or g h at rest) is far below what a contact with a
+  // moving body brings it: a box at rest hit at 1.5 m/s measured its impulse in units of its
+  // weight's impulse per step (10⁴ × smaller), and Newton diverged. In an island of several
+  // bodies, or against a kinematic body, each body's velocity scale is at least the largest of
+  // the island's (and of the kinematic bodies' speeds over the bodies' lengths); its impulse
+  // scale follows (m V). A body alone against obstacles keeps its own.
+  static void RaiseToIslandVelocity(const IslandProblem& problem, IslandScales& scales) {
+    double velocity = 0;
+    for (const Scales& s : scales.bodies) velocity = std::max(velocity, s.velocity);
+    for (const IslandContact& cp : problem.contacts) {
+      if (cp.other_kind != Other::kKinematic) continue;
+      const KinematicBody& g = problem.kinematic[cp.other];
+      velocity = std::max(velocity, g.v.norm() + g.w.norm() * scales.bodies[cp.body].length);
+    }
+    const bool coupled =
+        problem.bodies.size() > 1 ||
+        std::any_of(problem.contacts.begin(), problem.contacts.end(),
+                    [](const IslandContact& cp) { return cp.other_kind == Other::kKinematic; });
+    if (!coupled) return;
+    for (size_t b = 0; b < scales.bodies.size(); ++b) {
+      Scales& s = scales.bodies[b];
+      if (s.velocity >= velocity) continue;
+      s.velocity = velocity;
+      s.impulse = problem.bodies[b].mass * velocity;
+    }
+  }
+
+  // the island's problem at the start of the step: its bodies (StartOfStep), the kinematic
+  // bodies its contacts touch (pose and prescribed twist over [t, t + h]) and its contacts, G's
+  // window all of a fixed obstacle's constraints
+  IslandProblem MakeProblem(double t, double h, const IslandState& state) const {
+    IslandProblem p;
+    p.h = h;
+    for (size_t i = 0; i < island_.bodies.size(); ++i)
+      p.bodies.push_back(StartOfStep(scene_, island_.bodies[i], state.bodies[i], t, h));
+    std::vector<int> kinematic_of(scene_.bodies.size(), -1);
+    for (int id : island_.contacts) {
       const ContactPair& pair = scene_.contacts[id];
-      ContactProblem cp;
-      cp.hull = model.hull.get();
-      cp.obstacle = scene_.obstacles[pair.obstacle].shape.get();
+      IslandContact cp;
+      cp.body = IslandIndex(pair.body);
+      cp.hull = scene_.bodies[pair.body].hull.get();
       cp.friction = pair.friction;
-      p.contacts.push_back(cp);
+      if (!pair.WithBody()) {
+        cp.other_kind = Other::kFixed;
+        cp.other_shape = scene_.obstacles[pair.obstacle].shape.get();
+        cp.other_window.resize(cp.other_shape->NumConstraints());
+        std::iota(cp.other_window.begin(), cp.other_window.end(), 0);
+      } else {
+        const Body& other = scene_.bodies[pair.other_body];
+        cp.other_shape = other.hull.get();
+        if (other.IsKinematic()) {
+          if (kinematic_of[pair.other_body] < 0) {
+            kinematic_of[pair.other_body] = static_cast<int>(p.kinematic.size());
+            const KinematicPose pose = other.motion->PoseAt(t);
+            const KinematicMotion::Twist twist = other.motion->StepTwist(t, h);
+            p.kinematic.push_back({pose.p, pose.q.toRotationMatrix(), twist.v, twist.w});
+          }
+          cp.other_kind = Other::kKinematic;
+          cp.other = kinematic_of[pair.other_body];
+        } else {
+          cp.other_kind = Other::kBody;
+          cp.other = IslandIndex(pair.other_body);
+        }
+      }
+      p.contacts.push_back(std::move(cp));
     }
     return p;
   }
 
-  // true if every contact's obstacle is a half-space and the separated guess's a1 (the hull's
-  // support point at the free-flight end pose) lies strictly outside it
-  static bool AllContactsApart(const BodyProblem& problem, const MncpLayout& layout,
-                               const VectorXd& z) {
+  int IslandIndex(int scene_body) const {
+    const auto it = std::find(island_.bodies.begin(), island_.bodies.end(), scene_body);
+    ECPSIM_DEMAND(it != island_.bodies.end());
+    return static_cast<int>(it - island_.bodies.begin());
+  }
+
+  // the rotation of island body b at the end of the step if it kept its angular velocity
+  static Matrix3d PredictedRotation(const IslandProblem& problem, int b) {
+    const BodyProblem& body = problem.bodies[b];
+    return ExpMap(problem.h * body.w) * body.R;
+  }
+  static Matrix3d PredictedOtherRotation(const IslandProblem& problem, const IslandContact& cp) {
+    if (cp.other_kind == Other::kBody) return PredictedRotation(problem, cp.other);
+    const KinematicBody& g = problem.kinematic[cp.other];
+    return ExpMap(problem.h * g.w) * g.R;
+  }
+
+  // G's end pose for a guess: a dynamic G's at its velocities in z, a kinematic one's prescribed
+  static EndPose GuessOtherPose(const IslandProblem& problem, const VectorXd& z, int k) {
+    return OtherEndPose(problem, z, k);
+  }
+
+  // true if every contact's G is apart from the separated guess's a1 (F's support point in −n at
+  // the free-flight end pose): a half-space obstacle strictly below a1, a moving G whose support
+  // point a2 in +n lies strictly behind a1 along n (the plane normal to n between them separates
+  // the hulls); any other obstacle: false
+  static bool AllContactsApart(const IslandProblem& problem, const IslandLayout& layout,
+                               const VectorXd& z, const IslandState& state) {
     for (size_t k = 0; k < problem.contacts.size(); ++k) {
-      const geometry::ConvexShape& obstacle = *problem.contacts[k].obstacle;
-      if (!obstacle.IsHalfSpace()) return false;
-      if (!(obstacle.Value(0, z.segment<3>(layout.contacts[k].a1)) > 0)) return false;
+      const IslandContact& cp = problem.contacts[k];
+      const MncpLayout::Contact& L = layout.contacts[k];
+      if (cp.other_kind == Other::kFixed) {
+        if (!cp.other_shape->IsHalfSpace()) return false;
+        if (!(cp.other_shape->Value(0, z.segment<3>(L.a1)) > 0)) return false;
+      } else if (!(state.contacts[k].n.dot(z.segment<3>(L.a1) - z.segment<3>(L.a2)) > 0)) {
+        return false;
+      }
     }
     return true;
   }
 
-  // J: twice the kinetic energy of moving the body out of its deepest start-of-step penetration
-  // of any obstacle within one step, plus the applied impulse's work over that depth
-  static double EjectionEnergy(const BodyProblem& problem, const std::vector<ContactState>& contacts) {
+  // J: twice the kinetic energy of moving the bodies out of their deepest start-of-step
+  // penetration of any G within one step, plus the applied impulses' work over that depth
+  static double EjectionEnergy(const IslandProblem& problem, const IslandState& state) {
     double depth = 0;
     for (size_t k = 0; k < problem.contacts.size(); ++k) {
-      const ContactProblem& cp = problem.contacts[k];
-      const Vector3d lowest = problem.c + problem.R * cp.hull->Support(problem.R.transpose() * -contacts[k].n);
-      const double g = cp.obstacle->Value(LargestConstraint(*cp.obstacle, lowest), lowest);
-      depth = std::max(depth, -g);
+      const IslandContact& cp = problem.contacts[k];
+      const BodyProblem& body = problem.bodies[cp.body];
+      const Vector3d& n = state.contacts[k].n;
+      const Vector3d lowest = body.c + body.R * cp.hull->Support(body.R.transpose() * -n);
+      if (cp.other_kind == Other::kFixed) {
+        const double g = cp.other_shape->Value(LargestConstraint(*cp.other_shape, lowest), lowest);
+        depth = std::max(depth, -g);
+      } else {
+        const auto [c, R] = StartPose(problem, cp);
+        const Vector3d highest = c + R * cp.other_shape->Support(R.transpose() * n);
+        depth = std::max(depth, n.dot(highest - lowest));
+      }
     }
     const double speed = depth / problem.h;
-    return problem.mass * speed * speed + problem.p_ext.head<3>().norm() * speed;
+    double energy = 0;
+    for (const BodyProblem& body : problem.bodies)
+      energy += body.mass * speed * speed + body.p_ext.head<3>().norm() * speed;
+    return energy;
   }
 
-  VectorXd MakeGuess(Guess guess, BodyProblem& problem, const MncpLayout& layout,
-                     const BodyState& body, const std::vector<ContactState>& contacts,
-                     const Scales& scales) const {
+  // G's pose at the start of the step (a moving G's)
+  static std::pair<Vector3d, Matrix3d> StartPose(const IslandProblem& problem,
+                                                 const IslandContact& cp) {
+    if (cp.other_kind == Other::kBody) return {problem.bodies[cp.other].c, problem.bodies[cp.other].R};
+    const KinematicBody& g = problem.kinematic[cp.other];
+    return {g.c, g.R};
+  }
+
+  VectorXd MakeGuess(Guess guess, IslandProblem& problem, const IslandLayout& layout,
+                     const IslandState& state, const IslandScales& scales) const {
     VectorXd z = VectorXd::Zero(layout.size);
     // free-flight velocities as the starting point of a fresh guess; the last ones for warm starts
-    const auto& [v_free, w_free] = problem.free;
-    z.segment<3>(0) = guess == Guess::kWarm ? body.v_WB : v_free;
-    z.segment<3>(3) = guess == Guess::kWarm ? body.w_WB : w_free;
+    for (int b = 0; b < layout.num_bodies; ++b) {
+      const int col = IslandLayout::Velocity(b);
+      const auto& [v_free, w_free] = problem.bodies[b].free;
+      z.segment<3>(col) = guess == Guess::kWarm ? state.bodies[b].v_WB : v_free;
+      z.segment<3>(col + 3) = guess == Guess::kWarm ? state.bodies[b].w_WB : w_free;
+    }
 
     for (size_t k = 0; k < problem.contacts.size(); ++k) {
-      ContactProblem& cp = problem.contacts[k];
+      IslandContact& cp = problem.contacts[k];
       const MncpLayout::Contact& L = layout.contacts[k];
-      const ContactState& previous = contacts[k];
+      const ContactState& previous = state.contacts[k];
       const Friction& fr = cp.friction;
+      const BodyProblem& body = problem.bodies[cp.body];
+      const int col = IslandLayout::Velocity(cp.body);
       cp.tangent_reference = TangentReference(previous.n);
-      const double sigma0 = kInitialSigmaFraction * scales.velocity;
+      const double sigma0 = kInitialSigmaFraction * scales.bodies[cp.body].velocity;
 
       const auto* warm = std::get_if<HullWarmStart>(&previous.warm_start);
       if (guess == Guess::kWarm && warm != nullptr) {
@@ -396,7 +533,11 @@ class BodyStepper {
         z[L.p_r] = previous.p_r;
         z[L.p_n] = previous.p_n;
         z[L.sigma] = previous.sigma;
-        z.segment(L.l_g, L.l_g_count) = warm->l_g;
+        if (cp.other_kind == Other::kFixed) {
+          z.segment(L.l_g, L.l_g_count) = warm->l_g;
+        } else {
+          CarryByFace(warm->other_window, warm->l_g, 0, cp.other_window, z, L.l_g);
+        }
         // carry hull multipliers over by face index (the window may have moved); windows are
         // sorted (SelectWindow), so a binary search does it without building a map every step
         const std::vector<int>& window = warm->window;
@@ -407,37 +548,82 @@ class BodyStepper {
         continue;
       }
 
-      // geometric guess at the free-flight pose: the hull's support point in the direction −n
+      // geometric guess at the free-flight poses: F's support point in the direction −n
       const Vector3d n = previous.n;
-      const EndPose pose = PoseAfterStep(problem, z.segment<3>(0), z.segment<3>(3));
+      const EndPose pose = PoseAfterStep(body, z.segment<3>(col), z.segment<3>(col + 3));
       const Vector3d support = pose.c + pose.R * cp.hull->Support(pose.R.transpose() * -n);
       // a contact without a warm start (new to the ladder) starts as separated
       const bool separated = guess == Guess::kSeparated || guess == Guess::kWarm;
       Vector3d a1 = support;
       if (!separated) a1 = pose.c - n * n.dot(pose.c - support);  // under the CM
-      const auto [a2, active_g] = ProjectOntoObstacle(*cp.obstacle, a1);
+      Vector3d a2, N;
+      Vector3d v_other = Vector3d::Zero();  // G's velocity at the contact, for the sliding guess
+      if (cp.other_kind == Other::kFixed) {
+        const auto [projection, active_g] = ProjectOntoObstacle(*cp.other_shape, a1);
+        a2 = projection;
+        z[L.l_g + active_g] = 1;
+        N = cp.other_shape->Gradient(active_g, a2);
+      } else {
+        // G's support point in +n at its end pose, and a1 on its support plane when touching
+        const EndPose other = GuessOtherPose(problem, z, static_cast<int>(k));
+        const Vector3d top = other.c + other.R * cp.other_shape->Support(other.R.transpose() * n);
+        a2 = separated ? top : Vector3d(a1 - n * n.dot(a1 - top));
+        const Vector3d y_g = other.R.transpose() * (a2 - other.c);
+        // G's window constraint whose world normal is most aligned with n carries its cone
+        const int best_g = MostOpposedWindowConstraint(*cp.other_shape, cp.other_window,
+                                                       other.R, y_g, -n);
+        z[L.l_g + best_g] = 1;
+        N = other.R * cp.other_shape->Gradient(cp.other_window[best_g], y_g);
+        if (cp.other_kind == Other::kKinematic) {
+          const KinematicBody& g = problem.kinematic[cp.other];
+          v_other = g.v + g.w.cross(a2 - other.c);
+        } else {
+          const int other_col = IslandLayout::Velocity(cp.other);
+          v_other = z.segment<3>(other_col) + Vector3d(z.segment<3>(other_col + 3)).cross(a2 - other.c);
+        }
+      }
       z.segment<3>(L.a1) = a1;
       z.segment<3>(L.a2) = a2;
-      z[L.l_g + active_g] = 1;
-      const Vector3d N = cp.obstacle->Gradient(active_g, a2);
       z[L.s] = separated ? std::max(0.0, (a1 - a2).dot(N) / N.squaredNorm()) : 0;
       // the window face whose world normal is most opposed to N carries the cone
       const Vector3d y = pose.R.transpose() * (a1 - pose.c);
-      const int best = MostOpposedWindowConstraint(cp, pose.R, y, N);
+      const int best = MostOpposedWindowConstraint(*cp.hull, cp.window, pose.R, y, N);
       z[L.l + best] = 1;
       z[L.sigma] = sigma0;
       if (separated) continue;
 
       // in contact: the normal impulse that cancels gravity and the approach velocity
-      const double p_n = std::max(problem.mass * (-n.dot(z.segment<3>(0))), 0.0) +
-                         std::max(-problem.mass * scene_.gravity.dot(n) * problem.h, 0.0);
+      const Vector3d& v_start = state.bodies[cp.body].v_WB;
+      double p_n = 0;
+      Vector3d v_tangent;
+      if (cp.other_kind == Other::kFixed) {
+        p_n = std::max(body.mass * (-n.dot(z.segment<3>(col))), 0.0) +
+              std::max(-body.mass * scene_.gravity.dot(n) * problem.h, 0.0);
+        v_tangent = v_start - n * n.dot(v_start);
+      } else {
+        // F and G end the step with a common normal velocity: G's own when kinematic, the
+        // momentum-weighted mean of the two when G is a body (a perfectly inelastic impact)
+        double v_common = n.dot(v_other);
+        if (cp.other_kind == Other::kBody) {
+          const double m_g = problem.bodies[cp.other].mass;
+          const int other_col = IslandLayout::Velocity(cp.other);
+          v_common = (body.mass * n.dot(z.segment<3>(col)) +
+                      m_g * n.dot(z.segment<3>(other_col))) / (body.mass + m_g);
+          const Vector3d v_g = z.segment<3>(other_col);
+          z.segment<3>(other_col) = v_g - n * (n.dot(v_g) - v_common);
+        }
+        p_n = std::max(body.mass * (v_common - n.dot(z.segment<3>(col))), 0.0) +
+              std::max(-body.mass * scene_.gravity.dot(n) * problem.h, 0.0);
+        const Vector3d v_f = z.segment<3>(col);
+        v_tangent = v_f - n * (n.dot(v_f) - v_common);
+      }
       z[L.p_n] = p_n;
-      const Vector3d v_tangent = body.v_WB - n * n.dot(body.v_WB);
-      z.segment<3>(0) = v_tangent;
+      z.segment<3>(col) = v_tangent;
       if (guess == Guess::kSliding) {
         const ContactFrame frame = MakeContactFrame(N, cp.tangent_reference);
-        const double v_t = frame.t.dot(v_tangent), v_o = frame.o.dot(v_tangent);
-        const double v_r = frame.n.dot(body.w_WB);
+        const Vector3d slip = v_tangent - v_other;
+        const double v_t = frame.t.dot(slip), v_o = frame.o.dot(slip);
+        const double v_r = frame.n.dot(state.bodies[cp.body].w_WB);
         const double sigma = std::sqrt(fr.e_t * fr.e_t * v_t * v_t + fr.e_o * fr.e_o * v_o * v_o +
                                        fr.e_r * fr.e_r * v_r * v_r);
         if (sigma > sigma0) {
@@ -451,49 +637,60 @@ class BodyStepper {
     return z;
   }
 
-  static Vector3d SolutionNormal(const BodyProblem& problem, const MncpLayout& layout,
-                                 const VectorXd& z, int k) {
-    const MncpLayout::Contact& L = layout.contacts[k];
-    const ContactProblem& cp = problem.contacts[k];
-    Vector3d N = Vector3d::Zero();
-    for (int j = 0; j < L.l_g_count; ++j)
-      N += z[L.l_g + j] * cp.obstacle->Gradient(j, z.segment<3>(L.a2));
-    return N;
-  }
-
-  // grows the window of every contact whose windowed solution violates a hull constraint left
-  // out (contact_window.h); false when the solution solves the full-hull problem
-  bool GrowViolatedWindows(BodyProblem& problem, const MncpLayout& layout, const VectorXd& z,
-                           const Scales& scales) const {
-    const EndPose end = PoseAfterStep(problem, z.segment<3>(0), z.segment<3>(3));
+  // grows the windows (F's, and a moving polyhedral G's) of every contact whose windowed
+  // solution violates a constraint left out (contact_window.h); false when the solution solves
+  // the full-hull problem
+  bool GrowViolatedWindows(IslandProblem& problem, const IslandLayout& layout, const VectorXd& z,
+                           const IslandScales& scales) const {
     bool grown = false;
     for (size_t k = 0; k < problem.contacts.size(); ++k) {
       const MncpLayout::Contact& L = layout.contacts[k];
-      ContactProblem& cp = problem.contacts[k];
+      IslandContact& cp = problem.contacts[k];
+      const int col = IslandLayout::Velocity(cp.body);
+      const EndPose end = PoseAfterStep(problem.bodies[cp.body], z.segment<3>(col),
+                                        z.segment<3>(col + 3));
+      const double tolerance = kWindowCheckRelTol * scales.bodies[cp.body].length;
       int active = 0;
       z.segment(L.l, L.l_count).maxCoeff(&active);
       const Vector3d y = end.R.transpose() * (z.segment<3>(L.a1) - end.c);
-      const std::vector<int> violated = WindowViolations(
-          *cp.hull, cp.window, cp.window[active], y, kWindowCheckRelTol * scales.length);
-      if (violated.empty()) continue;
-      cp.window = GrowWindow(*cp.hull, cp.window, violated);
-      grown = true;
+      const std::vector<int> violated =
+          WindowViolations(*cp.hull, cp.window, cp.window[active], y, tolerance);
+      if (!violated.empty()) {
+        cp.window = GrowWindow(*cp.hull, cp.window, violated);
+        grown = true;
+      }
+      if (cp.other_kind == Other::kFixed) continue;
+      const EndPose other = OtherEndPose(problem, z, static_cast<int>(k));
+      int active_g = 0;
+      z.segment(L.l_g, L.l_g_count).maxCoeff(&active_g);
+      const Vector3d y_g = other.R.transpose() * (z.segment<3>(L.a2) - other.c);
+      const std::vector<int> violated_g = WindowViolations(
+          *cp.other_shape, cp.other_window, cp.other_window[active_g], y_g, tolerance);
+      if (!violated_g.empty()) {
+        cp.other_window = GrowWindow(*cp.other_shape, cp.other_window, violated_g);
+        grown = true;
+      }
     }
     return grown;
   }
 
-  void Commit(const BodyProblem& problem, const MncpLayout& layout, const VectorXd& z, double h,
-              BodyState& body, std::vector<ContactState>& contacts) const {
-    const Vector3d v = z.segment<3>(0);
-    const Vector3d w = z.segment<3>(3);
-    body.p_WB += h * v;
-    body.Q_WB = IntegrateOrientation(body.Q_WB, w, h);
-    body.v_WB = v;
-    body.w_WB = w;
+  void Commit(const IslandProblem& problem, const IslandLayout& layout, const VectorXd& z,
+              IslandState& state) const {
+    const double h = problem.h;
+    for (int b = 0; b < layout.num_bodies; ++b) {
+      const int col = IslandLayout::Velocity(b);
+      const Vector3d v = z.segment<3>(col);
+      const Vector3d w = z.segment<3>(col + 3);
+      BodyState& body = state.bodies[b];
+      body.p_WB += h * v;
+      body.Q_WB = IntegrateOrientation(body.Q_WB, w, h);
+      body.v_WB = v;
+      body.w_WB = w;
+    }
     for (size_t k = 0; k < problem.contacts.size(); ++k) {
       const MncpLayout::Contact& L = layout.contacts[k];
-      const ContactProblem& cp = problem.contacts[k];
-      ContactState& c = contacts[k];
+      const IslandContact& cp = problem.contacts[k];
+      ContactState& c = state.contacts[k];
       c.a1 = z.segment<3>(L.a1);
       c.a2 = z.segment<3>(L.a2);
       c.p_t = z[L.p_t];
@@ -504,26 +701,27 @@ class BodyStepper {
       // without a normal impulse any σ ≥ 0 solves the MNCP (trap 2); report the canonical 0
       c.sigma = c.p_n > 0 ? std::max(z[L.sigma], 0.0) : 0.0;
       const ContactFrame frame =
-          MakeContactFrame(SolutionNormal(problem, layout, z, static_cast<int>(k)),
+          MakeContactFrame(IslandContactNormal(problem, layout, z, static_cast<int>(k)),
                            cp.tangent_reference);
       c.n = frame.n;
       c.t = frame.t;
       c.o = frame.o;
-      c.warm_start = HullWarmStart{z[L.s], z.segment(L.l_g, L.l_g_count), cp.window,
-                                   z.segment(L.l, L.l_count)};
+      HullWarmStart warm{z[L.s], z.segment(L.l_g, L.l_g_count), cp.window,
+                         z.segment(L.l, L.l_count), {}};
+      if (cp.other_kind != Other::kFixed) warm.other_window = cp.other_window;
+      c.warm_start = std::move(warm);
     }
   }
 
   const Scene& scene_;
-  int body_index_;
-  std::vector<int> contact_ids_;
+  const Island& island_;
 };
 
 }  // namespace
 
 AdvanceResult HullModel::Advance(const Island& island, double t, double h,
                                  IslandState& state) const {
-  return AdvanceOneBody<BodyStepper>(scene_, island, t, h, state);
+  return IslandStepper(scene_, island).Advance(t, h, state);
 }
 
 }  // namespace ecpsim::engine

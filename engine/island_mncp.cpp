@@ -136,4 +136,27 @@ double IslandStepEnergyGain(const IslandProblem& problem, const IslandLayout& la
   return gain;
 }
 
+EndPose OtherEndPose(const IslandProblem& problem, const VectorXd& z, int k) {
+  const IslandContact& cp = problem.contacts[k];
+  if (cp.other_kind == Other::kBody) {
+    const int col = IslandLayout::Velocity(cp.other);
+    return PoseAfterStep(problem.bodies[cp.other], z.segment<3>(col), z.segment<3>(col + 3));
+  }
+  if (cp.other_kind == Other::kKinematic) {
+    const KinematicBody& g = problem.kinematic[cp.other];
+    return PoseAfterStep(g.c, g.R, problem.h, g.v, g.w);
+  }
+  return {Vector3d::Zero(), Eigen::Matrix3d::Identity()};
+}
+
+Vector3d IslandContactNormal(const IslandProblem& problem, const IslandLayout& layout,
+                             const VectorXd& z, int k) {
+  const IslandContact& cp = problem.contacts[k];
+  if (cp.other_kind == Other::kFixed)
+    return ContactNormalCombination(Sides(cp), layout.contacts[k], nullptr, z);
+  StepMotion other;
+  other.end = OtherEndPose(problem, z, k);
+  return ContactNormalCombination(Sides(cp), layout.contacts[k], &other, z);
+}
+
 }  // namespace ecpsim::engine

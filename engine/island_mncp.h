@@ -141,4 +141,13 @@ double IslandMncpResidual(const IslandProblem& problem, const IslandLayout& layo
 double IslandStepEnergyGain(const IslandProblem& problem, const IslandLayout& layout,
                             const Eigen::VectorXd& z);
 
+/// G's end-of-step pose in contact `k` at z: a dynamic G's from its ν⁺ in z, a kinematic one's
+/// from its prescribed twist; a fixed G's shape is in world coordinates (identity at the origin).
+EndPose OtherEndPose(const IslandProblem& problem, const Eigen::VectorXd& z, int k);
+
+/// N = Σ_j l_G,j R_G⁺ ∇g_j(y_G) of contact `k` at z (world; |N| ≈ 1 at a solution): the contact
+/// frame is MakeContactFrame(N, tangent_reference).
+Eigen::Vector3d IslandContactNormal(const IslandProblem& problem, const IslandLayout& layout,
+                                    const Eigen::VectorXd& z, int k);
+
 }  // namespace ecpsim::engine

@@ -121,10 +121,16 @@ std::vector<Guess> RestartLadder(bool have_warm_start, const std::vector<Contact
 
 int MostOpposedWindowConstraint(const ContactProblem& cp, const Eigen::Matrix3d& R,
                                 const Eigen::Vector3d& y_B, const Eigen::Vector3d& N) {
+  return MostOpposedWindowConstraint(*cp.hull, cp.window, R, y_B, N);
+}
+
+int MostOpposedWindowConstraint(const geometry::ConvexShape& shape, const std::vector<int>& window,
+                                const Eigen::Matrix3d& R, const Eigen::Vector3d& y_B,
+                                const Eigen::Vector3d& N) {
   int best = 0;
   double best_alignment = -INFINITY;
-  for (int i = 0; i < static_cast<int>(cp.window.size()); ++i) {
-    const double alignment = -(R * cp.hull->Gradient(cp.window[i], y_B)).dot(N);
+  for (int i = 0; i < static_cast<int>(window.size()); ++i) {
+    const double alignment = -(R * shape.Gradient(window[i], y_B)).dot(N);
     if (alignment > best_alignment) {
       best_alignment = alignment;
       best = i;

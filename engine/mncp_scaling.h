@@ -70,5 +70,9 @@ std::vector<Guess> RestartLadder(bool have_warm_start, const std::vector<Contact
 /// frame, end-of-step rotation R) is most opposed to the obstacle's N — it carries the normal cone.
 int MostOpposedWindowConstraint(const ContactProblem& cp, const Eigen::Matrix3d& R,
                                 const Eigen::Vector3d& y_B, const Eigen::Vector3d& N);
+/// The same for the constraints `window` of `shape`.
+int MostOpposedWindowConstraint(const geometry::ConvexShape& shape, const std::vector<int>& window,
+                                const Eigen::Matrix3d& R, const Eigen::Vector3d& y_B,
+                                const Eigen::Vector3d& N);
 
 }  // namespace ecpsim::engine

@@ -77,6 +77,8 @@ double PenetrationProbe::Depth(const Scene& scene, const State& state, int b, in
 double PenetrationProbe::MaxDepth(const Scene& scene, const State& state) const {
   double deepest = 0;
   for (size_t b = 0; b < scene.bodies.size(); ++b) {
+    // a kinematic body goes where its motion says, through the ground too
+    if (scene.bodies[b].IsKinematic()) continue;
     for (size_t o = 0; o < scene.obstacles.size(); ++o) {
       deepest = std::max(deepest, Depth(scene, state, static_cast<int>(b), static_cast<int>(o)));
     }

@@ -1,5 +1,7 @@
 #include "engine/scene.h"
 
+#include <cmath>
+
 namespace ecpsim::engine {
 
 const char* ContactModelName(ContactModel model) {
@@ -14,6 +16,15 @@ const char* ContactModelName(ContactModel model) {
       return "point";
   }
   return "unknown";
+}
+
+Friction PairFriction(const Friction& a, const Friction& b) {
+  Friction f;
+  f.mu = std::sqrt(a.mu * b.mu);
+  f.e_t = std::sqrt(a.e_t * b.e_t);
+  f.e_o = std::sqrt(a.e_o * b.e_o);
+  f.e_r = std::sqrt(a.e_r * b.e_r);
+  return f;
 }
 
 }  // namespace ecpsim::engine

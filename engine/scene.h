@@ -9,6 +9,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "engine/kinematic_motion.h"
 #include "engine/loads.h"
 #include "geometry/convex_shape.h"
 #include "geometry/triangle_mesh.h"
@@ -50,6 +51,12 @@ struct Body {
   // true: the initial pose may overlap an obstacle deeper than ValidateScene's tolerance (the
   // solver then pushes the body out in the first steps)
   bool allow_initial_penetration = false;
+  // the friction of its contacts with other bodies (ContactPair, "the pair rule")
+  Friction friction;
+  // a kinematic body: its pose is prescribed (mass, inertia and the initial state unused); it
+  // pushes and is never pushed. Null: a dynamic body
+  std::shared_ptr<const KinematicMotion> motion;
+  bool IsKinematic() const { return motion != nullptr; }
 };
 
 /// A fixed convex body G (the ground, a tilted plane, a box fixture) in world coordinates.
@@ -59,12 +66,22 @@ struct Obstacle {
   Friction friction;                                   // default friction of contacts with it
 };
 
-/// One potential contact between a body's hull and an obstacle: its own ECPs and wrench.
+/// One potential contact, with its own ECPs and wrench: between the hull of a dynamic body F
+/// (`body`) and G, a fixed obstacle (`obstacle`) or another body (`other_body`: a kinematic one,
+/// or a dynamic one of larger index). F and G are chosen once per pair (warm starts and output
+/// columns follow the order).
 struct ContactPair {
   int body = 0;
-  int obstacle = 0;
+  int obstacle = 0;     // -1 when G is a body
   Friction friction;
+  int other_body = -1;  // ≥ 0: G is this body (then obstacle = -1)
+  bool WithBody() const { return other_body >= 0; }
 };
+
+/// The friction of a pair of bodies (docs/scene_format.md, "Contacts between bodies"): the
+/// geometric mean of the two bodies' μ and of each ellipsoid semi-axis, so a pair with one
+/// frictionless body is frictionless and two equal bodies keep their values.
+Friction PairFriction(const Friction& a, const Friction& b);
 
 struct SolverSettings {
   double tolerance = 1e-12;    // on the unscaled residual (see engine/README.md)

@@ -1,5 +1,7 @@
 #include "engine/scene_builders.h"
 
+#include <algorithm>
+
 #include <memory>
 
 #include "geometry/convex_hull.h"
@@ -45,10 +47,32 @@ Scene MakeGroundScene(std::vector<Body> bodies, double h, const Friction& fricti
   ground.friction = friction;
   scene.obstacles.push_back(ground);
   for (size_t b = 0; b < bodies.size(); ++b) {
-    scene.contacts.push_back(ContactPair{static_cast<int>(b), 0, friction});
+    // a kinematic body is never pushed: no contact with the ground
+    if (!bodies[b].IsKinematic()) scene.contacts.push_back(ContactPair{static_cast<int>(b), 0, friction});
   }
   scene.bodies = std::move(bodies);
   return scene;
+}
+
+ContactPair BodyPair(const Scene& scene, int i, int j, const Friction& friction) {
+  const bool i_kinematic = scene.bodies[i].IsKinematic();
+  ContactPair pair;
+  pair.body = i_kinematic ? j : std::min(i, j);
+  pair.other_body = i_kinematic ? i : std::max(i, j);
+  pair.obstacle = -1;
+  pair.friction = friction;
+  return pair;
+}
+
+void AddBodyPairs(Scene& scene) {
+  const int n = static_cast<int>(scene.bodies.size());
+  for (int i = 0; i < n; ++i) {
+    for (int j = i + 1; j < n; ++j) {
+      if (scene.bodies[i].IsKinematic() && scene.bodies[j].IsKinematic()) continue;
+      scene.contacts.push_back(
+          BodyPair(scene, i, j, PairFriction(scene.bodies[i].friction, scene.bodies[j].friction)));
+    }
+  }
 }
 
 }  // namespace ecpsim::engine

@@ -20,8 +20,16 @@ Body MakeBoxBody(const Eigen::Vector3d& size, double mass, const std::string& na
 Body MakeMeshBody(const geometry::TriangleMesh& mesh_any_frame, double mass,
                   const std::string& name);
 
-/// A scene with the ground z ≤ 0 and the given bodies, each in contact with the ground with
-/// `friction`; source "code", step h, duration 1 s.
+/// A scene with the ground z ≤ 0 and the given bodies, each dynamic one in contact with the
+/// ground with `friction`; source "code", step h, duration 1 s.
 Scene MakeGroundScene(std::vector<Body> bodies, double h, const Friction& friction);
+
+/// The contact between bodies i and j (not both kinematic) with `friction`: F the dynamic one
+/// (the lower index when both are), G the other.
+ContactPair BodyPair(const Scene& scene, int i, int j, const Friction& friction);
+
+/// Adds BodyPair(i, j, PairFriction of the two bodies) for every pair i < j of `scene`'s bodies
+/// that are not both kinematic.
+void AddBodyPairs(Scene& scene);
 
 }  // namespace ecpsim::engine

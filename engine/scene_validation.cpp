@@ -255,11 +255,35 @@ void CheckBodyIndex(const Scene& scene, const std::string& key, int body) {
   }
 }
 
+// loads and impulses act on dynamic bodies: a kinematic body's motion is prescribed
+void CheckDynamic(const Scene& scene, const std::string& key, int body) {
+  if (scene.bodies[body].IsKinematic()) {
+    Fail({key}, fmt::format("\"{}\"", scene.bodies[body].name),
+         "a dynamic body (a kinematic body's motion is prescribed; no load moves it)");
+  }
+}
+
 void CheckContacts(const Scene& scene) {
   for (size_t k = 0; k < scene.contacts.size(); ++k) {
     const ContactPair& pair = scene.contacts[k];
     const std::string at = Index("contacts", k);
     CheckBodyIndex(scene, at + ".body", pair.body);
+    if (scene.bodies[pair.body].IsKinematic()) {
+      Fail({at + ".body"}, fmt::format("{}", pair.body),
+           "a dynamic body on the F side of a contact (a kinematic body is never pushed)");
+    }
+    if (pair.WithBody()) {
+      CheckBodyIndex(scene, at + ".other_body", pair.other_body);
+      if (pair.other_body == pair.body ||
+          (!scene.bodies[pair.other_body].IsKinematic() && pair.other_body < pair.body)) {
+        Fail({at + ".other_body"}, fmt::format("{}", pair.other_body),
+             "another body: a kinematic one, or a dynamic one of larger index than `body`");
+      }
+      CheckFriction({"pairs", at + ".friction"}, pair.friction,
+                    fmt::format("the contact of body \"{}\" with body \"{}\"",
+                                scene.bodies[pair.body].name, scene.bodies[pair.other_body].name));
+      continue;
+    }
     if (pair.obstacle < 0 || pair.obstacle >= static_cast<int>(scene.obstacles.size())) {
       Fail({at + ".obstacle"}, fmt::format("{}", pair.obstacle),
            fmt::format("an obstacle index 0..{}", static_cast<int>(scene.obstacles.size()) - 1));
@@ -277,6 +301,7 @@ void CheckLoads(const Scene& scene) {
     const Load& load = scene.loads[i];
     const std::string at = Index("loads", i);
     CheckBodyIndex(scene, at + ".body", load.body);
+    CheckDynamic(scene, at + ".body", load.body);
     if (!(std::abs(load.start) <= kMaxMagnitude)) {
       Fail({at + ".start"}, fmt::format("{}", load.start),
            fmt::format("a start time (s) within ±{:g}", kMaxMagnitude));
@@ -291,6 +316,7 @@ void CheckLoads(const Scene& scene) {
     const Impulse& impulse = scene.impulses[i];
     const std::string at = Index("impulses", i);
     CheckBodyIndex(scene, at + ".body", impulse.body);
+    CheckDynamic(scene, at + ".body", impulse.body);
     if (!(impulse.time >= 0 && impulse.time <= kMaxMagnitude)) {
       Fail({at + ".time"}, fmt::format("{}", impulse.time), "a finite time >= 0 s");
     }
@@ -336,7 +362,8 @@ void CheckInitialPenetration(const Scene& scene) {
   const State state = InitialState(scene);
   for (size_t b = 0; b < scene.bodies.size(); ++b) {
     const Body& body = scene.bodies[b];
-    if (body.allow_initial_penetration) continue;
+    // a kinematic body goes where its motion says, through the ground too
+    if (body.allow_initial_penetration || body.IsKinematic()) continue;
     const double size = MeshAcross(body.mesh);
     const double tolerance = kInitialPenetrationTolerance * size;
     for (size_t o = 0; o < scene.obstacles.size(); ++o) {

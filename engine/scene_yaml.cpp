@@ -2,6 +2,7 @@
 
 #include <filesystem>
 
+#include "engine/scene_builders.h"
 #include "engine/scene_validation.h"
 #include "engine/scene_yaml_reader.h"
 
@@ -118,10 +119,71 @@ YAML::Node ReadFile(const std::string& path) {
   }
 }
 
+// the pair of bodies (i, j) with its settings from `pairs:` (none: PairFriction of the two)
+struct PairSetting {
+  bool exclude = false;
+  Friction friction;
+};
+
+// a body of `scene` by name
+int BodyNamed(const Context& ctx, const YAML::Node& node, const std::string& key,
+              const Scene& scene) {
+  std::string names;
+  for (size_t i = 0; i < scene.bodies.size(); ++i) {
+    if (node.IsScalar() && node.Scalar() == scene.bodies[i].name) return static_cast<int>(i);
+    names += (names.empty() ? "" : ", ") + scene.bodies[i].name;
+  }
+  Fail(ctx, node, key, fmt::format("the name of a body of the scene ({})", names));
+}
+
+// every pair of bodies that can touch (not both kinematic, not excluded by `pairs:`) becomes a
+// contact: F the dynamic body (the lower index when both are), G the other
+void AddBodyPairs(const Context& ctx, const MapNode& map, Scene& scene) {
+  const size_t n = scene.bodies.size();
+  std::vector<std::vector<PairSetting>> settings(n, std::vector<PairSetting>(n));
+  for (size_t i = 0; i < n; ++i)
+    for (size_t j = 0; j < n; ++j)
+      settings[i][j].friction = PairFriction(scene.bodies[i].friction, scene.bodies[j].friction);
+  if (map.Has("pairs")) {
+    const YAML::Node list = map.Get("pairs");
+    if (!list.IsSequence()) {
+      Fail(ctx, list, "pairs", "a list of `- {bodies: [A, B], friction: {...}}` or `exclude: true`");
+    }
+    for (size_t k = 0; k < list.size(); ++k) {
+      const std::string key = Index("pairs", k);
+      const MapNode entry(ctx, list[k], key, {"bodies", "friction", "exclude"});
+      const YAML::Node names = entry.Require("bodies", "[A, B]: the names of two bodies");
+      if (!names.IsSequence() || names.size() != 2) {
+        Fail(ctx, names, entry.Key("bodies"), "[A, B]: the names of two bodies");
+      }
+      const int a = BodyNamed(ctx, names[0], Index(entry.Key("bodies"), 0), scene);
+      const int b = BodyNamed(ctx, names[1], Index(entry.Key("bodies"), 1), scene);
+      if (a == b) Fail(ctx, names, entry.Key("bodies"), "two different bodies");
+      PairSetting setting = settings[a][b];
+      if (entry.Has("exclude")) {
+        setting.exclude = yaml::ReadBool(ctx, entry.Get("exclude"), entry.Key("exclude"));
+      }
+      if (entry.Has("friction")) {
+        setting.friction =
+            yaml::ReadFriction(ctx, entry.Get("friction"), entry.Key("friction"), setting.friction);
+      }
+      settings[a][b] = settings[b][a] = setting;
+    }
+  }
+  for (size_t i = 0; i < n; ++i) {
+    for (size_t j = i + 1; j < n; ++j) {
+      if (scene.bodies[i].IsKinematic() && scene.bodies[j].IsKinematic()) continue;
+      if (settings[i][j].exclude) continue;
+      scene.contacts.push_back(BodyPair(scene, static_cast<int>(i), static_cast<int>(j),
+                                        settings[i][j].friction));
+    }
+  }
+}
+
 Scene ReadScene(const Context& ctx, const YAML::Node& root) {
   const MapNode map(ctx, root, "",
                     {"gravity", "h", "duration", "ground", "obstacles", "bodies", "loads",
-                     "impulses", "solver", "output", "model"});
+                     "impulses", "solver", "output", "model", "pairs"});
   Scene scene;
   scene.source = ctx.file;
   if (map.Has("model")) scene.model = yaml::ReadModel(ctx, map.Get("model"), "model");
@@ -168,8 +230,15 @@ Scene ReadScene(const Context& ctx, const YAML::Node& root) {
                                           fmt::format("body{}", i), extras[i], scene.warnings));
   }
 
-  // one contact per (body, obstacle), with the obstacle's friction under the body's overrides
+  // one contact per (dynamic body, obstacle), with the obstacle's friction under the body's
+  // overrides; a kinematic body is never pushed, so it has none
   for (size_t b = 0; b < scene.bodies.size(); ++b) {
+    // the body's own friction, for its contacts with bodies: its overrides on the ground's
+    const Friction base = scene.obstacles.empty() ? Friction{} : scene.obstacles[0].friction;
+    scene.bodies[b].friction =
+        extras[b].friction ? yaml::ReadFriction(ctx, *extras[b].friction, extras[b].friction_key, base)
+                           : base;
+    if (scene.bodies[b].IsKinematic()) continue;
     for (size_t o = 0; o < scene.obstacles.size(); ++o) {
       ContactPair pair;
       pair.body = static_cast<int>(b);
@@ -182,6 +251,7 @@ Scene ReadScene(const Context& ctx, const YAML::Node& root) {
       scene.contacts.push_back(pair);
     }
   }
+  AddBodyPairs(ctx, map, scene);
 
   if (map.Has("loads")) {
     const YAML::Node list = map.Get("loads");

@@ -165,6 +165,10 @@ Eigen::Vector3d ReadPosition(const Context& ctx, const MapNode& map, const Body&
 
 }  // namespace
 
+// kg/m³: a kinematic body's mass properties are unused (it is never pushed); its body frame is
+// the centroid of its volume, as a dynamic body's is its centre of mass at uniform density
+constexpr double kKinematicDensity = 1000;
+
 Body ReadBody(const Context& ctx, const YAML::Node& node, const std::string& key,
               const std::string& default_name, BodyExtras& extras,
               std::vector<std::string>& warnings) {
@@ -172,22 +176,42 @@ Body ReadBody(const Context& ctx, const YAML::Node& node, const std::string& key
       ctx, node, key,
       {"name", "mesh", "scale", "units", "shape", "hull", "mass", "density", "inertia", "position",
        "quaternion", "rpy", "lowest_point_height", "on_ground", "allow_initial_penetration",
-       "velocity", "angular_velocity", "friction", "parts"});
+       "velocity", "angular_velocity", "friction", "parts", "kinematic", "motion"});
   Body body;
   body.name = map.Has("name") ? ReadName(ctx, map.Get("name"), map.Key("name")) : default_name;
+
+  // a kinematic body: its motion instead of mass and initial state (docs/scene_format.md)
+  const bool kinematic =
+      map.Has("kinematic") && ReadBool(ctx, map.Get("kinematic"), map.Key("kinematic"));
+  if (kinematic) {
+    for (const char* k : {"mass", "density", "inertia", "position", "quaternion", "rpy",
+                          "lowest_point_height", "on_ground", "allow_initial_penetration",
+                          "velocity", "angular_velocity", "parts"}) {
+      if (map.Has(k)) {
+        map.FailAt(k, fmt::format("no `{}` on a kinematic body (its `motion` gives its pose)", k));
+      }
+    }
+    body.motion = std::make_shared<KinematicMotion>(
+        ReadMotion(ctx, map.Require("motion", "a motion: {expressions | waypoints | velocity}"),
+                   map.Key("motion")));
+  } else if (map.Has("motion")) {
+    map.FailAt("motion", "`motion` only on a body with `kinematic: true`");
+  }
 
   // mass: `mass`, `density`, or `mass` + `inertia`
   if (map.Has("mass") && map.Has("density")) {
     map.FailAt("density", "either `mass` or `density`, not both");
   }
-  if (!map.Has("mass") && !map.Has("density")) {
+  if (!map.Has("mass") && !map.Has("density") && !kinematic) {
     map.FailAt("mass", "a mass > 0 kg (or a `density` in kg/m³)");
   }
   if (map.Has("inertia") && !map.Has("mass")) {
     map.FailAt("inertia", "`inertia` together with `mass`");
   }
   std::optional<double> mass, density;
-  if (map.Has("mass")) {
+  if (kinematic) {
+    density = kKinematicDensity;
+  } else if (map.Has("mass")) {
     mass = ReadPositive(ctx, map.Get("mass"), map.Key("mass"), kMassRange, "a finite mass > 0 kg");
   } else {
     density = ReadPositive(ctx, map.Get("density"), map.Key("density"), kDensityRange,
@@ -242,9 +266,16 @@ Body ReadBody(const Context& ctx, const YAML::Node& node, const std::string& key
                            *body.hull, kHullContainmentTolerance * MeshAcross(body.mesh));
   }
 
-  // initial state: `position` is where the CM starts
-  body.q0 = ReadOrientation(ctx, map);
-  body.p0 = ReadPosition(ctx, map, body);
+  // initial state: `position` is where the CM starts; a kinematic body's motion at t = 0
+  if (kinematic) {
+    const KinematicPose start = WithLocation(ctx, map.Get("motion"), map.Key("motion"),
+                                             [&] { return body.motion->PoseAt(0); });
+    body.p0 = start.p;
+    body.q0 = start.q;
+  } else {
+    body.q0 = ReadOrientation(ctx, map);
+    body.p0 = ReadPosition(ctx, map, body);
+  }
   if (map.Has("allow_initial_penetration")) {
     body.allow_initial_penetration =
         ReadBool(ctx, map.Get("allow_initial_penetration"), map.Key("allow_initial_penetration"));

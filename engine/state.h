@@ -20,12 +20,15 @@ struct BodyState {
 };
 
 /// The hull model's unknowns of one contact that ContactState's own fields do not hold: the gap s,
-/// the obstacle's multipliers l_G and the hull multipliers l of its window (sorted face indices).
+/// G's multipliers l_G (over `other_window`, G's constraints in the MNCP: empty for a fixed
+/// obstacle, whose every constraint enters in order) and the hull multipliers l of F's window
+/// (sorted face indices).
 struct HullWarmStart {
   double s = 0;
   Eigen::VectorXd l_g;
   std::vector<int> window;
   Eigen::VectorXd l;
+  std::vector<int> other_window;
 };
 
 /// The multi-patch model's unknowns of one contact: per convex part of the body its block

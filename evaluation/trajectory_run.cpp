@@ -93,7 +93,7 @@ ContactMode ModeOfPose(const engine::Scene& scene, int body, const engine::BodyS
   for (const Vector3d& v : HullVertices(*scene.bodies[body].hull)) world.push_back(state.p_WB + R * v);
   ContactMode deepest = ContactMode::kNone;
   for (const engine::ContactPair& pair : scene.contacts) {
-    if (pair.body != body) continue;
+    if (pair.body != body || pair.WithBody()) continue;
     const geometry::ConvexShape& obstacle = *scene.obstacles[pair.obstacle].shape;
     std::vector<double> gaps;
     for (const Vector3d& x : world) {

@@ -121,11 +121,14 @@ FrameInput SceneFrameBuilder::Build(const engine::State& state, int iterations) 
     const engine::ContactPair& pair = scene_.contacts[k];
     // the scene loader checked the indices
     ECPSIM_DEMAND(pair.body >= 0 && pair.body < static_cast<int>(scene_.bodies.size()));
-    ECPSIM_DEMAND(pair.obstacle >= 0 && pair.obstacle < static_cast<int>(scene_.obstacles.size()));
+    ECPSIM_DEMAND(pair.WithBody() ||
+                  (pair.obstacle >= 0 && pair.obstacle < static_cast<int>(scene_.obstacles.size())));
     const engine::ContactState& c = state.contacts[k];
     const Eigen::Isometry3d& X_WB = frame.bodies[pair.body].X_WB;
     ContactVisual contact;
-    const auto& plane = planes_[pair.obstacle];
+    // a contact between bodies has no fixed plane to extract a patch on
+    const std::optional<geometry::Plane> plane =
+        pair.WithBody() ? std::nullopt : planes_[pair.obstacle];
     if (plane) {
       contact.plane = *plane;
       contact.patch = geometry::ExtractContactPatch(*meshes_[pair.body], X_WB, *plane,

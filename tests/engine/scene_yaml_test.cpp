@@ -193,8 +193,23 @@ TEST_F(SceneYamlTest, CompleteSceneParsesToTheExpectedNumbers) {
   EXPECT_EQ(ball.inertia, Eigen::Vector3d(0.1, 0.2, 0.25).asDiagonal().toDenseMatrix());
   EXPECT_EQ(ball.q0.coeffs(), Eigen::Vector4d(0, 0, 1, 0));  // Eigen stores x, y, z, w
 
-  // contacts: every (body, obstacle) pair; the crate's μ override keeps the obstacle's e
-  ASSERT_EQ(scene.contacts.size(), 9u);
+  // contacts: every (body, obstacle) pair; the crate's μ override keeps the obstacle's e; then
+  // every pair of bodies with the geometric mean of the two bodies' friction (each body's: its
+  // overrides over the ground's)
+  ASSERT_EQ(scene.contacts.size(), 9u + 3u);
+  const int pairs[3][2] = {{0, 1}, {0, 2}, {1, 2}};
+  for (int k = 0; k < 3; ++k) {
+    const ContactPair& pair = scene.contacts[9 + k];
+    EXPECT_EQ(pair.body, pairs[k][0]);
+    EXPECT_EQ(pair.other_body, pairs[k][1]);
+    EXPECT_EQ(pair.obstacle, -1);
+    const Friction expected =
+        PairFriction(scene.bodies[pairs[k][0]].friction, scene.bodies[pairs[k][1]].friction);
+    EXPECT_EQ(pair.friction.mu, expected.mu);
+    EXPECT_EQ(pair.friction.e_r, expected.e_r);
+  }
+  EXPECT_EQ(scene.bodies[0].friction.mu, 0.1);
+  EXPECT_EQ(scene.bodies[1].friction.mu, scene.obstacles[0].friction.mu);
   for (int b = 0; b < 3; ++b) {
     for (int o = 0; o < 3; ++o) {
       const ContactPair& pair = scene.contacts[3 * b + o];
@@ -567,6 +582,26 @@ const BadScene kBadScenes[] = {
     {"ScaleOutOfRange", "duration: 1\nbodies:\n  - mesh: meshes/cube.obj\n    scale: 1e200\n"
      "    mass: 1\n    position: [0, 0, 0]\n",
      "scene.yaml:4:12: bodies[0].scale = 1e200: expected a scale in [1e-06, 1e+06]"},
+    // ---- kinematic bodies and pairs
+    {"KinematicWithMass", "duration: 1\nbodies:\n  - kinematic: true\n    mass: 1\n"
+     "    shape: {box: {size: [1, 1, 1]}}\n    motion: {velocity: {position: [0, 0, 1]}}\n",
+     "scene.yaml:4:11: bodies[0].mass = 1: expected no `mass` on a kinematic body"},
+    {"KinematicWithoutMotion", "duration: 1\nbodies:\n  - kinematic: true\n"
+     "    shape: {box: {size: [1, 1, 1]}}\n",
+     "bodies[0].motion"},
+    {"MotionWithoutKinematic", "duration: 1\n" ECPSIM_BODY "    mass: 1\n"
+     "    motion: {velocity: {position: [0, 0, 1]}}\n",
+     "expected `motion` only on a body with `kinematic: true`"},
+    {"LoadOnAKinematicBody", "duration: 1\nbodies:\n  - name: finger\n    kinematic: true\n"
+     "    shape: {box: {size: [1, 1, 1]}}\n    motion: {velocity: {position: [0, 0, 1]}}\n"
+     "loads:\n  - {body: finger, force: [1, 0, 0]}\n",
+     "expected a dynamic body (a kinematic body's motion is prescribed"},
+    {"PairOfAnUnknownBody", "duration: 1\n" ECPSIM_BODY "    mass: 1\n"
+     "pairs:\n  - {bodies: [body0, ghost]}\n",
+     "scene.yaml:7:22: pairs[0].bodies[1] = ghost: expected the name of a body of the scene (body0)"},
+    {"PairOfOneBody", "duration: 1\n" ECPSIM_BODY "    mass: 1\n"
+     "pairs:\n  - {bodies: [body0, body0]}\n",
+     "pairs[0].bodies = [body0, body0]: expected two different bodies"},
 };
 #undef ECPSIM_BODY
 
@@ -580,6 +615,28 @@ TEST_P(BadSceneTest, IsRejectedWithItsLocationAndExpectation) {
 
 INSTANTIATE_TEST_SUITE_P(Validation, BadSceneTest, ::testing::ValuesIn(kBadScenes),
                          [](const auto& info) { return std::string(info.param.name); });
+
+TEST_F(SceneYamlTest, KinematicBodiesAndPairSettingsMakeTheDocumentedContacts) {
+  const Scene scene = LoadText(
+      "duration: 1\nground: {friction: {mu: 0.4}}\nbodies:\n"
+      "  - {name: a, shape: {box: {size: [0.2, 0.2, 0.2]}}, mass: 1, position: [0, 0, 0.1]}\n"
+      "  - {name: b, shape: {box: {size: [0.2, 0.2, 0.2]}}, mass: 1, position: [1, 0, 0.1],\n"
+      "     friction: {mu: 0.1}}\n"
+      "  - name: finger\n    kinematic: true\n    shape: {sphere: {radius: 0.01}}\n"
+      "    motion: {velocity: {position: [-0.5, 0, 0.1], linear: [0.1, 0, 0]}}\n"
+      "pairs:\n  - {bodies: [b, a], friction: {mu: 0.3}}\n  - {bodies: [finger, b], exclude: true}\n");
+  // obstacle contacts for the two dynamic bodies only; then a–b (overridden) and a–finger (F a,
+  // G the kinematic finger), b–finger excluded
+  ASSERT_EQ(scene.contacts.size(), 4u);
+  EXPECT_TRUE(scene.bodies[2].IsKinematic());
+  EXPECT_EQ(scene.bodies[2].p0, Eigen::Vector3d(-0.5, 0, 0.1));
+  EXPECT_EQ(scene.contacts[2].body, 0);
+  EXPECT_EQ(scene.contacts[2].other_body, 1);
+  EXPECT_EQ(scene.contacts[2].friction.mu, 0.3);
+  EXPECT_EQ(scene.contacts[3].body, 0);
+  EXPECT_EQ(scene.contacts[3].other_body, 2);
+  EXPECT_EQ(scene.contacts[3].friction.mu, 0.4);  // sqrt(0.4 · 0.4): a and the finger
+}
 
 TEST_F(SceneYamlTest, SyntaxErrorIsReportedAsYamlError) {
   EXPECT_THAT([&] { LoadText("duration: [1, 2\nbodies: []\n"); },

@@ -61,7 +61,7 @@ Scene TwoBoxes() {
 
 TEST(FormIslandsTest, EveryBodyIsAnIslandWithItsObstacleContacts) {
   const Scene scene = TwoBoxes();
-  const std::vector<Island> islands = FormIslands(scene);
+  const std::vector<Island> islands = FormIslands(scene, InitialState(scene));
   ASSERT_EQ(islands.size(), 2u);
   for (int b = 0; b < 2; ++b) {
     EXPECT_EQ(islands[b].bodies, std::vector<int>{b});

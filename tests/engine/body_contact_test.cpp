@@ -1,0 +1,229 @@
+// Contacts between bodies (issue 13): stacks, collisions, kinematic pushers, islands.
+#include <cmath>
+#include <vector>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "engine/contact_model.h"
+#include "engine/step_driver.h"
+#include "engine/time_step.h"
+#include "tests/engine/test_bodies.h"
+
+namespace ecpsim::engine {
+namespace {
+
+using Eigen::Vector3d;
+using testing::MakeBoxBody;
+using testing::MakeGroundScene;  // the tests' one (source "test")
+
+constexpr double kG = 9.8;
+// m: the stack's drift bar over 10 s (the issue's); the MNCP's own error per step is the solver
+// tolerance times the body's length, ≈ 1e-13 m, so 1,000 steps stay far below it
+constexpr double kStackDrift = 1e-9;
+// relative: what converged steps reproduce of a quantity exactly determined by the equations
+// (an impulse balance, a velocity set by a sticking contact): the solver tolerance 1e-12 of
+// each row's scale, with a margin for the rows it is summed over
+constexpr double kSolvedRel = 1e-10;
+
+Friction TestFriction(double mu) { return Friction{mu, 1, 1, 0.05}; }
+
+Scene StackScene() {
+  std::vector<Body> boxes;
+  const double sizes[3] = {0.3, 0.2, 0.1};
+  for (int i = 0; i < 3; ++i) {
+    Body box = MakeBoxBody(Vector3d(sizes[i], sizes[i], 0.1), 3 - i, "box" + std::to_string(i));
+    box.p0 = Vector3d(0, 0, 0.05 + 0.1 * i);
+    box.friction = TestFriction(0.5);
+    boxes.push_back(box);
+  }
+  Scene scene = testing::MakeGroundScene(boxes, 0.01, TestFriction(0.5));
+  AddBodyPairs(scene);
+  scene.duration = 10;
+  return scene;
+}
+
+TEST(StackTest, ThreeBoxesRestTenSecondsWithoutDriftEachCarryingTheWeightAbove) {
+  const Scene scene = StackScene();
+  State state = InitialState(scene);
+  const State start = state;
+  for (int step = 0; step < 1000; ++step) {
+    const StepReport report = Step(scene, state);
+    ASSERT_TRUE(report.converged) << "t = " << state.t;
+    for (int b = 0; b < 3; ++b) {
+      ASSERT_LE((state.bodies[b].p_WB - start.bodies[b].p_WB).norm(), kStackDrift)
+          << "box " << b << " at t = " << state.t;
+    }
+  }
+  // each box rests on the one below: the contact below box b carries the weight of b and above
+  const double h = scene.h;
+  for (size_t k = 0; k < scene.contacts.size(); ++k) {
+    const ContactPair& pair = scene.contacts[k];
+    const ContactState& c = state.contacts[k];
+    double carried = 0;
+    if (!pair.WithBody()) {  // a box on the ground: only the bottom box touches it
+      if (pair.body != 0) {
+        EXPECT_NEAR(c.p_n, 0, kSolvedRel * kG * h) << "box " << pair.body << " on the ground";
+        continue;
+      }
+      carried = 6;
+    } else if (pair.other_body == pair.body + 1) {  // box b under box b + 1
+      carried = pair.body == 0 ? 3 : 1;
+      // the normal points from G (the upper box) into F (the lower one)
+      EXPECT_NEAR(c.n.z(), -1, 1e-12);
+    } else {
+      EXPECT_NEAR(c.p_n, 0, kSolvedRel * kG * h) << "boxes 0 and 2 do not touch";
+      continue;
+    }
+    EXPECT_NEAR(c.p_n, carried * kG * h, kSolvedRel * carried * kG * h) << "contact " << k;
+  }
+}
+
+TEST(CollisionTest, TwoFreeCubesExchangeMomentumExactlyAndNeverGainKineticEnergy) {
+  // no gravity, no ground: a spinning cube hits another off its centre line, with friction.
+  // Cubes: their inertia is isotropic, so free flight keeps ω (the implicit gyroscopic term
+  // ω × Iω vanishes) and every change of momentum comes from the contact
+  Body a = MakeBoxBody(Vector3d(0.2, 0.2, 0.2), 2, "a");
+  a.v0 = Vector3d(1.5, 0, 0);
+  a.w0 = Vector3d(0.3, -0.2, 1.0);
+  a.friction = TestFriction(0.6);
+  Body b = MakeBoxBody(Vector3d(0.25, 0.25, 0.25), 1, "b");
+  b.p0 = Vector3d(0.4, 0.08, 0.03);
+  b.friction = TestFriction(0.6);
+  Scene scene;
+  scene.source = "test";
+  scene.gravity = Vector3d::Zero();
+  scene.h = 0.01;
+  scene.bodies = {a, b};
+  AddBodyPairs(scene);
+  State state = InitialState(scene);
+
+  struct Momentum {
+    Vector3d linear = Vector3d::Zero(), angular = Vector3d::Zero();
+    double kinetic = 0;
+  };
+  const auto momentum = [&](const State& s) {
+    Momentum m;
+    for (int i = 0; i < 2; ++i) {
+      const Body& body = scene.bodies[i];
+      const BodyState& x = s.bodies[i];
+      const Eigen::Matrix3d R = x.Q_WB.toRotationMatrix();
+      const Eigen::Matrix3d I = R * body.inertia * R.transpose();
+      m.linear += body.mass * x.v_WB;
+      m.angular += x.p_WB.cross(body.mass * x.v_WB) + I * x.w_WB;
+      m.kinetic += 0.5 * body.mass * x.v_WB.squaredNorm() + 0.5 * x.w_WB.dot(I * x.w_WB);
+    }
+    return m;
+  };
+  // N·s, N·m·s: what converged Newton–Euler rows leave unbalanced (the solver tolerance 1e-12 of
+  // the impulse scale m V), with a margin for the two bodies and the moment arms
+  const double impulse_scale = 2 * 1.5;
+  const double kMomentumTol = 1e-10 * impulse_scale;
+  const Momentum start = momentum(state);
+  Momentum before = start;
+  bool touched = false;
+  for (int step = 0; step < 60; ++step) {
+    ASSERT_TRUE(Step(scene, state).converged) << "t = " << state.t;
+    const ContactState& c = state.contacts[0];
+    touched |= c.p_n > 0;
+    const Momentum after = momentum(state);
+    // the contact's impulses on F (a) and G (b) are equal and opposite: linear momentum is kept
+    EXPECT_NEAR((after.linear - start.linear).norm(), 0, kMomentumTol) << "t = " << state.t;
+    // the moments are taken about the end-of-step centres of mass c⁺ = c + h v⁺ (the paper's
+    // r = a1 − c⁺), so with a1 = a2 the angular momentum about the origin changes by exactly
+    // −h (v_a⁺ − v_b⁺) × J for the impulse J on a (the torsion p_r n is a pure couple pair)
+    const Vector3d J = c.p_n * c.n + c.p_t * c.t + c.p_o * c.o;
+    const Vector3d expected =
+        -scene.h * (state.bodies[0].v_WB - state.bodies[1].v_WB).cross(J);
+    EXPECT_NEAR((after.angular - before.angular - expected).norm(), 0, kMomentumTol)
+        << "t = " << state.t;
+    // the implicit step and the contact only dissipate
+    EXPECT_LE(after.kinetic, before.kinetic * (1 + 1e-12)) << "t = " << state.t;
+    before = after;
+  }
+  EXPECT_TRUE(touched);
+  // they hit and part: b moves off in +x
+  EXPECT_GT(state.bodies[1].v_WB.x(), 0.5);
+}
+
+TEST(PushTest, AConstantSpeedPusherCarriesTheBoxAtItsSpeedAgainstCoulombFriction) {
+  const double mu = 0.3, speed = 0.1, mass = 1;
+  Body box = MakeBoxBody(Vector3d(0.2, 0.2, 0.1), mass, "box");
+  box.p0 = Vector3d(0, 0, 0.05);
+  box.friction = TestFriction(mu);
+  Body pusher = MakeBoxBody(Vector3d(0.02, 0.2, 0.06), 1, "pusher");
+  ConstantTwist twist;
+  twist.start.p = Vector3d(-0.12, 0, 0.05);
+  twist.v = Vector3d(speed, 0, 0);
+  pusher.motion = std::make_shared<KinematicMotion>(twist, "test pusher");
+  pusher.friction = TestFriction(mu);
+  Scene scene = testing::MakeGroundScene({box, pusher}, 0.01, TestFriction(mu));
+  AddBodyPairs(scene);
+  scene.duration = 2;
+  ASSERT_EQ(scene.contacts.size(), 2u);  // box–ground, box–pusher (F the box, G the pusher)
+  State state = InitialState(scene);
+  for (int step = 0; step < 200; ++step) {
+    const double v_before = state.bodies[0].v_WB.x();
+    ASSERT_TRUE(Step(scene, state).converged) << "t = " << state.t;
+    // the kinematic body is where its motion says, exactly as p0 + v t
+    const KinematicPose pose = scene.bodies[1].motion->PoseAt(state.t);
+    ASSERT_EQ(state.bodies[1].p_WB, pose.p);
+    // never inside the pusher: the box's −x face stays ahead of the pusher's +x face
+    ASSERT_GE((state.bodies[0].p_WB.x() - 0.1) - (pose.p.x() + 0.01), -1e-12);
+    if (state.t < 0.5) continue;
+    // pushed: the box moves at the pusher's speed, sliding on the ground with Coulomb friction
+    // μ p_n, and the pusher's push along x and that friction change its momentum (Newton–Euler
+    // to the solver's tolerance). The vertical split between the pusher's sticking friction and
+    // the ground's normal impulse is statically indeterminate (engine/README.md, "Islands")
+    const ContactState& ground = state.contacts[0];
+    const ContactState& push = state.contacts[1];
+    EXPECT_NEAR(state.bodies[0].v_WB.x(), speed, kSolvedRel * speed);
+    // the impulse on F, the box (n points out of G, the pusher, into F)
+    const Vector3d push_impulse = push.p_n * push.n + push.p_t * push.t + push.p_o * push.o;
+    const Vector3d ground_friction = ground.p_t * ground.t + ground.p_o * ground.o;
+    EXPECT_NEAR(ground_friction.norm(), mu * ground.p_n, kSolvedRel * ground.p_n);
+    EXPECT_NEAR(push_impulse.x() + ground_friction.x(),
+                mass * (state.bodies[0].v_WB.x() - v_before), kSolvedRel * mass * speed);
+  }
+}
+
+TEST(IslandTest, BodiesApartAreIslandsOfTheirOwnAndKinematicBodiesInNone) {
+  Body a = MakeBoxBody(Vector3d(0.1, 0.1, 0.1), 1, "a");
+  a.p0 = Vector3d(0, 0, 0.05);
+  Body b = a;
+  b.name = "b";
+  b.p0 = Vector3d(1, 0, 0.05);  // a metre away: cannot touch in a step
+  Body c = a;
+  c.name = "c";
+  c.p0 = Vector3d(1, 0, 0.15);  // on b
+  Body finger = MakeBoxBody(Vector3d(0.02, 0.02, 0.02), 1, "finger");
+  ConstantTwist still;
+  still.start.p = Vector3d(0, 0.061, 0.05);  // 1 mm from a's side
+  finger.motion = std::make_shared<KinematicMotion>(still, "test finger");
+  Scene scene = testing::MakeGroundScene({a, b, c, finger});
+  AddBodyPairs(scene);
+  const std::vector<Island> islands = FormIslands(scene, InitialState(scene));
+  ASSERT_EQ(islands.size(), 2u);
+  EXPECT_EQ(islands[0].bodies, std::vector<int>{0});
+  EXPECT_EQ(islands[1].bodies, (std::vector<int>{1, 2}));
+  // a's island: its ground contact and the finger; b's: two ground contacts and b–c
+  const auto pair_of = [&](int k) { return scene.contacts[k]; };
+  ASSERT_EQ(islands[0].contacts.size(), 2u);
+  EXPECT_EQ(pair_of(islands[0].contacts[1]).other_body, 3);
+  ASSERT_EQ(islands[1].contacts.size(), 3u);
+  EXPECT_EQ(pair_of(islands[1].contacts[2]).other_body, 2);
+}
+
+TEST(ModelTest, ModelsWithoutContactsBetweenBodiesRefuseThem) {
+  Scene scene = StackScene();
+  for (ContactModel model :
+       {ContactModel::kPlanar, ContactModel::kMultiPatch, ContactModel::kPointLcp}) {
+    scene.model = model;
+    EXPECT_THAT([&] { MakeContactModel(scene); },
+                ::testing::ThrowsMessage<ModelInvalid>(
+                    ::testing::HasSubstr("bodies 'box0' and 'box1' can touch each other")));
+  }
+}
+
+}  // namespace
+}  // namespace ecpsim::engine
