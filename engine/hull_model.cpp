@@ -445,11 +445,6 @@ class IslandStepper {
     return ExpMap(problem.h * g.w) * g.R;
   }
 
-  // G's end pose for a guess: a dynamic G's at its velocities in z, a kinematic one's prescribed
-  static EndPose GuessOtherPose(const IslandProblem& problem, const VectorXd& z, int k) {
-    return OtherEndPose(problem, z, k);
-  }
-
   // true if every contact's G is apart from the separated guess's a1 (F's support point in −n at
   // the free-flight end pose): a half-space obstacle strictly below a1, a moving G whose support
   // point a2 in +n lies strictly behind a1 along n (the plane normal to n between them separates
@@ -565,7 +560,7 @@ class IslandStepper {
         N = cp.other_shape->Gradient(active_g, a2);
       } else {
         // G's support point in +n at its end pose, and a1 on its support plane when touching
-        const EndPose other = GuessOtherPose(problem, z, static_cast<int>(k));
+        const EndPose other = OtherEndPose(problem, z, static_cast<int>(k));
         const Vector3d top = other.c + other.R * cp.other_shape->Support(other.R.transpose() * n);
         a2 = separated ? top : Vector3d(a1 - n * n.dot(a1 - top));
         const Vector3d y_g = other.R.transpose() * (a2 - other.c);
