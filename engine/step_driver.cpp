@@ -24,45 +24,59 @@ IslandState Gather(const Island& island, const State& state) {
   return local;
 }
 
-// a sphere about a body's centre of mass that holds everything of it that can be touched within
-// the step
-struct BoundingSphere {
-  Eigen::Vector3d centre;
-  double radius;
-};
+// an axis-aligned box (world) that holds everything of a body that can be touched within the step
+using Box = Eigen::AlignedBox3d;
 
-// the broad phase's margin beyond a body's reach in the step, as a fraction of its radius: the
-// reach is a bound already (speed, applied impulse and gravity over h); the margin covers the
-// contact impulses of the step itself, which can speed a body up by what another brings in
-constexpr double kBroadPhaseMargin = 0.25;
+// the broad phase's margin beyond a body's reach in the step, relative to its hull's size: the
+// reach is a bound already; the margin only keeps round-off of the support queries out
+constexpr double kBroadPhaseRelMargin = 1e-6;
 
-double HullRadius(const Body& body) {
-  double radius = 0;
-  for (const Eigen::Vector3d& v : body.mesh.vertices) radius = std::max(radius, v.norm());
-  return radius;
+// the world box of `hull` at pose (c, R): six support queries (hill climbing on a polyhedron)
+Box HullBox(const geometry::ConvexShape& hull, const Eigen::Vector3d& c, const Eigen::Matrix3d& R) {
+  Box box;
+  for (int i = 0; i < 3; ++i) {
+    const Eigen::Vector3d axis = Eigen::Vector3d::Unit(i);
+    box.extend(c + R * hull.Support(R.transpose() * axis));
+    box.extend(c + R * hull.Support(R.transpose() * -axis));
+  }
+  return box;
 }
 
-std::vector<BoundingSphere> StepSpheres(const Scene& scene, const State& state) {
-  std::vector<BoundingSphere> spheres;
+// Each body's box for the step [t, t + h]: its hull's box at the start pose grown by how far any
+// of its points can move within the step — h (|v| + |ω| r + |p_applied| / m + h |g|) for its
+// own motion, plus h V_max for what a contact can give it: a body struck by another, or pushed,
+// ends the step no faster than the fastest body of the scene (V_max, kinematic ones included)
+// brings in, plus gravity and loads. A kinematic body's box holds its hull at the step's two ends.
+std::vector<Box> StepBoxes(const Scene& scene, const State& state) {
   const double h = scene.h;
+  std::vector<Box> boxes;
+  std::vector<double> speed(scene.bodies.size());
+  double fastest = 0;
   for (size_t b = 0; b < scene.bodies.size(); ++b) {
     const Body& body = scene.bodies[b];
     const BodyState& s = state.bodies[b];
-    const double radius = HullRadius(body);
+    const Eigen::Matrix3d R = s.Q_WB.toRotationMatrix();
+    boxes.push_back(HullBox(*body.hull, s.p_WB, R));
+    const double radius = 0.5 * boxes.back().diagonal().norm() + (boxes.back().center() - s.p_WB).norm();
     if (body.IsKinematic()) {
-      // its hull at the step's start and end: the sphere about the midpoint of the two centres
-      const Eigen::Vector3d end = body.motion->PoseAt(state.t + h).p;
-      spheres.push_back({0.5 * (s.p_WB + end), radius * (1 + kBroadPhaseMargin) +
-                                                  0.5 * (end - s.p_WB).norm()});
+      const KinematicPose end = body.motion->PoseAt(state.t + h);
+      boxes.back().extend(HullBox(*body.hull, end.p, end.q.toRotationMatrix()));
+      speed[b] = 0;
+      fastest = std::max(fastest, (end.p - s.p_WB).norm() / h + s.w_WB.norm() * radius);
       continue;
     }
-    const Eigen::Matrix<double, 6, 1> applied = AppliedImpulse(
-        scene.loads, scene.impulses, static_cast<int>(b), state.t, h, s.Q_WB.toRotationMatrix());
-    const double reach = h * (s.v_WB.norm() + applied.head<3>().norm() / body.mass +
-                              h * scene.gravity.norm());
-    spheres.push_back({s.p_WB, radius * (1 + kBroadPhaseMargin) + reach});
+    const Eigen::Matrix<double, 6, 1> applied =
+        AppliedImpulse(scene.loads, scene.impulses, static_cast<int>(b), state.t, h, R);
+    speed[b] = s.v_WB.norm() + s.w_WB.norm() * radius + applied.head<3>().norm() / body.mass +
+               h * scene.gravity.norm();
+    fastest = std::max(fastest, speed[b]);
   }
-  return spheres;
+  for (size_t b = 0; b < boxes.size(); ++b) {
+    const double grow = h * (speed[b] + fastest) + kBroadPhaseRelMargin * boxes[b].diagonal().norm();
+    boxes[b].min().array() -= grow;
+    boxes[b].max().array() += grow;
+  }
+  return boxes;
 }
 
 std::string BodyNames(const Scene& scene, const Island& island) {
@@ -84,14 +98,12 @@ std::vector<Island> FormIslands(const Scene& scene, const State& state) {
     return b;
   };
   std::vector<bool> in_step(scene.contacts.size(), true);
-  std::vector<BoundingSphere> spheres;
+  std::vector<Box> boxes;
   for (size_t k = 0; k < scene.contacts.size(); ++k) {
     const ContactPair& pair = scene.contacts[k];
     if (!pair.WithBody()) continue;
-    if (spheres.empty()) spheres = StepSpheres(scene, state);
-    const BoundingSphere& a = spheres[pair.body];
-    const BoundingSphere& b = spheres[pair.other_body];
-    in_step[k] = (a.centre - b.centre).norm() <= a.radius + b.radius;
+    if (boxes.empty()) boxes = StepBoxes(scene, state);
+    in_step[k] = boxes[pair.body].intersects(boxes[pair.other_body]);
     if (in_step[k] && !scene.bodies[pair.other_body].IsKinematic())
       root[find(pair.body)] = find(pair.other_body);
   }

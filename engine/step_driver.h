@@ -13,12 +13,11 @@
 namespace ecpsim::engine {
 
 /// The scene's islands for the step [t, t + h] from `state` (in order of their lowest body):
-/// the broad phase bounds each body by a sphere about its centre of mass holding its hull and
-/// everything it can reach within the step (its speed and the applied impulse's velocity change
-/// over h, plus a margin); a kinematic body's sphere holds its hull at the step's two ends. A
-/// contact between two bodies whose spheres overlap is in the step (two dynamic bodies then
-/// share an island); one whose spheres are apart is not, and its bodies cannot touch within the
-/// step. Every dynamic body is in exactly one island, with all its contacts with obstacles;
+/// the broad phase bounds each body by a world box holding its hull and everything it can reach
+/// within the step (its own speed, spin, loads and gravity over h, plus what the fastest body of
+/// the scene can give it); a kinematic body's box holds its hull at the step's two ends. A
+/// contact between two bodies whose boxes overlap is in the step (two dynamic bodies then share
+/// an island); one whose boxes are apart is not, and its bodies cannot touch within the step. Every dynamic body is in exactly one island, with all its contacts with obstacles;
 /// kinematic bodies are in none (their motion is given).
 std::vector<Island> FormIslands(const Scene& scene, const State& state);
 
