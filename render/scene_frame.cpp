@@ -16,6 +16,8 @@ const Eigen::Vector3f kBodyColours[] = {{0.80f, 0.62f, 0.42f}, {0.55f, 0.70f, 0.
                                         {0.62f, 0.62f, 0.66f}, {0.70f, 0.55f, 0.75f},
                                         {0.60f, 0.75f, 0.55f}};
 const Eigen::Vector3f kObstacleColour(0.70f, 0.70f, 0.72f);
+// kinematic bodies (fingers, pushers: prescribed motion) in one signal orange, none of the above
+const Eigen::Vector3f kKinematicColour(0.95f, 0.45f, 0.10f);
 // the heaviest body's weight is drawn as an arrow this many of its bounding radii long
 constexpr double kWeightArrowRadii = 1.0;
 // standard gravity, for the arrow scale of a scene without gravity
@@ -44,7 +46,8 @@ SceneFrameBuilder::SceneFrameBuilder(const engine::Scene& scene) : scene_(scene)
                                : nullptr);
     double radius = 0;
     for (const auto& v : body.mesh.vertices) radius = std::max(radius, v.norm());
-    if (body.mass * g > max_weight) {
+    // a kinematic body's mass is nominal: the force scale follows the pushed bodies' weights
+    if (!body.IsKinematic() && body.mass * g > max_weight) {
       max_weight = body.mass * g;
       radius_of_heaviest = radius;
     }
@@ -102,7 +105,9 @@ FrameInput SceneFrameBuilder::Build(const engine::State& state, int iterations) 
     body.X_WB = Eigen::Isometry3d::Identity();
     body.X_WB.linear() = b.Q_WB.normalized().toRotationMatrix();
     body.X_WB.translation() = b.p_WB;
-    body.colour = kBodyColours[i % (sizeof(kBodyColours) / sizeof(kBodyColours[0]))];
+    body.colour = scene_.bodies[i].IsKinematic()
+                      ? kKinematicColour
+                      : kBodyColours[i % (sizeof(kBodyColours) / sizeof(kBodyColours[0]))];
     frame.bodies.push_back(body);
   }
   for (size_t j = 0; j < scene_.obstacles.size(); ++j) {
