@@ -5,20 +5,9 @@
 #include <fmt/format.h>
 
 #include "common/errors.h"
+#include "common/split_mix64.h"
 
 namespace ecpsim {
-namespace {
-
-// SplitMix64's output function (Steele, Lea, Flood 2014): a bijective mix of a 64-bit counter
-// whose outputs pass BigCrush; here it turns the value's position into its replacement draw
-std::uint64_t Mix(std::uint64_t x) {
-  x += 0x9e3779b97f4a7c15ULL;
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
-  return x ^ (x >> 31);
-}
-
-}  // namespace
 
 ReservoirMedian::ReservoirMedian(std::vector<double> sample, std::int64_t count)
     : sample_(std::move(sample)), count_(count) {
@@ -38,7 +27,7 @@ void ReservoirMedian::Add(double value) {
   }
   // algorithm R: the n-th value replaces a uniformly chosen slot with probability kCapacity / n
   // (the modulo's bias is below n / 2^64)
-  const std::uint64_t slot = Mix(static_cast<std::uint64_t>(count_)) %
+  const std::uint64_t slot = SplitMix64(static_cast<std::uint64_t>(count_)) %
                              static_cast<std::uint64_t>(count_);
   if (slot < static_cast<std::uint64_t>(kCapacity)) sample_[slot] = value;
 }

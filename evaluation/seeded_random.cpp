@@ -4,24 +4,17 @@
 #include <cmath>
 
 #include "common/errors.h"
+#include "common/split_mix64.h"
 
 namespace ecpsim::evaluation {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-// SplitMix64's finalizer: spreads (seed, stream) over the twister's 64-bit seed
-std::uint64_t Mix(std::uint64_t x) {
-  x += 0x9e3779b97f4a7c15ULL;
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
-  return x ^ (x >> 31);
-}
-
 }  // namespace
 
 SeededRandom::SeededRandom(std::uint64_t seed, std::uint64_t stream)
-    : engine_(Mix(Mix(seed) ^ stream)) {}
+    : engine_(SplitMix64(SplitMix64(seed) ^ stream)) {}
 
 double SeededRandom::Uniform(double lo, double hi) {
   // the top 53 bits as a double in [0, 1)
