@@ -394,7 +394,8 @@ class IslandStepper {
     p.h = h;
     for (size_t i = 0; i < island_.bodies.size(); ++i)
       p.bodies.push_back(StartOfStep(scene_, island_.bodies[i], state.bodies[i], t, h));
-    std::vector<int> kinematic_of(scene_.bodies.size(), -1);
+    // scene index → index into p.kinematic, for the few kinematic bodies the island touches
+    std::vector<std::pair<int, int>> kinematic_of;
     for (int id : island_.contacts) {
       const ContactPair& pair = scene_.contacts[id];
       IslandContact cp;
@@ -410,14 +411,17 @@ class IslandStepper {
         const Body& other = scene_.bodies[pair.other_body];
         cp.other_shape = other.hull.get();
         if (other.IsKinematic()) {
-          if (kinematic_of[pair.other_body] < 0) {
-            kinematic_of[pair.other_body] = static_cast<int>(p.kinematic.size());
+          auto known = std::find_if(kinematic_of.begin(), kinematic_of.end(),
+                                    [&](const auto& k) { return k.first == pair.other_body; });
+          if (known == kinematic_of.end()) {
             const KinematicPose pose = other.motion->PoseAt(t);
             const KinematicMotion::Twist twist = other.motion->StepTwist(t, h);
             p.kinematic.push_back({pose.p, pose.q.toRotationMatrix(), twist.v, twist.w});
+            kinematic_of.emplace_back(pair.other_body, static_cast<int>(p.kinematic.size()) - 1);
+            known = kinematic_of.end() - 1;
           }
           cp.other_kind = Other::kKinematic;
-          cp.other = kinematic_of[pair.other_body];
+          cp.other = known->second;
         } else {
           cp.other_kind = Other::kBody;
           cp.other = IslandIndex(pair.other_body);
@@ -619,14 +623,7 @@ class IslandStepper {
         const Vector3d slip = v_tangent - v_other;
         const double v_t = frame.t.dot(slip), v_o = frame.o.dot(slip);
         const double v_r = frame.n.dot(state.bodies[cp.body].w_WB);
-        const double sigma = std::sqrt(fr.e_t * fr.e_t * v_t * v_t + fr.e_o * fr.e_o * v_o * v_o +
-                                       fr.e_r * fr.e_r * v_r * v_r);
-        if (sigma > sigma0) {
-          z[L.sigma] = sigma;
-          z[L.p_t] = -fr.e_t * fr.e_t * fr.mu * p_n * v_t / sigma;
-          z[L.p_o] = -fr.e_o * fr.e_o * fr.mu * p_n * v_o / sigma;
-          z[L.p_r] = -fr.e_r * fr.e_r * fr.mu * p_n * v_r / sigma;
-        }
+        SetSlidingFriction(fr, p_n, v_t, v_o, v_r, sigma0, L, z);
       }
     }
     return z;

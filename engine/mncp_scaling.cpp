@@ -119,6 +119,17 @@ std::vector<Guess> RestartLadder(bool have_warm_start, const std::vector<Contact
   return RestartLadder(have_warm_start, was_in_contact, IsMoving(state, scales));
 }
 
+void SetSlidingFriction(const Friction& fr, double p_n, double v_t, double v_o, double v_r,
+                        double sigma_floor, const MncpLayout::Contact& L, Eigen::VectorXd& z) {
+  const double sigma = std::sqrt(fr.e_t * fr.e_t * v_t * v_t + fr.e_o * fr.e_o * v_o * v_o +
+                                 fr.e_r * fr.e_r * v_r * v_r);
+  if (!(sigma > sigma_floor)) return;
+  z[L.sigma] = sigma;
+  z[L.p_t] = -fr.e_t * fr.e_t * fr.mu * p_n * v_t / sigma;
+  z[L.p_o] = -fr.e_o * fr.e_o * fr.mu * p_n * v_o / sigma;
+  z[L.p_r] = -fr.e_r * fr.e_r * fr.mu * p_n * v_r / sigma;
+}
+
 int MostOpposedWindowConstraint(const ContactProblem& cp, const Eigen::Matrix3d& R,
                                 const Eigen::Vector3d& y_B, const Eigen::Vector3d& N) {
   return MostOpposedWindowConstraint(*cp.hull, cp.window, R, y_B, N);

@@ -66,6 +66,13 @@ std::vector<Guess> RestartLadder(bool have_warm_start, bool was_in_contact, bool
 std::vector<Guess> RestartLadder(bool have_warm_start, const std::vector<ContactState>& contacts,
                                  const BodyState& state, const Scales& scales);
 
+/// A sliding guess's friction on contact L: for the slip (v_t, v_o, v_r) at the ECP (m/s, m/s,
+/// rad/s) the slip multiplier σ = ‖(e_t v_t, e_o v_o, e_r v_r)‖ and the impulses that oppose it on
+/// the edge of the cone μ p_n (the Fritz-John rows' solution); nothing when σ ≤ sigma_floor (the
+/// guess keeps its own σ: no slip to oppose).
+void SetSlidingFriction(const Friction& fr, double p_n, double v_t, double v_o, double v_r,
+                        double sigma_floor, const MncpLayout::Contact& L, Eigen::VectorXd& z);
+
 /// For a guess: the index into cp.window of the hull constraint whose world normal at y_B (body
 /// frame, end-of-step rotation R) is most opposed to the obstacle's N — it carries the normal cone.
 int MostOpposedWindowConstraint(const ContactProblem& cp, const Eigen::Matrix3d& R,

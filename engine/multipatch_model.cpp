@@ -307,14 +307,7 @@ class MultiPatchStepper {
         const Friction& fr = cp.friction;
         const double v_t = frame.t.dot(v_guess), v_o = frame.o.dot(v_guess);
         const double v_r = n.dot(body.w_WB);
-        const double sigma = std::sqrt(fr.e_t * fr.e_t * v_t * v_t + fr.e_o * fr.e_o * v_o * v_o +
-                                       fr.e_r * fr.e_r * v_r * v_r);
-        if (sigma > sigma0) {
-          z[L.sigma] = sigma;
-          z[L.p_t] = -fr.e_t * fr.e_t * fr.mu * p_n * v_t / sigma;
-          z[L.p_o] = -fr.e_o * fr.e_o * fr.mu * p_n * v_o / sigma;
-          z[L.p_r] = -fr.e_r * fr.e_r * fr.mu * p_n * v_r / sigma;
-        }
+        SetSlidingFriction(fr, p_n, v_t, v_o, v_r, sigma0, L, z);
       }
     }
     z.segment<3>(0) = v_guess;
