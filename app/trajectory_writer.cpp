@@ -6,41 +6,13 @@
 #include <fmt/format.h>
 
 #include "common/errors.h"
+#include "engine/trajectory_columns.h"
 
 namespace ecpsim::app {
 
-std::vector<std::string> TrajectoryColumns(const engine::Scene& scene) {
-  std::vector<std::string> columns = {"t"};
-  const bool several_bodies = scene.bodies.size() > 1;
-  for (const engine::Body& body : scene.bodies) {
-    const std::string prefix = several_bodies ? body.name + "." : "";
-    for (const char* c : {"px", "py", "pz", "qw", "qx", "qy", "qz", "vx", "vy", "vz", "wx", "wy",
-                          "wz"}) {
-      columns.push_back(prefix + c);
-    }
-  }
-  const bool several_contacts = scene.contacts.size() > 1;
-  for (const engine::ContactPair& pair : scene.contacts) {
-    const std::string prefix =
-        several_contacts
-            ? scene.bodies[pair.body].name + "." +
-                  (pair.WithBody() ? scene.bodies[pair.other_body].name
-                                   : scene.obstacles[pair.obstacle].name) +
-                  "."
-            : "";
-    for (const char* c : {"a1x", "a1y", "a1z", "a2x", "a2y", "a2z", "pn", "pt", "po", "pr",
-                          "sigma"}) {
-      columns.push_back(prefix + c);
-    }
-  }
-  columns.push_back("iters");
-  columns.push_back("residual");
-  return columns;
-}
-
 TrajectoryWriter::TrajectoryWriter(const engine::Scene& scene, const std::string& path,
                                    std::optional<long> keep_rows)
-    : columns_(TrajectoryColumns(scene)), file_(path) {
+    : scene_(scene), columns_(engine::TrajectoryColumns(scene)), file_(path) {
   std::string header;
   for (size_t i = 0; i < columns_.size(); ++i) {
     header += (i == 0 ? "" : ",") + columns_[i];
@@ -81,19 +53,7 @@ TrajectoryWriter::~TrajectoryWriter() {
 }
 
 void TrajectoryWriter::Write(const engine::State& state, const engine::StepReport& report) {
-  std::vector<double> values = {state.t};
-  values.reserve(columns_.size());
-  for (const engine::BodyState& b : state.bodies) {
-    values.insert(values.end(), {b.p_WB.x(), b.p_WB.y(), b.p_WB.z(), b.Q_WB.w(), b.Q_WB.x(),
-                                 b.Q_WB.y(), b.Q_WB.z(), b.v_WB.x(), b.v_WB.y(), b.v_WB.z(),
-                                 b.w_WB.x(), b.w_WB.y(), b.w_WB.z()});
-  }
-  for (const engine::ContactState& c : state.contacts) {
-    values.insert(values.end(), {c.a1.x(), c.a1.y(), c.a1.z(), c.a2.x(), c.a2.y(), c.a2.z(),
-                                 c.p_n, c.p_t, c.p_o, c.p_r, c.sigma});
-  }
-  values.push_back(report.iterations);
-  values.push_back(report.residual);
+  const std::vector<double> values = engine::TrajectoryValues(scene_, state, report);
   ECPSIM_DEMAND(values.size() == columns_.size());
 
   // never a NaN in an output: refuse the row and let the run stop as a failure

@@ -14,12 +14,7 @@
 
 namespace ecpsim::app {
 
-/// The CSV header: `t`; per body (prefixed `<body>.` when there are several bodies)
-/// `px py pz qw qx qy qz vx vy vz wx wy wz`; per contact (prefixed `<body>.<obstacle>.` when there
-/// are several contacts) `a1x a1y a1z a2x a2y a2z pn pt po pr sigma`; then `iters residual`.
-std::vector<std::string> TrajectoryColumns(const engine::Scene& scene);
-
-/// Streams rows to a temporary file next to `path` (common/atomic_file.h; flushed after every row)
+/// The rows of engine::TrajectoryColumns. Streams rows to a temporary file next to `path` (common/atomic_file.h; flushed after every row)
 /// and renames it onto `path` in Finish(), so that a run stopped by a solver failure or an
 /// interrupt still leaves a valid trajectory.csv holding the rows written so far. Numbers are
 /// written in shortest round-trip form.
@@ -51,6 +46,7 @@ class TrajectoryWriter {
   // writes `line` and a newline; a row is flushed at once so that it is on disk if the process dies
   void Append(std::string_view line, bool flush);
 
+  const engine::Scene& scene_;  // outlives the writer
   std::vector<std::string> columns_;
   AtomicFile file_;
   std::FILE* stream_ = nullptr;

@@ -57,6 +57,12 @@ constexpr double kDegenerateActiveFraction = 1e-9;
 // 1e-9…1e-12 of the largest around a 52 m handle's rolling edge whose carrying faces had 0.43
 // and 0.57 (SolveOnCarryingFaces)
 constexpr double kCarryingFraction = 1e-6;
+
+// a contact between two bodies sticks up to a creep of this fraction of F's velocity scale
+// (IslandContact::stick_creep): small enough that a held body creeps < 1e-9 m in 10 s at the
+// scale g h of a resting body (0.098 m/s at h = 0.01 s: 1e-10 m/s), large enough that the
+// friction it makes unique is resolved to ~1e-16 / 1e-9 ≈ 1e-7 of the impulse scale
+constexpr double kStickCreepFraction = 1e-9;
 // faces left out at most when a degenerate vertex is resolved: enough for six faces at a vertex
 // (a fan of triangles, a quad mesh's pole) to come down to three. A vertex with more active
 // faces than three plus the drops left is tried one face at a time without going deeper: the
@@ -90,6 +96,10 @@ class IslandStepper {
     }
 
     RaiseToIslandVelocity(problem, scales);
+    for (IslandContact& cp : problem.contacts) {
+      if (cp.other_kind != Other::kFixed)
+        cp.stick_creep = kStickCreepFraction * scales.bodies[cp.body].velocity;
+    }
 
     // windows around the support features at the predicted poses: F's in the direction of −n,
     // a moving G's in +n

@@ -15,7 +15,7 @@ using Other = IslandContact::Other;
 
 ContactSides Sides(const IslandContact& cp) {
   return {cp.hull, &cp.window, cp.other_shape, &cp.other_window, cp.friction,
-          cp.tangent_reference};
+          cp.tangent_reference, cp.stick_creep};
 }
 
 // the kinematic bodies' motions over the step: prescribed, no unknowns

@@ -55,6 +55,11 @@ struct IslandContact {
   std::vector<int> other_window;
   Friction friction;
   Eigen::Vector3d tangent_reference = Eigen::Vector3d::UnitX();  // world, fixed during the step
+  // m/s, ε ≥ 0: the friction rows take σ + ε for σ, so a sticking contact creeps at a speed
+  // ≤ ε (its friction −e² μ p_n v / ε is a stiff viscous law) and its friction is unique where
+  // exact sticking leaves it statically indeterminate (a box pressed by a pusher onto the
+  // ground: how much of the weight the pusher's friction carries). 0 is the paper's law exactly
+  double stick_creep = 0;
 };
 
 /// Everything an island's MNCP needs from the start of the step.

@@ -380,9 +380,11 @@ void AddContactRows(const ContactSides& sides, const MncpLayout::Contact& L,
   }
   const double v_t = t.dot(v_contact), v_o = o.dot(v_contact), v_r = n.dot(w_relative);
   const double et2 = fr.e_t * fr.e_t, eo2 = fr.e_o * fr.e_o, er2 = fr.e_r * fr.e_r;
-  F[L.p_t] = et2 * fr.mu * p_n * v_t + p_t * sigma;
-  F[L.p_o] = eo2 * fr.mu * p_n * v_o + p_o * sigma;
-  F[L.p_r] = er2 * fr.mu * p_n * v_r + p_r * sigma;
+  // σ + ε for a creeping contact; σ itself (not σ + 0) otherwise, to the bit
+  const double slip = sides.stick_creep > 0 ? sigma + sides.stick_creep : sigma;
+  F[L.p_t] = et2 * fr.mu * p_n * v_t + p_t * slip;
+  F[L.p_o] = eo2 * fr.mu * p_n * v_o + p_o * slip;
+  F[L.p_r] = er2 * fr.mu * p_n * v_r + p_r * slip;
   // the friction cone as μ p_n − ‖p̂‖ (see MncpResidual's note and engine/README.md)
   const double p_hat = std::sqrt(p_t * p_t / et2 + p_o * p_o / eo2 + p_r * p_r / er2);
   F[L.sigma] = fr.mu * p_n - p_hat;
@@ -505,7 +507,7 @@ void AddContactRows(const ContactSides& sides, const MncpLayout::Contact& L,
     J.block<1, 3>(row.index, L.a1) += scale * axis_t * dvc_da1;
     add_through_N(row.index, RowVector3d(scale * v_contact.transpose() * *row.daxis_dN));
     J(row.index, L.p_n) += row.e2 * fr.mu * row.speed;
-    J(row.index, row.index) += sigma;  // ∂/∂p_t (or p_o): the row index equals the unknown's
+    J(row.index, row.index) += slip;  // ∂/∂p_t (or p_o): the row index equals the unknown's
     J(row.index, L.sigma) += row.p;
     // G's point velocity v_G + ω_G × (a2 − c_G − h v_G)
     if (other) J.block<1, 3>(row.index, L.a2) -= scale * axis_t * Skew(other->w);
@@ -519,7 +521,7 @@ void AddContactRows(const ContactSides& sides, const MncpLayout::Contact& L,
   J.block<1, 3>(L.p_r, col + 3) += scale_r * n.transpose();
   add_through_N(L.p_r, RowVector3d(scale_r * w_relative.transpose() * d.dn_dN));
   J(L.p_r, L.p_n) += er2 * fr.mu * v_r;
-  J(L.p_r, L.p_r) += sigma;
+  J(L.p_r, L.p_r) += slip;
   J(L.p_r, L.sigma) += p_r;
   if (dynamic_other) J.block<1, 3>(L.p_r, other->column + 3) -= scale_r * n.transpose();
 

@@ -213,6 +213,7 @@ struct ContactSides {
   const std::vector<int>* other_window;
   Friction friction;
   Eigen::Vector3d tangent_reference;  // world, fixed during the step
+  double stick_creep = 0;             // m/s, IslandContact::stick_creep (0: exact sticking)
 };
 
 /// Sets contact L's rows and, if `J` is not null, their Jacobian, and adds the contact's wrench

@@ -45,7 +45,8 @@ using WarmStart = std::variant<std::monostate, HullWarmStart, MultiPatchWarmStar
 struct ContactState {
   Eigen::Vector3d a1 = Eigen::Vector3d::Zero();  // m, ECP on the body's hull (world)
   Eigen::Vector3d a2 = Eigen::Vector3d::Zero();  // m, ECP on the obstacle (world)
-  double p_n = 0, p_t = 0, p_o = 0, p_r = 0;     // N·s, N·s, N·s, N·m·s
+  // N·s, N·s, N·s, N·m·s: the impulses over the whole step (summed over its sub-steps)
+  double p_n = 0, p_t = 0, p_o = 0, p_r = 0;
   double sigma = 0;                              // m/s, slip magnitude multiplier
   Eigen::Vector3d n = Eigen::Vector3d::UnitZ();  // contact frame: normal out of G ...
   Eigen::Vector3d t = Eigen::Vector3d::UnitX();  // ... and tangents

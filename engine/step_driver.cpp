@@ -149,8 +149,14 @@ StepReport StepIslands(const Scene& scene, State& state, const ContactModelStepp
       const double h = scene.h / substeps;
       double island_residual = 0;
       bool ok = true;
+      // a contact's impulses are the whole step's: the sub-steps' sum
+      std::vector<Eigen::Vector4d> impulse(island.contacts.size(), Eigen::Vector4d::Zero());
       for (int i = 0; i < substeps && ok; ++i) {
         AdvanceResult result = model.Advance(island, state.t + i * h, h, local);
+        for (size_t k = 0; k < island.contacts.size(); ++k) {
+          const ContactState& c = local.contacts[k];
+          impulse[k] += Eigen::Vector4d(c.p_n, c.p_t, c.p_o, c.p_r);
+        }
         report.iterations += result.iterations;
         report.retries += result.retries;
         residual = result.residual;
@@ -170,8 +176,14 @@ StepReport StepIslands(const Scene& scene, State& state, const ContactModelStepp
       if (!ok) continue;
       for (size_t i = 0; i < island.bodies.size(); ++i)
         next.bodies[island.bodies[i]] = local.bodies[i];
-      for (size_t i = 0; i < island.contacts.size(); ++i)
-        next.contacts[island.contacts[i]] = local.contacts[i];
+      for (size_t i = 0; i < island.contacts.size(); ++i) {
+        ContactState& c = next.contacts[island.contacts[i]];
+        c = local.contacts[i];
+        c.p_n = impulse[i][0];
+        c.p_t = impulse[i][1];
+        c.p_o = impulse[i][2];
+        c.p_r = impulse[i][3];
+      }
       report.substeps = std::max(report.substeps, substeps);
       report.residual = std::max(report.residual, island_residual);
       solved = true;

@@ -31,6 +31,12 @@ using ::testing::HasSubstr;
 // (1e-12 on the residual) bounds the error far below 1e-8 m/s
 constexpr double kMuG = 0.22 * 9.8;
 constexpr double kVelocityTolerance = 1e-8;  // m/s
+constexpr double kWeight = 15 * 9.8;           // N, the slide's box
+// relative: impulse / h in floating point against the column's value (a few roundings)
+constexpr double kForceRoundOff = 1e-14;
+// relative: the step's force balance holds to the solver's tolerance (1e-12, relative to the
+// body's own impulse scale) with margin for the scaled residual's conversion
+constexpr double kForceTolerance = 1e-9;
 
 class RunCommandTest : public testing::RunFixture {
  protected:
@@ -73,7 +79,7 @@ TEST_F(RunCommandTest, SlideWritesTheTrajectoryAndSummary) {
   const std::vector<std::string> expected = {
       "t",   "px",  "py",  "pz",  "qw", "qx", "qy", "qz", "vx",    "vy",    "vz",      "wx", "wy",
       "wz",  "a1x", "a1y", "a1z", "a2x", "a2y", "a2z", "pn", "pt",  "po",    "pr",      "sigma",
-      "iters", "residual"};
+      "fn",  "ft",  "fo",  "fr",  "iters", "residual"};
   ASSERT_FALSE(rows.empty());
   EXPECT_EQ(rows[0], expected);
   // 0.5 s / 0.01 s = 50 steps plus the initial state
@@ -87,6 +93,15 @@ TEST_F(RunCommandTest, SlideWritesTheTrajectoryAndSummary) {
     EXPECT_NEAR(std::stod(rows[r][8]), std::max(0.0, 0.5 - kMuG * t), kVelocityTolerance)
         << "t = " << t;
     EXPECT_NEAR(std::stod(rows[r][3]), 0.05, 1e-9) << "t = " << t;
+    // the forces are the step's impulses over h; flat on the ground the normal force is m g
+    // (the vertical velocity stays 0), and while sliding the friction force is μ m g
+    const double pn = std::stod(rows[r][20]), pt = std::stod(rows[r][21]);
+    const double fn = std::stod(rows[r][25]), ft = std::stod(rows[r][26]);
+    if (r == 1) continue;  // the initial state: no step, no impulse
+    EXPECT_NEAR(fn, pn / 0.01, kForceRoundOff * kWeight) << "t = " << t;
+    EXPECT_NEAR(ft, pt / 0.01, kForceRoundOff * kWeight) << "t = " << t;
+    EXPECT_NEAR(fn, kWeight, kForceTolerance * kWeight) << "t = " << t;
+    if (t < 0.23) EXPECT_NEAR(std::abs(ft), 0.22 * kWeight, kForceTolerance * kWeight) << t;
   }
 
   const nlohmann::json summary = ReadJson(out / "summary.json");

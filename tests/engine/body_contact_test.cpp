@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "engine/contact_model.h"
+#include "engine/contact_wrench.h"
 #include "engine/step_driver.h"
 #include "engine/time_step.h"
 #include "tests/engine/test_bodies.h"
@@ -25,6 +26,11 @@ constexpr double kStackDrift = 1e-9;
 // (an impulse balance, a velocity set by a sticking contact): the solver tolerance 1e-12 of
 // each row's scale, with a margin for the rows it is summed over
 constexpr double kSolvedRel = 1e-10;
+// relative to the weight: the sticking friction that stick_creep makes unique is −e² μ p_n v / ε
+// with ε = 1e-9 V (hull_model.cpp, kStickCreepFraction); the solver leaves v in error by at most
+// its tolerance 1e-12 V, so that friction by ≤ e² μ p_n · 1e-3 = 3e-4 of the weight here (e = 1,
+// μ = 0.3, p_n = the weight's impulse)
+constexpr double kStickingForceRel = 3e-4;
 
 Friction TestFriction(double mu) { return Friction{mu, 1, 1, 0.05}; }
 
@@ -184,6 +190,15 @@ TEST(PushTest, AConstantSpeedPusherCarriesTheBoxAtItsSpeedAgainstCoulombFriction
     EXPECT_NEAR(ground_friction.norm(), mu * ground.p_n, kSolvedRel * ground.p_n);
     EXPECT_NEAR(push_impulse.x() + ground_friction.x(),
                 mass * (state.bodies[0].v_WB.x() - v_before), kSolvedRel * mass * speed);
+    // the pusher's sticking friction carries none of the weight (the box does not move
+    // vertically against it: stick_creep's unique friction), so the ground carries m g and the
+    // pusher's force sensor reads the sliding friction μ m g against the push, nothing else
+    const Wrench sensor = WrenchOnOther(scene, state, 1, scene.h);
+    const double weight = mass * kG;
+    EXPECT_NEAR(ground.p_n / scene.h, weight, kStickingForceRel * weight) << "t = " << state.t;
+    EXPECT_NEAR(sensor.force.x(), -mu * weight, kStickingForceRel * weight) << "t = " << state.t;
+    EXPECT_NEAR(sensor.force.y(), 0, kStickingForceRel * weight) << "t = " << state.t;
+    EXPECT_NEAR(sensor.force.z(), 0, kStickingForceRel * weight) << "t = " << state.t;
   }
 }
 

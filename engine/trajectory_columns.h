@@ -1,0 +1,34 @@
+#pragma once
+// The columns of a trajectory (trajectory.csv, the Python module's run()): one row of numbers
+// per state, named once here so every output names them alike.
+
+#include <string>
+#include <vector>
+
+#include "engine/scene.h"
+#include "engine/state.h"
+#include "engine/step_report.h"
+
+namespace ecpsim::engine {
+
+/// The column names:
+/// - `t`;
+/// - per body (prefixed `<body>.` when there are several bodies)
+///   `px py pz qw qx qy qz vx vy vz wx wy wz`;
+/// - per contact (prefixed `<F>.<G>.` — body, then obstacle or other body — when there are
+///   several contacts) `a1x a1y a1z a2x a2y a2z pn pt po pr sigma fn ft fo fr`: the ECPs, the
+///   impulses over the step (N·s, N·s, N·s, N·m·s), the slip multiplier (m/s) and the average
+///   contact forces over the step, impulse / h (N, N, N, N·m);
+/// - per kinematic body K, what a force/torque sensor on it reads (WrenchOnOther): for each of
+///   its contacts `<K>.<F>.fx fy fz mx my mz` (from body F) and their sum `<K>.fx fy fz mx my
+///   mz`, in N and N·m, world axes, moments about K's reference point;
+/// - `iters residual`.
+std::vector<std::string> TrajectoryColumns(const Scene& scene);
+
+/// The row of `state` after a step that reported `report`, in TrajectoryColumns' order (the
+/// initial state's row has zero impulses, forces and iterations). Values may be non-finite if
+/// the state is; callers check.
+std::vector<double> TrajectoryValues(const Scene& scene, const State& state,
+                                     const StepReport& report);
+
+}  // namespace ecpsim::engine
