@@ -219,7 +219,7 @@ void Run(const BenchOptions& o) {
   }
   if (!o.skip_stability) {
     const std::vector<evaluation::StabilityMapSpec> maps =
-        Select(evaluation::StabilityMaps(), o.maps, "--maps",
+        Select(evaluation::StabilityMaps(o.scenes_dir), o.maps, "--maps",
                [](const evaluation::StabilityMapSpec& m) { return m.name; });
     st = evaluation::RunStabilityMaps(maps, methods, steps, shard_index, shard_count,
                                       o.cpu_limit_s, Progress);
@@ -248,7 +248,7 @@ void AddBenchCommand(CLI::App& app) {
                   "mesh kind and 10 collection files (for CI)");
   bench->add_option("--scenarios", o->scenarios,
                     "work-precision scenarios (default all): slide, spin, push_slide, rest, "
-                    "desk, tbar, dumbbell")
+                    "desk, tbar, dumbbell, stack, push_box")
       ->delimiter(',');
   bench->add_option("--methods", o->methods,
                     "methods (default all available): hull, hull-tol1e-08, hull-tol1e-05, "
@@ -256,7 +256,8 @@ void AddBenchCommand(CLI::App& app) {
                     "bullet-coulomb, ode-default, ode-coulomb")
       ->delimiter(',');
   bench->add_option("--maps", o->maps,
-                    "stability maps (default all): impact, thin_plate, tbar_mass_ratio")
+                    "stability maps (default all): impact, thin_plate, tbar_mass_ratio, "
+                    "push_speed")
       ->delimiter(',');
   bench->add_option("--steps", o->steps,
                     "step sizes in s, each dividing 0.02 (default 0.02,0.01,0.005,0.002,0.001,"
@@ -295,7 +296,8 @@ void AddBenchCommand(CLI::App& app) {
   bench->add_option("--merge", o->merge,
                     "join the CSVs of these shard output folders into -o and draw the charts")
       ->expected(1, -1);
-  bench->add_option("--scenes", o->scenes_dir, "folder of desk.yaml, tbar.yaml, dumbbell.yaml")
+  bench->add_option("--scenes", o->scenes_dir,
+                    "folder of desk.yaml, tbar.yaml, dumbbell.yaml, stack.yaml, push_box.yaml")
       ->capture_default_str();
   bench->add_option("--cpu-limit", o->cpu_limit_s, "CPU seconds allowed per run")
       ->capture_default_str()

@@ -54,7 +54,8 @@ std::vector<std::string> MethodOrder() {
 
 std::vector<std::string> MapOrder() {
   std::vector<std::string> names;
-  for (const evaluation::StabilityMapSpec& m : evaluation::StabilityMaps()) names.push_back(m.name);
+  // names only: a map reads its scene files when its scenarios are made, not here
+  for (const evaluation::StabilityMapSpec& m : evaluation::StabilityMaps("")) names.push_back(m.name);
   return names;
 }
 
@@ -134,8 +135,8 @@ void WorkPrecisionCharts(PlotWriter& writer, const std::vector<WorkPrecisionRow>
   }
 }
 
-const char* kOutcomeColours[evaluation::kOutcomeCount] = {"#2ca02c", "#d62728", "#9467bd",
-                                                          "#ff7f0e", "#8c564b", "#e377c2"};
+const char* kOutcomeColours[evaluation::kOutcomeCount] = {
+    "#2ca02c", "#d62728", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2", "#17becf"};
 
 void StabilityCharts(PlotWriter& writer, const std::vector<StabilityRow>& rows) {
   for (const std::string& map : InOrder(rows, MapOf, MapOrder())) {
@@ -167,7 +168,7 @@ void StabilityCharts(PlotWriter& writer, const std::vector<StabilityRow>& rows) 
     writer.Line(fmt::format("set xtics ({}) rotate by 45 right\nset ytics ({})", xtics, ytics));
     writer.Line(fmt::format("set xrange [-0.5:{}]\nset yrange [-0.5:{}]", steps.size() - 0.5,
                             values.size() - 0.5));
-    for (const evaluation::StabilityMapSpec& spec : evaluation::StabilityMaps()) {
+    for (const evaluation::StabilityMapSpec& spec : evaluation::StabilityMaps("")) {
       if (spec.name == map) {
         writer.Line(fmt::format("set ylabel {} noenhanced", GnuplotQuote(spec.value_label)));
       }

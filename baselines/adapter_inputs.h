@@ -1,7 +1,7 @@
 #pragma once
-// What the engine adapters read from a scene beyond the bodies: each obstacle as a plane and each
-// body–obstacle pair's friction; and the check of the state they report (header-only: each
-// adapter is its own optional TU).
+// What the engine adapters read from a scene beyond the bodies: each obstacle as a plane, each
+// contact pair's friction and a kinematic body's pose and twist per step; and the check of the
+// state they report (header-only: each adapter is its own optional TU).
 
 #include <cstddef>
 #include <optional>
@@ -42,18 +42,48 @@ inline HalfSpacePlane HalfSpaceOf(const engine::Scene& scene, int o, const char*
   return plane;
 }
 
-/// friction[b][o]: the friction of body b's contacts with obstacle o, empty where the scene lists
-/// no such contact pair (then the two never touch).
-using PairFrictionTable = std::vector<std::vector<std::optional<engine::Friction>>>;
-
-inline PairFrictionTable MakePairFrictionTable(const engine::Scene& scene) {
-  PairFrictionTable table(scene.bodies.size(),
-                          std::vector<std::optional<engine::Friction>>(scene.obstacles.size()));
-  for (const engine::ContactPair& pair : scene.contacts) {
-    table[static_cast<std::size_t>(pair.body)][static_cast<std::size_t>(pair.obstacle)] =
-        pair.friction;
+/// The friction of every contact pair the scene lists; a pair it does not list (or excludes
+/// under `pairs:`) never touches.
+class PairFrictionTable {
+ public:
+  explicit PairFrictionTable(const engine::Scene& scene)
+      : obstacle_(scene.bodies.size(),
+                  std::vector<std::optional<engine::Friction>>(scene.obstacles.size())),
+        body_(scene.bodies.size(), std::vector<std::optional<engine::Friction>>(scene.bodies.size())) {
+    for (const engine::ContactPair& pair : scene.contacts) {
+      const auto b = static_cast<std::size_t>(pair.body);
+      if (pair.WithBody()) {
+        const auto g = static_cast<std::size_t>(pair.other_body);
+        body_[b][g] = body_[g][b] = pair.friction;
+      } else {
+        obstacle_[b][static_cast<std::size_t>(pair.obstacle)] = pair.friction;
+      }
+    }
   }
-  return table;
+  /// Body b against obstacle o; empty: they never touch.
+  const std::optional<engine::Friction>& WithObstacle(int b, int o) const {
+    return obstacle_[static_cast<std::size_t>(b)][static_cast<std::size_t>(o)];
+  }
+  /// Bodies a and b, in either order; empty: they never touch.
+  const std::optional<engine::Friction>& WithBody(int a, int b) const {
+    return body_[static_cast<std::size_t>(a)][static_cast<std::size_t>(b)];
+  }
+
+ private:
+  std::vector<std::vector<std::optional<engine::Friction>>> obstacle_, body_;
+};
+
+/// A kinematic body's prescribed pose at the start of the step [t, t + h] and its twist over
+/// the step (KinematicMotion::StepTwist: the engine update c + h v, Exp(h ω) R lands on the
+/// pose at t + h), for the adapters to set before each engine step.
+struct KinematicStep {
+  engine::KinematicPose start;
+  engine::KinematicPose end;
+  engine::KinematicMotion::Twist twist;
+};
+
+inline KinematicStep KinematicStepOf(const engine::Body& body, double t, double h) {
+  return {body.motion->PoseAt(t), body.motion->PoseAt(t + h), body.motion->StepTwist(t, h)};
 }
 
 /// @throws engine::SolverFailure "<engine>: the state of body '…' is not finite at t = … s"

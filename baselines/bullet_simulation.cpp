@@ -1,7 +1,9 @@
 // Bullet (double precision, libbullet-dev 3.24 via pkg-config bullet-float64) stepping an ecpsim
 // scene: btDiscreteDynamicsWorld with the sequential-impulse solver, each body a btConvexHullShape
-// of its mesh vertices in its principal-axes frame, each half-space a btStaticPlaneShape
-// (settings and measurements: baselines/bullet.md).
+// of its mesh vertices in its principal-axes frame (a kinematic body a kinematic object moved to
+// its prescribed pose before every step), each half-space a btStaticPlaneShape; the scene's
+// contact pairs, body–body ones included, with their friction (settings and measurements:
+// baselines/bullet.md).
 
 #include <cmath>
 #include <memory>
@@ -45,6 +47,9 @@ struct BulletSettings {
   bool multipoint_plane = false;
   // empty every contact manifold before the step's collision detection (see Step)
   bool fresh_manifolds = false;
+  // hull–hull contact by Bullet's polyhedral clipping (btPolyhedralContactClipping: the clipped
+  // face polygon, up to 4 points at once) instead of GJK/EPA's one point per step
+  bool polyhedral_hulls = false;
 };
 
 BulletSettings SettingsFor(FrictionSetting setting) {
@@ -54,6 +59,7 @@ BulletSettings SettingsFor(FrictionSetting setting) {
     s.iterations = kCoulombIterations;
     s.multipoint_plane = true;
     s.fresh_manifolds = true;
+    s.polyhedral_hulls = true;
   }
   return s;
 }
@@ -89,8 +95,8 @@ btQuaternion ToBt(const Quaterniond& q) { return btQuaternion(q.x(), q.y(), q.z(
 Quaterniond FromBt(const btQuaternion& q) { return Quaterniond(q.w(), q.x(), q.y(), q.z()); }
 
 /// The discrete world with the scene's per-pair friction: Bullet combines two objects' friction
-/// by a product, which cannot hold a body × obstacle table, so each contact point's coefficients
-/// are overwritten just before the solve, and pairs the scene does not list are dropped.
+/// by a product, which cannot hold a table of pairs, so each contact point's coefficients are
+/// overwritten just before the solve, and pairs the scene does not list are dropped.
 class PairFrictionWorld final : public btDiscreteDynamicsWorld {
  public:
   PairFrictionWorld(btDispatcher* dispatcher, btBroadphaseInterface* broadphase,
@@ -108,7 +114,9 @@ class PairFrictionWorld final : public btDiscreteDynamicsWorld {
       const btCollisionObject* b = manifold->getBody1();
       if (a->getUserIndex2() == kObstacleTag) std::swap(a, b);
       const std::optional<engine::Friction>& friction =
-          friction_[static_cast<size_t>(a->getUserIndex())][static_cast<size_t>(b->getUserIndex())];
+          b->getUserIndex2() == kObstacleTag
+              ? friction_.WithObstacle(a->getUserIndex(), b->getUserIndex())
+              : friction_.WithBody(a->getUserIndex(), b->getUserIndex());
       if (!friction) {
         manifold->clearManifold();
         continue;
@@ -142,15 +150,18 @@ class BulletSimulation final : public ExternalSimulation {
     solver_ = std::make_unique<btSequentialImpulseConstraintSolver>();
     world_ = std::make_unique<PairFrictionWorld>(dispatcher_.get(), broadphase_.get(),
                                                  solver_.get(), configuration_.get(),
-                                                 MakePairFrictionTable(scene));
+                                                 PairFrictionTable(scene));
     world_->setGravity(ToBt(scene.gravity));
+    // the polyhedral clipping of two hulls starts from the separating axis found by SAT (else
+    // from GJK's, found only once the hulls overlap: a stack resting face on face at margin 0
+    // would have no contact)
+    world_->getDispatchInfo().m_enableSatConvex = settings_.polyhedral_hulls;
     btContactSolverInfo& info = world_->getSolverInfo();
     info.m_numIterations = settings_.iterations;
     // ecpsim's contacts are inelastic
     info.m_restitution = 0;
 
-    // obstacles: static planes colliding with bodies only (ecpsim has no obstacle–obstacle or
-    // body–body contact)
+    // obstacles: static planes colliding with bodies only (no obstacle–obstacle contact)
     for (int o = 0; o < static_cast<int>(scene.obstacles.size()); ++o) {
       const HalfSpacePlane plane = HalfSpaceOf(scene, o, "Bullet");
       // Bullet's plane n·x = c has its solid side below, as ecpsim's n·y ≤ d
@@ -167,6 +178,7 @@ class BulletSimulation final : public ExternalSimulation {
     }
 
     // bodies: the hull of the mesh vertices in the principal-axes frame P (origin at the CM)
+    const engine::State initial_state = engine::InitialState(scene);
     for (int b = 0; b < static_cast<int>(scene.bodies.size()); ++b) {
       const engine::Body& body = scene.bodies[static_cast<size_t>(b)];
       const PrincipalAxes axes = ComputePrincipalAxes(body.inertia);
@@ -179,10 +191,14 @@ class BulletSimulation final : public ExternalSimulation {
       }
       hull->recalcLocalAabb();
       hull->setMargin(settings_.margin);
-      btRigidBody::btRigidBodyConstructionInfo ci(body.mass, nullptr, hull.get(),
-                                                  ToBt(axes.principal));
-      const Quaterniond Q_WP = body.q0.normalized() * Quaterniond(axes.R_BP);
-      ci.m_startWorldTransform = btTransform(ToBt(Q_WP), ToBt(body.p0));
+      if (settings_.polyhedral_hulls) hull->initializePolyhedralFeatures();
+      // a kinematic object has mass 0 (Bullet: infinite) and is moved by the adapter (Step)
+      const bool kinematic = body.IsKinematic();
+      btRigidBody::btRigidBodyConstructionInfo ci(kinematic ? 0 : body.mass, nullptr, hull.get(),
+                                                  kinematic ? btVector3(0, 0, 0)
+                                                            : ToBt(axes.principal));
+      const engine::BodyState& initial = initial_state.bodies[static_cast<size_t>(b)];
+      ci.m_startWorldTransform = PoseOf(b, initial.p_WB, initial.Q_WB);
       ci.m_friction = 1;
       ci.m_restitution = 0;
       shapes_.push_back(std::move(hull));
@@ -190,16 +206,25 @@ class BulletSimulation final : public ExternalSimulation {
       btRigidBody* rigid = rigid_bodies_.back().get();
       rigid->setUserIndex(b);
       rigid->setUserIndex2(kBodyTag);
-      rigid->setLinearVelocity(ToBt(body.v0));
-      rigid->setAngularVelocity(ToBt(body.w0));
       // sleeping would freeze a body that a later load should move: the scene's loads act at
-      // any time, and applying a force does not wake a Bullet body
+      // any time, and applying a force does not wake a Bullet body (nor is a sleeping kinematic
+      // object moved)
       rigid->setActivationState(DISABLE_DEACTIVATION);
-      world_->addRigidBody(rigid, btBroadphaseProxy::DefaultFilter,
-                           btBroadphaseProxy::StaticFilter);
+      if (kinematic) {
+        rigid->setCollisionFlags(rigid->getCollisionFlags() |
+                                 btCollisionObject::CF_KINEMATIC_OBJECT);
+        // kinematic objects touch dynamic bodies only
+        world_->addRigidBody(rigid, btBroadphaseProxy::KinematicFilter,
+                             btBroadphaseProxy::DefaultFilter);
+      } else {
+        rigid->setLinearVelocity(ToBt(initial.v_WB));
+        rigid->setAngularVelocity(ToBt(initial.w_WB));
+        world_->addRigidBody(rigid, btBroadphaseProxy::DefaultFilter,
+                             btBroadphaseProxy::AllFilter);
+      }
       bodies_.push_back(rigid);
     }
-    state_ = engine::InitialState(scene);
+    state_ = initial_state;
     state_.contacts.clear();
   }
 
@@ -212,6 +237,14 @@ class BulletSimulation final : public ExternalSimulation {
     // the scene's loads as a constant wrench at the CM over the step (forces are cleared by
     // stepSimulation after each step)
     for (size_t b = 0; b < bodies_.size(); ++b) {
+      if (scene_.bodies[b].IsKinematic()) {
+        // Bullet's kinematic objects: the step starts from the pose set here, the one at t + h,
+        // and saveKinematicState turns the move from the last pose (at t) into the velocities
+        // the contacts see during the step; the collision runs at the end pose
+        const KinematicStep step = KinematicStepOf(scene_.bodies[b], state_.t, h);
+        bodies_[b]->setWorldTransform(PoseOf(static_cast<int>(b), step.end.p, step.end.q));
+        continue;
+      }
       const Matrix3d R_WB = state_.bodies[b].Q_WB.toRotationMatrix();
       const Eigen::Matrix<double, 6, 1> impulse = engine::AppliedImpulse(
           scene_.loads, scene_.impulses, static_cast<int>(b), state_.t, h, R_WB);
@@ -244,6 +277,12 @@ class BulletSimulation final : public ExternalSimulation {
   const engine::State& state() const override { return state_; }
 
  private:
+  // body b's transform X_WP (principal axes P) for its body frame at (p, Q_WB), Q_WB unit
+  btTransform PoseOf(int b, const Vector3d& p, const Quaterniond& Q_WB) const {
+    const Quaterniond Q_WP = Q_WB * Quaterniond(R_BP_[static_cast<size_t>(b)]);
+    return btTransform(ToBt(Q_WP), ToBt(p));
+  }
+
   const engine::Scene scene_;  // a copy: the caller's scene may go away
   BulletSettings settings_;
   std::unique_ptr<btDefaultCollisionConfiguration> configuration_;

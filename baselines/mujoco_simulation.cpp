@@ -1,7 +1,9 @@
 // MuJoCo 2.2.2 stepping an ecpsim scene: the scene written as MJCF in memory (one free body per
-// ecpsim body with a point geom at each hull vertex, one plane per half-space obstacle, explicit
-// contact pairs for each ContactPair), compiled with mj_loadXML from a virtual file system and
-// stepped with mj_step (baselines/mujoco.md).
+// ecpsim body with a point geom at each hull vertex and a mesh geom of its hull, one plane per
+// half-space obstacle, explicit contact pairs for each ContactPair: vertices against a plane, and
+// between two bodies each one's vertices against the other's hull), compiled with mj_loadXML from
+// a virtual file system and stepped with mj_step; a kinematic body is a heavy free body set to its
+// prescribed pose and twist before every step (baselines/mujoco.md).
 
 #include <algorithm>
 #include <memory>
@@ -72,6 +74,11 @@ constexpr int kRowsPerContact = 6;
 // would, far below MuJoCo's soft-contact penetration (~1e-5 m for the 1 kg test box)
 constexpr double kVertexRadius = 1e-9;  // m
 
+// a kinematic body's mass and inertia over those of the heaviest dynamic body: the contacts of a
+// step change its velocity by F h / M, 1e-6 of what they do to the bodies it pushes, and the
+// adapter sets its pose and velocity afresh before every step anyway (baselines/mujoco.md)
+constexpr double kKinematicMassRatio = 1e6;
+
 /// MuJoCo's error buffer length for mj_loadXML.
 constexpr int kErrorBufferSize = 1024;
 
@@ -106,12 +113,15 @@ std::vector<Vector3d> HullVertices(const engine::Body& body, const std::string& 
 }
 
 /// The scene as MJCF: bodies b<i> (free joint, explicit inertial at the body origin = CM), their
-/// hull vertices as point geoms g<i>_<k>, planes o<k>, and explicit contact pairs only (contype =
-/// conaffinity = 0 disables MuJoCo's automatic pairs, so body–body contacts are absent, as in
-/// ecpsim's scenes). A convex hull meets a half-space exactly where its vertices do, so the
-/// vertices carry the whole contact; MuJoCo's own plane–mesh collision reports at most 3 points
-/// (maxplanemesh in engine_collision_convex.c), too few for a face resting on a plane
-/// (baselines/mujoco.md).
+/// hull vertices as point geoms g<i>_<k> and their hull as mesh geom h<i> (mesh m<i>), planes
+/// o<k>, and explicit contact pairs only (contype = conaffinity = 0 disables MuJoCo's automatic
+/// pairs, so only the scene's pairs touch). A convex hull meets a half-space exactly where its
+/// vertices do, so the vertices carry the whole contact; MuJoCo's own plane–mesh collision
+/// reports at most 3 points (maxplanemesh in engine_collision_convex.c), too few for a face
+/// resting on a plane, and its mesh–mesh collision (libccd's MPR) one point per pair, too few
+/// for a box resting on a box: two bodies touch by each one's vertex points against the other's
+/// hull mesh (baselines/mujoco.md). A kinematic body gets kKinematicMassRatio × the heaviest
+/// dynamic body's mass and inertia.
 std::string MakeMjcf(const engine::Scene& scene, const MujocoSettings& s) {
   std::vector<std::vector<Vector3d>> vertices;
   for (size_t b = 0; b < scene.bodies.size(); ++b) {
@@ -121,9 +131,16 @@ std::string MakeMjcf(const engine::Scene& scene, const MujocoSettings& s) {
   }
   // contact buffers sized for every vertex of every pair touching at once
   int max_contacts = 0;
+  std::vector<bool> needs_mesh(scene.bodies.size(), false);
   for (const engine::ContactPair& pair : scene.contacts) {
     max_contacts += static_cast<int>(vertices[pair.body].size());
+    if (!pair.WithBody()) continue;
+    max_contacts += static_cast<int>(vertices[pair.other_body].size());
+    needs_mesh[pair.body] = needs_mesh[pair.other_body] = true;
   }
+  double heaviest = 0;
+  for (const engine::Body& body : scene.bodies)
+    if (!body.IsKinematic()) heaviest = std::max(heaviest, body.mass);
   std::string xml = "<mujoco model=\"ecpsim\">\n";
   xml += "  <compiler angle=\"radian\" inertiafromgeom=\"false\"/>\n";
   xml += fmt::format(
@@ -132,6 +149,16 @@ std::string MakeMjcf(const engine::Scene& scene, const MujocoSettings& s) {
       scene.h, Vec(scene.gravity), s.cone, s.impratio, s.noslip_iterations);
   xml += fmt::format("  <size nconmax=\"{}\" njmax=\"{}\"/>\n", std::max(1, max_contacts),
                      std::max(1, max_contacts * kRowsPerContact));
+
+  // the hulls of bodies that touch other bodies, as meshes (MuJoCo takes their convex hull)
+  xml += "  <asset>\n";
+  for (size_t b = 0; b < scene.bodies.size(); ++b) {
+    if (!needs_mesh[b]) continue;
+    std::string points;
+    for (const Vector3d& v : vertices[b]) points += (points.empty() ? "" : " ") + Vec(v);
+    xml += fmt::format("    <mesh name=\"m{}\" vertex=\"{}\"/>\n", b, points);
+  }
+  xml += "  </asset>\n";
 
   xml += "  <worldbody>\n";
 
@@ -148,12 +175,19 @@ std::string MakeMjcf(const engine::Scene& scene, const MujocoSettings& s) {
   // bodies at the origin: the initial pose and velocity are written into qpos/qvel in double
   for (size_t b = 0; b < scene.bodies.size(); ++b) {
     const engine::Body& body = scene.bodies[b];
-    const Matrix3d& I = body.inertia;
+    const double scale = body.IsKinematic() ? kKinematicMassRatio * heaviest / body.mass : 1;
+    const Matrix3d I = scale * body.inertia;
     xml += fmt::format("    <body name=\"b{}\">\n      <freejoint/>\n", b);
     xml += fmt::format(
         "      <inertial pos=\"0 0 0\" mass=\"{:.17g}\" fullinertia=\"{:.17g} {:.17g} {:.17g} "
         "{:.17g} {:.17g} {:.17g}\"/>\n",
-        body.mass, I(0, 0), I(1, 1), I(2, 2), I(0, 1), I(0, 2), I(1, 2));
+        scale * body.mass, I(0, 0), I(1, 1), I(2, 2), I(0, 1), I(0, 2), I(1, 2));
+    if (needs_mesh[b]) {
+      xml += fmt::format(
+          "      <geom name=\"h{}\" type=\"mesh\" mesh=\"m{}\" contype=\"0\" "
+          "conaffinity=\"0\"/>\n",
+          b, b);
+    }
     for (size_t k = 0; k < vertices[b].size(); ++k) {
       xml += fmt::format(
           "      <geom name=\"g{}_{}\" type=\"sphere\" size=\"{:.17g}\" pos=\"{}\" "
@@ -164,22 +198,29 @@ std::string MakeMjcf(const engine::Scene& scene, const MujocoSettings& s) {
   }
   xml += "  </worldbody>\n  <contact>\n";
 
-  // one pair per ecpsim contact pair and hull vertex, with its μ
-  for (const engine::ContactPair& pair : scene.contacts) {
-    const engine::Friction& f = pair.friction;
-    for (size_t k = 0; k < vertices[pair.body].size(); ++k) {
-      xml += fmt::format(
-          "    <pair geom1=\"o{}\" geom2=\"g{}_{}\" condim=\"{}\" friction=\"{:.17g} {:.17g} "
-          "{:.17g} {:.17g} {:.17g}\"",
-          pair.obstacle, pair.body, k, s.condim, f.mu, f.mu, kMujocoDefaultTorsion,
-          kMujocoDefaultRolling,
-          kMujocoDefaultRolling);
-      if (!s.solimp.empty()) xml += fmt::format(" solimp=\"{}\"", s.solimp);
-      if (s.solref_time_constant > 0) {
-        xml += fmt::format(" solref=\"{:.17g} 1\"", s.solref_time_constant);
-      }
-      xml += "/>\n";
+  // one pair per ecpsim contact pair and hull vertex, with its μ: the vertices of F against the
+  // plane, or against G's hull and G's vertices against F's
+  const auto add_pair = [&](const std::string& geom1, int body, size_t k,
+                            const engine::Friction& f) {
+    xml += fmt::format(
+        "    <pair geom1=\"{}\" geom2=\"g{}_{}\" condim=\"{}\" friction=\"{:.17g} {:.17g} "
+        "{:.17g} {:.17g} {:.17g}\"",
+        geom1, body, k, s.condim, f.mu, f.mu, kMujocoDefaultTorsion, kMujocoDefaultRolling,
+        kMujocoDefaultRolling);
+    if (!s.solimp.empty()) xml += fmt::format(" solimp=\"{}\"", s.solimp);
+    if (s.solref_time_constant > 0) {
+      xml += fmt::format(" solref=\"{:.17g} 1\"", s.solref_time_constant);
     }
+    xml += "/>\n";
+  };
+  for (const engine::ContactPair& pair : scene.contacts) {
+    const std::string f_target = pair.WithBody() ? fmt::format("h{}", pair.other_body)
+                                                 : fmt::format("o{}", pair.obstacle);
+    for (size_t k = 0; k < vertices[pair.body].size(); ++k)
+      add_pair(f_target, pair.body, k, pair.friction);
+    if (!pair.WithBody()) continue;
+    for (size_t k = 0; k < vertices[pair.other_body].size(); ++k)
+      add_pair(fmt::format("h{}", pair.body), pair.other_body, k, pair.friction);
   }
   xml += "  </contact>\n</mujoco>\n";
   return xml;
@@ -211,30 +252,26 @@ mjModel* CompileMjcf(const std::string& xml, const std::string& source) {
 class MujocoSimulation final : public ExternalSimulation {
  public:
   MujocoSimulation(const MujocoSettings& settings, const engine::Scene& scene)
-      : source_(scene.source), h_(scene.h), loads_(scene.loads), impulses_(scene.impulses) {
-    for (const engine::Body& body : scene.bodies) names_.push_back(body.name);
+      : source_(scene.source),
+        h_(scene.h),
+        gravity_(scene.gravity),
+        loads_(scene.loads),
+        impulses_(scene.impulses) {
+    for (const engine::Body& body : scene.bodies) {
+      names_.push_back(body.name);
+      motions_.push_back(body.motion);
+    }
     model_ = CompileMjcf(MakeMjcf(scene, settings), scene.source);
     data_ = mj_makeData(model_);
     ECPSIM_DEMAND(data_ != nullptr);
 
-    // initial state in full precision: free joint qpos = (p, q_wxyz), qvel = (v world, ω body)
+    // initial state in full precision
+    const engine::State initial = engine::InitialState(scene);
     state_.t = 0;
     state_.bodies.resize(scene.bodies.size());
     for (size_t b = 0; b < scene.bodies.size(); ++b) {
-      const engine::Body& body = scene.bodies[b];
-      const Quaterniond q = body.q0.normalized();
-      const Vector3d w_B = q.toRotationMatrix().transpose() * body.w0;
-      mjtNum* qpos = data_->qpos + model_->jnt_qposadr[JointOf(b)];
-      mjtNum* qvel = data_->qvel + model_->jnt_dofadr[JointOf(b)];
-      for (int k = 0; k < 3; ++k) {
-        qpos[k] = body.p0[k];
-        qvel[k] = body.v0[k];
-        qvel[3 + k] = w_B[k];
-      }
-      qpos[3] = q.w();
-      qpos[4] = q.x();
-      qpos[5] = q.y();
-      qpos[6] = q.z();
+      const engine::BodyState& s = initial.bodies[b];
+      SetJoint(b, s.p_WB, s.Q_WB, s.v_WB, s.w_WB);
     }
     ReadState();
   }
@@ -250,10 +287,22 @@ class MujocoSimulation final : public ExternalSimulation {
     // the step's applied impulse as a constant wrench at the CM (xfrc_applied: world frame, at
     // the body's CM, which is the body origin here)
     for (size_t b = 0; b < state_.bodies.size(); ++b) {
+      mjtNum* xfrc = data_->xfrc_applied + 6 * BodyId(b);
+      if (motions_[b] != nullptr) {
+        // a kinematic body: its prescribed pose at t and the step's twist, which MuJoCo's Euler
+        // step (p + h v, quaternion integration of ω) carries to the pose at t + h; gravity on
+        // its (large) mass cancelled
+        const engine::KinematicMotion::Twist twist = motions_[b]->StepTwist(state_.t, h_);
+        const engine::KinematicPose start = motions_[b]->PoseAt(state_.t);
+        SetJoint(b, start.p, start.q, twist.v, twist.w);
+        const Vector3d weight = model_->body_mass[BodyId(b)] * gravity_;
+        for (int k = 0; k < 3; ++k) xfrc[k] = -weight[k];
+        for (int k = 3; k < 6; ++k) xfrc[k] = 0;
+        continue;
+      }
       const Matrix3d R_WB = state_.bodies[b].Q_WB.toRotationMatrix();
       const Eigen::Matrix<double, 6, 1> wrench =
           engine::AppliedImpulse(loads_, impulses_, static_cast<int>(b), state_.t, h_, R_WB) / h_;
-      mjtNum* xfrc = data_->xfrc_applied + 6 * BodyId(b);
       for (int k = 0; k < 6; ++k) xfrc[k] = wrench[k];
     }
     const int bad_acc = data_->warning[mjWARN_BADQACC].number;
@@ -287,6 +336,24 @@ class MujocoSimulation final : public ExternalSimulation {
   static int BodyId(size_t b) { return static_cast<int>(b) + 1; }
   static int JointOf(size_t b) { return static_cast<int>(b); }
 
+  // body b's free joint: qpos = (p, q_wxyz), qvel = (v world, ω body), in full precision; Q_WB
+  // unit
+  void SetJoint(size_t b, const Vector3d& p, const Quaterniond& q, const Vector3d& v,
+                const Vector3d& w) {
+    const Vector3d w_B = q.toRotationMatrix().transpose() * w;
+    mjtNum* qpos = data_->qpos + model_->jnt_qposadr[JointOf(b)];
+    mjtNum* qvel = data_->qvel + model_->jnt_dofadr[JointOf(b)];
+    for (int k = 0; k < 3; ++k) {
+      qpos[k] = p[k];
+      qvel[k] = v[k];
+      qvel[3 + k] = w_B[k];
+    }
+    qpos[3] = q.w();
+    qpos[4] = q.x();
+    qpos[5] = q.y();
+    qpos[6] = q.z();
+  }
+
   void ReadState() {
     for (size_t b = 0; b < state_.bodies.size(); ++b) {
       const mjtNum* qpos = data_->qpos + model_->jnt_qposadr[JointOf(b)];
@@ -301,9 +368,12 @@ class MujocoSimulation final : public ExternalSimulation {
 
   std::string source_;
   double h_;
+  Vector3d gravity_;
   std::vector<engine::Load> loads_;
   std::vector<engine::Impulse> impulses_;
   std::vector<std::string> names_;
+  // per body: its prescribed motion (null: dynamic)
+  std::vector<std::shared_ptr<const engine::KinematicMotion>> motions_;
   mjModel* model_ = nullptr;
   mjData* data_ = nullptr;
   engine::State state_;

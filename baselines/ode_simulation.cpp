@@ -1,7 +1,8 @@
 // ODE (libode-dev 0.16.2, double precision) stepping an ecpsim scene: each body a dBody at its CM
-// with the full inertia tensor and a dCreateConvex geom of its hull, each half-space a dCreatePlane,
-// contact joints made in the near callback of every step (settings and measurements:
-// baselines/ode.md).
+// with the full inertia tensor and a dCreateConvex geom of its hull (a kinematic body a
+// dBodySetKinematic body set to its prescribed pose and twist before every step), each half-space
+// a dCreatePlane, contact joints made in the near callback of every step for the scene's contact
+// pairs, body–body ones included (settings and measurements: baselines/ode.md).
 
 #include <cmath>
 #include <memory>
@@ -86,7 +87,7 @@ void InitOdeOnce() {
 class OdeSimulation final : public ExternalSimulation {
  public:
   OdeSimulation(FrictionSetting setting, const engine::Scene& scene)
-      : scene_(scene), settings_(SettingsFor(setting)), friction_(MakePairFrictionTable(scene)) {
+      : scene_(scene), settings_(SettingsFor(setting)), friction_(scene) {
     InitOdeOnce();
     // planes first: an obstacle the adapter cannot model is reported before any ODE object exists
     std::vector<HalfSpacePlane> planes;
@@ -114,21 +115,25 @@ class OdeSimulation final : public ExternalSimulation {
       dGeomSetData(geom, &tags_.back());
     }
     convex_arrays_.reserve(scene.bodies.size());
+    const engine::State initial_state = engine::InitialState(scene);
     for (int b = 0; b < static_cast<int>(scene.bodies.size()); ++b) {
       const engine::Body& body = scene.bodies[static_cast<size_t>(b)];
       dBodyID id = dBodyCreate(world_);
-      // the body frame is ecpsim's (origin at the CM), so the full tensor goes in as given
-      dMass mass;
-      dMassSetParameters(&mass, body.mass, 0, 0, 0, body.inertia(0, 0), body.inertia(1, 1),
-                         body.inertia(2, 2), body.inertia(0, 1), body.inertia(0, 2),
-                         body.inertia(1, 2));
-      dBodySetMass(id, &mass);
-      dBodySetPosition(id, body.p0.x(), body.p0.y(), body.p0.z());
-      const Quaterniond q = body.q0.normalized();
-      const dQuaternion q_ode = {q.w(), q.x(), q.y(), q.z()};
-      dBodySetQuaternion(id, q_ode);
-      dBodySetLinearVel(id, body.v0.x(), body.v0.y(), body.v0.z());
-      dBodySetAngularVel(id, body.w0.x(), body.w0.y(), body.w0.z());
+      if (body.IsKinematic()) {
+        // infinite mass, no gravity: it moves with the velocity set before each step (Step)
+        dBodySetKinematic(id);
+      } else {
+        // the body frame is ecpsim's (origin at the CM), so the full tensor goes in as given
+        dMass mass;
+        dMassSetParameters(&mass, body.mass, 0, 0, 0, body.inertia(0, 0), body.inertia(1, 1),
+                           body.inertia(2, 2), body.inertia(0, 1), body.inertia(0, 2),
+                           body.inertia(1, 2));
+        dBodySetMass(id, &mass);
+      }
+      const engine::BodyState& initial = initial_state.bodies[static_cast<size_t>(b)];
+      SetPose(id, initial.p_WB, initial.Q_WB);
+      dBodySetLinearVel(id, initial.v_WB.x(), initial.v_WB.y(), initial.v_WB.z());
+      dBodySetAngularVel(id, initial.w_WB.x(), initial.w_WB.y(), initial.w_WB.z());
       if (settings_.finite_rotation) dBodySetFiniteRotationMode(id, 1);
 
       convex_arrays_.push_back(MakeConvexArrays(hulls[static_cast<size_t>(b)]));
@@ -163,6 +168,18 @@ class OdeSimulation final : public ExternalSimulation {
     // the scene's loads as a constant wrench at the CM over the step (ODE clears the
     // accumulators after each step)
     for (size_t b = 0; b < bodies_.size(); ++b) {
+      const engine::Body& model = scene_.bodies[b];
+      if (model.IsKinematic()) {
+        // the prescribed pose at t and the step's twist, which ODE's update c + h v (and, with
+        // finite rotation, Exp(h ω) R) carries to the pose at t + h
+        const KinematicStep step = KinematicStepOf(model, state_.t, h);
+        SetPose(bodies_[b], step.start.p, step.start.q);
+        dBodySetLinearVel(bodies_[b], step.twist.v.x(), step.twist.v.y(), step.twist.v.z());
+        dBodySetAngularVel(bodies_[b], step.twist.w.x(), step.twist.w.y(), step.twist.w.z());
+        v_predicted_[b] = step.twist.v;
+        w_predicted_[b] = step.twist.w;
+        continue;
+      }
       const Matrix3d R_WB = state_.bodies[b].Q_WB.toRotationMatrix();
       const Eigen::Matrix<double, 6, 1> impulse = engine::AppliedImpulse(
           scene_.loads, scene_.impulses, static_cast<int>(b), state_.t, h, R_WB);
@@ -201,20 +218,35 @@ class OdeSimulation final : public ExternalSimulation {
   const engine::State& state() const override { return state_; }
 
  private:
+  static void SetPose(dBodyID id, const Vector3d& p, const Quaterniond& q_WB) {
+    dBodySetPosition(id, p.x(), p.y(), p.z());
+    const Quaterniond q = q_WB.normalized();
+    const dQuaternion q_ode = {q.w(), q.x(), q.y(), q.z()};
+    dBodySetQuaternion(id, q_ode);
+  }
+
   static void NearCallback(void* data, dGeomID o1, dGeomID o2) {
     static_cast<OdeSimulation*>(data)->Collide(o1, o2);
   }
 
-  /// Contact joints between a body's hull and an obstacle the scene pairs it with (ecpsim has no
-  /// body–body or obstacle–obstacle contact).
+  // the velocity at world point x, without contact at the end of the step, of the body a geom
+  // belongs to (a fixed obstacle: 0)
+  Vector3d PredictedVelocity(const GeomTag& tag, const Vector3d& x) const {
+    if (!tag.is_body) return Vector3d::Zero();
+    const size_t b = static_cast<size_t>(tag.index);
+    return v_predicted_[b] + w_predicted_[b].cross(x - state_.bodies[b].p_WB);
+  }
+
+  /// Contact joints between two geoms the scene pairs (a body and an obstacle, or two bodies);
+  /// any other pair never touches.
   void Collide(dGeomID o1, dGeomID o2) {
     const auto* t1 = static_cast<const GeomTag*>(dGeomGetData(o1));
     const auto* t2 = static_cast<const GeomTag*>(dGeomGetData(o2));
-    if (t1->is_body == t2->is_body) return;
-    const GeomTag& body_tag = t1->is_body ? *t1 : *t2;
-    const GeomTag& obstacle_tag = t1->is_body ? *t2 : *t1;
+    if (!t1->is_body && !t2->is_body) return;
     const std::optional<engine::Friction>& friction =
-        friction_[static_cast<size_t>(body_tag.index)][static_cast<size_t>(obstacle_tag.index)];
+        t1->is_body && t2->is_body ? friction_.WithBody(t1->index, t2->index)
+        : t1->is_body              ? friction_.WithObstacle(t1->index, t2->index)
+                                   : friction_.WithObstacle(t2->index, t1->index);
     if (!friction) return;
 
     dContact contacts[kMaxContacts];
@@ -231,11 +263,9 @@ class OdeSimulation final : public ExternalSimulation {
         // friction along the slip the contact would have without it (Bullet's default): one
         // direction bounded by μ λ_n, so a sliding contact feels μ λ_n opposite its slip, as in
         // Coulomb's cone, not up to √2 μ λ_n from the pyramid's two independent directions
-        const size_t b = static_cast<size_t>(body_tag.index);
-        const Vector3d r = Vector3d(c.geom.pos[0], c.geom.pos[1], c.geom.pos[2]) -
-                           state_.bodies[b].p_WB;
+        const Vector3d x(c.geom.pos[0], c.geom.pos[1], c.geom.pos[2]);
         const Vector3d normal(c.geom.normal[0], c.geom.normal[1], c.geom.normal[2]);
-        Vector3d slip = v_predicted_[b] + w_predicted_[b].cross(r);
+        Vector3d slip = PredictedVelocity(*t1, x) - PredictedVelocity(*t2, x);
         slip -= slip.dot(normal) * normal;
         if (slip.norm() > kSlipDirectionSpeed) {
           slip.normalize();

@@ -12,9 +12,9 @@
 namespace ecpsim::engine {
 
 std::unique_ptr<ContactModelStepper> MakeContactModel(const Scene& scene) {
-  // only the hull model has contacts between two moving hulls (the planar and multi-patch models
-  // combine ECPs on one fixed plane; the point model's vertices against a body: not yet)
-  if (scene.model != ContactModel::kHull) {
+  // the hull and point models have contacts between two moving hulls (the planar and
+  // multi-patch models combine ECPs on one fixed plane)
+  if (scene.model == ContactModel::kPlanar || scene.model == ContactModel::kMultiPatch) {
     for (const ContactPair& pair : scene.contacts) {
       if (!pair.WithBody()) continue;
       throw ModelInvalid(fmt::format(

@@ -4,8 +4,12 @@
 #include <cmath>
 #include <filesystem>
 
+#include <fmt/format.h>
+
+#include "common/errors.h"
 #include "engine/scene_builders.h"
 #include "engine/scene_yaml.h"
+#include "engine/state.h"
 #include "geometry/paper_bodies.h"
 
 namespace ecpsim::evaluation {
@@ -137,17 +141,77 @@ Scenario Rest() {
 // one of the paper's scenes, cut to `duration`
 Scenario PaperScene(const std::string& scenes_dir, const std::string& name, double duration,
                     double length, const std::string& description) {
-  Scenario s;
-  s.name = name;
-  s.description = description;
-  s.scene = engine::LoadScene((std::filesystem::path(scenes_dir) / (name + ".yaml")).string());
-  s.scene.duration = std::min(s.scene.duration, duration);
-  s.length = length;
+  Scenario s = SceneScenario(scenes_dir, name, name + ".yaml", "", duration, length, description);
   s.multipatch_applies = !s.scene.bodies[0].parts.empty();
   return s;
 }
 
+// scenes/stack.yaml: three boxes stacked at rest; the top box is measured, and the closed form
+// is no motion at all (the drift test)
+Scenario Stack(const std::string& scenes_dir) {
+  Scenario s = SceneScenario(scenes_dir, "stack", "stack.yaml", "top", kBodyScenarioDuration, 0.1,
+                             "three boxes stacked at rest, the top one measured (closed form: "
+                             "no motion)");
+  const engine::BodyState start = engine::InitialState(s.scene).bodies[s.body];
+  s.analytic = [=](double) {
+    engine::BodyState b = start;
+    b.v_WB = b.w_WB = Vector3d::Zero();
+    return b;
+  };
+  s.stop_time = 0;
+  return s;
+}
+
+// scenes/push_box.yaml: the pusher's face reaches the box after gap / speed and from then on
+// carries it at its own speed (closed form: a sticking push at constant speed)
+Scenario PushBox(const std::string& scenes_dir) {
+  Scenario s = SceneScenario(scenes_dir, "push_box", "push_box.yaml", "box", kBodyScenarioDuration,
+                             0.15, "flat pusher at 0.1 m/s pushing a box through its CM, mu = "
+                                   "0.3 (closed form: the box at the pusher's speed)");
+  const engine::Body& pusher = s.scene.bodies[s.body == 0 ? 1 : 0];
+  ECPSIM_DEMAND(pusher.IsKinematic());
+  const engine::BodyState box = engine::InitialState(s.scene).bodies[s.body];
+  const engine::KinematicPose start = pusher.motion->PoseAt(0);
+  const Vector3d velocity = pusher.motion->StepTwist(0, s.scene.h).v;
+  // the gap between the pusher's leading face and the box's back face along the push
+  const Vector3d u = velocity.normalized();
+  const double pusher_front = u.dot(start.p) + u.dot(start.q * pusher.hull->Support(start.q.inverse() * u));
+  const double box_back = u.dot(box.p_WB) + u.dot(box.Q_WB * s.scene.bodies[s.body].hull->Support(
+                                                                 box.Q_WB.inverse() * -u));
+  const double contact_time = (box_back - pusher_front) / velocity.norm();
+  s.analytic = [=](double t) {
+    engine::BodyState b = box;
+    if (t > contact_time) {
+      b.p_WB += (t - contact_time) * velocity;
+      b.v_WB = velocity;
+    }
+    return b;
+  };
+  return s;
+}
+
 }  // namespace
+
+Scenario SceneScenario(const std::string& scenes_dir, const std::string& name,
+                       const std::string& file, const std::string& body, double duration,
+                       double length, const std::string& description) {
+  Scenario s;
+  s.name = name;
+  s.description = description;
+  const std::string path = (std::filesystem::path(scenes_dir) / file).string();
+  s.scene = engine::LoadScene(path);
+  s.scene.duration = std::min(s.scene.duration, duration);
+  s.length = length;
+  if (!body.empty()) {
+    const auto& bodies = s.scene.bodies;
+    const auto found = std::find_if(bodies.begin(), bodies.end(),
+                                    [&](const engine::Body& b) { return b.name == body; });
+    if (found == bodies.end())
+      throw InputError(fmt::format("{}: no body '{}' (the {} scenario measures it)", path, body, name));
+    s.body = static_cast<int>(found - bodies.begin());
+  }
+  return s;
+}
 
 double MeanRadiusOfRectangle(double a, double b) {
   // ∫∫ over the quarter [0,p]×[0,q] of |r| = (2pqd + p³ ln((q+d)/p) + q³ ln((p+d)/q)) / 6
@@ -158,7 +222,7 @@ double MeanRadiusOfRectangle(double a, double b) {
 }
 
 std::vector<std::string> WorkPrecisionScenarioNames() {
-  return {"slide", "spin", "push_slide", "rest", "desk", "tbar", "dumbbell"};
+  return {"slide", "spin", "push_slide", "rest", "desk", "tbar", "dumbbell", "stack", "push_box"};
 }
 
 std::vector<Scenario> WorkPrecisionScenarios(const std::string& scenes_dir,
@@ -175,6 +239,8 @@ std::vector<Scenario> WorkPrecisionScenarios(const std::string& scenes_dir,
                                  "dumbbell rolling on its rims (converged reference)");
   dumbbell.compare_modes = false;
   scenarios.push_back(dumbbell);
+  scenarios.push_back(Stack(scenes_dir));
+  scenarios.push_back(PushBox(scenes_dir));
   return scenarios;
 }
 

@@ -1,6 +1,7 @@
 #pragma once
-// The benchmark's scenarios: one body on the ground, each with a reference trajectory, either in
-// closed form (slide, spin, push-slide, rest) or a converged solution (desk, T-bar, dumbbell).
+// The benchmark's scenarios: bodies on the ground, one of them measured, each with a reference
+// trajectory, either in closed form (slide, spin, push-slide, rest, stack, push_box) or a
+// converged solution (desk, T-bar, dumbbell).
 
 #include <functional>
 #include <string>
@@ -17,10 +18,12 @@ namespace ecpsim::evaluation {
 struct Scenario {
   std::string name;         // CSV key and chart name: slide, spin, push_slide, rest, desk, …
   std::string description;  // one line for the charts and docs
-  engine::Scene scene;      // body 0 is the one measured; h is set per run
+  engine::Scene scene;      // h is set per run
+  int body = 0;             // the body measured (its errors, modes, energy, stop time)
   double sample_interval = 0.02;  // s, errors are taken at multiples of it (every h divides it)
   double length = 0.1;            // m, weights orientation errors: e = |Δp| + length·|Δθ|
-  // the closed-form trajectory of body 0 (continuous time); empty: converged reference
+  // the closed-form trajectory of the measured body (continuous time); empty: converged
+  // reference
   std::function<engine::BodyState(double t)> analytic;
   double stop_time = -1;          // s, when the motion ends in closed form (< 0: not measured)
   bool planar_applies = false;    // flat on the ground throughout: the planar model applies
@@ -31,14 +34,27 @@ struct Scenario {
   bool compare_modes = true;
 };
 
-/// The work–precision scenarios. `scenes_dir` holds desk.yaml, tbar.yaml and dumbbell.yaml
-/// (their durations are cut to `converged_duration` seconds to keep the sweep affordable).
+/// The work–precision scenarios. `scenes_dir` holds desk.yaml, tbar.yaml, dumbbell.yaml,
+/// stack.yaml and push_box.yaml (the durations of the first three are cut to
+/// `converged_duration` seconds, the last two to kBodyScenarioDuration, to keep the sweep
+/// affordable).
 /// @throws InputError if a scene file is missing or invalid.
 std::vector<Scenario> WorkPrecisionScenarios(const std::string& scenes_dir,
                                              double converged_duration = 1.0);
 
 /// The names of WorkPrecisionScenarios(), in its order (without loading any scene).
 std::vector<std::string> WorkPrecisionScenarioNames();
+
+/// s: how long the stack and push_box scenarios run in the sweep (the scenes' 10 s and 2 s
+/// would make their runs at h = 2e-4 s the sweep's longest).
+constexpr double kBodyScenarioDuration = 1.0;
+
+/// The scenario of a scene file `scenes_dir`/`file` measuring body `body` (by name), cut to
+/// `duration`; the reference is `analytic` when given, else the converged solution.
+/// @throws InputError if the file is missing or invalid, or has no body of that name.
+Scenario SceneScenario(const std::string& scenes_dir, const std::string& name,
+                       const std::string& file, const std::string& body, double duration,
+                       double length, const std::string& description);
 
 /// Mean distance of the points of an a × b rectangle from its centre (m): the lever arm of
 /// uniform-pressure Coulomb friction opposing a pure spin, M = μ N r̄.

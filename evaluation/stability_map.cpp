@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 
 #include <fmt/format.h>
 
 #include "engine/scene_builders.h"
+#include "engine/scene_yaml.h"
 #include "evaluation/csv_file.h"
 #include "geometry/convex_hull.h"
 #include "geometry/convex_shape.h"
@@ -83,12 +85,41 @@ engine::Body TBarWithMassRatio(double ratio) {
 
 std::string Number(double value) { return fmt::format("{:.9g}", value); }
 
+// s: a push run's length; the contact starts after 1 cm / speed ≤ 0.33 s, so the box has been
+// pushed for ≥ 0.67 s when the late window (the last 0.5 s) opens
+constexpr double kPushDuration = 1.5;
+
+int PusherOf(const Scenario& scenario) {
+  const auto& bodies = scenario.scene.bodies;
+  const auto it = std::find_if(bodies.begin(), bodies.end(),
+                               [](const engine::Body& b) { return b.IsKinematic(); });
+  ECPSIM_DEMAND(it != bodies.end());
+  return static_cast<int>(it - bodies.begin());
+}
+
+// scenes/push_box.yaml (in `scenes_dir`) with the pusher's velocity scaled to `speed`
+Scenario PushAtSpeed(const std::string& scenes_dir, double speed) {
+  Scenario s;
+  s.name = fmt::format("push_speed_{}", speed);
+  s.scene = engine::LoadScene((std::filesystem::path(scenes_dir) / "push_box.yaml").string());
+  s.scene.duration = kPushDuration;
+  s.length = 0.15;
+  const int pusher = PusherOf(s);
+  engine::Body& body = s.scene.bodies[pusher];
+  engine::ConstantTwist twist;
+  twist.start = body.motion->PoseAt(0);
+  twist.v = speed * body.motion->StepTwist(0, s.scene.h).v.normalized();
+  body.motion = std::make_shared<engine::KinematicMotion>(twist, body.motion->where());
+  s.body = pusher == 0 ? 1 : 0;
+  return s;
+}
+
 Outcome ParseOutcome(const CsvFile& file, size_t row, int column) {
   for (int k = 0; k < kOutcomeCount; ++k) {
     if (file.rows[row][column] == OutcomeName(static_cast<Outcome>(k))) return static_cast<Outcome>(k);
   }
   throw InputError(fmt::format("{}:{}: outcome '{}': expected ok, solver_failure, penetration, "
-                               "energy_gain, wrong_mode or jitter",
+                               "energy_gain, wrong_mode, jitter or off_speed",
                                file.path, row + 2, file.rows[row][column]));
 }
 
@@ -108,11 +139,13 @@ const char* OutcomeName(Outcome outcome) {
       return "wrong_mode";
     case Outcome::kJitter:
       return "jitter";
+    case Outcome::kOffSpeed:
+      return "off_speed";
   }
   return "unknown";
 }
 
-std::vector<StabilityMapSpec> StabilityMaps() {
+std::vector<StabilityMapSpec> StabilityMaps(const std::string& scenes_dir) {
   StabilityMapSpec impact;
   impact.name = "impact";
   impact.description = "box 0.2 x 0.15 x 0.1 m thrown corner-first at the ground, mu = 0.5";
@@ -153,7 +186,32 @@ std::vector<StabilityMapSpec> StabilityMaps() {
     s.name = fmt::format("tbar_mass_ratio_{}", ratio);
     return s;
   };
-  return {impact, plate, tbar};
+
+  StabilityMapSpec push;
+  push.name = "push_speed";
+  push.description = "scenes/push_box.yaml: a flat pusher at constant speed pushing a box, mu = 0.3";
+  push.value_label = "push speed (m/s)";
+  push.values = {0.03, 0.1, 0.3, 1, 3};
+  push.scenario = [scenes_dir](double speed) { return PushAtSpeed(scenes_dir, speed); };
+  push.classify = [](const RunRecord& run, const Scenario& scenario) {
+    const engine::Body& pusher = scenario.scene.bodies[PusherOf(scenario)];
+    return ClassifyPush(run, scenario, pusher.motion->StepTwist(0, scenario.scene.h).v,
+                        kLateWindow);
+  };
+  return {impact, plate, tbar, push};
+}
+
+Outcome ClassifyPush(const RunRecord& run, const Scenario& scenario,
+                     const Eigen::Vector3d& pusher_velocity, double late_window) {
+  if (run.failed) return Outcome::kSolverFailure;
+  if (run.max_penetration > kPenetrationLimit) return Outcome::kPenetration;
+  const double late_start = scenario.scene.duration - late_window;
+  for (size_t k = 0; k < run.samples.size(); ++k) {
+    if (static_cast<double>(k) * scenario.sample_interval < late_start - 1e-9) continue;
+    const Vector3d error = run.samples[k].v_WB - pusher_velocity;
+    if (!(error.norm() <= kPushSpeedTolerance * pusher_velocity.norm())) return Outcome::kOffSpeed;
+  }
+  return Outcome::kOk;
 }
 
 Outcome Classify(const RunRecord& run, double initial_kinetic) {
@@ -189,7 +247,7 @@ std::vector<StabilityRow> RunStabilityMaps(const std::vector<StabilityMapSpec>& 
       int ok = 0, cells = 0;
       for (double value : map.values) {
         const Scenario scenario = map.scenario(value);
-        const engine::Body& body = scenario.scene.bodies[0];
+        const engine::Body& body = scenario.scene.bodies[scenario.body];
         const double kinetic = 0.5 * body.mass * body.v0.squaredNorm();
         for (double h : steps) {
           const RunRecord run = RunTrajectory(method, scenario, h, cpu_limit_s, kLateWindow);
@@ -198,7 +256,7 @@ std::vector<StabilityRow> RunStabilityMaps(const std::vector<StabilityMapSpec>& 
           row.method = method.name;
           row.h = h;
           row.value = value;
-          row.outcome = Classify(run, kinetic);
+          row.outcome = map.classify ? map.classify(run, scenario) : Classify(run, kinetic);
           row.max_penetration = run.max_penetration;
           row.energy_gain = *std::max_element(run.energies.begin(), run.energies.end()) -
                             run.energies.front();

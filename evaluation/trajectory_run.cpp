@@ -35,8 +35,8 @@ double ThreadCpuSeconds() {
   return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
 }
 
-double Energy(const engine::Scene& scene, const engine::BodyState& b) {
-  const engine::Body& body = scene.bodies[0];
+double Energy(const engine::Scene& scene, int index, const engine::BodyState& b) {
+  const engine::Body& body = scene.bodies[index];
   const Eigen::Matrix3d R = b.Q_WB.toRotationMatrix();
   const Eigen::Matrix3d I_W = R * body.inertia * R.transpose();
   const double energy = 0.5 * body.mass * b.v_WB.squaredNorm() +
@@ -65,6 +65,33 @@ int StepsPerSample(const Scenario& scenario, double h) {
         scenario.name, h, scenario.sample_interval));
   }
   return static_cast<int>(n);
+}
+
+// m, ≥ 0: how deep the hull vertices of two bodies that the scene pairs reach into each other's
+// hull, both ways (a vertex-based depth: the deepest vertex of one hull inside the other,
+// measured along the other's largest face constraint), the largest over all such pairs
+double BodyPairDepth(const engine::Scene& scene, const engine::State& state) {
+  double deepest = 0;
+  const auto depth_in = [&](int a, int b) {
+    const engine::BodyState& sa = state.bodies[a];
+    const engine::BodyState& sb = state.bodies[b];
+    const Eigen::Matrix3d R_a = sa.Q_WB.toRotationMatrix();
+    const Eigen::Matrix3d R_b = sb.Q_WB.toRotationMatrix();
+    const geometry::ConvexShape& hull = *scene.bodies[b].hull;
+    for (const Vector3d& v : HullVertices(*scene.bodies[a].hull)) {
+      const Vector3d y = R_b.transpose() * (sa.p_WB + R_a * v - sb.p_WB);
+      double value = -INFINITY;
+      for (int j = 0; j < hull.NumConstraints(); ++j)
+        value = std::max(value, hull.Value(j, y) / hull.Gradient(j, y).norm());
+      deepest = std::max(deepest, -value);
+    }
+  };
+  for (const engine::ContactPair& pair : scene.contacts) {
+    if (!pair.WithBody()) continue;
+    depth_in(pair.body, pair.other_body);
+    depth_in(pair.other_body, pair.body);
+  }
+  return deepest;
 }
 
 int SampleCount(const Scenario& scenario) {
@@ -142,15 +169,17 @@ RunRecord RunTrajectory(const Method& method, const Scenario& scenario, double h
   RunRecord run;
   const engine::PenetrationProbe probe(scene);
   std::unique_ptr<Stepper> stepper = MakeStepper(method, scene);
+  const int measured = scenario.body;
   auto record = [&](const engine::State& state) {
-    const engine::BodyState& b = state.bodies[0];
+    const engine::BodyState& b = state.bodies[measured];
     run.samples.push_back(b);
-    run.modes.push_back(ModeOfPose(scene, 0, b));
-    run.energies.push_back(Energy(scene, b));
+    run.modes.push_back(ModeOfPose(scene, measured, b));
+    run.energies.push_back(Energy(scene, measured, b));
   };
   record(stepper->state());
 
-  double last_fast_t = Speed(stepper->state().bodies[0], scenario.length) >= kStopSpeed ? 0 : -1;
+  double last_fast_t =
+      Speed(stepper->state().bodies[measured], scenario.length) >= kStopSpeed ? 0 : -1;
   engine::BodyState late_start;
   long iterations_sum = 0;
   for (long k = 1; k <= steps; ++k) {
@@ -167,7 +196,7 @@ RunRecord RunTrajectory(const Method& method, const Scenario& scenario, double h
     run.cpu_seconds += ThreadCpuSeconds() - start;
     if (run.failed) break;
     const engine::State& state = stepper->state();
-    const engine::BodyState& b = state.bodies[0];
+    const engine::BodyState& b = state.bodies[measured];
     if (!engine::IsFinite(b)) {
       run.failed = true;
       run.failure = fmt::format("non-finite state at t = {} s", state.t);
@@ -177,7 +206,8 @@ RunRecord RunTrajectory(const Method& method, const Scenario& scenario, double h
     const int iterations = stepper->iterations();
     iterations_sum += iterations;
     run.iterations_max = std::max(run.iterations_max, iterations);
-    run.max_penetration = std::max(run.max_penetration, probe.MaxDepth(scene, state));
+    run.max_penetration =
+        std::max({run.max_penetration, probe.MaxDepth(scene, state), BodyPairDepth(scene, state)});
     const double speed = Speed(b, scenario.length);
     if (speed >= kStopSpeed) last_fast_t = state.t;
     if (k == steps - late_steps) late_start = b;
@@ -205,8 +235,8 @@ RunRecord AnalyticTrajectory(const Scenario& scenario) {
   for (int k = 0; k <= samples; ++k) {
     const engine::BodyState b = scenario.analytic(k * scenario.sample_interval);
     run.samples.push_back(b);
-    run.modes.push_back(ModeOfPose(scenario.scene, 0, b));
-    run.energies.push_back(Energy(scenario.scene, b));
+    run.modes.push_back(ModeOfPose(scenario.scene, scenario.body, b));
+    run.energies.push_back(Energy(scenario.scene, scenario.body, b));
   }
   run.steps = samples;
   run.stop_time = scenario.stop_time;

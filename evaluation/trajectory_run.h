@@ -1,6 +1,7 @@
 #pragma once
-// Running one method on one scenario at one step size: body 0's states at the scenario's sample
-// times, its contact mode, penetration, energy, stop time and the CPU time of the steps.
+// Running one method on one scenario at one step size: the measured body's states at the
+// scenario's sample times, its contact mode, penetration, energy, stop time and the CPU time of
+// the steps.
 
 #include <string>
 #include <vector>
@@ -29,15 +30,17 @@ constexpr double kStopSpeed = 1e-3;
 ContactMode ModeOfPose(const engine::Scene& scene, int body, const engine::BodyState& state);
 
 struct RunRecord {
-  std::vector<engine::BodyState> samples;  // body 0 at k · sample_interval, k = 0 … K
+  std::vector<engine::BodyState> samples;  // Scenario::body at k · sample_interval, k = 0 … K
   std::vector<ContactMode> modes;          // at the same times
   std::vector<double> energies;            // J, ½mv² + ½ωᵀI_Wω − m g·p at the same times
   long steps = 0;
   bool failed = false;
   std::string failure;       // the exception's message when failed
   double cpu_seconds = 0;    // thread CPU time spent in Step() calls
-  double max_penetration = 0;  // m, deepest mesh vertex in an obstacle after any step
-  double stop_time = -1;     // s, first step end after which body 0 stays slower than kStopSpeed
+  // m, deepest mesh vertex in an obstacle, or hull vertex of a body in the hull of a body it is
+  // paired with, after any step
+  double max_penetration = 0;
+  double stop_time = -1;     // s, first step end after which the body stays below kStopSpeed
   double max_speed_late = 0;  // m/s, max |v| + length·|ω| over the last `late_window` seconds
   double drift_late = 0;      // m, |Δp| + length·|Δθ| over that window
   int iterations_max = 0;

@@ -48,7 +48,7 @@ TEST_F(BenchCommandTest, WritesCsvChartsAndResults) {
     }
   }
   const auto cells = evaluation::ReadStabilityCsv((out / "stability.csv").string());
-  EXPECT_EQ(cells.size(), 2u * 2 * evaluation::StabilityMaps()[0].values.size());
+  EXPECT_EQ(cells.size(), 2u * 2 * evaluation::StabilityMaps("")[0].values.size());
 }
 
 TEST_F(BenchCommandTest, ShardsMergeIntoTheWholeSweep) {

@@ -231,8 +231,7 @@ TEST(IslandTest, BodiesApartAreIslandsOfTheirOwnAndKinematicBodiesInNone) {
 
 TEST(ModelTest, ModelsWithoutContactsBetweenBodiesRefuseThem) {
   Scene scene = StackScene();
-  for (ContactModel model :
-       {ContactModel::kPlanar, ContactModel::kMultiPatch, ContactModel::kPointLcp}) {
+  for (ContactModel model : {ContactModel::kPlanar, ContactModel::kMultiPatch}) {
     scene.model = model;
     EXPECT_THAT([&] { MakeContactModel(scene); },
                 ::testing::ThrowsMessage<ModelInvalid>(

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "engine/rotation.h"
+#include "engine/scene_yaml.h"
 #include "engine/time_step.h"
 #include "tests/engine/test_bodies.h"
 
@@ -231,6 +232,164 @@ TEST_P(PointContactSmallStepTest, PaperDeskFollowsTheHullModel) {
 }
 
 INSTANTIATE_TEST_SUITE_P(PointContactSmallSteps, PointContactSmallStepTest, ::testing::Values(1.25e-4, 6.25e-5));
+
+// --- contacts between bodies (issue 13) ---
+
+// relative: what Lemke's solution reproduces of a quantity the LCP determines exactly (a
+// velocity set by an active constraint, an impulse balance): its bar kLcpResidualTol = 1e-9 on
+// the scaled LCP (velocities by the largest |q|, impulses by m V), with a margin of 10 for the
+// sums over a body's points
+constexpr double kLcpRel = 1e-8;
+// m: the stack's drift bar over 10 s (the issue's); a resting stack's points sit at ψ = 0 and
+// the LCP keeps them there to round-off, 1e-16 m per step
+constexpr double kStackDrift = 1e-9;
+
+Scene StackScene(double h) {
+  Scene scene = LoadScene(ECPSIM_SOURCE_DIR "/scenes/stack.yaml");
+  scene.model = ContactModel::kPointLcp;
+  scene.h = h;
+  return scene;
+}
+
+TEST(PointContactBodiesTest, StackOfThreeBoxesRestsTenSecondsWithoutDrift) {
+  const Scene scene = StackScene(0.01);
+  State state = InitialState(scene);
+  const State start = state;
+  double mass_above[3] = {0, 0, 0};  // kg on top of box b, itself included
+  for (int b = 2; b >= 0; --b)
+    mass_above[b] = scene.bodies[b].mass + (b < 2 ? mass_above[b + 1] : 0);
+  for (int step = 0; step < 1000; ++step) {
+    const StepReport report = Step(scene, state);
+    ASSERT_TRUE(report.converged) << "t = " << state.t;
+    ASSERT_EQ(report.substeps, 1) << "t = " << state.t;
+    for (int b = 0; b < 3; ++b) {
+      ASSERT_LE((state.bodies[b].p_WB - start.bodies[b].p_WB).norm(), kStackDrift)
+          << scene.bodies[b].name << " at t = " << state.t;
+    }
+  }
+  // each contact under a box carries the weight of it and the boxes above it over the step
+  const double h = scene.h;
+  for (size_t k = 0; k < scene.contacts.size(); ++k) {
+    const ContactPair& pair = scene.contacts[k];
+    const ContactState& c = state.contacts[k];
+    double carried = 0;
+    if (!pair.WithBody()) {
+      carried = pair.body == 0 ? mass_above[0] : 0;
+    } else if (pair.other_body == pair.body + 1) {
+      carried = mass_above[pair.other_body];
+      EXPECT_NEAR(c.n.z(), -1, 1e-12) << "the normal points from G (above) into F (below)";
+    }
+    EXPECT_NEAR(c.p_n, carried * kG * h, kLcpRel * mass_above[0] * kG * h)
+        << "contact " << k << " (" << scene.bodies[pair.body].name << ")";
+  }
+}
+
+TEST(PointContactBodiesTest, StackFirstStepDoesNotDropAsEnginesWithoutBodyContactDo) {
+  // MuJoCo and ODE find no box–box contact on the first step and each level drops g h² (issue
+  // 13); the point model's vertices resting at ψ = 0 hold every box from the first step on
+  for (double h : {0.02, 0.01, 0.001}) {
+    const Scene scene = StackScene(h);
+    State state = InitialState(scene);
+    ASSERT_TRUE(Step(scene, state).converged);
+    for (int b = 0; b < 3; ++b)
+      EXPECT_LE(std::abs(state.bodies[b].p_WB.z() - scene.bodies[b].p0.z()), kStackDrift)
+          << "h = " << h << ", " << scene.bodies[b].name;
+  }
+}
+
+TEST(PointContactBodiesTest, TwoFreeCubesExchangeMomentumExactlyAndNeverGainKineticEnergy) {
+  // no gravity, no ground: a spinning cube hits another off its centre line, with friction.
+  // Cubes have isotropic inertia: free flight keeps ω, only the contact changes momentum
+  Body a = testing::MakeBoxBody(Vector3d(0.2, 0.2, 0.2), 2, "a");
+  a.v0 = Vector3d(1.5, 0, 0);
+  a.w0 = Vector3d(0.3, -0.2, 1.0);
+  a.friction = Friction{0.6, 1, 1, 0.05};
+  Body b = testing::MakeBoxBody(Vector3d(0.25, 0.25, 0.25), 1, "b");
+  b.p0 = Vector3d(0.4, 0.08, 0.03);
+  b.friction = a.friction;
+  Scene scene;
+  scene.source = "test";
+  scene.gravity = Vector3d::Zero();
+  scene.h = 0.01;
+  scene.bodies = {a, b};
+  scene.model = ContactModel::kPointLcp;
+  AddBodyPairs(scene);
+  State state = InitialState(scene);
+
+  // N·s: the impulses enter the two bodies as +J and −J exactly, so linear momentum changes by
+  // round-off of the velocity updates only (ε of the momentum scale m V = 3 N·s, × 100)
+  const double kMomentumTol = 100 * 2.2e-16 * 3.0;
+  const auto kinetic = [&](const State& s) {
+    double e = 0;
+    for (int i = 0; i < 2; ++i) {
+      const Eigen::Matrix3d R = s.bodies[i].Q_WB.toRotationMatrix();
+      const Eigen::Matrix3d I = R * scene.bodies[i].inertia * R.transpose();
+      e += 0.5 * scene.bodies[i].mass * s.bodies[i].v_WB.squaredNorm() +
+           0.5 * s.bodies[i].w_WB.dot(I * s.bodies[i].w_WB);
+    }
+    return e;
+  };
+  const auto linear = [&](const State& s) {
+    return Vector3d(2 * s.bodies[0].v_WB + 1 * s.bodies[1].v_WB);
+  };
+  // angular momentum about the origin with the centres at the start of the step: the impulse
+  // J at x acts with the moment arms x − c of the start pose, so Σ c × m v⁺ + I ω⁺ equals
+  // Σ c × m v + I ω exactly (c × J + (x − c) × J − c' × J − (x − c') × J = 0)
+  const auto angular = [&](const State& at, const State& velocities) {
+    Vector3d L = Vector3d::Zero();
+    for (int i = 0; i < 2; ++i) {
+      const Eigen::Matrix3d R = velocities.bodies[i].Q_WB.toRotationMatrix();
+      const Eigen::Matrix3d I = R * scene.bodies[i].inertia * R.transpose();
+      L += at.bodies[i].p_WB.cross(scene.bodies[i].mass * velocities.bodies[i].v_WB) +
+           I * velocities.bodies[i].w_WB;
+    }
+    return L;
+  };
+  const Vector3d p0 = linear(state);
+  bool touched = false;
+  for (int step = 0; step < 60; ++step) {
+    const State before = state;
+    ASSERT_TRUE(Step(scene, state).converged) << "t = " << state.t;
+    touched |= state.contacts[0].p_n > 0;
+    EXPECT_LE((linear(state) - p0).norm(), kMomentumTol) << "t = " << state.t;
+    EXPECT_LE((angular(before, state) - angular(before, before)).norm(), kMomentumTol)
+        << "t = " << state.t;
+    // with every point's gap ψ ≥ 0 the LCP's impulses do work ≤ 0 at the end velocities
+    EXPECT_LE(kinetic(state), kinetic(before) * (1 + 1e-12)) << "t = " << state.t;
+  }
+  EXPECT_TRUE(touched);
+  EXPECT_GT(state.bodies[1].v_WB.x(), 0.5);  // b moves off in +x
+}
+
+TEST(PointContactBodiesTest, ConstantSpeedPusherCarriesTheBoxAtItsSpeed) {
+  Scene scene = LoadScene(ECPSIM_SOURCE_DIR "/scenes/push_box.yaml");
+  scene.model = ContactModel::kPointLcp;
+  ASSERT_EQ(scene.contacts.size(), 2u);  // box–ground, box–pusher (F the box, G the pusher)
+  const double speed = 0.1, mu = scene.contacts[0].friction.mu, mass = scene.bodies[0].mass;
+  State state = InitialState(scene);
+  for (int step = 0; step < 200; ++step) {
+    const double v_before = state.bodies[0].v_WB.x();
+    ASSERT_TRUE(Step(scene, state).converged) << "t = " << state.t;
+    const KinematicPose pose = scene.bodies[1].motion->PoseAt(state.t);
+    ASSERT_EQ(state.bodies[1].p_WB, pose.p);
+    // never inside the pusher: the box's −x face stays ahead of the pusher's +x face (a
+    // translation: the explicit geometry is exact)
+    ASSERT_GE((state.bodies[0].p_WB.x() - 0.1) - (pose.p.x() + 0.01), -kLcpRel * speed * scene.h)
+        << "t = " << state.t;
+    if (state.t < 0.5) continue;
+    const ContactState& ground = state.contacts[0];
+    const ContactState& push = state.contacts[1];
+    EXPECT_NEAR(state.bodies[0].v_WB.x(), speed, kLcpRel * speed) << "t = " << state.t;
+    EXPECT_NEAR(push.n.x(), 1, 1e-12);  // from G (the pusher) into F (the box)
+    // the box slides with Coulomb friction along a cone edge (x is one of the 8 directions)
+    const Vector3d push_impulse = push.p_n * push.n + push.p_t * push.t + push.p_o * push.o;
+    const Vector3d ground_friction = ground.p_t * ground.t + ground.p_o * ground.o;
+    EXPECT_NEAR(ground_friction.x(), -mu * ground.p_n, kLcpRel * mass * kG * scene.h);
+    EXPECT_NEAR(push_impulse.x() + ground_friction.x(),
+                mass * (state.bodies[0].v_WB.x() - v_before), kLcpRel * mass * speed);
+    EXPECT_NEAR(state.bodies[0].v_WB.y(), 0, kLcpRel * speed);
+  }
+}
 
 }  // namespace
 }  // namespace ecpsim::engine

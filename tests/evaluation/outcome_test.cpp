@@ -2,6 +2,11 @@
 
 #include "evaluation/stability_map.h"
 
+#include <cmath>
+#include <string>
+
+#include "evaluation/method.h"
+
 namespace ecpsim::evaluation {
 namespace {
 
@@ -58,9 +63,12 @@ TEST(ClassifyTest, FailureOutranksAllButAnEnergyGainBeforeIt) {
   EXPECT_EQ(Classify(run, 10), Outcome::kEnergyGain);
 }
 
-TEST(StabilityMapsTest, BodiesStartJustAboveTheGround) {
-  for (const StabilityMapSpec& map : StabilityMaps()) {
+const std::string kScenes = std::string(ECPSIM_SOURCE_DIR) + "/scenes";
+
+TEST(StabilityMapsTest, ThrownBodiesStartJustAboveTheGround) {
+  for (const StabilityMapSpec& map : StabilityMaps(kScenes)) {
     ASSERT_FALSE(map.values.empty()) << map.name;
+    if (map.classify) continue;  // the push map: a box resting on the ground
     for (double value : map.values) {
       const Scenario s = map.scenario(value);
       const engine::Body& body = s.scene.bodies[0];
@@ -75,7 +83,7 @@ TEST(StabilityMapsTest, BodiesStartJustAboveTheGround) {
 }
 
 TEST(StabilityMapsTest, TBarMassRatioMovesItsCentreOfMassAndKeepsItsMass) {
-  const StabilityMapSpec tbar = StabilityMaps()[2];
+  const StabilityMapSpec tbar = StabilityMaps(kScenes)[2];
   ASSERT_EQ(tbar.name, "tbar_mass_ratio");
   for (double ratio : tbar.values) {
     const engine::Body body = tbar.scenario(ratio).scene.bodies[0];
@@ -90,6 +98,59 @@ TEST(StabilityMapsTest, TBarMassRatioMovesItsCentreOfMassAndKeepsItsMass) {
     const Eigen::Vector3d moments = body.inertia.diagonal();
     EXPECT_LE(moments.z(), moments.x() + moments.y() + 1e-15);
     EXPECT_NEAR(body.inertia(0, 1), 0, 1e-15);
+  }
+}
+
+TEST(StabilityMapsTest, PushSpeedScalesThePushersVelocity) {
+  const StabilityMapSpec push = StabilityMaps(kScenes)[3];
+  ASSERT_EQ(push.name, "push_speed");
+  for (double speed : push.values) {
+    const Scenario s = push.scenario(speed);
+    EXPECT_EQ(s.scene.bodies[s.body].name, "box");
+    const engine::Body& pusher = s.scene.bodies[1 - s.body];
+    ASSERT_TRUE(pusher.IsKinematic());
+    const Eigen::Vector3d v = pusher.motion->StepTwist(0.3, 0.01).v;
+    EXPECT_NEAR(v.x(), speed, 1e-15 * speed);
+    EXPECT_EQ(v.y(), 0);
+    // the pusher starts where the scene file puts it
+    EXPECT_EQ(pusher.motion->PoseAt(0).p, Eigen::Vector3d(-0.12, 0, 0.05));
+  }
+}
+
+// a run of the push scenario at `speed` whose late samples move at `late_speed` (m/s, x)
+RunRecord PushRun(const Scenario& s, double late_speed) {
+  RunRecord run;
+  const int samples = static_cast<int>(std::lround(s.scene.duration / s.sample_interval));
+  for (int k = 0; k <= samples; ++k) {
+    engine::BodyState b;
+    b.v_WB.x() = k * s.sample_interval >= s.scene.duration - 0.5 ? late_speed : 0;
+    run.samples.push_back(b);
+  }
+  return run;
+}
+
+TEST(ClassifyPushTest, OkAtThePushersSpeedOffSpeedBeyondFivePercentFailuresFirst) {
+  const Scenario s = StabilityMaps(kScenes)[3].scenario(0.1);
+  const Eigen::Vector3d v(0.1, 0, 0);
+  EXPECT_EQ(ClassifyPush(PushRun(s, 0.1), s, v, 0.5), Outcome::kOk);
+  EXPECT_EQ(ClassifyPush(PushRun(s, 0.1 * (1 + 0.9 * kPushSpeedTolerance)), s, v, 0.5),
+            Outcome::kOk);
+  EXPECT_EQ(ClassifyPush(PushRun(s, 0.1 * (1 + 1.1 * kPushSpeedTolerance)), s, v, 0.5),
+            Outcome::kOffSpeed);
+  EXPECT_EQ(ClassifyPush(PushRun(s, 0), s, v, 0.5), Outcome::kOffSpeed);  // left behind
+  RunRecord deep = PushRun(s, 0.1);
+  deep.max_penetration = 2 * kPenetrationLimit;
+  EXPECT_EQ(ClassifyPush(deep, s, v, 0.5), Outcome::kPenetration);
+  deep.failed = true;
+  EXPECT_EQ(ClassifyPush(deep, s, v, 0.5), Outcome::kSolverFailure);
+}
+
+TEST(ClassifyPushTest, HullModelPushesTheBoxAtTheMapsSpeeds) {
+  const StabilityMapSpec push = StabilityMaps(kScenes)[3];
+  for (double speed : {push.values.front(), push.values.back()}) {
+    const Scenario s = push.scenario(speed);
+    const RunRecord run = RunTrajectory(FindMethod("hull"), s, 0.01, 60, 0.5);
+    EXPECT_EQ(push.classify(run, s), Outcome::kOk) << speed << " m/s: " << run.failure;
   }
 }
 

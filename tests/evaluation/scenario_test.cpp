@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include "common/errors.h"
+
 namespace ecpsim::evaluation {
 namespace {
 
@@ -83,6 +85,44 @@ TEST_F(WorkPrecisionScenariosTest, ConvergedScenesAreCutAndFlagged) {
   EXPECT_FALSE(Find("tbar").planar_applies);
   EXPECT_FALSE(Find("tbar").multipatch_applies);
   EXPECT_FALSE(Find("dumbbell").compare_modes);
+}
+
+TEST_F(WorkPrecisionScenariosTest, StackMeasuresTheTopBoxAtRest) {
+  const Scenario& stack = Find("stack");
+  EXPECT_EQ(stack.scene.bodies[stack.body].name, "top");
+  EXPECT_DOUBLE_EQ(stack.scene.duration, kBodyScenarioDuration);
+  const engine::BodyState end = stack.analytic(stack.scene.duration);
+  EXPECT_EQ(end.p_WB, stack.scene.bodies[stack.body].p0);
+  EXPECT_EQ(end.v_WB.norm(), 0);
+  EXPECT_TRUE(stack.scene.contacts.size() > 3u);  // ground and box–box pairs
+}
+
+TEST_F(WorkPrecisionScenariosTest, PushBoxMovesAtThePushersSpeedFromContactOn) {
+  const Scenario& push = Find("push_box");
+  EXPECT_EQ(push.scene.bodies[push.body].name, "box");
+  const engine::Body& box = push.scene.bodies[push.body];
+  // the pusher's +x face starts 1 cm short of the box's −x face and moves at 0.1 m/s: contact
+  // at t = 0.1 s, then the box at 0.1 m/s (push_box.yaml)
+  const double speed = 0.1, contact = 0.01 / speed;
+  EXPECT_EQ(push.analytic(contact - 1e-3).p_WB, box.p0);
+  EXPECT_EQ(push.analytic(contact - 1e-3).v_WB.norm(), 0);
+  const engine::BodyState later = push.analytic(0.6);
+  EXPECT_NEAR(later.p_WB.x() - box.p0.x(), speed * (0.6 - contact), 1e-15);
+  EXPECT_NEAR(later.v_WB.x(), speed, 1e-15);
+  EXPECT_FALSE(push.planar_applies);  // body–body contact: the planar model refuses it
+}
+
+TEST(SceneScenarioTest, NamesTheFileAndTheMissingBody) {
+  EXPECT_THROW(SceneScenario(std::string(ECPSIM_SOURCE_DIR) + "/scenes", "x", "stack.yaml",
+                             "nobody", 1, 0.1, "x"),
+               InputError);
+  try {
+    SceneScenario(std::string(ECPSIM_SOURCE_DIR) + "/scenes", "x", "stack.yaml", "nobody", 1,
+                  0.1, "x");
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("stack.yaml: no body 'nobody'"), std::string::npos)
+        << e.what();
+  }
 }
 
 }  // namespace
