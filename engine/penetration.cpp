@@ -1,9 +1,11 @@
 #include "engine/penetration.h"
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <numeric>
 #include <tuple>
+#include <utility>
 
 #include "geometry/convex_shape.h"
 
@@ -74,8 +76,57 @@ double PenetrationProbe::Depth(const Scene& scene, const State& state, int b, in
   return deepest;
 }
 
+double PenetrationProbe::BodyDepth(const Scene& scene, const State& state, int a, int b,
+                                   const Eigen::Vector3d* normal) const {
+  const auto world_vertices = [&](int body) {
+    const BodyState& s = state.bodies[body];
+    const Eigen::Matrix3d R = s.Q_WB.toRotationMatrix();
+    std::vector<Eigen::Vector3d> world;
+    for (int i : half_space_vertices_[body])
+      world.push_back(R * scene.bodies[body].mesh.vertices[i] + s.p_WB);
+    return world;
+  };
+  const std::vector<Eigen::Vector3d> va = world_vertices(a), vb = world_vertices(b);
+  const auto extent = [](const std::vector<Eigen::Vector3d>& v, const Eigen::Vector3d& u) {
+    double lo = INFINITY, hi = -INFINITY;
+    for (const Eigen::Vector3d& x : v) {
+      const double d = u.dot(x);
+      lo = std::min(lo, d);
+      hi = std::max(hi, d);
+    }
+    return std::pair(lo, hi);
+  };
+  // the overlap of the two projections on u: how far one must move along ±u to clear the other
+  double depth = INFINITY;
+  const auto axis = [&](const Eigen::Vector3d& u) {
+    if (!(u.squaredNorm() > 0) || depth <= 0) return;
+    const auto [lo_a, hi_a] = extent(va, u);
+    const auto [lo_b, hi_b] = extent(vb, u);
+    depth = std::min(depth, std::min(hi_a - lo_b, hi_b - lo_a) / u.norm());
+  };
+  axis(state.bodies[b].p_WB - state.bodies[a].p_WB);
+  // the world axes: candidates too, and some axis even for two primitives at one centre
+  for (int i = 0; i < 3; ++i) axis(Eigen::Vector3d::Unit(i));
+  if (normal != nullptr) axis(*normal);
+  for (int body : {a, b}) {
+    const auto* polyhedron = scene.bodies[body].hull->AsPolyhedron();
+    if (polyhedron == nullptr) continue;
+    const Eigen::Matrix3d R = state.bodies[body].Q_WB.toRotationMatrix();
+    for (const Eigen::Vector3d& n : polyhedron->hull().normals) axis(R * n);
+  }
+  return std::max(depth, 0.0);
+}
+
 double PenetrationProbe::MaxDepth(const Scene& scene, const State& state) const {
   double deepest = 0;
+  // the solved contact normal is a separating axis of a pair that touches edge to edge
+  const bool solved = state.contacts.size() == scene.contacts.size();
+  for (size_t k = 0; k < scene.contacts.size(); ++k) {
+    const ContactPair& pair = scene.contacts[k];
+    if (!pair.WithBody()) continue;
+    deepest = std::max(deepest, BodyDepth(scene, state, pair.body, pair.other_body,
+                                          solved ? &state.contacts[k].n : nullptr));
+  }
   for (size_t b = 0; b < scene.bodies.size(); ++b) {
     // a kinematic body goes where its motion says, through the ground too
     if (scene.bodies[b].IsKinematic()) continue;

@@ -8,7 +8,8 @@
 
 namespace ecpsim::engine {
 
-/// Measures penetration of every body's *mesh* (not only its ECP) into every obstacle.
+/// Measures penetration of every body's *mesh* (not only its ECP) into every obstacle, and of
+/// the bodies of each contact pair into each other.
 /// The depth of a world point x inside an obstacle G = {g_j(x) ≤ 0} is max(0, −max_j g_j(x)):
 /// exactly the distance to G's boundary for a polyhedral G (a plane, a box fixture), and to first
 /// order for a smooth primitive, whose constraints have unit gradient on the boundary.
@@ -20,11 +21,23 @@ class PenetrationProbe {
   /// Precomputes, per body, the mesh vertices that can be deepest in a half-space.
   explicit PenetrationProbe(const Scene& scene);
 
-  /// m, ≥ 0: the largest depth of any mesh vertex of any body inside any obstacle at `state`.
+  /// m, ≥ 0: the largest of Depth over every dynamic body and obstacle and of BodyDepth over
+  /// every contact pair of two bodies (Scene::contacts; excluded pairs may overlap) at `state`.
   double MaxDepth(const Scene& scene, const State& state) const;
 
   /// m, ≥ 0: the largest depth of body `body`'s mesh vertices inside obstacle `obstacle`.
   double Depth(const Scene& scene, const State& state, int body, int obstacle) const;
+
+  /// m, ≥ 0: how deep bodies a and b overlap: the smallest overlap of their projections over
+  /// the separating-axis candidates — the face normals of both polyhedral hulls, the line of
+  /// their reference points, the world axes and `normal` if given (a contact's solved normal) — using the
+  /// half-space vertex sets below (a primitive's display mesh). 0 when any candidate separates
+  /// them; the exact penetration depth when the deepest overlap is a vertex or a face against a
+  /// face (stacked and pushed bodies); never below it (an upper bound) when two edges cross,
+  /// and then also possibly > 0 for hulls that touch or are a hair apart along an edge–edge
+  /// axis (which the solved contact normal is, during a run).
+  double BodyDepth(const Scene& scene, const State& state, int a, int b,
+                   const Eigen::Vector3d* normal = nullptr) const;
 
   /// Per body, the mesh vertex indices checked against half-spaces (for tests).
   const std::vector<std::vector<int>>& half_space_vertices() const { return half_space_vertices_; }

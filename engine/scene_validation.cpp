@@ -380,6 +380,28 @@ void CheckInitialPenetration(const Scene& scene) {
       }
     }
   }
+  // bodies that can touch must start apart too (a kinematic body included: it would shoot the
+  // other out at the first step); excluded pairs are not contact pairs and may overlap
+  for (const ContactPair& pair : scene.contacts) {
+    if (!pair.WithBody()) continue;
+    const Body& a = scene.bodies[pair.body];
+    const Body& b = scene.bodies[pair.other_body];
+    if (a.allow_initial_penetration || b.allow_initial_penetration) continue;
+    const double size = std::min(MeshAcross(a.mesh), MeshAcross(b.mesh));
+    const double tolerance = kInitialPenetrationTolerance * size;
+    const double depth = probe.BodyDepth(scene, state, pair.body, pair.other_body);
+    if (depth > tolerance) {
+      const std::string at = Index("bodies", pair.body);
+      Fail(Keys(at, {"position"}), Show(a.p0),
+           fmt::format("an initial pose of body \"{}\" apart from body \"{}\": they overlap by "
+                       "{:.3g} m, more than {:.3g} m ({:g} × the "
+                       "smaller body's size {:.3g} m); move one of them, exclude the pair "
+                       "(pairs: [{{bodies: [{}, {}], exclude: true}}]), or allow it with "
+                       "{}.allow_initial_penetration: true",
+                       a.name, b.name, depth, tolerance, kInitialPenetrationTolerance, size,
+                       a.name, b.name, at));
+    }
+  }
 }
 
 }  // namespace

@@ -42,7 +42,8 @@ class SceneError : public InputError {
 ///   unit-normalizable orientations; every body within kMaxDistanceInSizes of its size from the
 ///   origin; contacts, loads and impulses naming existing bodies and obstacles;
 /// - no body's mesh deeper inside an obstacle at t = 0 than kInitialPenetrationTolerance × its
-///   size, unless Body::allow_initial_penetration.
+///   size, nor the bodies of a contact pair inside each other (PenetrationProbe::BodyDepth)
+///   deeper than that × the smaller one's, unless Body::allow_initial_penetration (of either).
 /// @throws SceneError for the first problem found.
 void ValidateScene(const Scene& scene);
 

@@ -67,33 +67,6 @@ int StepsPerSample(const Scenario& scenario, double h) {
   return static_cast<int>(n);
 }
 
-// m, ≥ 0: how deep the hull vertices of two bodies that the scene pairs reach into each other's
-// hull, both ways (a vertex-based depth: the deepest vertex of one hull inside the other,
-// measured along the other's largest face constraint), the largest over all such pairs
-double BodyPairDepth(const engine::Scene& scene, const engine::State& state) {
-  double deepest = 0;
-  const auto depth_in = [&](int a, int b) {
-    const engine::BodyState& sa = state.bodies[a];
-    const engine::BodyState& sb = state.bodies[b];
-    const Eigen::Matrix3d R_a = sa.Q_WB.toRotationMatrix();
-    const Eigen::Matrix3d R_b = sb.Q_WB.toRotationMatrix();
-    const geometry::ConvexShape& hull = *scene.bodies[b].hull;
-    for (const Vector3d& v : HullVertices(*scene.bodies[a].hull)) {
-      const Vector3d y = R_b.transpose() * (sa.p_WB + R_a * v - sb.p_WB);
-      double value = -INFINITY;
-      for (int j = 0; j < hull.NumConstraints(); ++j)
-        value = std::max(value, hull.Value(j, y) / hull.Gradient(j, y).norm());
-      deepest = std::max(deepest, -value);
-    }
-  };
-  for (const engine::ContactPair& pair : scene.contacts) {
-    if (!pair.WithBody()) continue;
-    depth_in(pair.body, pair.other_body);
-    depth_in(pair.other_body, pair.body);
-  }
-  return deepest;
-}
-
 int SampleCount(const Scenario& scenario) {
   return static_cast<int>(std::lround(scenario.scene.duration / scenario.sample_interval));
 }
@@ -207,7 +180,7 @@ RunRecord RunTrajectory(const Method& method, const Scenario& scenario, double h
     iterations_sum += iterations;
     run.iterations_max = std::max(run.iterations_max, iterations);
     run.max_penetration =
-        std::max({run.max_penetration, probe.MaxDepth(scene, state), BodyPairDepth(scene, state)});
+        std::max(run.max_penetration, probe.MaxDepth(scene, state));
     const double speed = Speed(b, scenario.length);
     if (speed >= kStopSpeed) last_fast_t = state.t;
     if (k == steps - late_steps) late_start = b;

@@ -10,6 +10,7 @@
 #include "geometry/convex_shape.h"
 #include "geometry/mass_properties.h"
 #include "geometry/paper_bodies.h"
+#include "engine/scene_builders.h"
 #include "tests/engine/test_bodies.h"
 
 namespace ecpsim::engine {
@@ -98,6 +99,31 @@ TEST(PenetrationTest, PrimitiveHullChecksEveryMeshVertex) {
   for (const Eigen::Vector3d& v : ball.mesh.vertices) lowest = std::min(lowest, v.z());
   EXPECT_NEAR(probe.MaxDepth(scene, Posed({0, 0, 0.4}, Eigen::Quaterniond::Identity())),
               -lowest - 0.4, kTight);
+}
+
+TEST(PenetrationTest, StackedBoxesSunkIntoEachOtherBothWaysAndExcludedPairsIgnored) {
+  // a 0.2 m cube on a 0.4 m one, both resting on the ground; the top one 1 mm too low, then a
+  // corner of a turned small cube pressed into the big one's side
+  Body big = MakeBoxBody({0.4, 0.4, 0.4}, 1, "big");
+  Body small = MakeBoxBody({0.2, 0.2, 0.2}, 1, "small");
+  Scene scene = MakeGroundScene({big, small});
+  AddBodyPairs(scene);
+  const PenetrationProbe probe(scene);
+  State state = Posed({0, 0, 0.2}, Eigen::Quaterniond::Identity());
+  state.bodies.push_back(state.bodies[0]);
+  state.bodies[1].p_WB = {0.05, 0, 0.499};
+  EXPECT_NEAR(probe.BodyDepth(scene, state, 0, 1), 0.001, kTight);
+  EXPECT_NEAR(probe.BodyDepth(scene, state, 1, 0), 0.001, kTight);
+  EXPECT_NEAR(probe.MaxDepth(scene, state), 0.001, kTight);
+  state.bodies[1].p_WB.z() = 0.5;
+  EXPECT_NEAR(probe.BodyDepth(scene, state, 0, 1), 0, kTight);
+  // turned 45° about z, its edge-on corner 2 mm into the big cube's +x face
+  state.bodies[1].Q_WB = Eigen::AngleAxisd(M_PI / 4, Eigen::Vector3d::UnitZ());
+  state.bodies[1].p_WB = {0.2 + 0.1 * std::sqrt(2.0) - 0.002, 0, 0.2};
+  EXPECT_NEAR(probe.BodyDepth(scene, state, 0, 1), 0.002, kTight);
+  // an excluded pair (not in the contacts) is not measured
+  scene.contacts.pop_back();
+  EXPECT_EQ(probe.MaxDepth(scene, state), 0);
 }
 
 }  // namespace

@@ -79,6 +79,30 @@ TEST(SceneValidationTest, InitialPenetrationNamesBodyObstacleDepthAndTheKeyToAll
   EXPECT_NO_THROW(ValidateScene(scene));
 }
 
+TEST(SceneValidationTest, BodiesOfAPairOverlappingAtTheStartNameBothAndTheWaysOut) {
+  // a second crate resting on the first, 1 cm too low
+  Scene scene = RestingBox();
+  Body top = MakeBoxBody(Eigen::Vector3d(0.5, 0.5, 0.1), 15, "lid");
+  top.p0 = Eigen::Vector3d(0, 0, 0.14);
+  scene.bodies.push_back(top);
+  AddBodyPairs(scene);
+  const SceneError e = ErrorOf(scene);
+  EXPECT_EQ(e.keys().front(), "bodies[0].position");
+  EXPECT_THAT(e.what(), AllOf(HasSubstr("expected an initial pose of body \"crate\" apart from "
+                                        "body \"lid\": they overlap by 0.01 m"),
+                              HasSubstr("exclude: true"),
+                              HasSubstr("allow_initial_penetration: true")));
+  scene.bodies[1].allow_initial_penetration = true;
+  EXPECT_NO_THROW(ValidateScene(scene));
+  // resting exactly on it passes; an excluded pair (no contact pair) may overlap
+  scene.bodies[1].allow_initial_penetration = false;
+  scene.bodies[1].p0.z() = 0.15;
+  EXPECT_NO_THROW(ValidateScene(scene));
+  scene.bodies[1].p0.z() = 0.14;
+  scene.contacts.pop_back();
+  EXPECT_NO_THROW(ValidateScene(scene));
+}
+
 TEST(SceneValidationTest, InitialPenetrationToleranceIsRelativeToTheBodySize) {
   // the same overlap relative to the size passes or fails alike at any scale
   for (const double scale : {1e-3, 1.0, 1e3}) {

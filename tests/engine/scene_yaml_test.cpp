@@ -284,11 +284,11 @@ bodies:
   - name: egg
     shape: {ellipsoid: {radii: [0.1, 0.2, 0.3]}}
     mass: 3
-    position: [0, 0, 0]
+    position: [1, 0, 0]
   - name: ball
     shape: {sphere: {radius: 0.5}}
     mass: 4
-    position: [0, 0, 0]
+    position: [3, 0, 0]
 )yaml");
   const Body& can = scene.bodies[0];
   const double m = 1000 * M_PI * 0.01 * 0.3;
