@@ -48,7 +48,8 @@ constexpr int kTimeoutSeconds = 30;
 // round-off) of an integer is that integer
 constexpr double kStepCountSlack = 1e-9;
 
-const char* const kScenes[] = {"desk", "dumbbell", "slide", "tbar", "tilted_box", "stack", "push_box"};
+const char* const kScenes[] = {"desk", "dumbbell", "slide", "tbar", "tilted_box", "stack", "push_box",
+                                "tbar_push"};
 
 // values a mutated number takes: zero, negative, overflowing, underflowing, non-finite, integers
 // beyond int and long, and a few ordinary ones

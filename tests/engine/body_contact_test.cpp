@@ -27,10 +27,10 @@ constexpr double kStackDrift = 1e-9;
 // each row's scale, with a margin for the rows it is summed over
 constexpr double kSolvedRel = 1e-10;
 // relative to the weight: the sticking friction that stick_creep makes unique is −e² μ p_n v / ε
-// with ε = 1e-9 V (hull_model.cpp, kStickCreepFraction); the solver leaves v in error by at most
-// its tolerance 1e-12 V, so that friction by ≤ e² μ p_n · 1e-3 = 3e-4 of the weight here (e = 1,
+// with ε = 1e-7 V (hull_model.cpp, kStickCreepFraction); the solver leaves v in error by at most
+// its tolerance 1e-12 V, so that friction by ≤ e² μ p_n · 1e-5 = 3e-6 of the weight here (e = 1,
 // μ = 0.3, p_n = the weight's impulse)
-constexpr double kStickingForceRel = 3e-4;
+constexpr double kStickingForceRel = 3e-6;
 
 Friction TestFriction(double mu) { return Friction{mu, 1, 1, 0.05}; }
 

@@ -1,0 +1,83 @@
+// The shipped manipulation scenes (issue 13) run to their end with the physics their comments
+// state: scenes/tbar_push.yaml pushes and turns the T-bar flat on the table.
+
+#include <cmath>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "engine/contact_wrench.h"
+#include "engine/penetration.h"
+#include "engine/scene.h"
+#include "engine/scene_yaml.h"
+#include "engine/state.h"
+#include "engine/time_step.h"
+
+namespace ecpsim::engine {
+namespace {
+
+constexpr double kG = 9.8;
+// relative: quantities the converged steps determine exactly (a velocity set by sticking, a
+// force balance): the solver tolerance 1e-12 of each row's scale, with margin for the sums
+constexpr double kSolvedRel = 1e-9;
+// m: no hull inside another beyond the solver's position error (1e-12 of the lengths) with margin
+constexpr double kPenetration = 1e-9;
+
+std::string ScenePath(const std::string& name) {
+  return std::string(ECPSIM_SOURCE_DIR) + "/scenes/" + name;
+}
+
+int BodyIndex(const Scene& scene, const std::string& name) {
+  for (size_t b = 0; b < scene.bodies.size(); ++b)
+    if (scene.bodies[b].name == name) return static_cast<int>(b);
+  ADD_FAILURE() << "no body " << name;
+  return 0;
+}
+
+int ContactIndex(const Scene& scene, int body, int other_body) {
+  for (size_t k = 0; k < scene.contacts.size(); ++k)
+    if (scene.contacts[k].body == body && scene.contacts[k].other_body == other_body)
+      return static_cast<int>(k);
+  ADD_FAILURE() << "no contact " << body << "–" << other_body;
+  return 0;
+}
+
+TEST(TbarPushSceneTest, TheFingerPushesAndTurnsTheTFlatOnTheTableAndOnlyEverPushes) {
+  const Scene scene = LoadScene(ScenePath("tbar_push.yaml"));
+  const int tbar = BodyIndex(scene, "tbar"), finger = BodyIndex(scene, "finger");
+  const int push = ContactIndex(scene, tbar, finger);
+  const PenetrationProbe probe(scene);
+  State state = InitialState(scene);
+  const double z0 = state.bodies[tbar].p_WB.z();
+  double finger_work = 0;  // J, the finger's work on the T
+  while (state.t < scene.duration - 0.5 * scene.h) {
+    ASSERT_TRUE(Step(scene, state).converged) << "t = " << state.t;
+    ASSERT_LE(probe.MaxDepth(scene, state), kPenetration) << "t = " << state.t;
+    const BodyState& T = state.bodies[tbar];
+    // flat on the table all along: the push 2.5 cm up does not tip a 5 cm thick T
+    ASSERT_NEAR(T.p_WB.z(), z0, kPenetration) << "t = " << state.t;
+    ASSERT_NEAR(T.w_WB.head<2>().norm(), 0, kSolvedRel) << "t = " << state.t;
+    // a finger only pushes: the T's normal force on it never pulls
+    const ContactState& c = state.contacts[push];
+    ASSERT_GE(c.p_n, 0) << "t = " << state.t;
+    // what the finger gives, the T's motion and the table's friction take (the contacts only
+    // dissipate): the finger's work ≥ the T's kinetic energy at every step
+    const Wrench on_finger = WrenchOnOther(scene, state, push, scene.h);
+    finger_work -= on_finger.force.dot(state.bodies[finger].v_WB) * scene.h;
+    const double kinetic = 0.5 * scene.bodies[tbar].mass * T.v_WB.squaredNorm();
+    // (to the solver's tolerance of the energy of a resting body's velocity scale g h)
+    const double energy_floor =
+        kSolvedRel * scene.bodies[tbar].mass * std::pow(kG * scene.h, 2);
+    ASSERT_GE(finger_work, kinetic * (1 - kSolvedRel) - energy_floor) << "t = " << state.t;
+  }
+  // pushed along +x 10 cm to the left (+y) of its CM line, the T went forward and turned
+  // clockwise (negative yaw from its start at +90°)
+  const BodyState& T = state.bodies[tbar];
+  EXPECT_GT(T.p_WB.x(), 0.05);
+  const double yaw = 2 * std::atan2(T.Q_WB.z(), T.Q_WB.w()) * 180 / M_PI;
+  EXPECT_LT(yaw, 80);
+  EXPECT_GT(yaw, 0);
+}
+
+}  // namespace
+}  // namespace ecpsim::engine
