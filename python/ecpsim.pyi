@@ -126,6 +126,19 @@ def load_scene(
 ) -> Scene:
     """A YAML scene with the CLI's --set overrides, validated."""
 
+def make_scene(
+    bodies: Sequence[Mapping[str, Any]],
+    obstacles: Optional[Sequence[Mapping[str, Any]]] = None,
+    h: float = 0.01,
+    duration: float = 1.0,
+    gravity: Vector3 = ...,
+    friction: Optional[Mapping[str, float]] = None,
+    loads: Optional[Sequence[Mapping[str, Any]]] = None,
+    model: str = "hull",
+) -> Scene:
+    """A scene from Python dicts (box or mesh bodies, kinematic ones at a constant twist,
+    half-space obstacles, loads), validated as a file's."""
+
 def run(
     scene: Scene, duration: Optional[float] = None, every: Optional[int] = None
 ) -> Dict[str, npt.NDArray[np.float64]]:
