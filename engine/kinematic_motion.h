@@ -68,7 +68,7 @@ struct ConstantTwist {
 ///   constant twist, what one engine step applies; the velocity jumps at a waypoint, as a
 ///   position-controlled robot's does; a smooth start is a few more waypoints or an expression;
 /// - a constant twist.
-/// Evaluating expressions is not thread-safe (TimeFunction): one thread per motion.
+/// Thread-safe: copies share compiled expressions, whose evaluation is serialized (TimeFunction).
 class KinematicMotion {
  public:
   /// The body's twist over a step: linear velocity of its origin and angular velocity.

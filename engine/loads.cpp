@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <mutex>
 
 #include <Eigen/Geometry>
 #include <fmt/format.h>
@@ -20,9 +21,11 @@ constexpr double kInstantSnap = 1e-9;
 }  // namespace
 
 // the parser keeps a pointer to `t`, so the pair lives at a fixed address behind a shared_ptr;
-// copies share it, so one TimeFunction must not be evaluated from two threads at once
+// copies share it (a scene copied for each of several threads, the Python module's
+// Simulations), so an evaluation holds the mutex: setting t and Eval() are one step
 struct TimeFunction::Compiled {
   std::unique_ptr<mu::Parser> parser;  // null for a constant
+  std::mutex mutex;                    // guards t and the parser's evaluation buffers
   double t = 0;
   double constant = 0;
 };
@@ -70,9 +73,10 @@ double TimeFunction::operator()(double t) const {
   if (!compiled_->parser) {
     return compiled_->constant;
   }
-  compiled_->t = t;
   double value = 0;
   try {
+    const std::lock_guard<std::mutex> lock(compiled_->mutex);
+    compiled_->t = t;
     value = compiled_->parser->Eval();
   } catch (const mu::Parser::exception_type& e) {
     throw InputError(

@@ -10,7 +10,8 @@
 namespace ecpsim::engine {
 
 /// A scalar function of time t (seconds) compiled from an expression such as
-/// "22.5*sin(2*pi*t)+22.5"; `pi` and `t` are defined. Cheap to copy (shares the compiled parser).
+/// "22.5*sin(2*pi*t)+22.5"; `pi` and `t` are defined. Cheap to copy (shares the compiled parser);
+/// safe to evaluate from several threads (copies too: an evaluation locks the shared parser).
 class TimeFunction {
  public:
   /// @throws InputError with `where` (file:line:col key) if the expression does not parse or uses

@@ -13,6 +13,8 @@ packages=(
   # tests: assimp's own test models (a mirrored-transform FBX, and every file through `ecpsim hull`);
   # Python generates the corrupt-mesh corpus (tests/fixtures/make_mesh_corpus.py)
   assimp-testmodels python3
+  # the Python module (python/) and its tests (tests/python/), for Debian's python3
+  pybind11-dev python3-dev python3-numpy python3-pytest
   libmujoco-dev libbullet-dev libode-dev
   # libmujoco-dev's CMake config names /usr/include/libqhull_r/ without depending on its package
   libqhull-dev

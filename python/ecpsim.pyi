@@ -1,0 +1,154 @@
+"""Type stub of the ecpsim extension module (python/ecpsim_module.cpp); reference: docs/python.md.
+
+Units are SI, vectors in the world frame, quaternions (w, x, y, z) body → world.
+"""
+
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Union
+
+import numpy as np
+import numpy.typing as npt
+
+Vector3 = Union[Sequence[float], npt.NDArray[np.float64]]
+BodyRef = Union[str, int]
+
+class InputError(ValueError):
+    """Bad input, with the CLI's message (file:line:col: key = value: expected ...); exit code 1."""
+
+class SolverFailure(RuntimeError):
+    """A step could not be solved: time, body, residual and what was tried; exit code 3."""
+
+class ModelInvalid(RuntimeError):
+    """The scene's contact model does not apply; exit code 5."""
+
+class Scene:
+    """An immutable, validated scene; made by load_scene()."""
+
+    @property
+    def source(self) -> str: ...
+    @property
+    def h(self) -> float:
+        """Time step, s."""
+    @property
+    def duration(self) -> float:
+        """Duration of run(), s."""
+    @property
+    def gravity(self) -> npt.NDArray[np.float64]:
+        """(3,) m/s²."""
+    @property
+    def model(self) -> str:
+        """hull, planar, multipatch or point."""
+    @property
+    def body_names(self) -> List[str]: ...
+    @property
+    def bodies(self) -> List[Dict[str, Any]]:
+        """Per body: name, kinematic, mass, inertia (3, 3), position, quaternion, velocity,
+        angular_velocity, friction, mesh_vertices."""
+    @property
+    def obstacles(self) -> List[Dict[str, Any]]:
+        """Per obstacle: name, friction."""
+    @property
+    def contact_names(self) -> List[str]:
+        """'body.other' per potential contact, the order of Simulation.contacts()."""
+    @property
+    def warnings(self) -> List[str]: ...
+
+class State:
+    """A saved state (Simulation.get_state()), restored bit for bit by Simulation.set_state()."""
+
+    @property
+    def time(self) -> float: ...
+    @property
+    def steps(self) -> int: ...
+    @property
+    def positions(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def quaternions(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def velocities(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def angular_velocities(self) -> npt.NDArray[np.float64]: ...
+    def __copy__(self) -> "State": ...
+    def __deepcopy__(self, memo: dict) -> "State": ...
+
+class Simulation:
+    """One simulation of a Scene, stepped from Python; step() and render() release the GIL."""
+
+    def __init__(self, scene: Scene) -> None: ...
+    def step(self, n: int = 1) -> None:
+        """n steps; last_report then holds the last one's {converged, iterations, residual, ...}."""
+    def reset(self) -> None: ...
+    @property
+    def scene(self) -> Scene: ...
+    @property
+    def time(self) -> float: ...
+    @property
+    def steps(self) -> int: ...
+    @property
+    def body_names(self) -> List[str]: ...
+    @property
+    def last_report(self) -> Dict[str, Any]: ...
+    positions: npt.NDArray[np.float64]
+    """(n, 3) centres of mass, m; settable for dynamic bodies."""
+    quaternions: npt.NDArray[np.float64]
+    """(n, 4) (w, x, y, z); settable (normalized)."""
+    velocities: npt.NDArray[np.float64]
+    """(n, 3) m/s."""
+    angular_velocities: npt.NDArray[np.float64]
+    """(n, 3) rad/s, world frame."""
+    def get_state(self) -> State: ...
+    def set_state(self, state: State) -> None: ...
+    def apply_wrench(
+        self,
+        body: BodyRef,
+        force: Vector3 = ...,
+        torque: Vector3 = ...,
+        at: Optional[Vector3] = None,
+    ) -> None:
+        """force (N) at world point `at` (default the CM) and torque (N·m) for the next step."""
+    def set_kinematic_target(
+        self, body: BodyRef, position: Vector3, quaternion: Optional[Sequence[float]] = None
+    ) -> None:
+        """A kinematic body's pose at the end of the next step."""
+    def contacts(self) -> List[Dict[str, Any]]:
+        """Per potential contact: name, body, other, other_is_body, a1, a2, normal, tangent,
+        tangent2, p_n, p_t, p_o, p_r, sigma, f_n, f_t, f_o, f_r, force, mode, model, friction."""
+    def render(
+        self,
+        width: int = 640,
+        height: int = 480,
+        camera: Optional[Mapping[str, Any]] = None,
+        overlays: bool = True,
+    ) -> npt.NDArray[np.uint8]:
+        """(height, width, 3) RGB, top row first."""
+
+def load_scene(
+    path: str, overrides: Optional[Union[Mapping[str, Any], Sequence[str]]] = None
+) -> Scene:
+    """A YAML scene with the CLI's --set overrides, validated."""
+
+def make_scene(
+    bodies: Sequence[Mapping[str, Any]],
+    obstacles: Optional[Sequence[Mapping[str, Any]]] = None,
+    h: float = 0.01,
+    duration: float = 1.0,
+    gravity: Vector3 = ...,
+    friction: Optional[Mapping[str, float]] = None,
+    loads: Optional[Sequence[Mapping[str, Any]]] = None,
+    model: str = "hull",
+) -> Scene:
+    """A scene from Python dicts (box or mesh bodies, kinematic ones at a constant twist,
+    half-space obstacles, loads), validated as a file's."""
+
+def run(
+    scene: Scene, duration: Optional[float] = None, every: Optional[int] = None
+) -> Dict[str, npt.NDArray[np.float64]]:
+    """The trajectory as trajectory.csv's columns."""
+
+def hull(
+    mesh_path: str,
+    scale: Optional[float] = None,
+    units: Optional[str] = None,
+    mass: Optional[float] = None,
+    density: Optional[float] = None,
+) -> Dict[str, Any]:
+    """A, b (A y ≤ b, body frame), vertices, faces, volume, mass, inertia, ..."""

@@ -1,0 +1,1097 @@
+// The `ecpsim` Python module (pybind11): scenes, simulations stepped from Python, trajectories as
+// numpy columns, frames as numpy images, convex hulls of meshes. Reference: docs/python.md; the
+// stateful part is python/simulation.h, this file converts between Python and the libraries.
+
+#include <dlfcn.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <fmt/format.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include "common/errors.h"
+#include "engine/mesh_scale.h"
+#include "engine/scene_builders.h"
+#include "engine/scene_limits.h"
+#include "engine/scene_validation.h"
+#include "engine/scene_yaml.h"
+#include "engine/time_step.h"
+#include "engine/trajectory_columns.h"
+#include "geometry/convex_hull.h"
+#include "geometry/convex_shape.h"
+#include "geometry/mass_properties.h"
+#include "geometry/mesh_topology.h"
+#include "python/simulation.h"
+#include "render/renderer.h"
+#include "render/scene_frame.h"
+
+namespace py = pybind11;
+
+namespace ecpsim::python {
+namespace {
+
+using Eigen::Vector3d;
+// pybind11 holds a Scene by a shared_ptr to non-const; nothing here changes one once loaded
+using SceneHandle = std::shared_ptr<engine::Scene>;
+
+// a contact whose normal impulse is below this fraction of the body's impulse scale
+// m (|g| h + |v|) carries no load: round-off of a complementarity solution that is exactly 0
+constexpr double kSeparatedImpulseFraction = 1e-9;  // dimensionless
+// a contact whose slip multiplier σ exceeds this fraction of the body's velocity scale
+// |g| h + |v| slides; a sticking one's σ is 0 up to the solver's tolerance, or the hull model's
+// creep of 1e-9 of the velocity scale (engine/hull_model.cpp, kStickCreepFraction)
+constexpr double kSlidingSlipFraction = 1e-6;  // dimensionless
+// kg/m³, water: hull()'s density when neither mass nor density is given (as `ecpsim hull`)
+constexpr double kDefaultDensity = 1000.0;
+
+// ---- conversions --------------------------------------------------------------------------
+
+py::array_t<double> Array(const double* data, std::vector<py::ssize_t> shape) {
+  py::array_t<double> a(shape);
+  std::memcpy(a.mutable_data(), data, static_cast<size_t>(a.size()) * sizeof(double));
+  return a;
+}
+
+py::array_t<double> Array(const Vector3d& v) { return Array(v.data(), {3}); }
+
+py::array_t<double> Array(const Eigen::Matrix3d& m) {
+  const Eigen::Matrix<double, 3, 3, Eigen::RowMajor> rows = m;
+  return Array(rows.data(), {3, 3});
+}
+
+// any sequence of 3 numbers (list, tuple, numpy array) as a vector
+Vector3d ToVector3(const py::handle& value, const std::string& what) {
+  const auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(value);
+  if (!a || a.ndim() != 1 || a.shape(0) != 3) {
+    throw InputError(fmt::format("{} = {}: expected 3 numbers [x, y, z]", what,
+                                 py::str(value).cast<std::string>()));
+  }
+  return Vector3d(a.at(0), a.at(1), a.at(2));
+}
+
+// a body by name or index
+int BodyIndex(const engine::Scene& scene, const py::handle& body, const std::string& where) {
+  if (py::isinstance<py::int_>(body)) {
+    const long i = body.cast<long>();
+    if (i >= 0 && i < static_cast<long>(scene.bodies.size())) return static_cast<int>(i);
+  } else if (py::isinstance<py::str>(body)) {
+    const std::string name = body.cast<std::string>();
+    for (size_t i = 0; i < scene.bodies.size(); ++i) {
+      if (scene.bodies[i].name == name) return static_cast<int>(i);
+    }
+  }
+  std::string names;
+  for (const engine::Body& b : scene.bodies) names += (names.empty() ? "" : ", ") + b.name;
+  throw InputError(fmt::format("{}: body = {}: expected a body name ({}) or an index 0 … {}",
+                               where, py::repr(body).cast<std::string>(), names,
+                               scene.bodies.size() - 1));
+}
+
+// a Python value as the YAML text `--set key=value` takes
+std::string YamlText(const py::handle& value) {
+  if (py::isinstance<py::bool_>(value)) return value.cast<bool>() ? "true" : "false";
+  if (py::isinstance<py::int_>(value)) return py::str(value).cast<std::string>();
+  if (py::isinstance<py::float_>(value) || py::isinstance(value, py::module_::import("numpy").attr("floating"))) {
+    const double x = value.cast<double>();
+    if (std::isnan(x)) return ".nan";
+    if (std::isinf(x)) return x > 0 ? ".inf" : "-.inf";
+    return py::repr(py::float_(x)).cast<std::string>();
+  }
+  if (py::isinstance<py::str>(value)) return value.cast<std::string>();
+  if (py::isinstance<py::dict>(value)) {
+    std::string text;
+    for (const auto& item : value.cast<py::dict>()) {
+      text += fmt::format("{}{}: {}", text.empty() ? "" : ", ", YamlText(item.first),
+                          YamlText(item.second));
+    }
+    return "{" + text + "}";
+  }
+  if (py::hasattr(value, "tolist")) return YamlText(value.attr("tolist")());
+  if (py::isinstance<py::sequence>(value)) {
+    std::string text;
+    for (const auto& item : value.cast<py::sequence>()) {
+      text += (text.empty() ? "" : ", ") + YamlText(item);
+    }
+    return "[" + text + "]";
+  }
+  return py::str(value).cast<std::string>();
+}
+
+// {"bodies.0.mass": 3} or ["bodies.0.mass=3"] as the CLI's --set strings
+std::vector<std::string> Overrides(const py::object& overrides) {
+  std::vector<std::string> result;
+  if (overrides.is_none()) return result;
+  if (py::isinstance<py::dict>(overrides)) {
+    for (const auto& item : overrides.cast<py::dict>()) {
+      result.push_back(py::str(item.first).cast<std::string>() + "=" + YamlText(item.second));
+    }
+    return result;
+  }
+  if (py::isinstance<py::str>(overrides)) {
+    throw InputError(fmt::format("overrides = {}: expected a dict {{\"key\": value}} or a list of "
+                                 "\"key=value\" strings",
+                                 py::repr(overrides).cast<std::string>()));
+  }
+  for (const auto& item : overrides) result.push_back(py::str(item).cast<std::string>());
+  return result;
+}
+
+// ---- scenes -------------------------------------------------------------------------------
+
+py::dict FrictionDict(const engine::Friction& f) {
+  py::dict d;
+  d["mu"] = f.mu;
+  d["e_t"] = f.e_t;
+  d["e_o"] = f.e_o;
+  d["e_r"] = f.e_r;
+  return d;
+}
+
+py::dict BodyDict(const engine::Body& body) {
+  py::dict d;
+  d["name"] = body.name;
+  d["kinematic"] = body.IsKinematic();
+  d["mass"] = body.mass;
+  d["inertia"] = Array(body.inertia);
+  d["position"] = Array(body.p0);
+  const Eigen::Quaterniond& q = body.q0;
+  const double wxyz[4] = {q.w(), q.x(), q.y(), q.z()};
+  d["quaternion"] = Array(wxyz, {4});
+  d["velocity"] = Array(body.v0);
+  d["angular_velocity"] = Array(body.w0);
+  d["friction"] = FrictionDict(body.friction);
+  d["mesh_vertices"] = body.mesh.vertices.size();
+  return d;
+}
+
+std::string ContactName(const engine::Scene& scene, const engine::ContactPair& pair) {
+  const std::string& other = pair.WithBody() ? scene.bodies[pair.other_body].name
+                                             : scene.obstacles[pair.obstacle].name;
+  return scene.bodies[pair.body].name + "." + other;
+}
+
+// ---- states -------------------------------------------------------------------------------
+
+enum class BodyField { kPosition, kQuaternion, kVelocity, kAngularVelocity };
+
+int FieldWidth(BodyField field) { return field == BodyField::kQuaternion ? 4 : 3; }
+
+py::array_t<double> BodyArray(const engine::State& state, BodyField field) {
+  const int width = FieldWidth(field);
+  py::array_t<double> a({static_cast<py::ssize_t>(state.bodies.size()),
+                         static_cast<py::ssize_t>(width)});
+  auto out = a.mutable_unchecked<2>();
+  for (size_t b = 0; b < state.bodies.size(); ++b) {
+    const engine::BodyState& s = state.bodies[b];
+    const py::ssize_t i = static_cast<py::ssize_t>(b);
+    switch (field) {
+      case BodyField::kPosition:
+        for (int k = 0; k < 3; ++k) out(i, k) = s.p_WB[k];
+        break;
+      case BodyField::kQuaternion:
+        // w, x, y, z: the CSV's qw qx qy qz
+        out(i, 0) = s.Q_WB.w(), out(i, 1) = s.Q_WB.x(), out(i, 2) = s.Q_WB.y(),
+        out(i, 3) = s.Q_WB.z();
+        break;
+      case BodyField::kVelocity:
+        for (int k = 0; k < 3; ++k) out(i, k) = s.v_WB[k];
+        break;
+      case BodyField::kAngularVelocity:
+        for (int k = 0; k < 3; ++k) out(i, k) = s.w_WB[k];
+        break;
+    }
+  }
+  return a;
+}
+
+const char* FieldName(BodyField field) {
+  switch (field) {
+    case BodyField::kPosition:
+      return "positions";
+    case BodyField::kQuaternion:
+      return "quaternions";
+    case BodyField::kVelocity:
+      return "velocities";
+    case BodyField::kAngularVelocity:
+      return "angular_velocities";
+  }
+  return "?";
+}
+
+// writes an (n, 3) or (n, 4) array into the state's dynamic bodies; kinematic bodies' rows
+// must equal their current values (their motion sets them)
+void SetBodyArray(const engine::Scene& scene, engine::State& state, BodyField field,
+                  const py::handle& value) {
+  const int width = FieldWidth(field);
+  const auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(value);
+  const size_t n = state.bodies.size();
+  if (!a || a.ndim() != 2 || a.shape(0) != static_cast<py::ssize_t>(n) || a.shape(1) != width) {
+    throw InputError(fmt::format("{}: expected an array of shape ({}, {})", FieldName(field), n,
+                                 width));
+  }
+  const auto in = a.unchecked<2>();
+  std::vector<engine::BodyState> bodies = state.bodies;
+  for (size_t b = 0; b < n; ++b) {
+    const py::ssize_t i = static_cast<py::ssize_t>(b);
+    engine::BodyState& s = bodies[b];
+    if (field == BodyField::kQuaternion) {
+      const Eigen::Quaterniond q(in(i, 0), in(i, 1), in(i, 2), in(i, 3));
+      if (!q.coeffs().allFinite() || q.norm() == 0) {
+        throw InputError(fmt::format("quaternions[{}] ({}): expected a finite, non-zero "
+                                     "quaternion (w, x, y, z)",
+                                     b, scene.bodies[b].name));
+      }
+      s.Q_WB = q.normalized();
+      continue;
+    }
+    const Vector3d v(in(i, 0), in(i, 1), in(i, 2));
+    for (int k = 0; k < 3; ++k) {
+      const std::string problem = engine::OutOfMagnitude(v[k]);
+      if (!problem.empty()) {
+        throw InputError(fmt::format("{}[{}] ({}) = [{}, {}, {}]: expected {}", FieldName(field), b,
+                                     scene.bodies[b].name, v.x(), v.y(), v.z(), problem));
+      }
+    }
+    (field == BodyField::kPosition ? s.p_WB : field == BodyField::kVelocity ? s.v_WB : s.w_WB) = v;
+  }
+  for (size_t b = 0; b < n; ++b) {
+    const engine::BodyState &now = state.bodies[b], &next = bodies[b];
+    const bool same = now.p_WB == next.p_WB && now.Q_WB.coeffs() == next.Q_WB.coeffs() &&
+                      now.v_WB == next.v_WB && now.w_WB == next.w_WB;
+    if (scene.bodies[b].IsKinematic() && !same) {
+      throw InputError(fmt::format("{}[{}]: body '{}' is kinematic: expected its row unchanged "
+                                   "(set_kinematic_target moves it)",
+                                   FieldName(field), b, scene.bodies[b].name));
+    }
+  }
+  state.bodies = std::move(bodies);
+}
+
+py::dict ReportDict(const engine::StepReport& report) {
+  py::dict d;
+  d["converged"] = report.converged;
+  d["iterations"] = report.iterations;
+  d["residual"] = report.residual;
+  d["retries"] = report.retries;
+  d["substeps"] = report.substeps;
+  return d;
+}
+
+// ---- contacts -----------------------------------------------------------------------------
+
+const char* ContactMode(const engine::Scene& scene, const engine::State& state,
+                        const engine::ContactPair& pair, const engine::ContactState& c) {
+  const engine::Body& body = scene.bodies[pair.body];
+  const double velocity_scale = scene.gravity.norm() * scene.h + state.bodies[pair.body].v_WB.norm();
+  if (c.p_n <= kSeparatedImpulseFraction * body.mass * velocity_scale) return "separated";
+  return c.sigma > kSlidingSlipFraction * velocity_scale ? "sliding" : "sticking";
+}
+
+py::list ContactList(const engine::Scene& scene, const engine::State& state) {
+  py::list contacts;
+  const double h = scene.h;
+  for (size_t k = 0; k < scene.contacts.size(); ++k) {
+    const engine::ContactPair& pair = scene.contacts[k];
+    const engine::ContactState& c = state.contacts[k];
+    py::dict d;
+    d["name"] = ContactName(scene, pair);
+    d["body"] = scene.bodies[pair.body].name;
+    d["other"] = pair.WithBody() ? scene.bodies[pair.other_body].name
+                                 : scene.obstacles[pair.obstacle].name;
+    d["other_is_body"] = pair.WithBody();
+    d["a1"] = Array(c.a1);
+    d["a2"] = Array(c.a2);
+    d["normal"] = Array(c.n);
+    d["tangent"] = Array(c.t);
+    d["tangent2"] = Array(c.o);
+    d["p_n"] = c.p_n;
+    d["p_t"] = c.p_t;
+    d["p_o"] = c.p_o;
+    d["p_r"] = c.p_r;
+    d["sigma"] = c.sigma;
+    d["f_n"] = c.p_n / h;
+    d["f_t"] = c.p_t / h;
+    d["f_o"] = c.p_o / h;
+    d["f_r"] = c.p_r / h;
+    d["force"] = Array(Vector3d((c.n * c.p_n + c.t * c.p_t + c.o * c.p_o) / h));
+    d["mode"] = ContactMode(scene, state, pair, c);
+    d["model"] = engine::ContactModelName(scene.model);
+    d["friction"] = FrictionDict(pair.friction);
+    contacts.append(d);
+  }
+  return contacts;
+}
+
+// ---- the Python Simulation ----------------------------------------------------------------
+
+// the renderer of one size, made on the thread that uses it (an OpenGL context is per thread)
+struct RenderCache {
+  std::unique_ptr<render::Renderer> renderer;
+  std::unique_ptr<render::SceneFrameBuilder> frames;
+  int width = 0, height = 0;
+  std::thread::id thread;
+};
+
+struct PySimulation {
+  explicit PySimulation(SceneHandle scene_handle)
+      : scene(std::move(scene_handle)), sim(scene) {}
+  SceneHandle scene;
+  Simulation sim;
+  // one thread at a time in `sim` (stepping and rendering run without the GIL)
+  std::mutex mutex;
+  RenderCache render;
+};
+
+render::CameraSpec CameraOf(const engine::Scene& scene, const py::object& camera) {
+  render::CameraSpec spec;
+  if (camera.is_none()) {
+    if (scene.output.camera_fixed) {
+      spec.automatic = false;
+      spec.position = scene.output.camera_position;
+      spec.target = scene.output.camera_target;
+      spec.fov_y_deg = scene.output.camera_fov_deg;
+    }
+    return spec;
+  }
+  if (!py::isinstance<py::dict>(camera)) {
+    throw InputError(fmt::format("camera = {}: expected None (the scene's camera) or a dict with "
+                                 "position, target, and optionally up and fov (degrees)",
+                                 py::repr(camera).cast<std::string>()));
+  }
+  spec.automatic = false;
+  spec.position = scene.output.camera_position;
+  spec.target = scene.output.camera_target;
+  spec.fov_y_deg = scene.output.camera_fov_deg;
+  for (const auto& item : camera.cast<py::dict>()) {
+    const std::string key = py::str(item.first).cast<std::string>();
+    if (key == "position") {
+      spec.position = ToVector3(item.second, "camera.position");
+    } else if (key == "target") {
+      spec.target = ToVector3(item.second, "camera.target");
+    } else if (key == "up") {
+      spec.up = ToVector3(item.second, "camera.up");
+    } else if (key == "fov") {
+      spec.fov_y_deg = item.second.cast<double>();
+    } else {
+      throw InputError(fmt::format("camera.{}: unknown key; expected position, target, up or fov",
+                                   key));
+    }
+  }
+  return spec;
+}
+
+py::array_t<std::uint8_t> Render(PySimulation& self, int width, int height,
+                                 const py::object& camera, bool overlays) {
+  for (const int pixels : {width, height}) {
+    if (pixels < engine::kMinFramePixels || pixels > engine::kMaxFramePixels) {
+      throw InputError(fmt::format("render: width × height = {} × {}: expected {} … {} pixels each",
+                                   width, height, engine::kMinFramePixels,
+                                   engine::kMaxFramePixels));
+    }
+  }
+  const render::CameraSpec spec = CameraOf(self.sim.scene(), camera);
+  render::Image image;
+  {
+    py::gil_scoped_release release;
+    const std::lock_guard<std::mutex> lock(self.mutex);
+    RenderCache& cache = self.render;
+    if (!cache.renderer || cache.width != width || cache.height != height ||
+        cache.thread != std::this_thread::get_id()) {
+      cache.renderer.reset();
+      render::RenderSettings settings;
+      settings.width = width;
+      settings.height = height;
+      cache.renderer = std::make_unique<render::Renderer>(settings);
+      cache.width = width, cache.height = height;
+      cache.thread = std::this_thread::get_id();
+    }
+    if (!cache.frames) {
+      cache.frames = std::make_unique<render::SceneFrameBuilder>(self.sim.scene());
+    }
+    render::FrameInput frame = cache.frames->Build(self.sim.state(), self.sim.last_report().iterations);
+    frame.camera = spec;
+    frame.show.hull = frame.show.inset = frame.show.text = frame.show.force_arrow = overlays;
+    image = cache.renderer->Render(frame);
+  }
+  py::array_t<std::uint8_t> out({image.height, image.width, 3});
+  std::memcpy(out.mutable_data(), image.rgb.data(), image.rgb.size());
+  return out;
+}
+
+// ---- scenes built in Python ---------------------------------------------------------------
+
+// a dict's keys, each read once; the rest are unknown (named in the error, as the loader does)
+class DictReader {
+ public:
+  DictReader(const py::handle& value, std::string key) : key_(std::move(key)) {
+    if (!py::isinstance<py::dict>(value)) {
+      throw InputError(fmt::format("{} = {}: expected a dict", key_, py::repr(value).cast<std::string>()));
+    }
+    dict_ = value.cast<py::dict>();
+  }
+  bool Has(const char* name) const { return dict_.contains(name); }
+  py::object Get(const char* name) {
+    if (!dict_.contains(name)) {
+      throw InputError(fmt::format("{}.{} = (missing): expected a value", key_, name));
+    }
+    used_.push_back(name);
+    return dict_[name];
+  }
+  std::string Key(const char* name) const { return key_ + "." + name; }
+  double Number(const char* name, double fallback) {
+    if (!Has(name)) return fallback;
+    const py::object value = Get(name);
+    try {
+      return value.cast<double>();
+    } catch (const py::cast_error&) {
+      throw InputError(fmt::format("{} = {}: expected a number", Key(name),
+                                   py::repr(value).cast<std::string>()));
+    }
+  }
+  Vector3d Vector(const char* name, const Vector3d& fallback) {
+    return Has(name) ? ToVector3(Get(name), Key(name)) : fallback;
+  }
+  // every key was read
+  void Finish() const {
+    for (const auto& item : dict_) {
+      const std::string name = py::str(item.first).cast<std::string>();
+      if (std::find(used_.begin(), used_.end(), name) == used_.end()) {
+        throw InputError(fmt::format("{}.{}: unknown key", key_, name));
+      }
+    }
+  }
+
+ private:
+  std::string key_;
+  py::dict dict_;
+  std::vector<std::string> used_;
+};
+
+engine::Friction ReadFriction(const py::handle& value, const std::string& key,
+                              engine::Friction friction) {
+  DictReader d(value, key);
+  friction.mu = d.Number("mu", friction.mu);
+  friction.e_t = d.Number("e_t", friction.e_t);
+  friction.e_o = d.Number("e_o", friction.e_o);
+  friction.e_r = d.Number("e_r", friction.e_r);
+  d.Finish();
+  return friction;
+}
+
+// checked before the builders, which demand valid sizes and masses (ValidateScene checks the rest)
+double Positive(double value, const engine::PositiveRange& range, const std::string& key) {
+  const std::string problem = engine::OutOfRange(value, range);
+  if (!problem.empty()) throw InputError(fmt::format("{} = {}: expected {}", key, value, problem));
+  return value;
+}
+
+engine::Body ReadBody(const py::handle& value, const std::string& key,
+                      const engine::Friction& ground_friction, py::object& own_friction) {
+  DictReader d(value, key);
+  const std::string name = d.Get("name").cast<std::string>();
+  const double mass = Positive(d.Number("mass", 1), engine::kMassRange, d.Key("mass"));
+  engine::Body body;
+  if (d.Has("box") == d.Has("mesh")) {
+    throw InputError(fmt::format("{}: expected one shape, `box` [x, y, z] m or `mesh` path", key));
+  }
+  if (d.Has("box")) {
+    Vector3d size = d.Vector("box", Vector3d::Zero());
+    for (int i = 0; i < 3; ++i) Positive(size[i], engine::kLengthRange, d.Key("box"));
+    body = engine::MakeBoxBody(size, mass, name);
+  } else {
+    const std::string path = d.Get("mesh").cast<std::string>();
+    std::optional<double> scale;
+    if (d.Has("scale")) scale = d.Number("scale", 1);
+    const engine::ScaledMesh mesh =
+        engine::LoadScaledMesh(path, scale, std::nullopt, {d.Key("scale"), d.Key("units")});
+    body = engine::MakeMeshBody(mesh.mesh, mass, name);
+  }
+  body.p0 = d.Vector("position", Vector3d::Zero());
+  if (d.Has("quaternion")) {
+    const auto q = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(d.Get("quaternion"));
+    if (!q || q.ndim() != 1 || q.shape(0) != 4) {
+      throw InputError(fmt::format("{}: expected 4 numbers (w, x, y, z)", d.Key("quaternion")));
+    }
+    body.q0 = Eigen::Quaterniond(q.at(0), q.at(1), q.at(2), q.at(3));
+  }
+  body.v0 = d.Vector("velocity", Vector3d::Zero());
+  body.w0 = d.Vector("angular_velocity", Vector3d::Zero());
+  if (d.Has("allow_initial_penetration")) {
+    body.allow_initial_penetration = d.Get("allow_initial_penetration").cast<bool>();
+  }
+  body.friction = ground_friction;
+  if (d.Has("friction")) {
+    own_friction = d.Get("friction");
+    body.friction = ReadFriction(own_friction, d.Key("friction"), ground_friction);
+  }
+  if (d.Has("kinematic")) {
+    // a constant twist from the initial pose (the format's `motion: velocity:`)
+    DictReader k(d.Get("kinematic"), d.Key("kinematic"));
+    engine::ConstantTwist twist;
+    twist.start = {body.p0, body.q0};
+    twist.v = k.Vector("velocity", Vector3d::Zero());
+    twist.w = k.Vector("angular_velocity", Vector3d::Zero());
+    k.Finish();
+    body.motion = std::make_shared<const engine::KinematicMotion>(twist, d.Key("kinematic"));
+  }
+  d.Finish();
+  return body;
+}
+
+engine::Load ReadLoad(const engine::Scene& scene, const py::handle& value, const std::string& key) {
+  DictReader d(value, key);
+  engine::Load load;
+  load.body = BodyIndex(scene, d.Get("body"), d.Key("body"));
+  if (d.Has("force") == d.Has("torque")) {
+    throw InputError(fmt::format("{}: expected one of `force` and `torque`", key));
+  }
+  const char* kind = d.Has("force") ? "force" : "torque";
+  load.kind = d.Has("force") ? engine::Load::Kind::kForce : engine::Load::Kind::kTorque;
+  const py::object components = d.Get(kind);
+  const std::string where = d.Key(kind);
+  if (!py::isinstance<py::sequence>(components) || py::len(components) != 3) {
+    throw InputError(fmt::format("{} = {}: expected 3 numbers or expressions of t", where,
+                                 py::repr(components).cast<std::string>()));
+  }
+  engine::TimeFunction* targets[3] = {&load.x, &load.y, &load.z};
+  for (int i = 0; i < 3; ++i) {
+    const py::object c = components[py::int_(i)];
+    *targets[i] = py::isinstance<py::str>(c)
+                      ? engine::TimeFunction(c.cast<std::string>(), fmt::format("{}[{}]", where, i))
+                      : engine::TimeFunction(c.cast<double>());
+  }
+  if (d.Has("at")) {
+    load.at_point = true;
+    load.point_B = d.Vector("at", Vector3d::Zero());
+  }
+  load.start = d.Number("start", 0);
+  load.end = d.Number("end", load.end);
+  d.Finish();
+  return load;
+}
+
+std::shared_ptr<engine::Scene> MakeScene(const py::list& bodies, const py::object& obstacles,
+                                         double h, double duration, const py::handle& gravity,
+                                         const py::object& friction, const py::object& loads,
+                                         const std::string& model) {
+  engine::Scene scene;
+  scene.source = "make_scene";
+  scene.h = h;
+  scene.duration = duration;
+  scene.gravity = ToVector3(gravity, "gravity");
+  const engine::Friction ground_friction =
+      friction.is_none() ? engine::Friction{} : ReadFriction(friction, "friction", engine::Friction{});
+  // obstacles: half-spaces n · x ≤ offset; by default the ground z ≤ 0
+  if (obstacles.is_none()) {
+    scene.obstacles.push_back({"ground", geometry::MakeHalfSpace(Vector3d::UnitZ(), 0), ground_friction});
+  } else {
+    int i = 0;
+    for (const auto& item : obstacles) {
+      const std::string key = fmt::format("obstacles[{}]", i++);
+      DictReader d(item, key);
+      engine::Obstacle obstacle;
+      obstacle.name = d.Get("name").cast<std::string>();
+      const Vector3d normal = d.Vector("normal", Vector3d::UnitZ());
+      if (!normal.allFinite() || normal.norm() == 0) {
+        throw InputError(fmt::format("{} = [{}, {}, {}]: expected a finite, non-zero normal",
+                                     d.Key("normal"), normal.x(), normal.y(), normal.z()));
+      }
+      obstacle.shape = geometry::MakeHalfSpace(normal.normalized(), d.Number("offset", 0));
+      obstacle.friction = d.Has("friction") ? ReadFriction(d.Get("friction"), d.Key("friction"), ground_friction)
+                                            : ground_friction;
+      d.Finish();
+      scene.obstacles.push_back(obstacle);
+    }
+  }
+  // bodies; each dynamic one touches every obstacle with the obstacle's friction under its own
+  std::vector<py::object> own(bodies.size(), py::none());
+  for (size_t b = 0; b < bodies.size(); ++b) {
+    scene.bodies.push_back(ReadBody(bodies[b], fmt::format("bodies[{}]", b),
+                                    scene.obstacles.empty() ? ground_friction : scene.obstacles[0].friction,
+                                    own[b]));
+  }
+  for (size_t b = 0; b < scene.bodies.size(); ++b) {
+    if (scene.bodies[b].IsKinematic()) continue;
+    for (size_t o = 0; o < scene.obstacles.size(); ++o) {
+      engine::ContactPair pair{static_cast<int>(b), static_cast<int>(o), scene.obstacles[o].friction};
+      if (!own[b].is_none()) {
+        pair.friction = ReadFriction(own[b], fmt::format("bodies[{}].friction", b), pair.friction);
+      }
+      scene.contacts.push_back(pair);
+    }
+  }
+  engine::AddBodyPairs(scene);
+  if (!loads.is_none()) {
+    int i = 0;
+    for (const auto& item : loads) scene.loads.push_back(ReadLoad(scene, item, fmt::format("loads[{}]", i++)));
+  }
+  const std::map<std::string, engine::ContactModel> models = {
+      {"hull", engine::ContactModel::kHull}, {"planar", engine::ContactModel::kPlanar},
+      {"multipatch", engine::ContactModel::kMultiPatch}, {"point", engine::ContactModel::kPointLcp}};
+  if (models.count(model) == 0) {
+    throw InputError(fmt::format("model = {}: expected hull, planar, multipatch or point", model));
+  }
+  scene.model = models.at(model);
+  // the checks every scene passes, a file's too (engine/scene_validation.h)
+  engine::ValidateScene(scene);
+  return std::make_shared<engine::Scene>(std::move(scene));
+}
+
+// ---- run and hull -------------------------------------------------------------------------
+
+py::dict Run(const SceneHandle& scene, const py::object& duration_arg, long every) {
+  if (every < 1) {
+    throw InputError(fmt::format("run: every = {}: expected an integer ≥ 1", every));
+  }
+  const double duration = duration_arg.is_none() ? scene->duration : duration_arg.cast<double>();
+  const std::string problem = std::isfinite(duration) && duration > 0
+                                  ? engine::StepCountProblem(duration, scene->h)
+                                  : std::string("a finite duration > 0 s");
+  if (!problem.empty()) {
+    throw InputError(fmt::format("{}: duration = {}, h = {}: expected {}", scene->source, duration,
+                                 scene->h, problem));
+  }
+  const long steps = engine::PlannedSteps(duration, scene->h);
+  const std::vector<std::string> columns = engine::TrajectoryColumns(*scene);
+  std::vector<double> rows;
+  {
+    py::gil_scoped_release release;
+    engine::State state = engine::InitialState(*scene);
+    engine::StepReport report;
+    report.converged = true;
+    auto add_row = [&] {
+      const std::vector<double> row = engine::TrajectoryValues(*scene, state, report);
+      // never a NaN in an output (as trajectory.csv's writer)
+      for (size_t i = 0; i < row.size(); ++i) {
+        if (!std::isfinite(row[i])) {
+          throw engine::SolverFailure(fmt::format("t = {} s: {} = {} is not finite", state.t,
+                                                  columns[i], row[i]));
+        }
+      }
+      rows.insert(rows.end(), row.begin(), row.end());
+    };
+    add_row();
+    for (long k = 1; k <= steps; ++k) {
+      report = engine::Step(*scene, state);
+      if (k % every == 0 || k == steps) add_row();
+    }
+  }
+  const size_t n = rows.size() / columns.size();
+  py::dict result;
+  for (size_t c = 0; c < columns.size(); ++c) {
+    py::array_t<double> column(static_cast<py::ssize_t>(n));
+    double* out = column.mutable_data();
+    for (size_t r = 0; r < n; ++r) out[r] = rows[r * columns.size() + c];
+    result[py::str(columns[c])] = column;
+  }
+  return result;
+}
+
+py::dict Hull(const std::string& path, const std::optional<double>& scale,
+              const std::optional<std::string>& units, const std::optional<double>& mass,
+              const std::optional<double>& density) {
+  if (mass && density) {
+    throw InputError(fmt::format("hull({}): mass = {} and density = {}: expected one of them",
+                                 path, *mass, *density));
+  }
+  for (const auto& [value, range, key] :
+       {std::tuple{mass, engine::kMassRange, "mass"},
+        std::tuple{density, engine::kDensityRange, "density"}}) {
+    if (value && !engine::OutOfRange(*value, range).empty()) {
+      throw InputError(fmt::format("hull({}): {} = {}: expected {}", path, key, *value,
+                                   engine::OutOfRange(*value, range)));
+    }
+  }
+  py::gil_scoped_release release;
+  const engine::ScaledMesh scaled = engine::LoadScaledMesh(path, scale, units, {"scale", "units"});
+  const geometry::TriangleMesh& mesh = scaled.mesh;
+  const geometry::MeshTopology topology = geometry::AnalyzeTopology(mesh);
+  const geometry::ConvexHull hull = geometry::ComputeConvexHull(mesh.vertices, path);
+  // as `ecpsim hull`: the mesh's own mass properties when it bounds a solid, else its hull's
+  const bool solid = topology.closed && topology.consistently_oriented;
+  std::vector<std::string> warnings;
+  if (!scaled.warning.empty()) warnings.push_back(scaled.warning);
+  std::string mass_source = "mesh";
+  const geometry::TriangleMesh source_mesh = solid ? mesh : geometry::TriangulateHull(hull);
+  if (!solid) {
+    mass_source = topology.closed ? "convex hull (mesh is inconsistently oriented)"
+                                  : "convex hull (mesh is open)";
+    warnings.push_back(fmt::format("{}: the mesh is not a closed, consistently oriented surface "
+                                   "({} boundary edges, {} non-manifold edges); using the mass "
+                                   "properties of its convex hull",
+                                   path, topology.boundary_edges, topology.non_manifold_edges));
+  }
+  const geometry::MassProperties props =
+      mass ? geometry::ComputeMassPropertiesForMass(source_mesh, *mass, path)
+           : geometry::ComputeMassProperties(source_mesh, density.value_or(kDefaultDensity), path);
+  const geometry::ConvexHull body_hull = geometry::TranslateHull(hull, -props.center_of_mass);
+
+  py::gil_scoped_acquire acquire;
+  const py::ssize_t m = static_cast<py::ssize_t>(body_hull.normals.size());
+  py::array_t<double> A({m, py::ssize_t{3}}), b(m);
+  for (py::ssize_t i = 0; i < m; ++i) {
+    for (int k = 0; k < 3; ++k) A.mutable_at(i, k) = body_hull.normals[i][k];
+    b.mutable_at(i) = body_hull.offsets[i];
+  }
+  py::array_t<double> vertices({static_cast<py::ssize_t>(body_hull.vertices.size()), py::ssize_t{3}});
+  for (size_t i = 0; i < body_hull.vertices.size(); ++i) {
+    for (int k = 0; k < 3; ++k) vertices.mutable_at(i, k) = body_hull.vertices[i][k];
+  }
+  py::dict d;
+  d["A"] = A;
+  d["b"] = b;
+  d["vertices"] = vertices;
+  d["faces"] = body_hull.faces;
+  d["volume"] = props.volume;
+  d["mass"] = props.mass;
+  d["density"] = props.mass / props.volume;
+  d["center_of_mass"] = Array(props.center_of_mass);
+  d["inertia"] = Array(props.inertia);
+  d["principal_moments"] = Array(props.principal_moments);
+  d["principal_axes"] = Array(props.principal_axes);
+  d["scale"] = scaled.scale;
+  d["closed"] = topology.closed;
+  d["oriented"] = topology.consistently_oriented;
+  d["mass_source"] = mass_source;
+  d["warnings"] = warnings;
+  return d;
+}
+
+// the mesh reader helper installed beside the module (cmake --install) when none is chosen
+void FindMeshReader() {
+  if (const char* chosen = std::getenv("ECPSIM_MESH_READER"); chosen != nullptr && *chosen) return;
+  Dl_info info;
+  if (dladdr(reinterpret_cast<void*>(&FindMeshReader), &info) == 0 || !info.dli_fname) return;
+  std::string beside(info.dli_fname);
+  beside = beside.substr(0, beside.rfind('/') + 1) + "ecpsim-mesh-reader";
+  if (::access(beside.c_str(), X_OK) == 0) ::setenv("ECPSIM_MESH_READER", beside.c_str(), 0);
+}
+
+}  // namespace
+}  // namespace ecpsim::python
+
+PYBIND11_MODULE(ecpsim, m) {
+  using namespace ecpsim::python;
+  namespace engine = ecpsim::engine;
+  FindMeshReader();
+  m.doc() =
+      "ecpsim: rigid bodies with planar non-convex contact (Xie & Chakraborty), stepped from "
+      "Python. Quaternions are (w, x, y, z), everything else SI in the world frame. Reference: "
+      "docs/python.md.";
+
+  // errors: the CLI's messages; InputError (exit code 1) is a ValueError
+  py::register_exception<ecpsim::InputError>(m, "InputError", PyExc_ValueError).doc() =
+      "Bad input: a scene file, an override, a mesh, an argument. The message names the file:line, "
+      "key, value and what was expected, as the CLI's (exit code 1).";
+  py::register_exception<engine::SolverFailure>(m, "SolverFailure", PyExc_RuntimeError).doc() =
+      "A step could not be solved after every retry; the message names time, body, residual and "
+      "what was tried (the CLI's exit code 3). The simulation keeps the last good state.";
+  py::register_exception<engine::ModelInvalid>(m, "ModelInvalid", PyExc_RuntimeError).doc() =
+      "The scene's contact model does not apply (e.g. the planar model and a tipping body); the "
+      "CLI's exit code 5.";
+
+  py::class_<engine::Scene, std::shared_ptr<engine::Scene>>(
+      m, "Scene",
+      "An immutable, validated scene (bodies, obstacles, contacts, loads, settings). Make one with "
+      "load_scene(); a Simulation steps it.")
+      .def_property_readonly("source", [](const engine::Scene& s) { return s.source; },
+                             "The file the scene was read from.")
+      .def_property_readonly("h", [](const engine::Scene& s) { return s.h; }, "Time step, s.")
+      .def_property_readonly("duration", [](const engine::Scene& s) { return s.duration; },
+                             "Duration of run(), s.")
+      .def_property_readonly("gravity", [](const engine::Scene& s) { return Array(s.gravity); },
+                             "Gravity (3,), m/s², world frame.")
+      .def_property_readonly("model",
+                             [](const engine::Scene& s) { return engine::ContactModelName(s.model); },
+                             "The contact model: hull, planar, multipatch or point.")
+      .def_property_readonly(
+          "body_names",
+          [](const engine::Scene& s) {
+            std::vector<std::string> names;
+            for (const engine::Body& b : s.bodies) names.push_back(b.name);
+            return names;
+          },
+          "Names of the bodies, in the order of every per-body array.")
+      .def_property_readonly(
+          "bodies",
+          [](const engine::Scene& s) {
+            py::list list;
+            for (const engine::Body& b : s.bodies) list.append(BodyDict(b));
+            return list;
+          },
+          "Per body a dict: name, kinematic, mass (kg), inertia (3, 3) kg·m² about the CM, the "
+          "initial position, quaternion (w, x, y, z), velocity, angular_velocity, friction.")
+      .def_property_readonly(
+          "obstacles",
+          [](const engine::Scene& s) {
+            py::list list;
+            for (const engine::Obstacle& o : s.obstacles) {
+              py::dict d;
+              d["name"] = o.name;
+              d["friction"] = FrictionDict(o.friction);
+              list.append(d);
+            }
+            return list;
+          },
+          "Per fixed obstacle a dict: name, friction.")
+      .def_property_readonly(
+          "contact_names",
+          [](const engine::Scene& s) {
+            std::vector<std::string> names;
+            for (const engine::ContactPair& pair : s.contacts) names.push_back(ContactName(s, pair));
+            return names;
+          },
+          "Names 'body.other' of the potential contacts, in the order of Simulation.contacts().")
+      .def_property_readonly("warnings", [](const engine::Scene& s) { return s.warnings; },
+                             "Notes from loading that are no errors (a mesh of implausible size).")
+      .def("__repr__", [](const engine::Scene& s) {
+        return fmt::format("<ecpsim.Scene '{}': {} bodies, {} obstacles, h = {} s, model {}>",
+                           s.source, s.bodies.size(), s.obstacles.size(), s.h,
+                           engine::ContactModelName(s.model));
+      });
+
+  m.def(
+      "load_scene",
+      [](const std::string& path, const py::object& overrides) {
+        const std::vector<std::string> strings = Overrides(overrides);
+        py::gil_scoped_release release;
+        return std::make_shared<engine::Scene>(engine::LoadScene(path, strings));
+      },
+      py::arg("path"), py::arg("overrides") = py::none(),
+      "Reads a YAML scene (docs/scene_format.md) and validates it.\n\n"
+      "overrides: the CLI's --set, as a dict {'bodies.0.mass': 3, 'h': 0.005} (values as "
+      "Python numbers, bools, strings or lists) or a list of 'key=value' strings.\n"
+      "Raises InputError with the CLI's file:line:col message.");
+
+  py::class_<engine::State>(
+      m, "State",
+      "A saved simulation state (Simulation.get_state()): time, poses, velocities and the "
+      "contacts' solutions and warm starts. Simulation.set_state() continues from it bit for bit.")
+      .def_property_readonly("time", [](const engine::State& s) { return s.t; }, "s")
+      .def_property_readonly("steps", [](const engine::State& s) { return s.steps; },
+                             "Steps taken since t = 0.")
+      .def_property_readonly("positions",
+                             [](const engine::State& s) { return BodyArray(s, BodyField::kPosition); },
+                             "(n, 3) centres of mass, m.")
+      .def_property_readonly(
+          "quaternions", [](const engine::State& s) { return BodyArray(s, BodyField::kQuaternion); },
+          "(n, 4) orientations body → world, (w, x, y, z).")
+      .def_property_readonly("velocities",
+                             [](const engine::State& s) { return BodyArray(s, BodyField::kVelocity); },
+                             "(n, 3) m/s.")
+      .def_property_readonly(
+          "angular_velocities",
+          [](const engine::State& s) { return BodyArray(s, BodyField::kAngularVelocity); },
+          "(n, 3) rad/s, world frame.")
+      .def("__copy__", [](const engine::State& s) { return engine::State(s); })
+      .def("__deepcopy__", [](const engine::State& s, py::dict) { return engine::State(s); },
+           py::arg("memo"));
+
+  py::class_<PySimulation> sim(
+      m, "Simulation",
+      "One simulation of a Scene, stepped from Python (MuJoCo's MjData with mj_step). Per-body "
+      "arrays follow body_names; quaternions are (w, x, y, z) as in trajectory.csv. step() and "
+      "render() release the GIL: separate Simulations run in parallel threads.");
+  sim.def(py::init([](SceneHandle scene) { return std::make_unique<PySimulation>(std::move(scene)); }),
+          py::arg("scene"), "Starts at the scene's initial state.")
+      .def(
+          "step",
+          [](PySimulation& self, std::int64_t n) {
+            if (n < 1) throw ecpsim::InputError(fmt::format("step: n = {}: expected n ≥ 1", n));
+            py::gil_scoped_release release;
+            const std::lock_guard<std::mutex> lock(self.mutex);
+            self.sim.Step(n);
+          },
+          py::arg("n") = 1,
+          "Takes n steps of scene.h; wrenches from apply_wrench act on the first. last_report "
+          "holds the last step's {converged, iterations, residual, retries, substeps}.\n"
+          "Raises SolverFailure or ModelInvalid (the state stays the last good one), InputError "
+          "(a load expression not finite).")
+      .def(
+          "reset",
+          [](PySimulation& self) {
+            const std::lock_guard<std::mutex> lock(self.mutex);
+            self.sim.Reset();
+          },
+          "Back to the initial state; pending wrenches and kinematic targets dropped.")
+      .def_property_readonly("scene", [](const PySimulation& self) { return self.scene; },
+                             "The Scene given.")
+      .def_property_readonly(
+          "time",
+          [](PySimulation& self) {
+            const std::lock_guard<std::mutex> lock(self.mutex);
+            return self.sim.state().t;
+          },
+          "Simulated time, s (steps · h).")
+      .def_property_readonly(
+          "steps",
+          [](PySimulation& self) {
+            const std::lock_guard<std::mutex> lock(self.mutex);
+            return self.sim.state().steps;
+          },
+          "Steps taken since t = 0.")
+      .def_property_readonly(
+          "body_names",
+          [](const PySimulation& self) {
+            std::vector<std::string> names;
+            for (const engine::Body& b : self.scene->bodies) names.push_back(b.name);
+            return names;
+          },
+          "Names of the bodies, the rows of every per-body array.")
+      .def_property_readonly(
+          "last_report",
+          [](PySimulation& self) {
+            const std::lock_guard<std::mutex> lock(self.mutex);
+            return ReportDict(self.sim.last_report());
+          },
+          "The last step's {converged, iterations, residual, retries, substeps}.")
+      .def(
+          "get_state",
+          [](PySimulation& self) {
+            const std::lock_guard<std::mutex> lock(self.mutex);
+            return engine::State(self.sim.state());
+          },
+          "A copy of the full state (a State) for set_state().")
+      .def(
+          "set_state",
+          [](PySimulation& self, const engine::State& state) {
+            const std::lock_guard<std::mutex> lock(self.mutex);
+            self.sim.SetState(state);
+          },
+          py::arg("state"),
+          "Restores a State from get_state() of a Simulation of the same scene; stepping on is "
+          "bit-identical to stepping on from where it was saved (given the same inputs).")
+      .def(
+          "apply_wrench",
+          [](PySimulation& self, const py::handle& body, const py::handle& force,
+             const py::handle& torque, const py::object& at) {
+            const std::lock_guard<std::mutex> lock(self.mutex);
+            const int b = BodyIndex(self.sim.scene(), body, "apply_wrench");
+            const std::optional<Vector3d> at_W =
+                at.is_none() ? std::nullopt : std::optional<Vector3d>(ToVector3(at, "apply_wrench: at"));
+            self.sim.ApplyWrench(b, ToVector3(force, "apply_wrench: force"),
+                                 ToVector3(torque, "apply_wrench: torque"), at_W);
+          },
+          py::arg("body"), py::arg("force") = py::make_tuple(0, 0, 0),
+          py::arg("torque") = py::make_tuple(0, 0, 0), py::arg("at") = py::none(),
+          "Applies force (N, world) at the world point `at` (default: the CM) and torque (N·m, "
+          "world) to a dynamic body (name or index) during the next step only: an applied impulse "
+          "h·force, h·torque in that step's MNCP, exactly as a scene load. Calls before one step "
+          "add up.")
+      .def(
+          "set_kinematic_target",
+          [](PySimulation& self, const py::handle& body, const py::handle& position,
+             const py::object& quaternion) {
+            const std::lock_guard<std::mutex> lock(self.mutex);
+            const int b = BodyIndex(self.sim.scene(), body, "set_kinematic_target");
+            engine::KinematicPose pose;
+            pose.p = ToVector3(position, "set_kinematic_target: position");
+            pose.q = self.sim.state().bodies[b].Q_WB;
+            if (!quaternion.is_none()) {
+              const auto q = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(quaternion);
+              if (!q || q.ndim() != 1 || q.shape(0) != 4) {
+                throw ecpsim::InputError(fmt::format(
+                    "set_kinematic_target: quaternion = {}: expected 4 numbers (w, x, y, z)",
+                    py::str(quaternion).cast<std::string>()));
+              }
+              pose.q = Eigen::Quaterniond(q.at(0), q.at(1), q.at(2), q.at(3));
+            }
+            self.sim.SetKinematicTarget(b, pose);
+          },
+          py::arg("body"), py::arg("position"), py::arg("quaternion") = py::none(),
+          "Moves a kinematic body (name or index) to `position` (m) and `quaternion` (w, x, y, z; "
+          "default: its orientation now) at the end of the next step, at a constant twist; it "
+          "stays there until the next target (MuJoCo's mocap bodies).")
+      .def(
+          "contacts",
+          [](PySimulation& self) {
+            const std::lock_guard<std::mutex> lock(self.mutex);
+            return ContactList(self.sim.scene(), self.sim.state());
+          },
+          "The contacts' solutions of the last step, one dict per potential contact: name, body, "
+          "other (obstacle or body), other_is_body, a1 and a2 (the ECPs, m), normal, tangent, "
+          "tangent2, the impulses p_n p_t p_o (N·s) p_r (N·m·s), sigma (m/s), the average forces "
+          "f_n f_t f_o (N) f_r (N·m) and force (3,) on the body, mode (separated, sticking or "
+          "sliding), model, friction.")
+      .def("render", &Render, py::arg("width") = 640, py::arg("height") = 480,
+           py::arg("camera") = py::none(), py::arg("overlays") = true,
+           "The current state as a uint8 image (height, width, 3), top row first. camera: None "
+           "(the scene's: automatic framing unless fixed) or a dict with position, target, and "
+           "optionally up and fov (degrees). overlays: hulls, contact forces, inset and text.");
+
+  // per-body arrays: read as fresh numpy copies, written whole (dynamic bodies)
+  for (const BodyField field : {BodyField::kPosition, BodyField::kQuaternion, BodyField::kVelocity,
+                                BodyField::kAngularVelocity}) {
+    sim.def_property(
+        FieldName(field),
+        [field](PySimulation& self) {
+          const std::lock_guard<std::mutex> lock(self.mutex);
+          return BodyArray(self.sim.state(), field);
+        },
+        [field](PySimulation& self, const py::handle& value) {
+          const std::lock_guard<std::mutex> lock(self.mutex);
+          SetBodyArray(self.sim.scene(), self.sim.mutable_state(), field, value);
+        },
+        field == BodyField::kQuaternion
+            ? "(n, 4) orientations body → world as (w, x, y, z); settable (normalized)."
+            : "(n, 3) per body (m, m/s or rad/s, world frame); settable for dynamic bodies.");
+  }
+
+  m.def(
+      "make_scene",
+      [](const py::list& bodies, const py::object& obstacles, double h, double duration,
+         const py::object& gravity, const py::object& friction, const py::object& loads,
+         const std::string& model) {
+        return MakeScene(bodies, obstacles, h, duration, gravity, friction, loads, model);
+      },
+      py::arg("bodies"), py::arg("obstacles") = py::none(), py::arg("h") = 0.01,
+      py::arg("duration") = 1.0, py::arg("gravity") = py::make_tuple(0, 0, -9.8),
+      py::arg("friction") = py::none(), py::arg("loads") = py::none(), py::arg("model") = "hull",
+      "A scene built in Python, checked by the same validation as a file's (ValidateScene).\n"
+      "bodies: dicts {name, mass, box: [x, y, z] m | mesh: path (scale), position (the CM), "
+      "quaternion (w, x, y, z), velocity, angular_velocity, friction {mu, e_t, e_o, e_r}, "
+      "kinematic: {velocity, angular_velocity} (a constant twist), allow_initial_penetration}.\n"
+      "obstacles: dicts {name, normal, offset, friction}: half-spaces normal · x ≤ offset "
+      "(default: the ground z ≤ 0 with `friction`). loads: dicts {body, force | torque: 3 "
+      "numbers or expressions of t, at (body frame), start, end}. Raises InputError naming "
+      "the key (bodies[0].mass = -1: expected ...).");
+
+  m.def(
+      "run",
+      [](const SceneHandle& scene, const py::object& duration, const py::object& every) {
+        return Run(scene, duration, every.is_none() ? scene->output.every : every.cast<long>());
+      },
+      py::arg("scene"), py::arg("duration") = py::none(), py::arg("every") = py::none(),
+      "Steps the scene from its initial state for `duration` s (default: the scene's) and returns "
+      "the trajectory as a dict of numpy columns named as trajectory.csv's (t, px … wz per body, "
+      "the contacts' a1x … fr, the sensors', iters, residual): the initial state, every `every`-th "
+      "step (default: the scene's output.every) and the last.\n"
+      "Raises SolverFailure, ModelInvalid, InputError as the CLI.");
+
+  m.def(
+      "hull",
+      [](const std::string& path, const std::optional<double>& scale,
+         const std::optional<std::string>& units, const std::optional<double>& mass,
+         const std::optional<double>& density) { return Hull(path, scale, units, mass, density); },
+      py::arg("mesh_path"), py::arg("scale") = py::none(), py::arg("units") = py::none(),
+      py::arg("mass") = py::none(), py::arg("density") = py::none(),
+      "Mass properties and convex hull of a mesh file (as `ecpsim hull`): a dict with A (m, 3) "
+      "and b (m,) of the hull A y ≤ b in the body frame (origin at the centre of mass, mesh axes), "
+      "vertices (k, 3), faces, volume (m³), mass (kg), density, center_of_mass (mesh frame), "
+      "inertia (3, 3) about the CM, principal_moments, principal_axes (columns), scale, closed, "
+      "oriented, mass_source, warnings. scale or units (mm, cm, m, in) convert the mesh to m; "
+      "mass or density (default 1000 kg/m³).");
+}

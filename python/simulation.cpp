@@ -1,0 +1,147 @@
+#include "python/simulation.h"
+
+#include <string>
+#include <utility>
+
+#include <fmt/format.h>
+
+#include "common/errors.h"
+#include "engine/scene_limits.h"
+#include "engine/time_step.h"
+
+namespace ecpsim::python {
+namespace {
+
+std::string Format(const Eigen::Vector3d& v) { return fmt::format("[{}, {}, {}]", v.x(), v.y(), v.z()); }
+
+// a wrench's vector must be a number the engine's scales can square (scene_limits.h)
+void RequireMagnitude(const Eigen::Vector3d& v, const std::string& what) {
+  for (int i = 0; i < 3; ++i) {
+    const std::string problem = engine::OutOfMagnitude(v[i]);
+    if (!problem.empty()) {
+      throw InputError(fmt::format("{} = {}: expected {}", what, Format(v), problem));
+    }
+  }
+}
+
+engine::Load ConstantLoad(engine::Load::Kind kind, int body, const Eigen::Vector3d& value) {
+  engine::Load load;
+  load.kind = kind;
+  load.body = body;
+  load.x = engine::TimeFunction(value.x());
+  load.y = engine::TimeFunction(value.y());
+  load.z = engine::TimeFunction(value.z());
+  // active over every step while it is in the scene; Step removes it after one step
+  load.start = 0;
+  load.end = engine::kMaxMagnitude;
+  return load;
+}
+
+}  // namespace
+
+Simulation::Simulation(std::shared_ptr<const engine::Scene> scene)
+    : original_(std::move(scene)), scene_(*original_), state_(engine::InitialState(scene_)) {
+  report_.converged = true;
+}
+
+engine::StepReport Simulation::Step(std::int64_t n) {
+  ECPSIM_DEMAND(n >= 1);
+  if (!pending_.empty()) {
+    // the wrenches are loads of this one step (engine::AppliedImpulse sums them into p_ext)
+    const size_t base = scene_.loads.size();
+    scene_.loads.insert(scene_.loads.end(), pending_.begin(), pending_.end());
+    try {
+      report_ = engine::Step(scene_, state_);
+    } catch (...) {
+      scene_.loads.resize(base);
+      throw;
+    }
+    scene_.loads.resize(base);
+    pending_.clear();
+    --n;
+  }
+  for (std::int64_t k = 0; k < n; ++k) {
+    report_ = engine::Step(scene_, state_);
+  }
+  return report_;
+}
+
+void Simulation::Reset() {
+  scene_.bodies = original_->bodies;
+  pending_.clear();
+  state_ = engine::InitialState(scene_);
+  report_ = engine::StepReport();
+  report_.converged = true;
+}
+
+void Simulation::SetState(const engine::State& state) {
+  if (state.bodies.size() != scene_.bodies.size() ||
+      state.contacts.size() != scene_.contacts.size()) {
+    throw InputError(fmt::format(
+        "set_state: a state of {} bodies and {} contacts: expected one of this scene ({}: {} "
+        "bodies, {} contacts)",
+        state.bodies.size(), state.contacts.size(), scene_.source, scene_.bodies.size(),
+        scene_.contacts.size()));
+  }
+  for (size_t b = 0; b < state.bodies.size(); ++b) {
+    if (!engine::IsFinite(state.bodies[b])) {
+      throw InputError(fmt::format("set_state: body '{}': expected a finite pose and velocity",
+                                   scene_.bodies[b].name));
+    }
+  }
+  state_ = state;
+}
+
+void Simulation::RequireBody(int body) const {
+  ECPSIM_DEMAND(body >= 0 && static_cast<size_t>(body) < scene_.bodies.size());
+}
+
+void Simulation::ApplyWrench(int body, const Eigen::Vector3d& force, const Eigen::Vector3d& torque,
+                             const std::optional<Eigen::Vector3d>& at_W) {
+  RequireBody(body);
+  const engine::Body& b = scene_.bodies[static_cast<size_t>(body)];
+  const std::string where = fmt::format("apply_wrench(body '{}')", b.name);
+  if (b.IsKinematic()) {
+    throw InputError(fmt::format("{}: a kinematic body: expected a dynamic body (a kinematic one "
+                                 "follows its motion; set_kinematic_target moves it)",
+                                 where));
+  }
+  RequireMagnitude(force, where + ": force");
+  RequireMagnitude(torque, where + ": torque");
+  if (force.any()) {
+    engine::Load load = ConstantLoad(engine::Load::Kind::kForce, body, force);
+    if (at_W) {
+      RequireMagnitude(*at_W, where + ": at");
+      // the point rides with the body during the step, as a scene load's point does
+      const engine::BodyState& s = state_.bodies[static_cast<size_t>(body)];
+      load.at_point = true;
+      load.point_B = s.Q_WB.conjugate() * (*at_W - s.p_WB);
+    }
+    pending_.push_back(std::move(load));
+  }
+  if (torque.any()) {
+    pending_.push_back(ConstantLoad(engine::Load::Kind::kTorque, body, torque));
+  }
+}
+
+void Simulation::SetKinematicTarget(int body, const engine::KinematicPose& target) {
+  RequireBody(body);
+  engine::Body& b = scene_.bodies[static_cast<size_t>(body)];
+  const std::string where = fmt::format("set_kinematic_target(body '{}')", b.name);
+  if (!b.IsKinematic()) {
+    throw InputError(fmt::format("{}: a dynamic body: expected a kinematic one (`kinematic: "
+                                 "true`); apply_wrench pushes a dynamic body",
+                                 where));
+  }
+  // from the pose now at t = k h to the target at (k + 1) h, the times the step driver asks for
+  // (step_driver.cpp: PoseAt((steps + 1) h)); the last waypoint's pose holds after it
+  const engine::BodyState& s = state_.bodies[static_cast<size_t>(body)];
+  std::vector<engine::Waypoint> waypoints(2);
+  waypoints[0].t = static_cast<double>(state_.steps) * scene_.h;
+  waypoints[0].pose = {s.p_WB, s.Q_WB};
+  waypoints[1].t = static_cast<double>(state_.steps + 1) * scene_.h;
+  waypoints[1].pose = target;
+  b.motion = std::make_shared<const engine::KinematicMotion>(std::move(waypoints), where);
+}
+
+}  // namespace ecpsim::python

@@ -1,0 +1,76 @@
+#pragma once
+// The state machine behind the Python module's `Simulation`: a scene, its state, and the inputs a
+// controller gives between steps (external wrenches for the next step, kinematic targets). Plain
+// C++, no Python: the bindings (python/ecpsim_module.cpp) only convert.
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "engine/kinematic_motion.h"
+#include "engine/scene.h"
+#include "engine/state.h"
+#include "engine/step_report.h"
+
+namespace ecpsim::python {
+
+/// One simulation of a scene, stepped on request. Not thread-safe: one thread at a time per
+/// object (separate objects, even of the same scene, may step in parallel).
+class Simulation {
+ public:
+  /// Starts at engine::InitialState of `scene` (which must have passed ValidateScene).
+  explicit Simulation(std::shared_ptr<const engine::Scene> scene);
+
+  /// Takes `n` ≥ 1 steps of scene.h; the wrenches given by ApplyWrench since the last step act on
+  /// the first of them only. Returns the last step's report.
+  /// @throws engine::SolverFailure, engine::ModelInvalid, InputError as engine::Step; the state
+  ///         is then the one after the last step that succeeded, and wrenches not yet applied
+  ///         stay pending.
+  engine::StepReport Step(std::int64_t n);
+
+  /// Back to the initial state; pending wrenches dropped, kinematic targets undone.
+  void Reset();
+
+  /// Replaces the state (e.g. one saved by state()); stepping on from it is bit-identical to
+  /// stepping on from where it was saved, given the same inputs.
+  /// @throws InputError if its body or contact count does not fit the scene, or a body's pose or
+  ///         velocity is not finite.
+  void SetState(const engine::State& state);
+
+  /// Adds a wrench on dynamic body `body` for the next step: `force` (N, world) at the world point
+  /// `at_W` (the body's CM when absent) and `torque` (N·m, world). It enters the step's MNCP as an
+  /// applied impulse exactly like a scene load (engine/loads.h): force · h, torque · h, with the
+  /// point fixed in the body.
+  /// @throws InputError for a kinematic or unknown body or a value not finite within ±1e150.
+  void ApplyWrench(int body, const Eigen::Vector3d& force, const Eigen::Vector3d& torque,
+                   const std::optional<Eigen::Vector3d>& at_W);
+
+  /// Prescribes kinematic body `body`'s pose at the end of the next step (p in m, world; q unit,
+  /// body → world); it moves there at a constant twist over the step and stays until the next
+  /// target (or Reset, which restores the scene's motion).
+  /// @throws InputError for a dynamic or unknown body, a non-finite or zero quaternion, or a turn
+  ///         of π or more within the step.
+  void SetKinematicTarget(int body, const engine::KinematicPose& target);
+
+  /// The scene as stepped: the scene given, with the kinematic targets set so far.
+  const engine::Scene& scene() const { return scene_; }
+  const engine::State& state() const { return state_; }
+  /// The state for direct edits of poses and velocities (callers keep it finite).
+  engine::State& mutable_state() { return state_; }
+  /// The report of the last step (iterations 0, converged before any step).
+  const engine::StepReport& last_report() const { return report_; }
+
+ private:
+  void RequireBody(int body) const;
+
+  std::shared_ptr<const engine::Scene> original_;
+  engine::Scene scene_;  // *original_ plus kinematic targets; the next step's wrenches as loads
+  engine::State state_;
+  std::vector<engine::Load> pending_;  // the next step's wrenches
+  engine::StepReport report_;
+};
+
+}  // namespace ecpsim::python
