@@ -1,0 +1,14 @@
+#!/usr/bin/env bash
+# Renders the frames of the multi-body scenes shown in README.md ("Bodies touching bodies") into
+# docs/figures/. Usage: scripts/scene_frames.sh   (ECPSIM=path/to/ecpsim to use another binary)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+ecpsim="${ECPSIM:-./build/app/ecpsim}"
+mkdir -p docs/figures
+# scene and the time of its frame: the stack at rest, the box under way, the T turned
+for shot in stack:5 push_box:1.5 tbar_push:3; do
+  scene="${shot%%:*}"
+  "$ecpsim" render "scenes/$scene.yaml" --time "${shot##*:}" -o "docs/figures/${scene}_frame.png" \
+    --width 960 --height 540
+done
+echo "frames in docs/figures/"
