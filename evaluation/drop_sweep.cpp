@@ -54,9 +54,12 @@ double WallSeconds() {
       .count();
 }
 
-// the seed of a case's pose stream: the kind (or the file) and the seed
+// the seed of a case's pose stream: the kind (or the file's name — not its path, so a mesh
+// collection unpacked anywhere draws the same poses) and the seed
 SeededRandom PoseRandom(const DropCase& c) {
-  return SeededRandom(c.seed, StableHash("drop pose " + (c.kind == kFileKind ? c.path : c.kind)));
+  const std::string source =
+      c.kind == kFileKind ? fs::path(c.path).filename().string() : c.kind;
+  return SeededRandom(c.seed, StableHash("drop pose " + source));
 }
 
 MeshKind KindNamed(const std::string& name) {
