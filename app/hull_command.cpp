@@ -5,13 +5,14 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "app/commands.h"
 #include "app/option_checks.h"
-#include "engine/mesh_scale.h"
+#include "engine/mesh_report.h"
 #include "geometry/convex_hull.h"
 #include "common/errors.h"
 #include "geometry/mass_properties.h"
@@ -20,9 +21,6 @@
 
 namespace ecpsim::app {
 namespace {
-
-// kg/m³, water: the density when neither --mass nor --density is given
-constexpr double kDefaultDensity = 1000.0;
 
 struct HullOptions {
   std::string mesh;
@@ -46,38 +44,22 @@ std::string Format(const Eigen::Vector3d& v) {
 
 void RunHull(const HullOptions& options) {
   const std::string& path = options.mesh;
-  const engine::ScaledMesh scaled =
+  engine::ScaledMesh scaled =
       engine::LoadScaledMesh(path, options.scale, options.units, {"--scale", "--units"});
   if (!scaled.warning.empty()) {
     std::fprintf(stderr, "ecpsim: warning: %s\n", scaled.warning.c_str());
   }
-  const geometry::TriangleMesh& mesh = scaled.mesh;
-  const double scale = scaled.scale;
-  const geometry::MeshTopology topology = geometry::AnalyzeTopology(mesh);
-  // the hull first: a flat mesh fails here with the hull's "coplanar" message
-  const geometry::ConvexHull hull = geometry::ComputeConvexHull(mesh.vertices, path);
-
-  // mass properties of the mesh itself when it bounds a solid; otherwise, explicitly, those of
-  // its convex hull (an open scan or a surface patch still gets a usable, documented estimate)
-  const bool solid = topology.closed && topology.consistently_oriented;
-  std::string mass_source = "mesh";
-  geometry::TriangleMesh source_mesh = mesh;
-  if (!solid) {
-    mass_source = topology.closed ? "convex hull (mesh is inconsistently oriented)"
-                                  : "convex hull (mesh is open)";
-    std::fprintf(stderr, "%s\n",
-                 fmt::format("ecpsim: warning: {}: the mesh is not a closed, consistently oriented "
-                             "surface ({} boundary edges, {} non-manifold edges); using the mass "
-                             "properties of its convex hull",
-                             path, topology.boundary_edges, topology.non_manifold_edges)
-                     .c_str());
-    source_mesh = geometry::TriangulateHull(hull);
+  const engine::MeshReport report =
+      engine::ReportMesh(std::move(scaled), path, options.mass, options.density);
+  if (!report.warning.empty()) {
+    std::fprintf(stderr, "ecpsim: warning: %s\n", report.warning.c_str());
   }
-  const double density = options.density.value_or(kDefaultDensity);
-  const geometry::MassProperties props =
-      options.mass ? geometry::ComputeMassPropertiesForMass(source_mesh, *options.mass, path)
-                   : geometry::ComputeMassProperties(source_mesh, density, path);
-  const geometry::ConvexHull body_hull = geometry::TranslateHull(hull, -props.center_of_mass);
+  const geometry::TriangleMesh& mesh = report.scaled.mesh;
+  const double scale = report.scaled.scale;
+  const geometry::MeshTopology& topology = report.topology;
+  const std::string& mass_source = report.mass_source;
+  const geometry::MassProperties& props = report.props;
+  const geometry::ConvexHull& body_hull = report.body_hull;
 
   if (options.json) {
     nlohmann::json hull_json;

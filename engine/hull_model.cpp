@@ -101,11 +101,9 @@ class IslandStepper {
     // every contact of an island with bodies touching bodies: a box squeezed between a jaw and
     // a pusher on the ground is indeterminate in how much the ground's sticking friction carries
     // too. A body alone against obstacles keeps the paper's exact law
-    const bool coupled =
-        std::any_of(problem.contacts.begin(), problem.contacts.end(),
-                    [](const IslandContact& cp) { return cp.other_kind != Other::kFixed; });
-    for (IslandContact& cp : problem.contacts) {
-      if (coupled) cp.stick_creep = kStickCreepFraction * scales.bodies[cp.body].velocity;
+    if (Coupled(problem)) {
+      for (IslandContact& cp : problem.contacts)
+        cp.stick_creep = kStickCreepFraction * scales.bodies[cp.body].velocity;
     }
 
     // windows around the support features at the predicted poses: F's in the direction of −n,
@@ -382,6 +380,12 @@ class IslandStepper {
   // bodies, or against a kinematic body, each body's velocity scale is at least the largest of
   // the island's (and of the kinematic bodies' speeds over the bodies' lengths); its impulse
   // scale follows (m V). A body alone against obstacles keeps its own.
+  // whether bodies touch bodies in the island (several bodies, or one against a kinematic body)
+  static bool Coupled(const IslandProblem& problem) {
+    return std::any_of(problem.contacts.begin(), problem.contacts.end(),
+                       [](const IslandContact& cp) { return cp.other_kind != Other::kFixed; });
+  }
+
   static void RaiseToIslandVelocity(const IslandProblem& problem, IslandScales& scales) {
     double velocity = 0;
     for (const Scales& s : scales.bodies) velocity = std::max(velocity, s.velocity);
@@ -390,11 +394,7 @@ class IslandStepper {
       const KinematicBody& g = problem.kinematic[cp.other];
       velocity = std::max(velocity, g.v.norm() + g.w.norm() * scales.bodies[cp.body].length);
     }
-    const bool coupled =
-        problem.bodies.size() > 1 ||
-        std::any_of(problem.contacts.begin(), problem.contacts.end(),
-                    [](const IslandContact& cp) { return cp.other_kind == Other::kKinematic; });
-    if (!coupled) return;
+    if (!Coupled(problem)) return;
     for (size_t b = 0; b < scales.bodies.size(); ++b) {
       Scales& s = scales.bodies[b];
       if (s.velocity >= velocity) continue;

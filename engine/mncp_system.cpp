@@ -317,6 +317,19 @@ StepMotion AddBodyRows(const BodyProblem& problem, int column, const Eigen::Vect
   return m;
 }
 
+double SetFrictionRows(const Friction& fr, double p_n, double v_t, double v_o, double v_r,
+                       double p_t, double p_o, double p_r, double slip,
+                       const MncpLayout::Contact& L, Eigen::VectorXd& F) {
+  const double et2 = fr.e_t * fr.e_t, eo2 = fr.e_o * fr.e_o, er2 = fr.e_r * fr.e_r;
+  F[L.p_t] = et2 * fr.mu * p_n * v_t + p_t * slip;
+  F[L.p_o] = eo2 * fr.mu * p_n * v_o + p_o * slip;
+  F[L.p_r] = er2 * fr.mu * p_n * v_r + p_r * slip;
+  // the friction cone as μ p_n − ‖p̂‖ (see MncpResidual's note and engine/README.md)
+  const double p_hat = std::sqrt(p_t * p_t / et2 + p_o * p_o / eo2 + p_r * p_r / er2);
+  F[L.sigma] = fr.mu * p_n - p_hat;
+  return p_hat;
+}
+
 void AddContactRows(const ContactSides& sides, const MncpLayout::Contact& L,
                     const StepMotion& body, const StepMotion* other, double h,
                     const Eigen::VectorXd& z, Eigen::VectorXd& F, Eigen::MatrixXd* J_out) {
@@ -382,12 +395,7 @@ void AddContactRows(const ContactSides& sides, const MncpLayout::Contact& L,
   const double et2 = fr.e_t * fr.e_t, eo2 = fr.e_o * fr.e_o, er2 = fr.e_r * fr.e_r;
   // σ + ε for a creeping contact; σ itself (not σ + 0) otherwise, to the bit
   const double slip = sides.stick_creep > 0 ? sigma + sides.stick_creep : sigma;
-  F[L.p_t] = et2 * fr.mu * p_n * v_t + p_t * slip;
-  F[L.p_o] = eo2 * fr.mu * p_n * v_o + p_o * slip;
-  F[L.p_r] = er2 * fr.mu * p_n * v_r + p_r * slip;
-  // the friction cone as μ p_n − ‖p̂‖ (see MncpResidual's note and engine/README.md)
-  const double p_hat = std::sqrt(p_t * p_t / et2 + p_o * p_o / eo2 + p_r * p_r / er2);
-  F[L.sigma] = fr.mu * p_n - p_hat;
+  const double p_hat = SetFrictionRows(fr, p_n, v_t, v_o, v_r, p_t, p_o, p_r, slip, L, F);
 
   if (!with_jacobian) return;
 

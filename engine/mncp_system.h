@@ -216,6 +216,16 @@ struct ContactSides {
   double stick_creep = 0;             // m/s, IslandContact::stick_creep (0: exact sticking)
 };
 
+/// Sets contact L's friction rows (paper eq. friction: the Fritz–John conditions of maximum
+/// dissipation on the ellipsoid) for the sliding velocity (v_t, v_o), the spin v_r, the friction
+/// impulses (p_t, p_o, p_r) and `slip`, the multiplier σ (σ + ε for a creeping contact):
+///   F[p_t] = e_t² μ p_n v_t + p_t slip,  F[p_o] = e_o² μ p_n v_o + p_o slip,
+///   F[p_r] = e_r² μ p_n v_r + p_r slip,  F[σ] = μ p_n − ‖(p_t/e_t, p_o/e_o, p_r/e_r)‖.
+/// Returns that norm, ‖p̂‖, for the Jacobian.
+double SetFrictionRows(const Friction& fr, double p_n, double v_t, double v_o, double v_r,
+                       double p_t, double p_o, double p_r, double slip,
+                       const MncpLayout::Contact& L, Eigen::VectorXd& F);
+
 /// Sets contact L's rows and, if `J` is not null, their Jacobian, and adds the contact's wrench
 /// to the Newton–Euler rows of F (`body`) and, when G is a dynamic body (`other` with a column),
 /// the opposite wrench to G's: the equations of EvaluateIslandMncp (island_mncp.h). `other` is G's

@@ -427,11 +427,7 @@ void EvaluateMultiPatch(const MultiPatchProblem& problem, const MncpLayout& layo
       const double et2 = fr.e_t * fr.e_t, eo2 = fr.e_o * fr.e_o, er2 = fr.e_r * fr.e_r;
 
       // maximum dissipation of patch i in (p_t, p_o, p_rE) at the combined ECP's velocity
-      F[L.p_t] = et2 * fr.mu * p_n * v_t + p_t * sigma;
-      F[L.p_o] = eo2 * fr.mu * p_n * v_o + p_o * sigma;
-      F[L.p_r] = er2 * fr.mu * p_n * v_r + p_rE * sigma;
-      const double p_hat = std::sqrt(p_t * p_t / et2 + p_o * p_o / eo2 + p_rE * p_rE / er2);
-      F[L.sigma] = fr.mu * p_n - p_hat;
+      const double p_hat = SetFrictionRows(fr, p_n, v_t, v_o, v_r, p_t, p_o, p_rE, sigma, L, F);
 
       if (!with_jacobian) continue;
       Eigen::MatrixXd& J = *J_out;

@@ -23,6 +23,7 @@
 #include <pybind11/stl.h>
 
 #include "common/errors.h"
+#include "engine/mesh_report.h"
 #include "engine/mesh_scale.h"
 #include "engine/scene_builders.h"
 #include "engine/scene_limits.h"
@@ -52,10 +53,8 @@ using SceneHandle = std::shared_ptr<engine::Scene>;
 constexpr double kSeparatedImpulseFraction = 1e-9;  // dimensionless
 // a contact whose slip multiplier σ exceeds this fraction of the body's velocity scale
 // |g| h + |v| slides; a sticking one's σ is 0 up to the solver's tolerance, or the hull model's
-// creep of 1e-9 of the velocity scale (engine/hull_model.cpp, kStickCreepFraction)
+// creep of 1e-7 of the velocity scale (engine/hull_model.cpp, kStickCreepFraction)
 constexpr double kSlidingSlipFraction = 1e-6;  // dimensionless
-// kg/m³, water: hull()'s density when neither mass nor density is given (as `ecpsim hull`)
-constexpr double kDefaultDensity = 1000.0;
 
 // ---- conversions --------------------------------------------------------------------------
 
@@ -716,28 +715,14 @@ py::dict Hull(const std::string& path, const std::optional<double>& scale,
     }
   }
   py::gil_scoped_release release;
-  const engine::ScaledMesh scaled = engine::LoadScaledMesh(path, scale, units, {"scale", "units"});
-  const geometry::TriangleMesh& mesh = scaled.mesh;
-  const geometry::MeshTopology topology = geometry::AnalyzeTopology(mesh);
-  const geometry::ConvexHull hull = geometry::ComputeConvexHull(mesh.vertices, path);
-  // as `ecpsim hull`: the mesh's own mass properties when it bounds a solid, else its hull's
-  const bool solid = topology.closed && topology.consistently_oriented;
+  engine::ScaledMesh scaled = engine::LoadScaledMesh(path, scale, units, {"scale", "units"});
   std::vector<std::string> warnings;
   if (!scaled.warning.empty()) warnings.push_back(scaled.warning);
-  std::string mass_source = "mesh";
-  const geometry::TriangleMesh source_mesh = solid ? mesh : geometry::TriangulateHull(hull);
-  if (!solid) {
-    mass_source = topology.closed ? "convex hull (mesh is inconsistently oriented)"
-                                  : "convex hull (mesh is open)";
-    warnings.push_back(fmt::format("{}: the mesh is not a closed, consistently oriented surface "
-                                   "({} boundary edges, {} non-manifold edges); using the mass "
-                                   "properties of its convex hull",
-                                   path, topology.boundary_edges, topology.non_manifold_edges));
-  }
-  const geometry::MassProperties props =
-      mass ? geometry::ComputeMassPropertiesForMass(source_mesh, *mass, path)
-           : geometry::ComputeMassProperties(source_mesh, density.value_or(kDefaultDensity), path);
-  const geometry::ConvexHull body_hull = geometry::TranslateHull(hull, -props.center_of_mass);
+  // as `ecpsim hull`: the mesh's own mass properties when it bounds a solid, else its hull's
+  const engine::MeshReport report = engine::ReportMesh(std::move(scaled), path, mass, density);
+  if (!report.warning.empty()) warnings.push_back(report.warning);
+  const geometry::ConvexHull& body_hull = report.body_hull;
+  const geometry::MassProperties& props = report.props;
 
   py::gil_scoped_acquire acquire;
   const py::ssize_t m = static_cast<py::ssize_t>(body_hull.normals.size());
@@ -762,10 +747,10 @@ py::dict Hull(const std::string& path, const std::optional<double>& scale,
   d["inertia"] = Array(props.inertia);
   d["principal_moments"] = Array(props.principal_moments);
   d["principal_axes"] = Array(props.principal_axes);
-  d["scale"] = scaled.scale;
-  d["closed"] = topology.closed;
-  d["oriented"] = topology.consistently_oriented;
-  d["mass_source"] = mass_source;
+  d["scale"] = report.scaled.scale;
+  d["closed"] = report.topology.closed;
+  d["oriented"] = report.topology.consistently_oriented;
+  d["mass_source"] = report.mass_source;
   d["warnings"] = warnings;
   return d;
 }
