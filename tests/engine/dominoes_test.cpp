@@ -1,8 +1,8 @@
 // scenes/dominoes.yaml (a row of nine 1 cm × 5 cm × 10 cm blocks, the first tipped): the cascade
 // through islands that grow as the blocks fall onto each other, solved sparse from 200 unknowns
-// (engine/README.md, "The island's linear algebra"). The first 0.55 s: five blocks fall (the
-// sixth is reached at ≈ 0.58 s), which keeps the test at about a second of CPU; the whole
-// cascade runs in `ecpsim run scenes/dominoes.yaml` (0.9 s, a few seconds of CPU).
+// (engine/README.md, "The island's linear algebra"). The first 0.45 s: five blocks fall (the
+// sixth is reached at ≈ 0.47 s), which keeps the test under a second of CPU; the whole
+// cascade runs in `ecpsim run scenes/dominoes.yaml` (0.7 s, about a second of CPU).
 
 #include <algorithm>
 #include <cmath>
@@ -22,7 +22,7 @@ namespace ecpsim::engine {
 namespace {
 
 // s: the blocks that fall within it (see the file's comment)
-constexpr double kDuration = 0.55;
+constexpr double kDuration = 0.45;
 constexpr int kFallen = 5;
 // rad: a block has started tipping when it turned this far (the first block starts at once,
 // the others only when struck: before that they rest, turned by round-off only)
