@@ -2,11 +2,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <utility>
 #include <vector>
 
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
+#include <Eigen/OrderingMethods>
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseLU>
 
 namespace ecpsim::engine {
 namespace {
@@ -31,9 +35,10 @@ constexpr double kStallProgress = 0.5;
 // step (see SolveMcp)
 constexpr double kMinNewtonStep = 0.25;
 
+template <typename Matrix>
 struct Reformulation {
   Eigen::VectorXd phi;  // Φ(x)
-  Eigen::MatrixXd H;    // an element of the generalized Jacobian of Φ
+  Matrix H;             // an element of the generalized Jacobian of Φ
 };
 
 // penalized Fischer–Burmeister φ_λ(a, b) = λ(√(a²+b²) − a − b) − (1−λ) a₊ b₊ and the
@@ -58,16 +63,45 @@ void PenalizedFb(double a, double b, double lambda, double mu, double* phi, doub
 }
 
 // ScaledProblem's storage, kept from call to call
+template <typename Matrix>
 struct ScaledStorage {
   Eigen::VectorXd z, row_factor, diagonal;
-  Eigen::MatrixXd J;
+  Matrix J;
 };
 
+// H = diag(row_factor) J diag(var_scale) + diag(diagonal), dense
+void FormNewtonMatrix(const Eigen::MatrixXd& J, const Eigen::VectorXd& row_factor,
+                      const Eigen::VectorXd& var_scale, const Eigen::VectorXd& diagonal,
+                      Eigen::MatrixXd& H) {
+  const Eigen::Index n = J.cols();
+  H.resize(n, n);
+  for (Eigen::Index j = 0; j < n; ++j)
+    H.col(j) = (var_scale[j] * row_factor).cwiseProduct(J.col(j));
+  H.diagonal() += diagonal;
+}
+
+// the same on J's pattern (the diagonal added to it where missing): the same products, entry by
+// entry
+void FormNewtonMatrix(const SparseMatrix& J, const Eigen::VectorXd& row_factor,
+                      const Eigen::VectorXd& var_scale, const Eigen::VectorXd& diagonal,
+                      SparseMatrix& H) {
+  H = J;
+  H.makeCompressed();
+  for (Eigen::Index j = 0; j < H.outerSize(); ++j)
+    for (SparseMatrix::InnerIterator it(H, j); it; ++it)
+      it.valueRef() = (var_scale[j] * row_factor[it.row()]) * it.value();
+  for (Eigen::Index j = 0; j < H.cols(); ++j)
+    if (diagonal[j] != 0) H.coeffRef(j, j) += diagonal[j];
+  H.makeCompressed();
+}
+
+template <typename Matrix>
 class ScaledProblem {
  public:
-  ScaledProblem(const McpFunction& f, int num_free, const Eigen::VectorXd& row_scale,
+  using Function = std::function<void(const Eigen::VectorXd&, Eigen::VectorXd*, Matrix*)>;
+  ScaledProblem(const Function& f, int num_free, const Eigen::VectorXd& row_scale,
                 const Eigen::VectorXd& var_scale, double lambda, double smoothing,
-                ScaledStorage& storage)
+                ScaledStorage<Matrix>& storage)
       : f_(f),
         num_free_(num_free),
         row_scale_(row_scale),
@@ -80,7 +114,8 @@ class ScaledProblem {
         J_(storage.J) {}
 
   // Φ and (optionally) its Jacobian at scaled x; F is the unscaled residual at z = var_scale ⊙ x
-  void Evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* F, Reformulation* out, bool jacobian) {
+  void Evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* F, Reformulation<Matrix>* out,
+                bool jacobian) {
     // z_, J_ and out's members keep their storage from call to call: no allocation per iterate
     z_ = var_scale_.cwiseProduct(x);
     f_(z_, F, jacobian ? &J_ : nullptr);
@@ -110,14 +145,11 @@ class ScaledProblem {
       diagonal_[i] = da;
     }
     if (!jacobian) return;
-    out->H.resize(n, n);
-    for (int j = 0; j < n; ++j)
-      out->H.col(j) = (var_scale_[j] * row_factor_).cwiseProduct(J_.col(j));
-    out->H.diagonal() += diagonal_;
+    FormNewtonMatrix(J_, row_factor_, var_scale_, diagonal_, out->H);
   }
 
  private:
-  const McpFunction& f_;
+  const Function& f_;
   int num_free_;
   const Eigen::VectorXd& row_scale_;
   const Eigen::VectorXd& var_scale_;
@@ -126,7 +158,7 @@ class ScaledProblem {
   Eigen::VectorXd& z_;
   Eigen::VectorXd& row_factor_;
   Eigen::VectorXd& diagonal_;
-  Eigen::MatrixXd& J_;
+  Matrix& J_;
 };
 
 // LU with partial pivoting, unblocked (right-looking), on a workspace kept across iterations:
@@ -211,19 +243,103 @@ class SmallLu {
 
 bool AllFinite(const Eigen::VectorXd& v) { return v.allFinite(); }
 
-// the storage of one solve, kept from solve to solve (one per thread), so that a time step
-// allocates nothing once its sizes have been seen
+// The Newton matrix's linear algebra, dense: SmallLu for the Newton direction and the normal
+// matrix HᵀH for the Levenberg–Marquardt one, O(n³) per iteration — the fastest for one body's
+// MNCP and small islands
+class DenseNewtonAlgebra {
+ public:
+  using Matrix = Eigen::MatrixXd;
+  void Factor(const Matrix& H) { lu_.Compute(H); }
+  // x ← H⁻¹ x (non-finite where H is singular)
+  void Solve(Eigen::VectorXd& x) const { lu_.SolveInPlace(x); }
+  // direction = −(HᵀH + μ I)⁻¹ gradient
+  static void SolveDamped(const Matrix& H, double mu, const Eigen::VectorXd& gradient,
+                          Eigen::VectorXd& direction) {
+    Eigen::MatrixXd normal = H.transpose() * H;
+    normal.diagonal().array() += mu;
+    direction = normal.ldlt().solve(-gradient);
+  }
+
+ private:
+  SmallLu lu_;
+};
+
+// The same on a sparse H (an island's: bodies' 6 × 6 blocks coupled only through their shared
+// contacts, engine/README.md "The island's linear algebra"): a supernodal LU with a
+// fill-reducing column ordering (COLAMD), analysed again only when the pattern changes, and the
+// normal matrix HᵀH + μ I, as sparse as H's column overlap, by a simplicial LDLᵀ with AMD
+// ordering. Both cost in proportion to the island for a chain of bodies.
+class SparseNewtonAlgebra {
+ public:
+  using Matrix = SparseMatrix;
+  void Factor(const Matrix& H) {
+    // a non-finite entry would reach the LU's pivot search, whose comparisons it defeats
+    factored_ = AllFinite(H);
+    if (!factored_) return;
+    if (!SamePattern(H)) {
+      lu_.analyzePattern(H);
+      outer_.assign(H.outerIndexPtr(), H.outerIndexPtr() + H.outerSize() + 1);
+      inner_.assign(H.innerIndexPtr(), H.innerIndexPtr() + H.nonZeros());
+    }
+    lu_.factorize(H);
+    factored_ = lu_.info() == Eigen::Success;
+  }
+  void Solve(Eigen::VectorXd& x) {
+    if (!factored_) {
+      x.setConstant(std::numeric_limits<double>::quiet_NaN());
+      return;
+    }
+    rhs_ = x;
+    x = lu_.solve(rhs_);
+  }
+  void SolveDamped(const Matrix& H, double mu, const Eigen::VectorXd& gradient,
+                   Eigen::VectorXd& direction) {
+    normal_ = H.transpose() * H;
+    for (Eigen::Index j = 0; j < normal_.cols(); ++j) normal_.coeffRef(j, j) += mu;
+    normal_.makeCompressed();
+    ldlt_.compute(normal_);
+    if (ldlt_.info() != Eigen::Success) {
+      direction.setConstant(gradient.size(), std::numeric_limits<double>::quiet_NaN());
+      return;
+    }
+    direction = ldlt_.solve(-gradient);
+  }
+
+ private:
+  static bool AllFinite(const Matrix& H) {
+    return Eigen::Map<const Eigen::VectorXd>(H.valuePtr(), H.nonZeros()).allFinite();
+  }
+  bool SamePattern(const Matrix& H) const {
+    return static_cast<Eigen::Index>(outer_.size()) == H.outerSize() + 1 &&
+           static_cast<Eigen::Index>(inner_.size()) == H.nonZeros() &&
+           std::equal(outer_.begin(), outer_.end(), H.outerIndexPtr()) &&
+           std::equal(inner_.begin(), inner_.end(), H.innerIndexPtr());
+  }
+
+  bool factored_ = false;
+  Eigen::SparseLU<Matrix, Eigen::COLAMDOrdering<int>> lu_;
+  std::vector<int> outer_, inner_;  // the pattern lu_ was analysed for
+  Eigen::VectorXd rhs_;
+  Matrix normal_;
+  Eigen::SimplicialLDLT<Matrix, Eigen::Lower, Eigen::AMDOrdering<int>> ldlt_;
+};
+
+// the storage of one solve, kept from solve to solve (one per thread and algebra), so that a
+// time step allocates nothing once its sizes have been seen
+template <typename Algebra>
 struct Workspace {
-  ScaledStorage scaled;
+  using Matrix = typename Algebra::Matrix;
+  ScaledStorage<Matrix> scaled;
   Eigen::VectorXd x, F, F_trial, gradient, direction, linear_residual, x_trial, x_saved, F_saved;
-  Reformulation current, trial, saved;
-  SmallLu lu;
+  Reformulation<Matrix> current, trial, saved;
+  Algebra algebra;
   std::vector<double> recent_merits;
 };
 
 // lends the thread's shared workspace to one solve of n unknowns for its lifetime; a solve
 // nested in a callback's evaluation, or one so large that its matrices should not stay
 // allocated after it (a whole big hull), uses a workspace of its own
+template <typename Algebra>
 class WorkspaceLease {
  public:
   explicit WorkspaceLease(int n)
@@ -233,19 +349,21 @@ class WorkspaceLease {
   ~WorkspaceLease() { shared_taken_ = shared_was_taken_; }
   WorkspaceLease(const WorkspaceLease&) = delete;
   WorkspaceLease& operator=(const WorkspaceLease&) = delete;
-  Workspace& Get() { return own_used_ ? own_ : shared_; }
+  Workspace<Algebra>& Get() { return own_used_ ? own_ : shared_; }
 
  private:
   // unknowns: the kept matrices are then at most a few hundred kB
   static constexpr int kMaxSharedSize = 256;
-  static thread_local Workspace shared_;
+  static thread_local Workspace<Algebra> shared_;
   static thread_local bool shared_taken_;
   bool shared_was_taken_;
   bool own_used_;
-  Workspace own_;
+  Workspace<Algebra> own_;
 };
-thread_local Workspace WorkspaceLease::shared_;
-thread_local bool WorkspaceLease::shared_taken_ = false;
+template <typename Algebra>
+thread_local Workspace<Algebra> WorkspaceLease<Algebra>::shared_;
+template <typename Algebra>
+thread_local bool WorkspaceLease<Algebra>::shared_taken_ = false;
 
 }  // namespace
 
@@ -260,19 +378,25 @@ double McpResidual(const Eigen::VectorXd& z, const Eigen::VectorXd& F, int num_f
   return r;
 }
 
-McpResult SolveMcp(const McpFunction& f, int num_free, const Eigen::VectorXd& row_scale,
-                   const Eigen::VectorXd& var_scale, Eigen::VectorXd& z,
-                   const McpOptions& options) {
+namespace {
+
+// SolveMcp with the Newton matrix's linear algebra `Algebra` (dense or sparse)
+template <typename Algebra>
+McpResult SolveMcpWith(
+    const std::function<void(const Eigen::VectorXd&, Eigen::VectorXd*, typename Algebra::Matrix*)>& f,
+    int num_free, const Eigen::VectorXd& row_scale, const Eigen::VectorXd& var_scale,
+    Eigen::VectorXd& z, const McpOptions& options) {
+  using Matrix = typename Algebra::Matrix;
   const int n = static_cast<int>(z.size());
-  WorkspaceLease lease(n);
-  Workspace& w = lease.Get();
-  ScaledProblem problem(f, num_free, row_scale, var_scale, options.fb_lambda,
-                        options.jacobian_smoothing, w.scaled);
+  WorkspaceLease<Algebra> lease(n);
+  Workspace<Algebra>& w = lease.Get();
+  ScaledProblem<Matrix> problem(f, num_free, row_scale, var_scale, options.fb_lambda,
+                                options.jacobian_smoothing, w.scaled);
   Eigen::VectorXd& x = w.x;
   Eigen::VectorXd& F = w.F;
   Eigen::VectorXd& F_trial = w.F_trial;
-  Reformulation& current = w.current;
-  Reformulation& trial = w.trial;
+  Reformulation<Matrix>& current = w.current;
+  Reformulation<Matrix>& trial = w.trial;
   x = z.cwiseQuotient(var_scale);
   const bool project = options.project_nonnegative;
   if (project) x.tail(n - num_free) = x.tail(n - num_free).cwiseMax(0.0);
@@ -294,14 +418,14 @@ McpResult SolveMcp(const McpFunction& f, int num_free, const Eigen::VectorXd& ro
   recent_merits.clear();
   recent_merits.push_back(0.5 * current.phi.squaredNorm());
 
-  SmallLu& lu = w.lu;
+  Algebra& algebra = w.algebra;
   Eigen::VectorXd& gradient = w.gradient;
   Eigen::VectorXd& direction = w.direction;
   Eigen::VectorXd& linear_residual = w.linear_residual;
   Eigen::VectorXd& x_trial = w.x_trial;
   Eigen::VectorXd& x_saved = w.x_saved;
   Eigen::VectorXd& F_saved = w.F_saved;
-  Reformulation& saved = w.saved;
+  Reformulation<Matrix>& saved = w.saved;
   double lm_damping = 1;  // of ‖Φ‖, the Levenberg–Marquardt damping (adapted below)
   double best_residual = result.residual;  // and the iteration that reached it (stall test)
   int best_iteration = 0;
@@ -316,9 +440,9 @@ McpResult SolveMcp(const McpFunction& f, int num_free, const Eigen::VectorXd& ro
 
     // semismooth Newton direction, else Levenberg–Marquardt with μ = ‖Φ‖² (Yamashita–Fukushima:
     // fast local convergence even where solutions are not isolated), else steepest descent
-    lu.Compute(current.H);
+    algebra.Factor(current.H);
     direction = -current.phi;
-    lu.SolveInPlace(direction);
+    algebra.Solve(direction);
     bool newton_ok = AllFinite(direction);
     if (newton_ok) {
       linear_residual.noalias() = current.H * direction;
@@ -328,9 +452,7 @@ McpResult SolveMcp(const McpFunction& f, int num_free, const Eigen::VectorXd& ro
           gradient.dot(direction) <= -kMinDescentCosine * gradient.norm() * direction.norm();
     }
     const auto lm_direction = [&](double mu) {
-      Eigen::MatrixXd normal = current.H.transpose() * current.H;
-      normal.diagonal().array() += std::max(mu, 1e-20);
-      direction = normal.ldlt().solve(-gradient);
+      algebra.SolveDamped(current.H, std::max(mu, 1e-20), gradient, direction);
       if (!AllFinite(direction) || gradient.dot(direction) >= 0) direction = -gradient;
     };
     if (!newton_ok) lm_direction(current.phi.squaredNorm());
@@ -430,6 +552,20 @@ McpResult SolveMcp(const McpFunction& f, int num_free, const Eigen::VectorXd& ro
   }
   result.converged = result.residual <= options.tolerance;
   return result;
+}
+
+}  // namespace
+
+McpResult SolveMcp(const McpFunction& f, int num_free, const Eigen::VectorXd& row_scale,
+                   const Eigen::VectorXd& var_scale, Eigen::VectorXd& z,
+                   const McpOptions& options) {
+  return SolveMcpWith<DenseNewtonAlgebra>(f, num_free, row_scale, var_scale, z, options);
+}
+
+McpResult SolveMcp(const SparseMcpFunction& f, int num_free, const Eigen::VectorXd& row_scale,
+                   const Eigen::VectorXd& var_scale, Eigen::VectorXd& z,
+                   const McpOptions& options) {
+  return SolveMcpWith<SparseNewtonAlgebra>(f, num_free, row_scale, var_scale, z, options);
 }
 
 }  // namespace ecpsim::engine

@@ -1,11 +1,13 @@
 #pragma once
-// A solver for small dense mixed complementarity problems: semismooth Newton on the penalized
+// A solver for mixed complementarity problems: semismooth Newton on the penalized
 // Fischer–Burmeister reformulation with a non-monotone Armijo line search and Levenberg–Marquardt /
-// gradient fallbacks (FORMULATION.md, "Solver guidance").
+// gradient fallbacks (FORMULATION.md, "Solver guidance"), with a dense Jacobian (one body's MNCP,
+// small islands) or a sparse one (large islands, whose cost then grows with their size).
 
 #include <functional>
 
 #include <Eigen/Core>
+#include <Eigen/SparseCore>
 
 namespace ecpsim::engine {
 
@@ -13,6 +15,12 @@ namespace ecpsim::engine {
 /// The callback returns F(z) and, when J is not null, the Jacobian ∂F/∂z.
 using McpFunction =
     std::function<void(const Eigen::VectorXd& z, Eigen::VectorXd* F, Eigen::MatrixXd* J)>;
+
+/// Column-major sparse matrix, the Jacobian of a SparseMcpFunction.
+using SparseMatrix = Eigen::SparseMatrix<double>;
+/// The same with a sparse Jacobian (compressed or not; entries outside its pattern are zero).
+using SparseMcpFunction =
+    std::function<void(const Eigen::VectorXd& z, Eigen::VectorXd* F, SparseMatrix* J)>;
 
 /// A problem-specific convergence measure of (z, F) (z and F unscaled); by default McpResidual
 /// of the scaled problem.
@@ -62,6 +70,15 @@ double McpResidual(const Eigen::VectorXd& z, const Eigen::VectorXd& F, int num_f
 /// (relative to the scales, never an absolute bar). Never returns a non-finite z: if an iterate
 /// would be non-finite the solve stops unconverged at the last finite iterate.
 McpResult SolveMcp(const McpFunction& f, int num_free, const Eigen::VectorXd& row_scale,
+                   const Eigen::VectorXd& var_scale, Eigen::VectorXd& z,
+                   const McpOptions& options = {});
+
+/// The same iteration with a sparse Jacobian: the Newton matrix is factored by a sparse LU with
+/// a fill-reducing ordering and the Levenberg–Marquardt step solves the sparse normal equations,
+/// so an iteration costs in proportion to the factors' fill (for a chain of bodies, to the
+/// number of unknowns) instead of n³. Same options, same result up to the factorizations'
+/// round-off.
+McpResult SolveMcp(const SparseMcpFunction& f, int num_free, const Eigen::VectorXd& row_scale,
                    const Eigen::VectorXd& var_scale, Eigen::VectorXd& z,
                    const McpOptions& options = {});
 

@@ -70,11 +70,22 @@ constexpr double kStickCreepFraction = 1e-7;
 // faces than three plus the drops left is tried one face at a time without going deeper: the
 // tree of drops grows as n³ (a 37 m elk mesh's fan took 680,000 iterations in one step)
 constexpr int kMaxDegenerateDrops = 3;
+// an island of several bodies is re-solved on fewer faces only when it stalled within this
+// factor of the tolerance: Newton stalls 10–100 × above it between the planes of a degenerate
+// vertex (engine/README.md, "Degenerate vertices"), 10⁴ leaves margin
+constexpr double kMaxDegenerateStall = 1e4;
 // growing the window this many times (each by the faces around the constraints the solution
 // violated) before the guess counts as failed: a step never falls back to every hull face, whose
 // dense Newton matrix costs in proportion to the hull (11,000 unknowns for a fine UV sphere); one
 // growth is what a solution that moved past the window's rim needs, the rest is margin
 constexpr int kMaxWindowGrowth = 6;
+
+// an island of several bodies whose MNCP has at least this many unknowns is solved with a
+// sparse Jacobian (complementarity_solver.h), smaller ones and every one-body island dense (as
+// before islands, to the bit): on scenes/dominoes.yaml's first 0.6 s the CPU time was 4.0 s
+// all dense, 1.0 s from 150 unknowns, 0.7 s from 200, 1.2 s from 300, 3.4 s from 400
+// (engine/README.md, "The island's linear algebra")
+constexpr int kMinSparseUnknowns = 200;
 
 using Other = IslandContact::Other;
 
@@ -177,7 +188,7 @@ class IslandStepper {
           // Newton stalls just above the tolerance where faces are weakly active at the
           // solution, or where four or more hull faces meet at the ECP (a quad mesh's vertex):
           // the faces that carry the contact alone, or one face left out, solve it
-          if (attempt.outcome == Outcome::kUnconverged &&
+          if (attempt.outcome == Outcome::kUnconverged && IsNearSolutionStall(layout, attempt) &&
               (SolveOnCarryingFaces(problem, layout, z, options, scales, ejection_energy, state,
                                     result) ||
                SolveAtDegenerateVertex(problem, layout, z, options, scales, ejection_energy,
@@ -226,16 +237,24 @@ class IslandStepper {
   Attempt Solve(const IslandProblem& problem, const IslandLayout& layout, VectorXd& z,
                 McpOptions& options, const IslandScales& scales, double ejection_energy,
                 AdvanceResult& result) const {
-    const McpFunction f = [&](const VectorXd& zz, VectorXd* F, Eigen::MatrixXd* J) {
-      EvaluateIslandMncp(problem, layout, zz, F, J);
-    };
     const VectorXd row_scale = IslandRowScales(problem, layout, scales);
     const VectorXd var_scale = IslandVariableScales(problem, layout, scales);
     const IslandResidualUnits units = MakeIslandResidualUnits(problem, scales, options.tolerance);
     options.measure = [&](const VectorXd& zz, const VectorXd& F) {
       return IslandMncpResidual(problem, layout, zz, F, row_scale, var_scale, units);
     };
-    const McpResult solve = SolveMcp(f, layout.num_free, row_scale, var_scale, z, options);
+    McpResult solve;
+    if (layout.num_bodies > 1 && layout.size >= kMinSparseUnknowns) {
+      const SparseMcpFunction f = [&](const VectorXd& zz, VectorXd* F, SparseMatrix* J) {
+        EvaluateIslandMncpSparse(problem, layout, zz, F, J);
+      };
+      solve = SolveMcp(f, layout.num_free, row_scale, var_scale, z, options);
+    } else {
+      const McpFunction f = [&](const VectorXd& zz, VectorXd* F, Eigen::MatrixXd* J) {
+        EvaluateIslandMncp(problem, layout, zz, F, J);
+      };
+      solve = SolveMcp(f, layout.num_free, row_scale, var_scale, z, options);
+    }
     options.measure = nullptr;
     result.iterations += solve.iterations;
     Attempt attempt;
@@ -260,6 +279,17 @@ class IslandStepper {
     return attempt;
   }
 
+  // Whether a stalled attempt may be a degenerate vertex's or weakly active faces' stall, for
+  // the re-solves on fewer faces: always in an island of one body (as before islands), else only
+  // when it stalled within kMaxDegenerateStall of the tolerance. Far above it the iterate is no
+  // solution's neighbour, its multipliers are arbitrary, and the re-solves (each a whole island
+  // solve) only multiply the cost: a stack under 10²⁰ m/s² gravity stalled at residual 1.5 and
+  // ran twenty re-solves per guess and step.
+  bool IsNearSolutionStall(const IslandLayout& layout, const Attempt& attempt) const {
+    return layout.num_bodies == 1 ||
+           attempt.residual <= kMaxDegenerateStall * scene_.solver.tolerance;
+  }
+
   // Where four or more hull faces meet at the ECP, their multipliers are not unique and their
   // planes (merged from near-coplanar triangles) meet only up to the merge tolerance: the true
   // support is one of the tiny vertices where three of them meet, and Newton stalls just above
@@ -267,13 +297,18 @@ class IslandStepper {
   // out of F's window in turn (the smallest multipliers first; where five or more meet, the
   // reduced problem may stall again at four and leaves out one more, up to `depth` in all); a
   // solution whose window check passes — the faces left out hold, as every face outside the
-  // window must — is exact.
+  // window must — is exact. In an island of several bodies only the contact whose rows stall
+  // (the largest scaled residual) is tried: the tree of every contact's drops grows as the
+  // contacts' count to the power `depth` (nine dominoes: 23 contacts, thousands of island solves
+  // in one step).
   bool SolveAtDegenerateVertex(const IslandProblem& problem, const IslandLayout& layout,
                                const VectorXd& z, McpOptions& options, const IslandScales& scales,
                                double ejection_energy, IslandState& state, AdvanceResult& result,
                                int depth = kMaxDegenerateDrops) const {
     if (depth == 0 || !z.allFinite()) return false;
+    const int stalled = layout.num_bodies > 1 ? StalledContact(problem, layout, z, scales) : -1;
     for (size_t k = 0; k < problem.contacts.size(); ++k) {
+      if (stalled >= 0 && static_cast<int>(k) != stalled) continue;
       const MncpLayout::Contact& L = layout.contacts[k];
       const double largest = z.segment(L.l, L.l_count).maxCoeff();
       std::vector<int> active;  // indices into the window, by increasing multiplier
@@ -301,6 +336,27 @@ class IslandStepper {
       }
     }
     return false;
+  }
+
+  // the contact whose rows (measured as in the convergence measure, without the round-off
+  // floor) hold the largest residual at z
+  static int StalledContact(const IslandProblem& problem, const IslandLayout& layout,
+                            const VectorXd& z, const IslandScales& scales) {
+    VectorXd F;
+    EvaluateIslandMncp(problem, layout, z, &F, nullptr);
+    const VectorXd row_scale = IslandRowScales(problem, layout, scales);
+    const VectorXd var_scale = IslandVariableScales(problem, layout, scales);
+    int worst = 0;
+    double worst_residual = -1;
+    for (size_t k = 0; k < layout.contacts.size(); ++k) {
+      ScaledRowResidual r(layout.num_free, z, F, row_scale, var_scale);
+      r.AddContact(layout.contacts[k], 1);
+      if (r.value() > worst_residual) {
+        worst_residual = r.value();
+        worst = static_cast<int>(k);
+      }
+    }
+    return worst;
   }
 
   // Re-solves from the stalled `z` with each of F's windows cut to the faces that carry the

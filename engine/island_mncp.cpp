@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <array>
 
+#include <Eigen/SparseCore>
+
 #include "common/errors.h"
 
 namespace ecpsim::engine {
@@ -37,6 +39,50 @@ const StepMotion* OtherMotion(const IslandContact& cp, const std::vector<StepMot
   if (cp.other_kind == Other::kBody) return &bodies[cp.other];
   if (cp.other_kind == Other::kKinematic) return &kinematic[cp.other];
   return nullptr;
+}
+
+// A contact's rows evaluated on a compact block of the unknowns it touches: F's ν⁺ (6), a
+// dynamic G's ν⁺ (6), then its free block (a1, a2, s, p_t, p_o, p_r) and its complementarity
+// block (l, l_G, p_n, σ), each contiguous in the island's layout too
+struct LocalContact {
+  std::vector<int> global;    // local index → index in the island's z
+  MncpLayout::Contact L;      // the contact's layout in local indices
+  int other_column = -1;      // local column of a dynamic G's ν⁺
+  int num_body_rows = 6;      // the Newton–Euler rows first: 6, or 12 with a dynamic G
+};
+
+// free block: a1 (3), a2 (3), s, p_t, p_o, p_r
+constexpr int kContactFreeSize = 10;
+
+LocalContact MakeLocalContact(const IslandContact& cp, const MncpLayout::Contact& L) {
+  LocalContact local;
+  for (int i = 0; i < 6; ++i) local.global.push_back(IslandLayout::Velocity(cp.body) + i);
+  if (cp.other_kind == Other::kBody) {
+    local.other_column = 6;
+    local.num_body_rows = 12;
+    for (int i = 0; i < 6; ++i) local.global.push_back(IslandLayout::Velocity(cp.other) + i);
+  }
+  const int free = static_cast<int>(local.global.size());
+  for (int i = 0; i < kContactFreeSize; ++i) local.global.push_back(L.a1 + i);
+  const int complementarity = static_cast<int>(local.global.size());
+  const int count = L.l_count + L.l_g_count + 2;
+  for (int i = 0; i < count; ++i) local.global.push_back(L.l + i);
+  local.L = L;
+  const int shift_free = free - L.a1, shift_complementarity = complementarity - L.l;
+  for (int* index : {&local.L.a1, &local.L.a2, &local.L.s, &local.L.p_t, &local.L.p_o,
+                     &local.L.p_r})
+    *index += shift_free;
+  for (int* index : {&local.L.l, &local.L.l_g, &local.L.p_n, &local.L.sigma})
+    *index += shift_complementarity;
+  return local;
+}
+
+// the non-zero entries of a dense local block as triplets of the island's matrix
+void ScatterNonZeros(const Eigen::MatrixXd& block, const std::vector<int>& global,
+                     std::vector<Eigen::Triplet<double>>& triplets) {
+  for (Eigen::Index j = 0; j < block.cols(); ++j)
+    for (Eigen::Index i = 0; i < block.rows(); ++i)
+      if (block(i, j) != 0) triplets.emplace_back(global[i], global[j], block(i, j));
 }
 
 }  // namespace
@@ -81,6 +127,66 @@ void EvaluateIslandMncp(const IslandProblem& problem, const IslandLayout& layout
     AddContactRows(Sides(cp), layout.contacts[k], bodies[cp.body],
                    OtherMotion(cp, bodies, kinematic), problem.h, z, *F, J);
   }
+}
+
+void EvaluateIslandMncpSparse(const IslandProblem& problem, const IslandLayout& layout,
+                              const VectorXd& z, VectorXd* F, Eigen::SparseMatrix<double>* J) {
+  F->setZero(layout.size);
+  std::vector<Eigen::Triplet<double>> triplets;
+  // every diagonal entry is in the pattern (see the header)
+  for (int i = 0; i < layout.size; ++i) triplets.emplace_back(i, i, 0.0);
+  // per body its Newton–Euler rows on its own ν⁺
+  std::vector<StepMotion> bodies;
+  Eigen::VectorXd z_local, F_local;
+  MatrixXd J_local;
+  std::vector<int> global(6);
+  for (int b = 0; b < layout.num_bodies; ++b) {
+    const int col = IslandLayout::Velocity(b);
+    z_local = z.segment<6>(col);
+    F_local.setZero(6);
+    if (J) J_local.setZero(6, 6);
+    StepMotion motion = AddBodyRows(problem.bodies[b], 0, z_local, F_local, J ? &J_local : nullptr);
+    motion.column = col;
+    bodies.push_back(motion);
+    F->segment<6>(col) = F_local;
+    if (!J) continue;
+    for (int i = 0; i < 6; ++i) global[i] = col + i;
+    ScatterNonZeros(J_local, global, triplets);
+  }
+  // per contact its rows and wrenches on its compact block
+  const std::vector<StepMotion> kinematic = KinematicMotions(problem);
+  for (size_t k = 0; k < problem.contacts.size(); ++k) {
+    const IslandContact& cp = problem.contacts[k];
+    const LocalContact local = MakeLocalContact(cp, layout.contacts[k]);
+    const int m = static_cast<int>(local.global.size());
+    z_local.resize(m);
+    for (int i = 0; i < m; ++i) z_local[i] = z[local.global[i]];
+    F_local.setZero(m);
+    if (J) J_local.setZero(m, m);
+    StepMotion body = bodies[cp.body];
+    body.column = 0;
+    StepMotion other;
+    const StepMotion* other_motion = OtherMotion(cp, bodies, kinematic);
+    if (other_motion) {
+      other = *other_motion;
+      other.column = local.other_column;
+      other_motion = &other;
+    }
+    AddContactRows(Sides(cp), local.L, body, other_motion, problem.h, z_local, F_local,
+                   J ? &J_local : nullptr);
+    // the wrenches add to the bodies' Newton–Euler rows; the contact's own rows are its alone
+    for (int i = 0; i < m; ++i) {
+      if (i < local.num_body_rows) {
+        (*F)[local.global[i]] += F_local[i];
+      } else {
+        (*F)[local.global[i]] = F_local[i];
+      }
+    }
+    if (J) ScatterNonZeros(J_local, local.global, triplets);
+  }
+  if (!J) return;
+  J->resize(layout.size, layout.size);
+  J->setFromTriplets(triplets.begin(), triplets.end());
 }
 
 double IslandMncpResidual(const IslandProblem& problem, const IslandLayout& layout,

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/SparseCore>
 
 #include "engine/mncp_system.h"
 #include "engine/scene.h"
@@ -78,7 +79,7 @@ struct IslandProblem {
 /// The Jacobian is block-sparse: body b's Newton–Euler rows touch only ν_b⁺ and the contact
 /// blocks of b's contacts, and a contact's rows only its own block and the ν⁺ of its one or two
 /// dynamic bodies — per-body 6 × 6 blocks coupled only through shared contacts. It is returned
-/// dense (Eigen::MatrixXd) for now; a sparse solver can take the pattern from this layout.
+/// dense (EvaluateIslandMncp) or sparse (EvaluateIslandMncpSparse) with that pattern.
 struct IslandLayout {
   int num_bodies = 0;
   int num_free = 0;
@@ -111,6 +112,17 @@ IslandLayout MakeIslandLayout(const IslandProblem& problem);
 /// (every solution: a1 ≠ a2 only when separated, where p = 0).
 void EvaluateIslandMncp(const IslandProblem& problem, const IslandLayout& layout,
                         const Eigen::VectorXd& z, Eigen::VectorXd* F, Eigen::MatrixXd* J);
+
+/// EvaluateIslandMncp with the Jacobian assembled sparse (column-major, compressed): per body
+/// its 6 × 6 Newton–Euler block, per contact its rows over its own block and the ν⁺ of its one
+/// or two bodies and its wrench in their Newton–Euler rows, each evaluated on that compact
+/// block (mncp_system.h's AddBodyRows and AddContactRows), plus every diagonal entry (zero
+/// where the Jacobian has none, so that a Newton matrix J + D keeps J's pattern). Cost and
+/// storage grow with the bodies and contacts, not with the square of the unknowns. F and J
+/// equal EvaluateIslandMncp's up to the order of the sums in the Newton–Euler rows (round-off).
+void EvaluateIslandMncpSparse(const IslandProblem& problem, const IslandLayout& layout,
+                              const Eigen::VectorXd& z, Eigen::VectorXd* F,
+                              Eigen::SparseMatrix<double>* J);
 
 /// What the island's convergence measure measures against (see IslandMncpResidual); built by
 /// MakeIslandResidualUnits (island_scaling.h) once per solve.

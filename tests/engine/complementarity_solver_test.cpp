@@ -35,17 +35,29 @@ PlantedMcp MakePlantedMcp(int n, int num_free) {
   return p;
 }
 
-void ExpectSolvesPlanted(int n, int num_free) {
+void ExpectSolvesPlanted(int n, int num_free, bool sparse = false) {
   const PlantedMcp p = MakePlantedMcp(n, num_free);
-  const McpFunction f = [&p](const Eigen::VectorXd& z, Eigen::VectorXd* F, Eigen::MatrixXd* J) {
-    *F = p.M * z + p.q;
-    if (J != nullptr) *J = p.M;
-  };
   McpOptions options;
   options.tolerance = 1e-12;
   Eigen::VectorXd z = Eigen::VectorXd::Constant(n, 0.5);
   const Eigen::VectorXd ones = Eigen::VectorXd::Ones(n);
-  const McpResult result = SolveMcp(f, num_free, ones, ones, z, options);
+  McpResult result;
+  if (sparse) {
+    const SparseMatrix M = p.M.sparseView();
+    const SparseMcpFunction f = [&](const Eigen::VectorXd& z, Eigen::VectorXd* F,
+                                    SparseMatrix* J) {
+      *F = M * z + p.q;
+      if (J != nullptr) *J = M;
+    };
+    result = SolveMcp(f, num_free, ones, ones, z, options);
+  } else {
+    const McpFunction f = [&p](const Eigen::VectorXd& z, Eigen::VectorXd* F,
+                               Eigen::MatrixXd* J) {
+      *F = p.M * z + p.q;
+      if (J != nullptr) *J = p.M;
+    };
+    result = SolveMcp(f, num_free, ones, ones, z, options);
+  }
   EXPECT_TRUE(result.converged) << "n = " << n;
   EXPECT_LE(result.residual, 1e-12);
   // semismooth Newton from a nearby start: the active set is found in a few iterations
@@ -65,6 +77,53 @@ TEST(ComplementaritySolverTest, SolvesPlantedMixedLcpAboveTheUnblockedSize) {
   ExpectSolvesPlanted(300, 60);
   // and the shared workspace again afterwards
   ExpectSolvesPlanted(25, 16);
+}
+
+TEST(ComplementaritySolverTest, SolvesPlantedMixedLcpWithASparseJacobian) {
+  // the sparse LU's path: the same bounds, small and large, and its pattern analysed again when
+  // the next solve's size differs
+  ExpectSolvesPlanted(25, 16, /*sparse=*/true);
+  ExpectSolvesPlanted(300, 60, /*sparse=*/true);
+  ExpectSolvesPlanted(150, 40, /*sparse=*/true);
+}
+
+// F(z) = ((z₀ − 1)², z₁ − 2): Newton's matrix is singular at the solution (1, 2) and
+// near-singular next to it, where the line search and the Levenberg–Marquardt rescue act
+TEST(ComplementaritySolverTest, SparseAndDenseFallbacksReachTheSameDoubleRoot) {
+  McpOptions options;
+  options.tolerance = 1e-10;
+  options.max_iterations = 100;
+  options.levenberg_marquardt_rescue = true;
+  const Eigen::VectorXd ones = Eigen::VectorXd::Ones(2);
+  const auto residual = [](const Eigen::VectorXd& z, Eigen::VectorXd* F) {
+    F->resize(2);
+    (*F)[0] = (z[0] - 1) * (z[0] - 1);
+    (*F)[1] = z[1] - 2;
+  };
+  const McpFunction dense = [&](const Eigen::VectorXd& z, Eigen::VectorXd* F, Eigen::MatrixXd* J) {
+    residual(z, F);
+    if (J) *J = Eigen::Vector2d(2 * (z[0] - 1), 1).asDiagonal();
+  };
+  const SparseMcpFunction sparse = [&](const Eigen::VectorXd& z, Eigen::VectorXd* F,
+                                       SparseMatrix* J) {
+    residual(z, F);
+    if (!J) return;
+    J->resize(2, 2);
+    J->setIdentity();
+    J->coeffRef(0, 0) = 2 * (z[0] - 1);
+  };
+  // Newton halves z₀ − 1 per step (a double root): the same path on both matrices
+  Eigen::VectorXd z_dense = Eigen::Vector2d(3, 0), z_sparse = z_dense;
+  const McpResult a = SolveMcp(dense, 2, ones, ones, z_dense, options);
+  const McpResult b = SolveMcp(sparse, 2, ones, ones, z_sparse, options);
+  EXPECT_TRUE(a.converged);
+  EXPECT_TRUE(b.converged);
+  EXPECT_EQ(a.iterations, b.iterations);
+  // the double root: residual (z₀ − 1)² ≤ 1e-10 bounds |z₀ − 1| by 1e-5
+  constexpr double kDoubleRootError = 1e-5;
+  EXPECT_NEAR(z_sparse[0], 1, kDoubleRootError);
+  // the linear row is solved exactly by the first full step
+  EXPECT_NEAR(z_sparse[1], 2, 1e-12);
 }
 
 TEST(ComplementaritySolverTest, NestedSolveInTheCallbackKeepsTheOuterWorkspace) {

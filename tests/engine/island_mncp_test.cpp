@@ -256,6 +256,35 @@ IslandCase BoxOnMovingBox(const Quaterniond& Q_top, double top_height, unsigned 
   return c;
 }
 
+// --- the sparse assembly equals the dense one ---
+
+// the largest difference of EvaluateIslandMncpSparse's F and J from EvaluateIslandMncp's, per
+// entry relative to max(1, |entry|); and whether the sparse pattern holds the whole diagonal
+struct SparseDifference {
+  double F = 0, J = 0;
+  bool full_diagonal = true;
+};
+
+SparseDifference SparseAgainstDense(const IslandCase& c) {
+  VectorXd F_dense, F_sparse;
+  Eigen::MatrixXd J_dense;
+  Eigen::SparseMatrix<double> J_sparse;
+  EvaluateIslandMncp(c.problem, c.layout, c.z, &F_dense, &J_dense);
+  EvaluateIslandMncpSparse(c.problem, c.layout, c.z, &F_sparse, &J_sparse);
+  SparseDifference d;
+  const auto relative = [](double a, double b) { return std::abs(a - b) / std::max(1.0, std::abs(a)); };
+  for (int i = 0; i < c.layout.size; ++i) {
+    d.F = std::max(d.F, relative(F_dense[i], F_sparse[i]));
+    for (int j = 0; j < c.layout.size; ++j)
+      d.J = std::max(d.J, relative(J_dense(i, j), J_sparse.coeff(i, j)));
+    bool has_diagonal = false;
+    for (Eigen::SparseMatrix<double>::InnerIterator it(J_sparse, i); it; ++it)
+      has_diagonal |= it.row() == i;
+    d.full_diagonal &= has_diagonal;
+  }
+  return d;
+}
+
 TEST(IslandJacobianTest, FaceOnMovingBox) {
   EXPECT_LT(BoxOnMovingBox(Rotation(0.3, Vector3d::UnitZ()), 0.05, 1).JacobianError(),
             kJacobianTolerance);
@@ -342,7 +371,26 @@ TEST(IslandJacobianTest, StackOfThreeOnAConveyorWithAWall) {
   c.Randomize({Vector3d(0, 0, 0.1), Vector3d(0.05, 0, 0.3), Vector3d(0.1, 0.05, 0.5),
                Vector3d(0.1, 0.05, 0.3), Vector3d(0.3, 0, 0.4)},
               7);
-  EXPECT_LT(c.JacobianError(), kJacobianTolerance);
+  EXPECT_LT(c.JacobianError(), kJacobianTolerance);  // the sparse assembly too (IslandSparseJacobianTest)
+  const SparseDifference d = SparseAgainstDense(c);
+  EXPECT_LE(d.F, kRoundOffRelative);
+  EXPECT_LE(d.J, kRoundOffRelative);
+  EXPECT_TRUE(d.full_diagonal);
+}
+
+TEST(IslandSparseJacobianTest, EqualsTheDenseOneToRoundOff) {
+  // every kind of G (fixed, kinematic, a body as F and as G) and face, edge and vertex contact:
+  // the same rows, only the Newton–Euler rows' sums over contacts in another order
+  std::vector<IslandCase> cases;
+  cases.push_back(BoxOnMovingBox(Rotation(0.3, Vector3d::UnitZ()), 0.05, 1));
+  cases.push_back(BoxOnMovingBox(Rotation(M_PI / 4, Vector3d::UnitX()), 0.08, 2));
+  cases.push_back(BoxOnMovingBox(Rotation(0.9, Vector3d(1, 2, 3)), 0.15, 3));
+  for (const IslandCase& c : cases) {
+    const SparseDifference d = SparseAgainstDense(c);
+    EXPECT_LE(d.F, kRoundOffRelative);
+    EXPECT_LE(d.J, kRoundOffRelative);
+    EXPECT_TRUE(d.full_diagonal);
+  }
 }
 
 // --- Newton's third law and the contact's power ---

@@ -1,0 +1,106 @@
+// scenes/dominoes.yaml (a row of nine 1 cm × 5 cm × 10 cm blocks, the first tipped): the cascade
+// through islands that grow as the blocks fall onto each other, solved sparse from 200 unknowns
+// (engine/README.md, "The island's linear algebra"). The first 0.45 s: five blocks fall (the
+// sixth is reached at ≈ 0.47 s), which keeps the test under a second of CPU; the whole
+// cascade runs in `ecpsim run scenes/dominoes.yaml` (0.7 s, about a second of CPU).
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "engine/penetration.h"
+#include "engine/scene.h"
+#include "engine/scene_yaml.h"
+#include "engine/state.h"
+#include "engine/time_step.h"
+
+namespace ecpsim::engine {
+namespace {
+
+// s: the blocks that fall within it (see the file's comment)
+constexpr double kDuration = 0.45;
+constexpr int kFallen = 5;
+// rad: a block has started tipping when it turned this far (the first block starts at once,
+// the others only when struck: before that they rest, turned by round-off only)
+constexpr double kTippingAngle = 1e-3;
+// rad: atan(thickness / height) = atan(0.01 / 0.1), the angle past which a block's centre of
+// mass is beyond its front edge and it falls on its own
+constexpr double kFallingAngle = 0.0997;
+// m: deepest overlap allowed, with the ground or between blocks: the gap rows converge to the
+// solver's tolerance (1e-12) in the contact's length (≈ 0.03 m) and carry the coordinates'
+// round-off (64 ulps of 0.7 m ≈ 1e-14 m); 1e-9 m is far above both and far below any overlap
+// a missed contact would leave (a block moves ~1 mm per step)
+constexpr double kMaxPenetration = 1e-9;
+// J: the largest energy gain of one step the engine accepts (hull_model.cpp, kMaxEnergyGainRel:
+// 1e-3 of each body's energy scale, whose potential part is m g L, L its radius of gyration,
+// here sqrt((0.01² + 0.1²) / 12) = 0.029 m): the first-order step gains O(h²) energy while a
+// block pivots on its edge (≈ 2e-6 J per step here), and nothing else may add any. The run as
+// a whole must lose energy: contacts only dissipate, and every impact of a block on the next
+// takes some
+constexpr double kMaxStepEnergyGain = 1e-3 * 9 * 0.05 * 9.8 * 0.029;
+
+std::string ScenePath() { return std::string(ECPSIM_SOURCE_DIR) + "/scenes/dominoes.yaml"; }
+
+// rad: the block's tilt from upright (the angle of its body z axis to the world's)
+double Tilt(const BodyState& body) {
+  const Eigen::Vector3d up = body.Q_WB * Eigen::Vector3d::UnitZ();
+  return std::acos(std::clamp(up.z(), -1.0, 1.0));
+}
+
+// J: kinetic (translational and rotational) plus gravitational energy of every body
+double TotalEnergy(const Scene& scene, const State& state) {
+  double energy = 0;
+  for (size_t b = 0; b < scene.bodies.size(); ++b) {
+    const Body& body = scene.bodies[b];
+    const BodyState& s = state.bodies[b];
+    const Eigen::Matrix3d R = s.Q_WB.toRotationMatrix();
+    const Eigen::Matrix3d inertia_world = R * body.inertia * R.transpose();
+    energy += 0.5 * body.mass * s.v_WB.squaredNorm() + 0.5 * s.w_WB.dot(inertia_world * s.w_WB) -
+              body.mass * scene.gravity.dot(s.p_WB);
+  }
+  return energy;
+}
+
+TEST(DominoesTest, BlocksFallInOrderWithoutPenetrationAndLoseEnergy) {
+  const Scene scene = LoadScene(ScenePath());
+  ASSERT_EQ(scene.bodies.size(), 9u);
+  State state = InitialState(scene);
+  const PenetrationProbe probe(scene);
+  std::vector<double> tipping_time(scene.bodies.size(), INFINITY);
+  const double initial_energy = TotalEnergy(scene, state);
+  double energy = initial_energy;
+  double deepest = 0;
+  const int steps = static_cast<int>(std::lround(kDuration / scene.h));
+  for (int k = 0; k < steps; ++k) {
+    // no solver failure: Step throws SolverFailure
+    const StepReport report = Step(scene, state);
+    ASSERT_TRUE(report.converged) << "t = " << state.t;
+    // overlap with the ground and, through each contact's gap s, between blocks
+    deepest = std::max(deepest, probe.MaxDepth(scene, state));
+    for (const ContactState& c : state.contacts)
+      if (const auto* warm = std::get_if<HullWarmStart>(&c.warm_start))
+        deepest = std::max(deepest, -warm->s);
+    const double next_energy = TotalEnergy(scene, state);
+    EXPECT_LE(next_energy, energy + kMaxStepEnergyGain) << "t = " << state.t;
+    energy = next_energy;
+    for (size_t b = 0; b < scene.bodies.size(); ++b)
+      if (tipping_time[b] == INFINITY && Tilt(state.bodies[b]) > kTippingAngle)
+        tipping_time[b] = state.t;
+  }
+  EXPECT_LE(deepest, kMaxPenetration);
+  EXPECT_LT(energy, initial_energy);
+  // the first kFallen blocks fall, each starting after the one before; the rest still stand
+  for (int b = 0; b < kFallen; ++b) {
+    EXPECT_GT(Tilt(state.bodies[b]), kFallingAngle) << scene.bodies[b].name;
+    if (b > 0) EXPECT_GT(tipping_time[b], tipping_time[b - 1]) << scene.bodies[b].name;
+  }
+  for (size_t b = kFallen; b < scene.bodies.size(); ++b)
+    EXPECT_LT(Tilt(state.bodies[b]), kTippingAngle) << scene.bodies[b].name;
+}
+
+}  // namespace
+}  // namespace ecpsim::engine
