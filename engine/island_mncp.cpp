@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cfloat>
 
 #include <Eigen/SparseCore>
 
@@ -39,6 +40,48 @@ const StepMotion* OtherMotion(const IslandContact& cp, const std::vector<StepMot
   if (cp.other_kind == Other::kBody) return &bodies[cp.other];
   if (cp.other_kind == Other::kKinematic) return &kinematic[cp.other];
   return nullptr;
+}
+
+// The round-off that a creeping contact's friction impulses carry (IslandContact::stick_creep).
+// Sticking with creep ε is the viscous law p = −e² μ p_n v / (σ + ε): the slip velocity v at the
+// ECP is a difference of the two sides' velocities, each exact to a few ulps of its magnitude u,
+// so at a solution p is only known to e² μ p_n · ulps · u / ε — 2e-9 μ p_n for ε = 1e-7 u, far
+// above the tolerance's share of the bodies' impulse scale when the bodies move (two falling
+// dominoes leaning on each other). The Newton–Euler rows that carry these impulses are measured
+// against this floor, as the contact rows are against the coordinates' round-off.
+struct CreepRoundOff {
+  double force = 0;   // N·s: of p_t and p_o
+  double torque = 0;  // N·m·s: of p_r
+};
+
+CreepRoundOff CreepFrictionRoundOff(const IslandProblem& problem, const IslandLayout& layout,
+                                    const VectorXd& z, int k) {
+  const IslandContact& cp = problem.contacts[k];
+  if (!(cp.stick_creep > 0)) return {};
+  const MncpLayout::Contact& L = layout.contacts[k];
+  const Vector3d a1 = z.segment<3>(L.a1);
+  const int col = IslandLayout::Velocity(cp.body);
+  double speed = z.segment<3>(col).norm() +
+                 z.segment<3>(col + 3).norm() * (a1 - problem.bodies[cp.body].c).norm();
+  double spin = z.segment<3>(col + 3).norm();
+  if (cp.other_kind == Other::kBody) {
+    const int other = IslandLayout::Velocity(cp.other);
+    speed += z.segment<3>(other).norm() +
+             z.segment<3>(other + 3).norm() * (a1 - problem.bodies[cp.other].c).norm();
+    spin += z.segment<3>(other + 3).norm();
+  } else if (cp.other_kind == Other::kKinematic) {
+    const KinematicBody& g = problem.kinematic[cp.other];
+    speed += g.v.norm() + g.w.norm() * (a1 - g.c).norm();
+    spin += g.w.norm();
+  }
+  const Friction& fr = cp.friction;
+  const double p_n = std::max(z[L.p_n], 0.0);
+  const double slip = std::max(z[L.sigma], 0.0) + cp.stick_creep;
+  const double ulp = kCoordinateRoundOffUlps * DBL_EPSILON;
+  CreepRoundOff round_off;
+  round_off.force = std::max(fr.e_t * fr.e_t, fr.e_o * fr.e_o) * fr.mu * p_n * ulp * speed / slip;
+  round_off.torque = fr.e_r * fr.e_r * fr.mu * p_n * ulp * spin / slip;
+  return round_off;
 }
 
 // A contact's rows evaluated on a compact block of the unknowns it touches: F's ν⁺ (6), a
@@ -194,6 +237,7 @@ double IslandMncpResidual(const IslandProblem& problem, const IslandLayout& layo
                           const VectorXd& var_scale, const IslandResidualUnits& units) {
   // row by row, as MncpResidual: each contact's rows in its own length, floored by round-off
   ScaledRowResidual r(layout.num_free, z, F, row_scale, var_scale);
+  std::vector<double> force_factor(layout.num_bodies, 1.0);
   std::vector<double> moment_factor(layout.num_bodies, 1.0);
   for (size_t k = 0; k < layout.contacts.size(); ++k) {
     const IslandContact& cp = problem.contacts[k];
@@ -201,17 +245,26 @@ double IslandMncpResidual(const IslandProblem& problem, const IslandLayout& layo
     const double round_off =
         ContactRoundOffLength(L, z, units.contact_coordinates[k], units.tolerance);
     r.AddContact(L, std::max(1.0, round_off / units.contact_length[k]));
-    // each body's moment rows carry r × p of its contacts, in its own length
+    const CreepRoundOff creep = CreepFrictionRoundOff(problem, layout, z, static_cast<int>(k));
+    // each body's moment rows carry r × p of its contacts, in its own length; its Newton–Euler
+    // rows carry a creeping contact's friction impulses with their round-off
     for (int b : {cp.body, cp.other_kind == Other::kBody ? cp.other : -1}) {
       if (b < 0) continue;
-      moment_factor[b] =
-          std::max(moment_factor[b], std::max(1.0, round_off / units.body_length[b]));
+      const int col = IslandLayout::Velocity(b);
+      const double impulse = 1 / row_scale[col];            // N·s: the body's impulse scale
+      const double angular = 1 / row_scale[col + 3];        // N·m·s
+      const double arm = (z.segment<3>(L.a1) - problem.bodies[b].c).norm();
+      force_factor[b] =
+          std::max(force_factor[b], creep.force / (units.tolerance * impulse));
+      moment_factor[b] = std::max(
+          {moment_factor[b], round_off / units.body_length[b],
+           (creep.force * arm + creep.torque) / (units.tolerance * angular)});
     }
   }
   for (int b = 0; b < layout.num_bodies; ++b) {
     const int col = IslandLayout::Velocity(b);
     for (int i = 0; i < 3; ++i) {
-      r.AddRow(col + i, 1);
+      r.AddRow(col + i, force_factor[b]);
       r.AddRow(col + 3 + i, moment_factor[b]);
     }
   }
