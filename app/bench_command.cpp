@@ -252,7 +252,7 @@ void AddBenchCommand(CLI::App& app) {
       ->delimiter(',');
   bench->add_option("--methods", o->methods,
                     "methods (default all available): hull, hull-tol1e-08, hull-tol1e-05, "
-                    "planar, multipatch, point, mujoco-default, mujoco-coulomb, bullet-default, "
+                    "auto, planar, multipatch, point, mujoco-default, mujoco-coulomb, bullet-default, "
                     "bullet-coulomb, ode-default, ode-coulomb")
       ->delimiter(',');
   bench->add_option("--maps", o->maps,

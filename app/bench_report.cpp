@@ -82,7 +82,8 @@ std::string Sci(double value) { return value < 0 ? "–" : fmt::format("{:.2g}",
 std::string LineStyle(const std::string& method) {
   static const std::vector<std::pair<std::string, std::string>> kStyles = {
       {"hull", "lc rgb '#08306b' pt 7"},          {"hull-tol1e-08", "lc rgb '#2171b5' pt 6"},
-      {"hull-tol1e-05", "lc rgb '#6baed6' pt 4"}, {"planar", "lc rgb '#ff7f00' pt 9"},
+      {"hull-tol1e-05", "lc rgb '#6baed6' pt 4"}, {"auto", "lc rgb '#a50f15' pt 3"},
+      {"planar", "lc rgb '#ff7f00' pt 9"},
       {"multipatch", "lc rgb '#e6ab02' pt 11"},   {"point", "lc rgb '#7f3b08' pt 5"},
       {"mujoco-default", "lc rgb '#e7298a' pt 7 dt 2"},
       {"mujoco-coulomb", "lc rgb '#e7298a' pt 7"},

@@ -147,6 +147,7 @@ json TotalsJson(const RunTotals& totals) {
           {"all_converged", totals.all_converged},
           {"wall_s", Exact(totals.wall_s)},
           {"step_us_count", totals.step_us.count()},
+          {"model_steps", totals.model_steps},
           {"step_us_sample", sample}};
 }
 
@@ -161,6 +162,9 @@ RunTotals ReadTotals(const json& node) {
   totals.max_penetration = ReadExact(node.at("max_penetration"), "totals.max_penetration");
   totals.all_converged = node.at("all_converged").get<bool>();
   totals.wall_s = ReadExact(node.at("wall_s"), "totals.wall_s");
+  // a checkpoint of a run before `model: auto` counted no models
+  if (node.contains("model_steps"))
+    totals.model_steps = node.at("model_steps").get<std::array<long, engine::kNumStepModels>>();
   const Eigen::VectorXd sample =
       ReadExactVector(node.at("step_us_sample"), "totals.step_us_sample", -1);
   totals.step_us =

@@ -4,6 +4,7 @@
 // format; the engine's State is written field by field (it will change: typed warm starts per
 // contact model), every double as a hexadecimal float, which reads back to the same bits.
 
+#include <array>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -11,6 +12,7 @@
 #include "common/reservoir_median.h"
 #include "engine/scene.h"
 #include "engine/state.h"
+#include "engine/step_report.h"
 
 namespace ecpsim::app {
 
@@ -26,6 +28,8 @@ struct RunTotals {
   bool all_converged = true;   // every step converged
   double wall_s = 0;           // s, wall time of the run's earlier parts (before a resume)
   ReservoirMedian step_us;     // µs, wall time of engine::Step
+  // body-steps solved by each engine::StepModel (indexed by it)
+  std::array<long, engine::kNumStepModels> model_steps{};
 };
 
 struct Checkpoint {

@@ -62,10 +62,10 @@ FrameRecorder::FrameRecorder(const engine::Scene& scene, const std::string& out_
   }
 }
 
-void FrameRecorder::Observe(const engine::State& state, int iterations) {
+void FrameRecorder::Observe(const engine::State& state, const engine::StepReport& report) {
   // frame k shows the state nearest to t = k / fps (FramesUpTo)
   while (frames_ / scene_.output.fps <= state.t + scene_.h / 2) {
-    render::FrameInput frame = builder_.Build(state, iterations);
+    render::FrameInput frame = builder_.Build(state, report.iterations, report.models);
     ApplyCamera(scene_, frame);
     render::Image image = renderer_.Render(frame);
     if (video_) video_->Write(image);

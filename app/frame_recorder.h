@@ -38,7 +38,7 @@ class FrameRecorder {
                 const engine::State* resumed_from = nullptr);
 
   /// Called with the initial state and after every step (StepObserver).
-  void Observe(const engine::State& state, int iterations);
+  void Observe(const engine::State& state, const engine::StepReport& report);
 
   /// Waits for the PNG encoder and closes the video.
   /// @throws InputError if ffmpeg was missing (the frames are written), std::runtime_error if

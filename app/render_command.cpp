@@ -59,11 +59,11 @@ void AddRenderCommand(CLI::App& app) {
 
     // the state nearest to T
     engine::State state = engine::InitialState(scene);
-    int iterations = 0;
-    while (state.t + scene.h / 2 <= options->time) iterations = engine::Step(scene, state).iterations;
+    engine::StepReport report;
+    while (state.t + scene.h / 2 <= options->time) report = engine::Step(scene, state);
 
     render::Renderer renderer(RenderSettingsFor(scene));
-    render::FrameInput frame = render::SceneFrameBuilder(scene).Build(state, iterations);
+    render::FrameInput frame = render::SceneFrameBuilder(scene).Build(state, report.iterations, report.models);
     ApplyCamera(scene, frame);
     render::WritePng(options->out, renderer.Render(frame));
     std::printf("t = %.6g s: wrote %s\n", state.t, options->out.c_str());

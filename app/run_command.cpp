@@ -72,8 +72,8 @@ RunSummary RunWithFrames(const engine::Scene& scene, const std::string& out_dir,
   setup.progress = isatty(fileno(stderr)) == 1;
   if (!frames) return RunSimulation(scene, out_dir, setup);
   FrameRecorder recorder(scene, out_dir, video, setup.resume ? &setup.resume->state : nullptr);
-  setup.observer = [&](const engine::State& state, int iterations) {
-    recorder.Observe(state, iterations);
+  setup.observer = [&](const engine::State& state, const engine::StepReport& report) {
+    recorder.Observe(state, report);
   };
   RunSummary summary;
   try {
@@ -168,11 +168,13 @@ void AddRunCommand(CLI::App& app) {
                   "override a scene value, key=value with a dotted key, e.g. bodies.0.mass=3 "
                   "(repeatable)");
   run->add_option("--model", options->model,
-                  "contact model: hull (the paper's, default), planar (sliding only; stops "
+                  "contact model: auto (default: per body and step the cheapest model whose "
+                  "answer is the hull model's: free flight, planar or hull), hull (the paper's), "
+                  "planar (sliding only; stops "
                   "with exit code 5 where it does not apply) or multipatch (one ECP per convex "
                   "part of each body's `parts`) or point (the usual practice: hull vertices near "
                   "the ground as contact points, polyhedral friction cone, one LCP per step)")
-      ->check(CLI::IsMember({"hull", "planar", "multipatch", "point"}));
+      ->check(CLI::IsMember({"auto", "hull", "planar", "multipatch", "point"}));
   run->add_flag("--frames", options->frames, "also render DIR/frames/frame_NNNNNN.png");
   run->add_flag("--video", options->video,
                 "also render the frames into DIR/video.mp4 (H.264; needs the ffmpeg program)");

@@ -70,6 +70,13 @@ void WriteSummary(const engine::Scene& scene, const RunSummary& s, const std::st
       {"wall_s", s.wall_s},
       {"median_step_us", s.median_step_us},
   };
+  // body-steps per model that solved them (trajectory.csv's model columns), e.g. {"planar": 380,
+  // "hull": 20}; models that solved none are left out
+  nlohmann::json models = nlohmann::json::object();
+  for (int m = 0; m < engine::kNumStepModels; ++m) {
+    if (s.model_steps[m] > 0) models[engine::StepModelName(static_cast<engine::StepModel>(m))] = s.model_steps[m];
+  }
+  json["models"] = models;
   if (s.interrupt_signal != 0) {
     json["signal"] = SignalName(s.interrupt_signal);
   }
@@ -121,7 +128,7 @@ RunSummary RunSimulation(const engine::Scene& scene, const std::string& out_dir,
       writer.Write(state, report);
       rows_on_cadence = writer.rows();
       totals.max_penetration = probe.MaxDepth(scene, state);
-      if (setup.observer) setup.observer(state, 0);
+      if (setup.observer) setup.observer(state, engine::StepReport{});
     }
     for (long k = totals.steps + 1; k <= summary.planned_steps; ++k) {
       // a signal stops the run between steps (app/interrupt.h)
@@ -145,13 +152,14 @@ RunSummary RunSimulation(const engine::Scene& scene, const std::string& out_dir,
       totals.iterations_max = std::max(totals.iterations_max, report.iterations);
       totals.residual_max = std::max(totals.residual_max, report.residual);
       totals.substeps_max = std::max(totals.substeps_max, report.substeps);
+      for (engine::StepModel model : report.models) ++totals.model_steps[static_cast<int>(model)];
       totals.max_penetration = std::max(totals.max_penetration, probe.MaxDepth(scene, state));
       row_written = k % scene.output.every == 0 || k == summary.planned_steps;
       if (row_written) {
         writer.Write(state, report);
         rows_on_cadence = writer.rows();
       }
-      if (setup.observer) setup.observer(state, report.iterations);
+      if (setup.observer) setup.observer(state, report);
       if (setup.progress) {
         const double wall = std::chrono::duration<double>(Clock::now() - start).count();
         if (wall - last_drawn >= kProgressInterval || k == summary.planned_steps) {
@@ -199,6 +207,7 @@ RunSummary RunSimulation(const engine::Scene& scene, const std::string& out_dir,
   summary.iterations_max = totals.iterations_max;
   summary.residual_max = totals.residual_max;
   summary.substeps_max = totals.substeps_max;
+  summary.model_steps = totals.model_steps;
   summary.max_penetration = totals.max_penetration;
   summary.median_step_us = totals.step_us.Median();
   summary.converged = totals.all_converged && !failure && summary.interrupt_signal == 0;

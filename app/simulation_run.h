@@ -2,6 +2,7 @@
 // The loop shared by `ecpsim run` and `ecpsim drop`: step a scene to its duration, writing
 // DIR/trajectory.csv and DIR/summary.json.
 
+#include <array>
 #include <functional>
 #include <string>
 
@@ -34,10 +35,13 @@ struct RunSummary {
   int interrupt_signal = 0;    // SIGINT or SIGTERM when a signal stopped the run, else 0
   long resumed_from_step = -1; // the step a resumed run continued from, else -1
   std::string error;           // the failure's message, empty on success
+  // body-steps solved by each engine::StepModel (indexed by it): summary.json's "models"
+  std::array<long, engine::kNumStepModels> model_steps{};
 };
 
 /// How RunSimulation runs, besides the scene and the folder.
-using StepObserver = std::function<void(const engine::State& state, int iterations)>;
+using StepObserver =
+    std::function<void(const engine::State& state, const engine::StepReport& report)>;
 struct RunSetup {
   bool progress = false;  // a progress bar on stderr (callers pass isatty(stderr))
   /// If set, sees the initial state and the state after every step (e.g. to record frames);

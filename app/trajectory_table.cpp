@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "common/errors.h"
+#include "engine/trajectory_columns.h"
 
 namespace ecpsim::app {
 namespace {
@@ -57,6 +58,7 @@ TrajectoryTable ReadTrajectoryTable(const std::string& path) {
   if (line.back() == '\r') line.pop_back();
   table.names = SplitFields(line);
   table.data.resize(table.names.size());
+  table.text.resize(table.names.size());
   int line_number = 1;
   while (std::getline(in, line)) {
     ++line_number;
@@ -68,6 +70,10 @@ TrajectoryTable ReadTrajectoryTable(const std::string& path) {
                                    line_number, fields.size(), table.names.size()));
     }
     for (std::size_t i = 0; i < fields.size(); ++i) {
+      if (engine::IsModelColumn(table.names[i])) {
+        table.text[i].push_back(fields[i]);
+        continue;
+      }
       // the whole field must parse, and to a finite number
       const char* begin = fields[i].c_str();
       char* end = nullptr;

@@ -17,6 +17,7 @@ TrajectoryWriter::TrajectoryWriter(const engine::Scene& scene, const std::string
   for (size_t i = 0; i < columns_.size(); ++i) {
     header += (i == 0 ? "" : ",") + columns_[i];
   }
+  for (const std::string& column : engine::TrajectoryModelColumns(scene)) header += "," + column;
   stream_ = file_.Create();
   try {
     Append(header, true);
@@ -68,6 +69,8 @@ void TrajectoryWriter::Write(const engine::State& state, const engine::StepRepor
   for (size_t i = 0; i < values.size(); ++i) {
     fmt::format_to(std::back_inserter(row), i == 0 ? "{}" : ",{}", values[i]);
   }
+  for (const std::string& model : engine::TrajectoryModels(scene_, report))
+    fmt::format_to(std::back_inserter(row), ",{}", model);
   Append(std::string_view(row.data(), row.size()), true);
   ++rows_;
 }

@@ -35,6 +35,13 @@ void BM_DeskStep(benchmark::State& bench) {
 }
 BENCHMARK(BM_DeskStep)->Unit(benchmark::kMicrosecond);
 
+// the same desk under model: auto (the default): flat on its feet all along, every step is a
+// planar step accepted as the hull model's (engine/README.md, "model: auto")
+void BM_DeskStepAuto(benchmark::State& bench) {
+  RunSteps(bench, testing::PaperDeskScene(ContactModel::kAuto), 400);
+}
+BENCHMARK(BM_DeskStepAuto)->Unit(benchmark::kMicrosecond);
+
 // the same desk with the point-contact baseline (hull vertices near the ground, d = 8 friction
 // directions, one LCP per step by Lemke's method); "newton_iters" counts Lemke pivots here
 void BM_PointContactDesk(benchmark::State& bench) {

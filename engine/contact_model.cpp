@@ -4,12 +4,31 @@
 
 #include "engine/step_report.h"
 
+#include "engine/auto_model.h"
 #include "engine/hull_model.h"
 #include "engine/multipatch_model.h"
 #include "engine/planar_model.h"
 #include "engine/point_contact_model.h"
 
 namespace ecpsim::engine {
+
+const char* StepModelName(StepModel model) {
+  switch (model) {
+    case StepModel::kFree:
+      return "free";
+    case StepModel::kPlanar:
+      return "planar";
+    case StepModel::kHull:
+      return "hull";
+    case StepModel::kMultiPatch:
+      return "multipatch";
+    case StepModel::kPoint:
+      return "point";
+    case StepModel::kKinematic:
+      break;
+  }
+  return "kinematic";
+}
 
 std::unique_ptr<ContactModelStepper> MakeContactModel(const Scene& scene) {
   // the hull and point models have contacts between two moving hulls (the planar and
@@ -31,6 +50,8 @@ std::unique_ptr<ContactModelStepper> MakeContactModel(const Scene& scene) {
       return std::make_unique<MultiPatchModel>(scene);
     case ContactModel::kPointLcp:
       return std::make_unique<PointContactModel>(scene);
+    case ContactModel::kAuto:
+      return std::make_unique<AutoModel>(scene);
     case ContactModel::kHull:
       break;
   }

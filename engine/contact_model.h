@@ -10,6 +10,7 @@
 
 #include "engine/scene.h"
 #include "engine/state.h"
+#include "engine/step_report.h"
 #include "common/errors.h"
 
 namespace ecpsim::engine {
@@ -29,6 +30,7 @@ struct IslandState {
 
 /// What one attempt to advance an island reports.
 struct AdvanceResult {
+  StepModel model = StepModel::kHull;  // what solved it
   bool solved = false;
   double residual = 0;   // the accepted solution's convergence measure (failed: the last one)
   int iterations = 0;    // solver iterations (Lemke pivots for the point model), all attempts

@@ -140,6 +140,7 @@ class IslandStepper {
       const VectorXd z = MakeGuess(Guess::kSeparated, problem, layout, state, scales);
       if (AllContactsApart(problem, layout, z, state)) {
         Commit(problem, layout, z, state);
+        result.model = StepModel::kFree;
         result.solved = true;
         return result;
       }

@@ -125,6 +125,7 @@ class MultiPatchStepper {
   AdvanceResult Advance(double t, double h, BodyState& body,
                         std::vector<ContactState>& contacts) const {
     AdvanceResult result;
+    result.model = StepModel::kMultiPatch;
     const Body& model = scene_.bodies[body_index_];
     const BodyProblem start = StartOfStep(scene_, body_index_, body, t, h);
     const Scales scales = BodyScales(model, body, start.p_ext, h);
@@ -146,6 +147,7 @@ class MultiPatchStepper {
       }
       if (apart) {
         Commit(problem, layout, z, h, body, contacts);
+        result.model = StepModel::kFree;
         result.solved = true;
         return result;
       }

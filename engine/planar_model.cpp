@@ -8,6 +8,8 @@
 #include "engine/complementarity_solver.h"
 #include "engine/contact_window.h"
 #include "engine/mncp_scaling.h"
+#include "engine/mncp_system.h"
+#include "engine/obstacle_queries.h"
 #include "engine/rotation.h"
 #include "common/errors.h"
 
@@ -17,11 +19,11 @@ namespace {
 using Eigen::Vector3d;
 using Eigen::VectorXd;
 
-// "flat" and "horizontal": the support face normal within this angle of −z, the plane within it of
-// +z; far below any tilt the hull model would resolve, far above round-off
+// `model: planar`'s checks: "flat" is the support face's normal within this angle of −N, far below
+// any tilt the hull model would resolve, far above round-off
 constexpr double kFlatTolerance = 1e-9;  // rad
-// the ECP may sit on the support face's boundary up to this fraction of the body's length scale
-// before the model is declared invalid: far above the solver's relative 1e-12, far below a face
+// the lowest point on the plane, and the ECP on the support face's boundary, up to this fraction
+// of the body's length scale: far above the solver's relative 1e-12, far below a face
 constexpr double kSupportRelTolerance = 1e-9;
 
 // the face of the polyhedral hull whose outward normal (body frame) is closest to `direction_B`
@@ -33,50 +35,96 @@ int MostAlignedFace(const geometry::PolyhedralShape& hull, const Vector3d& direc
   return best;
 }
 
+
+// The plane's frame (t, o, N): world vectors to it and back. The ground's frame is the identity,
+// and its vectors go through untouched (no −0 from 0 · x), so a run on the ground is the same to
+// the bit as before planes of any orientation.
+class PlaneFrame {
+ public:
+  explicit PlaneFrame(const Vector3d& N) {
+    const ContactFrame frame = MakeContactFrame(N, TangentReference(N));
+    t_ = frame.t;
+    o_ = frame.o;
+    n_ = frame.n;
+    ground_ = N == Vector3d::UnitZ();
+  }
+  const Vector3d& t() const { return t_; }
+  const Vector3d& o() const { return o_; }
+  const Vector3d& n() const { return n_; }
+  Vector3d ToLocal(const Vector3d& world) const {
+    return ground_ ? world : Vector3d(t_.dot(world), o_.dot(world), n_.dot(world));
+  }
+  Vector3d ToWorld(const Vector3d& local) const {
+    return ground_ ? local : Vector3d(t_ * local.x() + o_ * local.y() + n_ * local.z());
+  }
+
+ private:
+  Vector3d t_, o_, n_;
+  bool ground_ = false;
+};
+
 }  // namespace
 
-AdvanceResult PlanarModel::Advance(const Island& island, double t, double h,
-                                  IslandState& state) const {
-  const Scene& scene = scene_;
+PlanarStep SolvePlanarStep(const Scene& scene, const Island& island, double t, double h,
+                           const PlanarChecks& checks, IslandState& state) {
   ECPSIM_DEMAND(island.bodies.size() == 1);
+  PlanarStep step;
+  if (island.contacts.size() != 1) {
+    step.invalid = "it needs exactly one obstacle (the plane) per body";
+    return step;
+  }
   const Body& body = scene.bodies[island.bodies[0]];
   const BodyState b = state.bodies[0];
-  const auto fail = [&](const std::string& why) {
-    return ModelInvalid(fmt::format(
-        "planar model invalid at t = {:.6g} s on body '{}': {}; use --model hull", t, body.name,
-        why));
-  };
-  if (island.contacts.size() != 1) throw fail("it needs exactly one obstacle (the plane) per body");
   const ContactPair& pair = scene.contacts[island.contacts[0]];
-  const geometry::ConvexShape& plane = *scene.obstacles[pair.obstacle].shape;
+  const geometry::ConvexShape& plane =
+      pair.WithBody() ? *scene.bodies[pair.other_body].hull : *scene.obstacles[pair.obstacle].shape;
 
-  // the model's assumptions: a horizontal plane, the body flat on one hull face and not moving
-  // vertically or tipping
+  // the model's assumptions: a plane, the body flat on one hull face of it
   const auto* hull = body.hull->AsPolyhedron();
-  if (!plane.IsHalfSpace() ||
-      plane.Gradient(0, b.p_WB).normalized().z() < std::cos(kFlatTolerance) || hull == nullptr)
-    throw fail("it needs a polyhedral hull on a horizontal plane");
+  if (pair.WithBody() || !plane.IsHalfSpace() || hull == nullptr) {
+    step.invalid = "it needs a polyhedral hull on a fixed plane";
+    return step;
+  }
+  const PlaneFrame frame(plane.Gradient(0, b.p_WB).normalized());
+  const Vector3d& N = frame.n();
   const Eigen::Matrix3d R = b.Q_WB.toRotationMatrix();
-  const double support_tolerance =
-      kSupportRelTolerance * std::sqrt(body.inertia.trace() / body.mass);
-  const int face = MostAlignedFace(*hull, R.transpose() * -Vector3d::UnitZ());
-  if ((R * hull->hull().normals[face]).z() > -std::cos(kFlatTolerance))
-    throw fail("the body is not flat on a face");
+  const double length = std::sqrt(body.inertia.trace() / body.mass);
+  const double support_tolerance = checks.support_length * length;
+  const int face = MostAlignedFace(*hull, R.transpose() * -N);
+  // the angle between −N and the face's normal through its sine: a cosine cannot resolve
+  // angles below 1e-8 rad (cos 1e-9 rounds to 1)
+  const Vector3d support_normal = R * hull->hull().normals[face];
+  if (!(support_normal.dot(N) < 0) || support_normal.cross(N).norm() > checks.flat_angle) {
+    step.invalid = "the body is not flat on a face";
+    return step;
+  }
   // CM height above the plane, constant in this model
-  const Vector3d lowest = b.p_WB + R * hull->Support(R.transpose() * -Vector3d::UnitZ());
+  const Vector3d lowest = b.p_WB + R * hull->Support(R.transpose() * -N);
   const double height = plane.Value(0, b.p_WB) - plane.Value(0, lowest);
-  if (std::abs(plane.Value(0, lowest)) > support_tolerance)
-    throw fail(fmt::format("its lowest point is {:.3g} m off the plane", plane.Value(0, lowest)));
+  if (std::abs(plane.Value(0, lowest)) > support_tolerance) {
+    step.invalid = fmt::format("its lowest point is {:.3g} m off the plane", plane.Value(0, lowest));
+    return step;
+  }
 
-  // impulses over the step: gravity, applied loads (at the start of the step, as the hull model)
+  // impulses over the step in the plane's frame: gravity, applied loads (at the start of the
+  // step, as the hull model)
   const Eigen::Matrix<double, 6, 1> p_app =
       AppliedImpulse(scene.loads, scene.impulses, pair.body, t, h, R);
   const double m = body.mass;
-  const double I = (R * body.inertia * R.transpose())(2, 2);
-  const double p_n = -m * scene.gravity.z() * h - p_app[2];
-  if (!(p_n > 0)) throw fail(fmt::format("p_n = {:.3g} N·s ≤ 0 (it would lift off)", p_n));
+  const Vector3d p_lin = frame.ToLocal(p_app.head<3>());
+  const Vector3d p_ang = frame.ToLocal(p_app.tail<3>());
+  const Vector3d gravity = frame.ToLocal(scene.gravity);
+  const double I = N.dot(R * body.inertia * R.transpose() * N);
+  const double p_n = -m * gravity.z() * h - p_lin.z();
+  if (!(p_n > 0)) {
+    step.invalid = fmt::format("p_n = {:.3g} N·s ≤ 0 (it would lift off)", p_n);
+    return step;
+  }
   const Friction& fr = pair.friction;
-  const double px = p_app[0], py = p_app[1], ptx = p_app[3], pty = p_app[4], ptz = p_app[5];
+  const double px = p_lin.x() + m * gravity.x() * h, py = p_lin.y() + m * gravity.y() * h;
+  const double ptx = p_ang.x(), pty = p_ang.y(), ptz = p_ang.z();
+  const Vector3d v_start = frame.ToLocal(b.v_WB);
+  const double w_start = N.dot(b.w_WB);
 
   // unknowns z = (p_t, p_o, p_r, σ); rows: the three friction equations and the cone
   struct Kinematics {
@@ -84,10 +132,10 @@ AdvanceResult PlanarModel::Advance(const Island& island, double t, double h,
   };
   const auto kinematics = [&](const VectorXd& z) {
     Kinematics k;
-    k.vx = b.v_WB.x() + (z[0] + px) / m;
-    k.vy = b.v_WB.y() + (z[1] + py) / m;
-    // friction at r − q_z e_z adds (p_τx p_t + p_τy p_o)/p_n about z when tipping torques act
-    k.w = b.w_WB.z() + (z[2] + ptz + (ptx * z[0] + pty * z[1]) / p_n) / I;
+    k.vx = v_start.x() + (z[0] + px) / m;
+    k.vy = v_start.y() + (z[1] + py) / m;
+    // friction at r − q e_N adds (p_τt p_t + p_τo p_o)/p_n about N when tipping torques act
+    k.w = w_start + (z[2] + ptz + (ptx * z[0] + pty * z[1]) / p_n) / I;
     k.rx = (pty - height * z[0]) / p_n;
     k.ry = -(height * z[1] + ptx) / p_n;
     k.vt = k.vx - k.w * k.ry;
@@ -143,7 +191,8 @@ AdvanceResult PlanarModel::Advance(const Island& island, double t, double h,
   McpOptions options;
   options.tolerance = scene.solver.tolerance;
   options.max_iterations = scene.solver.max_iterations;
-  AdvanceResult result;
+  AdvanceResult& result = step.result;
+  result.model = StepModel::kPlanar;
   McpResult solve = SolveMcp(f, 3, row_scale, var_scale, z, options);
   if (!solve.converged) {
     result.tried = fmt::format("warm start (h = {:g} s): residual {:.3g} after {} iterations", h,
@@ -158,35 +207,56 @@ AdvanceResult PlanarModel::Advance(const Island& island, double t, double h,
   if (!solve.converged) {
     result.tried += fmt::format("; sliding guess (h = {:g} s): residual {:.3g} after {} iterations",
                                 h, solve.residual, solve.iterations);
-    return result;
+    return step;
   }
 
-  // the step: horizontal motion and yaw only
+  // the step: motion in the plane and turning about its normal only
   const Kinematics kin = kinematics(z);
+  if (!(h * std::abs(kin.w) <= checks.max_rotation)) {
+    step.invalid = fmt::format("it turns {:.3g} rad in the step", h * std::abs(kin.w));
+    return step;
+  }
   BodyState& next = state.bodies[0];
-  next.v_WB = Vector3d(kin.vx, kin.vy, 0);
-  next.w_WB = Vector3d(0, 0, kin.w);
+  next.v_WB = frame.ToWorld(Vector3d(kin.vx, kin.vy, 0));
+  next.w_WB = frame.ToWorld(Vector3d(0, 0, kin.w));
   next.p_WB = b.p_WB + h * next.v_WB;
   next.Q_WB = IntegrateOrientation(b.Q_WB, next.w_WB, h);
 
   // the ECP must stay on the support face: otherwise the body tips and the model is invalid
   ContactState& c = state.contacts[0];
-  c.a1 = Vector3d(next.p_WB.x() + kin.rx, next.p_WB.y() + kin.ry, next.p_WB.z() - height);
-  c.a2 = c.a1;
-  const Vector3d y = next.Q_WB.toRotationMatrix().transpose() * (c.a1 - next.p_WB);
-  if (!WindowViolations(*hull, {face}, face, y, support_tolerance).empty())
-    throw fail(fmt::format("the ECP ({:.4g}, {:.4g}) m left the support face (it would tip)",
-                           c.a1.x(), c.a1.y()));
+  const Vector3d a1 = next.p_WB + frame.ToWorld(Vector3d(kin.rx, kin.ry, -height));
+  const Vector3d y = next.Q_WB.toRotationMatrix().transpose() * (a1 - next.p_WB);
+  if (!WindowViolations(*hull, {face}, face, y, support_tolerance).empty()) {
+    step.invalid = fmt::format("the ECP ({:.4g}, {:.4g}, {:.4g}) m left the support face (it "
+                               "would tip)", a1.x(), a1.y(), a1.z());
+    state.bodies[0] = b;
+    return step;
+  }
+  c.a1 = a1;
+  c.a2 = a1;
   c.p_n = p_n;
   c.p_t = z[0];
   c.p_o = z[1];
   c.p_r = z[2];
   c.sigma = std::max(z[3], 0.0);
-  c.n = Vector3d::UnitZ();
-  c.t = Vector3d::UnitX();
-  c.o = Vector3d::UnitY();
+  c.n = N;
+  c.t = frame.t();
+  c.o = frame.o();
+  step.face = face;
   result.solved = true;
-  return result;
+  return step;
+}
+
+AdvanceResult PlanarModel::Advance(const Island& island, double t, double h,
+                                  IslandState& state) const {
+  const PlanarStep step =
+      SolvePlanarStep(scene_, island, t, h, {kFlatTolerance, kSupportRelTolerance, INFINITY}, state);
+  if (!step.invalid.empty()) {
+    throw ModelInvalid(fmt::format("planar model invalid at t = {:.6g} s on body '{}': {}; use "
+                                   "--model hull", t, scene_.bodies[island.bodies[0]].name,
+                                   step.invalid));
+  }
+  return step.result;
 }
 
 }  // namespace ecpsim::engine

@@ -1,7 +1,7 @@
 #pragma once
-// The planar sliding model of Xie & Chakraborty (WAFR 2018): a body resting flat on a horizontal
-// plane, sliding and turning without vertical motion or tipping; a few quadratic equations per
-// step. Valid only while the ECP stays inside the support face and p_n > 0.
+// The planar sliding model of Xie & Chakraborty (WAFR 2018): a body resting flat on a plane,
+// sliding and turning in it without motion along its normal or tipping; a few quadratic
+// equations per step. Valid only while the ECP stays inside the support face and p_n > 0.
 
 #include <string>
 
@@ -11,18 +11,41 @@
 
 namespace ecpsim::engine {
 
-/// The planar sliding model (FORMULATION.md, "The planar-sliding model") for islands of one body
-/// on one plane. Unknowns p_t, p_o, p_r, σ; p_n = m g h − p_z (no vertical motion), the ECP at
-/// r = ((p_τy − q_z p_t)/p_n, −(q_z p_o + p_τx)/p_n) from the CM projection (zero tipping moment),
-/// friction in Fritz-John form with the cone written as μ p_n − ‖p̂‖ (engine/README.md).
+/// How strictly a planar step checks the model's assumptions (relative to the body's length
+/// L = √(tr I / m), in rad for angles).
+struct PlanarChecks {
+  double flat_angle;       // rad: the support face's normal within this of −N
+  double support_length;   // of L: the lowest point on the plane, the ECP on the support face
+  double max_rotation;     // rad: the largest turn h|ω⁺| of the step (beyond: not solved)
+};
+
+/// What PlanarStep did: `invalid` names the assumption that failed ("" when the model applies;
+/// the state is then untouched); otherwise `result` says whether the solve converged and
+/// `face` is the support face (hull face index).
+struct PlanarStep {
+  std::string invalid;
+  AdvanceResult result;
+  int face = -1;
+};
+
+/// One planar step of an island of one body on one half-space obstacle of any orientation
+/// (FORMULATION.md, "The planar-sliding model", written in the plane's frame (t, o, N) of
+/// MakeContactFrame(N, TangentReference(N)): the ground's is (x, y, z) to the bit). Unknowns
+/// p_t, p_o, p_r, σ; p_n = −(p_applied + m g h)·N (no motion along N); the ECP at
+/// r = ((p_τo − q p_t)/p_n, −(q p_o + p_τt)/p_n) from the CM's projection, q the CM's height
+/// (zero tipping moment); friction in Fritz-John form with the cone written as μ p_n − ‖p̂‖.
+/// Solved from the contact's last impulses, then the sliding guess.
+PlanarStep SolvePlanarStep(const Scene& scene, const Island& island, double t, double h,
+                           const PlanarChecks& checks, IslandState& state);
+
+/// The planar model as a scene's model (`model: planar`): SolvePlanarStep with checks far below
+/// any tilt the hull model would resolve and far above round-off.
 class PlanarModel final : public ContactModelStepper {
  public:
   explicit PlanarModel(const Scene& scene) : scene_(scene) {}
   std::string MessagePrefix() const override { return "planar model: "; }
-  /// The warm start, then the sliding guess; not solved if neither converges.
-  /// @throws ModelInvalid when the model's assumptions fail: the body is not flat on a
-  ///         horizontal plane, would lift off (p_n ≤ 0), or its ECP left the support face (it
-  ///         would tip).
+  /// @throws ModelInvalid when the model's assumptions fail: the body is not flat on a plane,
+  ///         would lift off (p_n ≤ 0), or its ECP left the support face (it would tip).
   AdvanceResult Advance(const Island& island, double t, double h,
                         IslandState& state) const override;
 

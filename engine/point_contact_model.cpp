@@ -186,6 +186,7 @@ class PointIslandStepper {
 
   AdvanceResult Advance(double t, double h, IslandState& state) const {
     AdvanceResult result;
+    result.model = StepModel::kPoint;
     const int num_bodies = static_cast<int>(island_.bodies.size());
     std::vector<BodyProblem> problems;
     for (int i = 0; i < num_bodies; ++i)

@@ -6,6 +6,8 @@ namespace ecpsim::engine {
 
 const char* ContactModelName(ContactModel model) {
   switch (model) {
+    case ContactModel::kAuto:
+      return "auto";
     case ContactModel::kHull:
       return "hull";
     case ContactModel::kPlanar:

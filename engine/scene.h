@@ -26,6 +26,7 @@ struct Friction {
 
 /// Which contact model steps the scene (`model:` in the scene file, `ecpsim run --model`).
 enum class ContactModel {
+  kAuto,        // per island and step the cheapest model whose answer is the hull model's
   kHull,        // the paper's model: one ECP per body–obstacle pair on the body's convex hull
   kPlanar,      // planar sliding (WAFR 2018): flat on a horizontal plane, no vertical motion
   kMultiPatch,  // multi-convex-patch (IDETC 2018): one ECP per convex part, friction combined
@@ -118,7 +119,7 @@ struct Scene {
   std::vector<Impulse> impulses;
   SolverSettings solver;
   OutputSettings output;
-  ContactModel model = ContactModel::kHull;
+  ContactModel model = ContactModel::kAuto;
 };
 
 }  // namespace ecpsim::engine

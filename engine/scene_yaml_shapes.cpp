@@ -50,11 +50,11 @@ std::shared_ptr<const ConvexShape> ReadPlaneShape(const Context& ctx, const MapN
 }  // namespace
 
 ContactModel ReadModel(const Context& ctx, const YAML::Node& node, const std::string& key) {
-  for (ContactModel model : {ContactModel::kHull, ContactModel::kPlanar, ContactModel::kMultiPatch,
-                             ContactModel::kPointLcp}) {
+  for (ContactModel model : {ContactModel::kAuto, ContactModel::kHull, ContactModel::kPlanar,
+                             ContactModel::kMultiPatch, ContactModel::kPointLcp}) {
     if (node.IsScalar() && node.Scalar() == ContactModelName(model)) return model;
   }
-  Fail(ctx, node, key, "one of hull, planar, multipatch, point");
+  Fail(ctx, node, key, "one of auto, hull, planar, multipatch, point");
 }
 
 Eigen::Quaterniond ReadOrientation(const Context& ctx, const MapNode& map) {

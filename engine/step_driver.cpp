@@ -126,6 +126,7 @@ std::vector<Island> FormIslands(const Scene& scene, const State& state) {
 StepReport StepIslands(const Scene& scene, State& state, const ContactModelStepper& model) {
   StepReport report;
   report.converged = true;
+  report.models.assign(scene.bodies.size(), StepModel::kKinematic);
   State next = state;
 
   const std::vector<Island> islands = FormIslands(scene, state);
@@ -148,6 +149,7 @@ StepReport StepIslands(const Scene& scene, State& state, const ContactModelStepp
       IslandState local = Gather(island, state);
       const double h = scene.h / substeps;
       double island_residual = 0;
+      StepModel island_model = StepModel::kFree;
       bool ok = true;
       // a contact's impulses are the whole step's: the sub-steps' sum
       std::vector<Eigen::Vector4d> impulse(island.contacts.size(), Eigen::Vector4d::Zero());
@@ -161,6 +163,7 @@ StepReport StepIslands(const Scene& scene, State& state, const ContactModelStepp
         report.retries += result.retries;
         residual = result.residual;
         island_residual = std::max(island_residual, result.residual);
+        island_model = std::max(island_model, result.model);
         if (!result.tried.empty())
           tried += fmt::format("{}{}", tried.empty() ? "" : "; ", result.tried);
         ok = result.solved;
@@ -174,8 +177,10 @@ StepReport StepIslands(const Scene& scene, State& state, const ContactModelStepp
         }
       }
       if (!ok) continue;
-      for (size_t i = 0; i < island.bodies.size(); ++i)
+      for (size_t i = 0; i < island.bodies.size(); ++i) {
         next.bodies[island.bodies[i]] = local.bodies[i];
+        report.models[island.bodies[i]] = island_model;
+      }
       for (size_t i = 0; i < island.contacts.size(); ++i) {
         ContactState& c = next.contacts[island.contacts[i]];
         c = local.contacts[i];

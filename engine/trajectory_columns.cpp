@@ -1,5 +1,7 @@
 #include "engine/trajectory_columns.h"
 
+#include <string_view>
+
 #include "engine/contact_wrench.h"
 
 namespace ecpsim::engine {
@@ -56,6 +58,27 @@ std::vector<std::string> TrajectoryColumns(const Scene& scene) {
   columns.push_back("iters");
   columns.push_back("residual");
   return columns;
+}
+
+std::vector<std::string> TrajectoryModelColumns(const Scene& scene) {
+  std::vector<std::string> columns;
+  for (const Body& body : scene.bodies)
+    columns.push_back(scene.bodies.size() > 1 ? body.name + ".model" : "model");
+  return columns;
+}
+
+std::vector<std::string> TrajectoryModels(const Scene& scene, const StepReport& report) {
+  std::vector<std::string> models;
+  for (size_t b = 0; b < scene.bodies.size(); ++b)
+    models.push_back(report.models.empty() ? "initial" : StepModelName(report.models[b]));
+  return models;
+}
+
+bool IsModelColumn(const std::string& column) {
+  constexpr std::string_view kSuffix = ".model";
+  return column == "model" ||
+         (column.size() > kSuffix.size() &&
+          column.compare(column.size() - kSuffix.size(), kSuffix.size(), kSuffix) == 0);
 }
 
 std::vector<double> TrajectoryValues(const Scene& scene, const State& state,

@@ -25,6 +25,17 @@ namespace ecpsim::engine {
 /// - `iters residual`.
 std::vector<std::string> TrajectoryColumns(const Scene& scene);
 
+/// The text columns that follow TrajectoryColumns: per body `model` (prefixed `<body>.` when
+/// there are several bodies), what solved its step — StepModelName: `free`, `planar`, `hull`,
+/// `multipatch`, `point`, `kinematic` — or `initial` in the row of the initial state.
+std::vector<std::string> TrajectoryModelColumns(const Scene& scene);
+
+/// The row's text values, in TrajectoryModelColumns' order.
+std::vector<std::string> TrajectoryModels(const Scene& scene, const StepReport& report);
+
+/// Whether `column` is one of TrajectoryModelColumns' names (text, not a number).
+bool IsModelColumn(const std::string& column);
+
 /// The row of `state` after a step that reported `report`, in TrajectoryColumns' order (the
 /// initial state's row has zero impulses, forces and iterations). Values may be non-finite if
 /// the state is; callers check.

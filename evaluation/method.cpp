@@ -52,6 +52,12 @@ std::vector<Method> AllMethods() {
     hull.name = tolerance == kHullTolerances[0] ? "hull" : fmt::format("hull-tol{:.0e}", tolerance);
     methods.push_back(hull);
   }
+  // the default model: the hull model's answer at the cheapest model's cost per step
+  Method automatic;
+  automatic.model = engine::ContactModel::kAuto;
+  automatic.tolerance = kHullTolerances[0];
+  automatic.name = engine::ContactModelName(engine::ContactModel::kAuto);
+  methods.push_back(automatic);
   for (engine::ContactModel model : {engine::ContactModel::kPlanar,
                                      engine::ContactModel::kMultiPatch,
                                      engine::ContactModel::kPointLcp}) {

@@ -134,7 +134,7 @@ def make_scene(
     gravity: Vector3 = ...,
     friction: Optional[Mapping[str, float]] = None,
     loads: Optional[Sequence[Mapping[str, Any]]] = None,
-    model: str = "hull",
+    model: str = "auto",
 ) -> Scene:
     """A scene from Python dicts (box or mesh bodies, kinematic ones at a constant twist,
     half-space obstacles, loads), validated as a file's."""

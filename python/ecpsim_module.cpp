@@ -279,13 +279,18 @@ void SetBodyArray(const engine::Scene& scene, engine::State& state, BodyField fi
   state.bodies = std::move(bodies);
 }
 
-py::dict ReportDict(const engine::StepReport& report) {
+py::dict ReportDict(const engine::Scene& scene, const engine::StepReport& report) {
   py::dict d;
   d["converged"] = report.converged;
   d["iterations"] = report.iterations;
   d["residual"] = report.residual;
   d["retries"] = report.retries;
   d["substeps"] = report.substeps;
+  // what solved each body's step, by name (empty before the first step)
+  py::dict models;
+  for (size_t b = 0; b < report.models.size() && b < scene.bodies.size(); ++b)
+    models[py::str(scene.bodies[b].name)] = engine::StepModelName(report.models[b]);
+  d["models"] = models;
   return d;
 }
 
@@ -299,7 +304,8 @@ const char* ContactMode(const engine::Scene& scene, const engine::State& state,
   return c.sigma > kSlidingSlipFraction * velocity_scale ? "sliding" : "sticking";
 }
 
-py::list ContactList(const engine::Scene& scene, const engine::State& state) {
+py::list ContactList(const engine::Scene& scene, const engine::State& state,
+                     const engine::StepReport& report) {
   py::list contacts;
   const double h = scene.h;
   for (size_t k = 0; k < scene.contacts.size(); ++k) {
@@ -327,7 +333,9 @@ py::list ContactList(const engine::Scene& scene, const engine::State& state) {
     d["f_r"] = c.p_r / h;
     d["force"] = Array(Vector3d((c.n * c.p_n + c.t * c.p_t + c.o * c.p_o) / h));
     d["mode"] = ContactMode(scene, state, pair, c);
-    d["model"] = engine::ContactModelName(scene.model);
+    // what solved the step of the contact's body; before the first step, the scene's model
+    d["model"] = report.models.empty() ? engine::ContactModelName(scene.model)
+                                       : engine::StepModelName(report.models[pair.body]);
     d["friction"] = FrictionDict(pair.friction);
     contacts.append(d);
   }
@@ -420,7 +428,8 @@ py::array_t<std::uint8_t> Render(PySimulation& self, int width, int height,
     if (!cache.frames) {
       cache.frames = std::make_unique<render::SceneFrameBuilder>(self.sim.scene());
     }
-    render::FrameInput frame = cache.frames->Build(self.sim.state(), self.sim.last_report().iterations);
+    render::FrameInput frame = cache.frames->Build(self.sim.state(), self.sim.last_report().iterations,
+                                                           self.sim.last_report().models);
     frame.camera = spec;
     frame.show.hull = frame.show.inset = frame.show.text = frame.show.force_arrow = overlays;
     image = cache.renderer->Render(frame);
@@ -638,10 +647,11 @@ std::shared_ptr<engine::Scene> MakeScene(const py::list& bodies, const py::objec
     for (const auto& item : loads) scene.loads.push_back(ReadLoad(scene, item, fmt::format("loads[{}]", i++)));
   }
   const std::map<std::string, engine::ContactModel> models = {
-      {"hull", engine::ContactModel::kHull}, {"planar", engine::ContactModel::kPlanar},
+      {"auto", engine::ContactModel::kAuto}, {"hull", engine::ContactModel::kHull},
+      {"planar", engine::ContactModel::kPlanar},
       {"multipatch", engine::ContactModel::kMultiPatch}, {"point", engine::ContactModel::kPointLcp}};
   if (models.count(model) == 0) {
-    throw InputError(fmt::format("model = {}: expected hull, planar, multipatch or point", model));
+    throw InputError(fmt::format("model = {}: expected auto, hull, planar, multipatch or point", model));
   }
   scene.model = models.at(model);
   // the checks every scene passes, a file's too (engine/scene_validation.h)
@@ -665,7 +675,9 @@ py::dict Run(const SceneHandle& scene, const py::object& duration_arg, long ever
   }
   const long steps = engine::PlannedSteps(duration, scene->h);
   const std::vector<std::string> columns = engine::TrajectoryColumns(*scene);
+  const std::vector<std::string> model_columns = engine::TrajectoryModelColumns(*scene);
   std::vector<double> rows;
+  std::vector<std::string> models;
   {
     py::gil_scoped_release release;
     engine::State state = engine::InitialState(*scene);
@@ -681,6 +693,8 @@ py::dict Run(const SceneHandle& scene, const py::object& duration_arg, long ever
         }
       }
       rows.insert(rows.end(), row.begin(), row.end());
+      const std::vector<std::string> row_models = engine::TrajectoryModels(*scene, report);
+      models.insert(models.end(), row_models.begin(), row_models.end());
     };
     add_row();
     for (long k = 1; k <= steps; ++k) {
@@ -695,6 +709,12 @@ py::dict Run(const SceneHandle& scene, const py::object& duration_arg, long ever
     double* out = column.mutable_data();
     for (size_t r = 0; r < n; ++r) out[r] = rows[r * columns.size() + c];
     result[py::str(columns[c])] = column;
+  }
+  // the model columns as numpy arrays of str, as the CSV's text columns
+  for (size_t c = 0; c < model_columns.size(); ++c) {
+    py::list column;
+    for (size_t r = 0; r < n; ++r) column.append(models[r * model_columns.size() + c]);
+    result[py::str(model_columns[c])] = py::module_::import("numpy").attr("array")(column);
   }
   return result;
 }
@@ -801,7 +821,7 @@ PYBIND11_MODULE(ecpsim, m) {
                              "Gravity (3,), m/s², world frame.")
       .def_property_readonly("model",
                              [](const engine::Scene& s) { return engine::ContactModelName(s.model); },
-                             "The contact model: hull, planar, multipatch or point.")
+                             "The contact model: auto, hull, planar, multipatch or point.")
       .def_property_readonly(
           "body_names",
           [](const engine::Scene& s) {
@@ -940,9 +960,11 @@ PYBIND11_MODULE(ecpsim, m) {
           "last_report",
           [](PySimulation& self) {
             const std::lock_guard<std::mutex> lock(self.mutex);
-            return ReportDict(self.sim.last_report());
+            return ReportDict(self.sim.scene(), self.sim.last_report());
           },
-          "The last step's {converged, iterations, residual, retries, substeps}.")
+          "The last step's {converged, iterations, residual, retries, substeps, models}: models maps "
+          "each body's name to what solved its step (free, planar, hull, multipatch, point, "
+          "kinematic).")
       .def(
           "get_state",
           [](PySimulation& self) {
@@ -1004,7 +1026,7 @@ PYBIND11_MODULE(ecpsim, m) {
           "contacts",
           [](PySimulation& self) {
             const std::lock_guard<std::mutex> lock(self.mutex);
-            return ContactList(self.sim.scene(), self.sim.state());
+            return ContactList(self.sim.scene(), self.sim.state(), self.sim.last_report());
           },
           "The contacts' solutions of the last step, one dict per potential contact: name, body, "
           "other (obstacle or body), other_is_body, a1 and a2 (the ECPs, m), normal, tangent, "
@@ -1044,7 +1066,7 @@ PYBIND11_MODULE(ecpsim, m) {
       },
       py::arg("bodies"), py::arg("obstacles") = py::none(), py::arg("h") = 0.01,
       py::arg("duration") = 1.0, py::arg("gravity") = py::make_tuple(0, 0, -9.8),
-      py::arg("friction") = py::none(), py::arg("loads") = py::none(), py::arg("model") = "hull",
+      py::arg("friction") = py::none(), py::arg("loads") = py::none(), py::arg("model") = "auto",
       "A scene built in Python, checked by the same validation as a file's (ValidateScene).\n"
       "bodies: dicts {name, mass, box: [x, y, z] m | mesh: path (scale), position (the CM), "
       "quaternion (w, x, y, z), velocity, angular_velocity, friction {mu, e_t, e_o, e_r}, "

@@ -29,6 +29,7 @@ void DrawTextOverlay(const FrameInput& frame, DrawContext& context) {
     }
     lines.push_back("contact: " + modes);
   }
+  if (!frame.model.empty()) lines.push_back("model: " + frame.model);
   if (frame.iterations >= 0) {
     lines.push_back(fmt::format("solver: {} iteration{}", frame.iterations,
                                 frame.iterations == 1 ? "" : "s"));

@@ -91,6 +91,7 @@ struct FrameInput {
   double force_scale = 0;   // m of arrow per N of contact force; 0 hides the arrows
   double time = 0;          // s, shown in the text overlay
   int iterations = -1;      // solver iterations of the last step; < 0: not shown
+  std::string model;        // what solved the last step ("planar", "hull 2, free 1"); "": none
   std::string title;        // first text line (e.g. the scene name); empty: none
 };
 

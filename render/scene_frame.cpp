@@ -11,6 +11,20 @@
 namespace ecpsim::render {
 namespace {
 
+// the overlay's model line: the one body's model, or each model with how many bodies it solved
+// ("hull 7, free 2"), kinematic bodies left out
+std::string ModelLine(const std::vector<engine::StepModel>& models) {
+  if (models.size() == 1) return engine::StepModelName(models[0]);
+  std::string line;
+  for (int m = 0; m < engine::kNumStepModels; ++m) {
+    const auto model = static_cast<engine::StepModel>(m);
+    if (model == engine::StepModel::kKinematic) continue;
+    const long count = std::count(models.begin(), models.end(), model);
+    if (count > 0) line += fmt::format("{}{} {}", line.empty() ? "" : ", ", engine::StepModelName(model), count);
+  }
+  return line;
+}
+
 // body colours, cycled: warm wood, steel blue, grey, plum, sage
 const Eigen::Vector3f kBodyColours[] = {{0.80f, 0.62f, 0.42f}, {0.55f, 0.70f, 0.85f},
                                         {0.62f, 0.62f, 0.66f}, {0.70f, 0.55f, 0.75f},
@@ -80,7 +94,8 @@ double SceneFrameBuilder::PatchTolerance(int body, const Eigen::Isometry3d& X_WB
   return tolerance + gap;
 }
 
-FrameInput SceneFrameBuilder::Build(const engine::State& state, int iterations) const {
+FrameInput SceneFrameBuilder::Build(const engine::State& state, int iterations,
+                                    const std::vector<engine::StepModel>& models) const {
   if (state.bodies.size() != scene_.bodies.size() ||
       state.contacts.size() != scene_.contacts.size()) {
     throw InputError(fmt::format("{}: state with {} bodies and {} contacts: expected {} and {}",
@@ -91,6 +106,7 @@ FrameInput SceneFrameBuilder::Build(const engine::State& state, int iterations) 
   frame.title = scene_.source;
   frame.time = state.t;
   frame.iterations = iterations;
+  frame.model = ModelLine(models);
   frame.force_scale = force_scale_;
 
   for (size_t i = 0; i < scene_.bodies.size(); ++i) {

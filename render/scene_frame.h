@@ -8,6 +8,7 @@
 
 #include "engine/scene.h"
 #include "engine/state.h"
+#include "engine/step_report.h"
 #include "render/frame_input.h"
 
 namespace ecpsim::render {
@@ -26,9 +27,11 @@ class SceneFrameBuilder {
   /// projected on the plane;
   /// for every contact in touch (p_n > 0 or a non-empty patch) the ECP a1 and the force
   /// (p_n n + p_t t + p_o o)/h. Other obstacles are drawn as fixed grey bodies. `iterations`
-  /// (< 0: unknown) goes to the text overlay.
+  /// (< 0: unknown) and what solved each body's step (`models`, per body; empty: unknown) go
+  /// to the text overlay.
   /// @throws InputError if the state does not match the scene (counts) or is not finite.
-  FrameInput Build(const engine::State& state, int iterations = -1) const;
+  FrameInput Build(const engine::State& state, int iterations = -1,
+                   const std::vector<engine::StepModel>& models = {}) const;
 
  private:
   // the patch tolerance for `body` at pose X_WB: geometry::ContactPatchTolerance plus the gap

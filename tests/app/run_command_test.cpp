@@ -18,6 +18,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "engine/trajectory_columns.h"
 #include "tests/app/run_fixture.h"
 
 namespace ecpsim {
@@ -52,11 +53,13 @@ class RunCommandTest : public testing::RunFixture {
     return rows;
   }
 
-  // every data field parses completely as a finite double
+  // every data field parses completely as a finite double, but the model columns' (text)
   static void ExpectAllFinite(const std::vector<std::vector<std::string>>& rows) {
     for (size_t r = 1; r < rows.size(); ++r) {
       ASSERT_EQ(rows[r].size(), rows[0].size()) << "row " << r;
-      for (const std::string& field : rows[r]) {
+      for (size_t c = 0; c < rows[r].size(); ++c) {
+        if (engine::IsModelColumn(rows[0][c])) continue;
+        const std::string& field = rows[r][c];
         size_t used = 0;
         const double value = std::stod(field, &used);
         EXPECT_EQ(used, field.size()) << field;
@@ -79,12 +82,16 @@ TEST_F(RunCommandTest, SlideWritesTheTrajectoryAndSummary) {
   const std::vector<std::string> expected = {
       "t",   "px",  "py",  "pz",  "qw", "qx", "qy", "qz", "vx",    "vy",    "vz",      "wx", "wy",
       "wz",  "a1x", "a1y", "a1z", "a2x", "a2y", "a2z", "pn", "pt",  "po",    "pr",      "sigma",
-      "fn",  "ft",  "fo",  "fr",  "iters", "residual"};
+      "fn",  "ft",  "fo",  "fr",  "iters", "residual", "model"};
   ASSERT_FALSE(rows.empty());
   EXPECT_EQ(rows[0], expected);
   // 0.5 s / 0.01 s = 50 steps plus the initial state
   ASSERT_EQ(rows.size(), 1u + 51u);
   ExpectAllFinite(rows);
+  // model: auto (the default) slides the flat box with the planar model, every step
+  EXPECT_EQ(rows[1].back(), "initial");
+  for (size_t r = 2; r < rows.size(); ++r) EXPECT_EQ(rows[r].back(), "planar") << "row " << r;
+
 
   // the closed form: v(t) = max(0, v0 − μ g t), the box stays flat at pz = 0.05 m
   for (size_t r = 1; r < rows.size(); ++r) {
@@ -111,6 +118,7 @@ TEST_F(RunCommandTest, SlideWritesTheTrajectoryAndSummary) {
     EXPECT_TRUE(summary.contains(key)) << key;
   }
   EXPECT_EQ(summary["steps"], 50);
+  EXPECT_EQ(summary["models"], nlohmann::json({{"planar", 50}}));
   EXPECT_EQ(summary["failures"], 0);
   EXPECT_EQ(summary["converged"], true);
   EXPECT_EQ(summary["h"], 0.01);

@@ -20,10 +20,12 @@
 #include <nlohmann/json.hpp>
 #include <random>
 #include <regex>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "engine/trajectory_columns.h"
 #include "tests/cli_test.h"
 
 namespace ecpsim {
@@ -205,17 +207,31 @@ int CasesPerScene() {
 
 class SceneFuzzTest : public testing::CliTest, public ::testing::WithParamInterface<int> {
  protected:
-  // every field of every data row parses completely as a finite double
+  // every field of every data row parses completely as a finite double, except the model
+  // columns', which name a model
   static std::string NonFiniteInCsv(const fs::path& path, long& data_rows, double& last_t) {
     std::ifstream in(path);
     std::string line;
     std::getline(in, line);  // header
+    std::vector<bool> text_column;
+    {
+      std::stringstream header(line);
+      for (std::string name; std::getline(header, name, ',');)
+        text_column.push_back(engine::IsModelColumn(name));
+    }
+    const std::set<std::string> models = {"initial", "free", "planar", "hull", "multipatch",
+                                          "point", "kinematic"};
     data_rows = 0;
     while (std::getline(in, line)) {
       ++data_rows;
       std::stringstream stream(line);
       size_t column = 0;
       for (std::string field; std::getline(stream, field, ','); ++column) {
+        if (column < text_column.size() && text_column[column]) {
+          if (models.count(field) == 0)
+            return fmt::format("trajectory.csv row {} column {}: \"{}\" is no model", data_rows, column, field);
+          continue;
+        }
         char* end = nullptr;
         const double value = std::strtod(field.c_str(), &end);
         if (field.empty() || *end != '\0' || !std::isfinite(value)) {

@@ -109,7 +109,8 @@ TEST(StepIslandsTest, TheHullModelThroughTheDriverIsTheStep) {
   box.p0 = Vector3d(0, 0, 0.2);
   box.v0 = Vector3d(0.4, 0.1, 0);
   box.w0 = Vector3d(0.5, 1, 2);
-  const Scene scene = MakeGroundScene({box});
+  Scene scene = MakeGroundScene({box});
+  scene.model = ContactModel::kHull;
   State a = InitialState(scene), b = a;
   const HullModel hull(scene);
   for (int i = 0; i < 40; ++i) {

@@ -14,9 +14,14 @@ BINARY_DIR = pathlib.Path(os.environ.get("ECPSIM_BINARY_DIR", "build"))
 
 
 def read_csv(path):
+    """The header, the numeric columns as an array, and the model columns (text) by name."""
     with open(path, newline="") as f:
         rows = list(csv.reader(f))
-    return rows[0], np.array([[float(x) for x in row] for row in rows[1:]])
+    numeric = [i for i, name in enumerate(rows[0]) if not name.endswith("model")]
+    text = {rows[0][i]: [row[i] for row in rows[1:]]
+            for i in range(len(rows[0])) if i not in numeric}
+    return (rows[0], [rows[0][i] for i in numeric],
+            np.array([[float(row[i]) for i in numeric] for row in rows[1:]]), text)
 
 
 @pytest.mark.parametrize("name", ["slide.yaml", "push_box.yaml"])
@@ -29,12 +34,16 @@ def test_run_equals_the_cli_csv(scenes, tmp_path, name):
     subprocess.run([str(cli), "run", str(scenes / name), "-o", str(out)]
                    + ["--set", "duration=0.3", "--set", "output.every=7"],
                    check=True, capture_output=True)
-    header, values = read_csv(out / "trajectory.csv")
+    header, numeric, values, text = read_csv(out / "trajectory.csv")
     trajectory = ecpsim.run(ecpsim.load_scene(str(scenes / name), overrides))
     assert list(trajectory) == header
-    for i, column in enumerate(header):
+    for i, column in enumerate(numeric):
         # the CSV holds shortest round-trip decimals: the same doubles
         np.testing.assert_array_equal(trajectory[column], values[:, i], err_msg=column)
+    assert text, "a model column per body"
+    for column, models in text.items():
+        assert list(trajectory[column]) == models, column
+        assert models[0] == "initial"
 
 
 def test_run_rows_follow_every_and_duration(scenes):

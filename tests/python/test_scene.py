@@ -12,7 +12,7 @@ def test_slide_scene_views(scenes):
     assert scene.duration == 0.5
     np.testing.assert_array_equal(scene.gravity, [0, 0, -9.8])
     assert scene.body_names == ["box"]
-    assert scene.model == "hull"
+    assert scene.model == "auto"
     box = scene.bodies[0]
     assert box["mass"] == 15
     assert not box["kinematic"]

@@ -51,7 +51,9 @@ def test_slide_follows_the_closed_form(scenes):
             assert contact["force"][0] == pytest.approx(-mu * m * g, rel=FORCE_REL_TOL)
         elif sim.time > t_star + scene.h:
             assert contact["mode"] == "sticking"
-        assert contact["model"] == "hull"
+        # model: auto (the default) steps a box flat on the ground with the planar model
+        assert contact["model"] == "planar"
+        assert sim.last_report["models"] == {"box": "planar"}
         assert contact["body"] == "box" and contact["other"] == "ground"
     assert sim.time == 40 * scene.h
     assert sim.steps == 40
