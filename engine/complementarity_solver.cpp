@@ -12,6 +12,8 @@
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseLU>
 
+#include "engine/pattern_lu.h"
+
 namespace ecpsim::engine {
 namespace {
 
@@ -161,95 +163,16 @@ class ScaledProblem {
   Matrix& J_;
 };
 
-// LU with partial pivoting, unblocked (right-looking), on a workspace kept across iterations:
-// Eigen's PartialPivLU switches to its blocked GEMM path above 16×16, whose packing costs more
-// than it saves at the ≈ 25×25 of one body's MNCP, and cannot use the Newton matrix's sparsity
-// (most entries are structurally zero: the update skips columns whose pivot-row entry is 0 and
-// rows below the last non-zero multiplier, which changes no result, since x − l·0 = x for
-// finite l). Large systems (a whole big hull, many patches) go to Eigen's blocked LU, which is
-// the faster one there.
-class SmallLu {
- public:
-  // factors A (square); an exactly zero pivot is kept, so that Solve returns a non-finite
-  // direction that the caller rejects, as Eigen's PartialPivLU does
-  void Compute(const Eigen::MatrixXd& A) {
-    blocked_ = A.rows() > kMaxUnblockedSize;
-    if (blocked_) {
-      blocked_lu_.compute(A);
-      return;
-    }
-    lu_ = A;
-    const Eigen::Index n = lu_.rows();
-    pivots_.resize(n);
-    double* const a = lu_.data();  // column-major, leading dimension n
-    for (Eigen::Index k = 0; k < n; ++k) {
-      double* const col_k = a + k * n;
-      Eigen::Index pivot = k;
-      for (Eigen::Index i = k + 1; i < n; ++i)
-        if (std::abs(col_k[i]) > std::abs(col_k[pivot])) pivot = i;
-      pivots_[k] = pivot;
-      if (col_k[pivot] != 0) {
-        if (pivot != k)
-          for (Eigen::Index j = 0; j < n; ++j) std::swap(a[j * n + k], a[j * n + pivot]);
-        // divided, not multiplied by the reciprocal, as Eigen does: the multi-patch model's
-        // ill-conditioned systems take other Newton paths on the reciprocal's round-off
-        for (Eigen::Index i = k + 1; i < n; ++i) col_k[i] /= col_k[k];
-      }
-      // rows below the last non-zero multiplier are not updated either
-      Eigen::Index end = n;
-      while (end > k + 1 && col_k[end - 1] == 0) --end;
-      for (Eigen::Index j = k + 1; j < n; ++j) {
-        double* const col_j = a + j * n;
-        const double u = col_j[k];
-        if (u == 0) continue;
-        for (Eigen::Index i = k + 1; i < end; ++i) col_j[i] -= col_k[i] * u;
-      }
-    }
-  }
-
-  // x ← A⁻¹ x: the row interchanges, then the unit lower and the upper triangular solves,
-  // column-oriented (Eigen's triangular solve allocates a temporary for dynamic vectors)
-  void SolveInPlace(Eigen::VectorXd& x) const {
-    if (blocked_) {
-      x = blocked_lu_.solve(Eigen::VectorXd(x));
-      return;
-    }
-    const Eigen::Index n = lu_.rows();
-    const double* const a = lu_.data();
-    for (Eigen::Index k = 0; k < n; ++k) std::swap(x[k], x[pivots_[k]]);
-    for (Eigen::Index j = 0; j < n; ++j) {
-      const double xj = x[j];
-      if (xj == 0) continue;
-      for (Eigen::Index i = j + 1; i < n; ++i) x[i] -= a[j * n + i] * xj;
-    }
-    for (Eigen::Index j = n - 1; j >= 0; --j) {
-      x[j] /= a[j * n + j];
-      const double xj = x[j];
-      if (xj == 0) continue;
-      for (Eigen::Index i = 0; i < j; ++i) x[i] -= a[j * n + i] * xj;
-    }
-  }
-
- private:
-  // the unblocked loops were measured on one contact's MNCP (≈ 25) and the desk's multi-patch
-  // one (82); far beyond, the blocked LU's cache blocking is expected to win
-  static constexpr Eigen::Index kMaxUnblockedSize = 128;
-
-  bool blocked_ = false;
-  Eigen::MatrixXd lu_;
-  std::vector<Eigen::Index> pivots_;
-  Eigen::PartialPivLU<Eigen::MatrixXd> blocked_lu_;
-};
-
 bool AllFinite(const Eigen::VectorXd& v) { return v.allFinite(); }
 
-// The Newton matrix's linear algebra, dense: SmallLu for the Newton direction and the normal
-// matrix HᵀH for the Levenberg–Marquardt one, O(n³) per iteration — the fastest for one body's
-// MNCP and small islands
+// The Newton matrix's linear algebra, dense: PatternLu for the Newton direction (the elimination
+// replayed on the matrix's non-zeros) and the normal matrix HᵀH for the Levenberg–Marquardt one —
+// the fastest for one body's MNCP and small islands
 class DenseNewtonAlgebra {
  public:
   using Matrix = Eigen::MatrixXd;
-  void Factor(const Matrix& H) { lu_.Compute(H); }
+  // the dense elimination, or (replay) the pattern's schedule with threshold pivoting
+  void Factor(const Matrix& H, bool replay) { lu_.Compute(H, replay); }
   // x ← H⁻¹ x (non-finite where H is singular)
   void Solve(Eigen::VectorXd& x) const { lu_.SolveInPlace(x); }
   // direction = −(HᵀH + μ I)⁻¹ gradient
@@ -261,7 +184,7 @@ class DenseNewtonAlgebra {
   }
 
  private:
-  SmallLu lu_;
+  PatternLu lu_;
 };
 
 // The same on a sparse H (an island's: bodies' 6 × 6 blocks coupled only through their shared
@@ -272,7 +195,8 @@ class DenseNewtonAlgebra {
 class SparseNewtonAlgebra {
  public:
   using Matrix = SparseMatrix;
-  void Factor(const Matrix& H) {
+  // (the sparse LU keeps its analysis per pattern anyway: `replay` changes nothing here)
+  void Factor(const Matrix& H, bool /*replay*/) {
     // a non-finite entry would reach the LU's pivot search, whose comparisons it defeats
     factored_ = AllFinite(H);
     if (!factored_) return;
@@ -429,6 +353,7 @@ McpResult SolveMcpWith(
   double lm_damping = 1;  // of ‖Φ‖, the Levenberg–Marquardt damping (adapted below)
   double best_residual = result.residual;  // and the iteration that reached it (stall test)
   int best_iteration = 0;
+  double previous_residual = INFINITY;  // the measure one iteration earlier
   for (int iteration = 1; iteration <= options.max_iterations; ++iteration) {
     if (result.residual <= options.tolerance) {
       result.converged = true;
@@ -440,7 +365,7 @@ McpResult SolveMcpWith(
 
     // semismooth Newton direction, else Levenberg–Marquardt with μ = ‖Φ‖² (Yamashita–Fukushima:
     // fast local convergence even where solutions are not isolated), else steepest descent
-    algebra.Factor(current.H);
+    algebra.Factor(current.H, options.replay_pivots);
     direction = -current.phi;
     algebra.Solve(direction);
     bool newton_ok = AllFinite(direction);
@@ -459,6 +384,13 @@ McpResult SolveMcpWith(
 
     // non-monotone Armijo backtracking on Ψ = ½‖Φ‖²
     const double reference = *std::max_element(recent_merits.begin(), recent_merits.end());
+    // the full step's Jacobian is needed only if the iteration goes on: when quadratic
+    // convergence (r_next ≈ r² · r / r_previous²) predicts a full step to end under the
+    // tolerance, the trial is evaluated without it, and only computed after all if the measure
+    // says otherwise. The stop stays the measure at an evaluated iterate, never the prediction
+    const bool predict_converged =
+        result.residual * (result.residual / previous_residual) *
+            (result.residual / previous_residual) <= options.tolerance;
     double step = 1;
     bool accepted = false;
     bool trial_has_jacobian = false;
@@ -471,7 +403,7 @@ McpResult SolveMcpWith(
         if (project) x_trial.tail(n - num_free) = x_trial.tail(n - num_free).cwiseMax(0.0);
         // the full step is usually accepted: evaluate it with its Jacobian, ready for the next
         // iteration
-        trial_has_jacobian = step == 1;
+        trial_has_jacobian = step == 1 && !predict_converged;
         problem.Evaluate(x_trial, &F_trial, &trial, trial_has_jacobian);
         const double trial_merit = 0.5 * trial.phi.squaredNorm();
         if (AllFinite(trial.phi) && trial_merit <= reference + kArmijo * step * slope) {
@@ -534,9 +466,18 @@ McpResult SolveMcpWith(
       std::swap(current, trial);
       std::swap(F, F_trial);
     } else {
+      // F at x is the trial's: a converged x ends the solve without its Jacobian
+      z = var_scale.cwiseProduct(x);
+      const double residual = measure(z, F_trial);
+      if (residual <= options.tolerance) {
+        result.residual = residual;
+        result.converged = true;
+        return result;
+      }
       problem.Evaluate(x, &F, &current, true);
     }
     z = var_scale.cwiseProduct(x);
+    previous_residual = result.residual;
     result.residual = measure(z, F);
     recent_merits.push_back(0.5 * current.phi.squaredNorm());
     if (static_cast<int>(recent_merits.size()) > options.nonmonotone_memory)

@@ -45,6 +45,11 @@ struct McpOptions {
   // are isolated but whose Newton matrix can be nearly singular; problems with non-isolated
   // solutions (the multi-patch model's) converge better on the plain iteration
   bool levenberg_marquardt_rescue = false;
+  // factor the Newton matrix by replaying the elimination schedule of its non-zero pattern with
+  // threshold pivoting (pattern_lu.h) instead of the dense partial-pivoting sweep: several times
+  // cheaper from a few dozen unknowns (the multi-patch model's), the same solution to round-off
+  // but other round-off, so iterates differ in their last bits (dense Jacobians only)
+  bool replay_pivots = false;
   // stop, unconverged, when the measure has not halved for this many iterations (0: never):
   // for callers with other guesses to try, a stalled solve's remaining iterations are wasted
   int stall_iterations = 0;

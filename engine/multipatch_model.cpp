@@ -162,6 +162,9 @@ class MultiPatchStepper {
     McpOptions options;
     options.tolerance = scene_.solver.tolerance;
     options.max_iterations = kIterationBudgetFactor * scene_.solver.max_iterations;
+    // the 82-unknown Newton matrix of the desk's four feet is 5 % non-zeros: its elimination
+    // replayed on them (pattern_lu.h) cost 3.5 × fewer instructions per step than the dense one
+    options.replay_pivots = true;
     const McpFunction f = [&](const VectorXd& zz, VectorXd* F, Eigen::MatrixXd* J) {
       EvaluateMultiPatch(problem, layout, zz, F, J);
     };

@@ -35,10 +35,11 @@ PlantedMcp MakePlantedMcp(int n, int num_free) {
   return p;
 }
 
-void ExpectSolvesPlanted(int n, int num_free, bool sparse = false) {
+void ExpectSolvesPlanted(int n, int num_free, bool sparse = false, bool replay = false) {
   const PlantedMcp p = MakePlantedMcp(n, num_free);
   McpOptions options;
   options.tolerance = 1e-12;
+  options.replay_pivots = replay;
   Eigen::VectorXd z = Eigen::VectorXd::Constant(n, 0.5);
   const Eigen::VectorXd ones = Eigen::VectorXd::Ones(n);
   McpResult result;
@@ -77,6 +78,15 @@ TEST(ComplementaritySolverTest, SolvesPlantedMixedLcpAboveTheUnblockedSize) {
   ExpectSolvesPlanted(300, 60);
   // and the shared workspace again afterwards
   ExpectSolvesPlanted(25, 16);
+}
+
+TEST(ComplementaritySolverTest, SolvesPlantedMixedLcpWithReplayedPivots) {
+  // the Newton matrix factored by the pattern's replayed elimination (pattern_lu.h): the same
+  // bounds, at one contact's size and the multi-patch desk's, twice each (the second replays)
+  for (int pass = 0; pass < 2; ++pass) {
+    ExpectSolvesPlanted(25, 16, /*sparse=*/false, /*replay=*/true);
+    ExpectSolvesPlanted(82, 40, /*sparse=*/false, /*replay=*/true);
+  }
 }
 
 TEST(ComplementaritySolverTest, SolvesPlantedMixedLcpWithASparseJacobian) {
