@@ -158,10 +158,13 @@ def table(rows):
 
 
 def read_table(path):
-    """push_sweep.csv back as rows: numbers as float (case, slid, tipped as int), None where empty."""
+    """push_sweep.csv back as rows: numbers as float (case, slid, tipped as int), None where
+    empty, the failure as text."""
     def value(name, text):
-        if name == "failure" or text == "":
-            return text if name == "failure" else None
+        if name == "failure":
+            return text
+        if text == "":
+            return None
         return int(text) if name in ("case", "slid", "tipped") else float(text)
     with open(path, newline="") as file:
         return [{k: value(k, v) for k, v in row.items()} for row in csv.DictReader(file)]
