@@ -29,6 +29,7 @@ import sys
 import tempfile
 
 from atomic_output import write_bytes_atomically
+from dask_cluster import add_cluster_options, cluster_client
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 DEFAULT_ECPSIM = ROOT / "build" / "app" / "ecpsim"
@@ -106,8 +107,7 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("-o", "--output", default="out/bench", help="output folder")
     parser.add_argument("--shards", type=int, default=8, help="number of shards (tasks)")
-    parser.add_argument("--workers", type=int, default=2, help="LocalCluster worker processes")
-    parser.add_argument("--scheduler", help="address of an existing Dask scheduler")
+    add_cluster_options(parser)
     parser.add_argument("--ecpsim", default=str(DEFAULT_ECPSIM), help="the ecpsim program")
     args = parser.parse_args(own)
     if args.shards < 1 or args.workers < 1:
@@ -119,23 +119,12 @@ def main(argv=None):
               f"scripts/build.sh)", file=sys.stderr)
         return 1
 
-    from dask.distributed import Client, LocalCluster
-
-    with tempfile.TemporaryDirectory(prefix="bench_dask-") as workspace:
-        cluster = None
-        if not args.scheduler:
-            cluster = LocalCluster(n_workers=args.workers, threads_per_worker=1,
-                                   dashboard_address=None, local_directory=workspace)
-        client = Client(args.scheduler or cluster)
+    with cluster_client(args.scheduler, args.workers) as client:
         try:
             report = run_bench(client, args.ecpsim, options, args.shards, args.output)
         except ShardFailed as failure:
             print(f"error: {failure}", file=sys.stderr)
             return failure.exit_code
-        finally:
-            client.close()
-            if cluster is not None:
-                cluster.close()
     print(report, end="")
     return 0
 

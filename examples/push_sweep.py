@@ -47,12 +47,12 @@ import io
 import math
 import pathlib
 import sys
-import tempfile
 
 import numpy as np
 
 import ecpsim
 from atomic_output import save_figure_atomically, write_bytes_atomically
+from dask_cluster import add_cluster_options, cluster_client
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 SCENE = ROOT / "examples" / "push_sweep.yaml"
@@ -212,30 +212,13 @@ def summary(rows):
             f"{sum(r['tipped'] for r in done)} tipped, {len(rows) - len(done)} solver failures")
 
 
-def connect(args, workspace):
-    """A Dask client: of the scheduler at args.scheduler, else of a new LocalCluster (its
-    worker files in `workspace`). Returns (client, cluster or None)."""
-    from dask.distributed import Client, LocalCluster
-
-    if args.scheduler:
-        return Client(args.scheduler), None
-    cluster = LocalCluster(n_workers=1 if args.threads else args.workers,
-                           threads_per_worker=args.workers if args.threads else 1,
-                           processes=not args.threads, dashboard_address=None,
-                           local_directory=workspace)
-    return Client(cluster), cluster
-
-
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("-o", "--output", default="out/push_sweep", help="output folder")
     parser.add_argument("--runs", type=int, default=1000)
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--duration", type=float, default=1.0, help="s per run")
-    parser.add_argument("--workers", type=int, default=2, help="LocalCluster workers")
-    parser.add_argument("--threads", action="store_true",
-                        help="LocalCluster workers as threads of one process")
-    parser.add_argument("--scheduler", help="address of an existing Dask scheduler")
+    add_cluster_options(parser, threads=True)
     parser.add_argument("--serial", action="store_true", help="no Dask: every run here")
     parser.add_argument("--scene", default=str(SCENE), help="the base scene")
     args = parser.parse_args(argv)
@@ -252,14 +235,8 @@ def main(argv=None):
     if args.serial:
         rows = run_sweep(cases)
     else:
-        with tempfile.TemporaryDirectory(prefix="push_sweep-dask-") as workspace:
-            client, cluster = connect(args, workspace)
-            try:
-                rows = run_sweep(cases, client)
-            finally:
-                client.close()
-                if cluster is not None:
-                    cluster.close()
+        with cluster_client(args.scheduler, args.workers, args.threads) as client:
+            rows = run_sweep(cases, client)
     out = pathlib.Path(args.output)
     csv_path = write_bytes_atomically(out / "push_sweep.csv", table(rows).encode())
     png_path = plot(rows, out / "push_sweep.png")

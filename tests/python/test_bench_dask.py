@@ -7,9 +7,9 @@ import pathlib
 import subprocess
 
 import pytest
-from dask.distributed import Client, LocalCluster
 
 import bench_dask
+import dask_cluster
 
 BINARY_DIR = pathlib.Path(os.environ.get("ECPSIM_BINARY_DIR", bench_dask.ROOT / "build"))
 ECPSIM = BINARY_DIR / "app" / "ecpsim"
@@ -34,10 +34,9 @@ def rows_without_timing(path):
 
 
 @pytest.fixture(scope="module")
-def client(tmp_path_factory):
-    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None,
-                      local_directory=str(tmp_path_factory.mktemp("dask"))) as cluster, \
-            Client(cluster) as dask_client:
+def client():
+    # the examples' own LocalCluster: two worker processes of one thread
+    with dask_cluster.cluster_client(workers=2) as dask_client:
         yield dask_client
 
 

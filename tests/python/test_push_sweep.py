@@ -6,8 +6,8 @@ import math
 
 import numpy as np
 import pytest
-from dask.distributed import Client, LocalCluster
 
+import dask_cluster
 import push_sweep
 
 G, MASS = 9.8, 1.0  # m/s², kg: push_sweep.yaml
@@ -36,10 +36,9 @@ CENTRED = [push_sweep.make_case(100 + i, mu, e_r, 0.0, 0.05, speed, DURATION)
 
 
 @pytest.fixture(scope="module")
-def client(tmp_path_factory):
-    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None,
-                      local_directory=str(tmp_path_factory.mktemp("dask"))) as cluster, \
-            Client(cluster) as dask_client:
+def client():
+    # the examples' own LocalCluster: two worker processes of one thread
+    with dask_cluster.cluster_client(workers=2) as dask_client:
         yield dask_client
 
 
