@@ -104,7 +104,9 @@ def main(argv=None):
     argv = list(sys.argv[1:] if argv is None else argv)
     options = argv[argv.index("--") + 1:] if "--" in argv else []
     own = argv[:argv.index("--")] if "--" in argv else argv
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(
+        description=" ".join(__doc__.split("\n\n")[0].split()),
+        epilog="Options after -- go to every shard's `ecpsim bench` (e.g. -- --quick).")
     parser.add_argument("-o", "--output", default="out/bench", help="output folder")
     parser.add_argument("--shards", type=int, default=8, help="number of shards (tasks)")
     add_cluster_options(parser)

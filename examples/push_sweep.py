@@ -3,11 +3,13 @@
 each run's outcome becomes a row of a table (CSV) and the distribution a plot.
 
     PYTHONPATH=build/python /usr/bin/python3 examples/push_sweep.py [-o out/push_sweep]
-        [--runs 1000] [--seed 1] [--workers 2] [--threads] [--scheduler tcp://host:8786]
+        [--runs 1000] [--seed 1] [--duration 1] [--workers 2] [--threads | --serial]
+        [--scheduler tcp://host:8786] [--scene examples/push_sweep.yaml]
 
 By default a LocalCluster of --workers processes with one thread each; --threads runs the
 workers as threads of this process instead (Simulation.step releases the GIL, the Python loop
-around it does not); --scheduler uses an existing cluster (`dask scheduler`, `dask worker`):
+around it does not: threads measured about a second per sweep faster on one machine,
+docs/python.md); --scheduler uses an existing cluster (`dask scheduler`, `dask worker`):
 every worker must import ecpsim (PYTHONPATH or cmake --install) and read the scene file at the
 path given here (a shared or identical checkout). A run's outcome depends on its case only, so
 the table is the same for any cluster and equal to a serial run (tests/python/
@@ -213,10 +215,10 @@ def summary(rows):
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(description=" ".join(__doc__.split("\n\n")[0].split()))
     parser.add_argument("-o", "--output", default="out/push_sweep", help="output folder")
-    parser.add_argument("--runs", type=int, default=1000)
-    parser.add_argument("--seed", type=int, default=1)
+    parser.add_argument("--runs", type=int, default=1000, help="number of pushes")
+    parser.add_argument("--seed", type=int, default=1, help="case i draws from [seed, i]")
     parser.add_argument("--duration", type=float, default=1.0, help="s per run")
     add_cluster_options(parser, threads=True)
     parser.add_argument("--serial", action="store_true", help="no Dask: every run here")

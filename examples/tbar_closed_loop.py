@@ -183,7 +183,7 @@ def plot(result, path):
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(description=" ".join(__doc__.split("\n\n")[0].split()))
     parser.add_argument("-o", "--output", default="out/tbar_closed_loop", help="output folder")
     parser.add_argument("--goal", nargs=3, type=float, default=[0.25, 0.15, 150.0],
                         metavar=("X", "Y", "YAW_DEG"), help="goal: m, m, degrees (start: 0 0 90)")

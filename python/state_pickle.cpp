@@ -132,9 +132,11 @@ engine::State StateFromTuple(const py::tuple& data) {
   for (size_t i = 0; i < contacts.size(); ++i) {
     const auto entry = contacts[i].cast<py::tuple>();
     if (entry.size() != 2) {
-      throw InputError(fmt::format("State pickle: contacts[{}]: expected (numbers, warm start)", i));
+      throw InputError(
+          fmt::format("State pickle: contacts[{}]: expected (numbers, warm start)", i));
     }
-    const std::vector<double> x = Numbers(entry[0], kContactNumbers, fmt::format("contacts[{}]", i));
+    const std::vector<double> x =
+        Numbers(entry[0], kContactNumbers, fmt::format("contacts[{}]", i));
     engine::ContactState& c = state.contacts.emplace_back();
     c.a1 = At(x, 0);
     c.a2 = At(x, 3);
