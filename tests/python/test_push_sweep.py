@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 import dask_cluster
+import ecpsim
 import push_sweep
 
 G, MASS = 9.8, 1.0  # m/s², kg: push_sweep.yaml
@@ -93,6 +94,17 @@ def test_a_centred_push_slides_the_box_straight_against_mu_m_g(serial_rows):
                                                  abs=STICKING_FORCE_REL * weight)
         assert abs(row["sensor_fy"]) <= STICKING_FORCE_REL * weight
         assert abs(row["sensor_fz"]) <= STICKING_FORCE_REL * weight
+
+
+def test_a_row_is_what_run_writes_to_trajectory_csv(cases, serial_rows):
+    # the final pose and the finger's sensor (`finger.fx fy fz`: WrenchOnOther, its one contact)
+    # as ecpsim.run's columns: the same steps, the same doubles
+    for case, row in ((cases[1], serial_rows[1]), (CENTRED[0], serial_rows[-len(CENTRED)])):
+        columns = ecpsim.run(push_sweep.push_scene(case))
+        for name, column in (("x", "box.px"), ("y", "box.py"), ("z", "box.pz"), ("qw", "box.qw"),
+                             ("qz", "box.qz"), ("sensor_fx", "finger.fx"),
+                             ("sensor_fy", "finger.fy"), ("sensor_fz", "finger.fz")):
+            assert row[name] == columns[column][-1], (case["case"], name)
 
 
 def test_an_off_centre_push_turns_the_box_away_from_the_push_point(serial_rows):
