@@ -162,9 +162,10 @@ class MultiPatchStepper {
     McpOptions options;
     options.tolerance = scene_.solver.tolerance;
     options.max_iterations = kIterationBudgetFactor * scene_.solver.max_iterations;
-    // the 82-unknown Newton matrix of the desk's four feet is 5 % non-zeros: its elimination
-    // replayed on them (pattern_lu.h) cost 3.5 × fewer instructions per step than the dense one
-    options.replay_pivots = true;
+    // no pivot replay (pattern_lu.h), though it cost the desk's 82-unknown Newton matrix 3.5 ×
+    // fewer instructions: the replay depends on the patterns recorded by earlier solves, so a
+    // run resumed from a saved state (a checkpoint, a pickled State) left the uninterrupted one
+    // by an ulp (tests/python/test_state_pickle.py, dumbbell under multipatch)
     const McpFunction f = [&](const VectorXd& zz, VectorXd* F, Eigen::MatrixXd* J) {
       EvaluateMultiPatch(problem, layout, zz, F, J);
     };

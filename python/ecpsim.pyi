@@ -53,7 +53,8 @@ class Scene:
     def warnings(self) -> List[str]: ...
 
 class State:
-    """A saved state (Simulation.get_state()), restored bit for bit by Simulation.set_state()."""
+    """A saved state (Simulation.get_state()), restored bit for bit by Simulation.set_state();
+    copyable and picklable (pickle.loads(pickle.dumps(s)) continues bit for bit)."""
 
     @property
     def time(self) -> float: ...
@@ -69,6 +70,9 @@ class State:
     def angular_velocities(self) -> npt.NDArray[np.float64]: ...
     def __copy__(self) -> "State": ...
     def __deepcopy__(self, memo: dict) -> "State": ...
+    def __getstate__(self) -> tuple:
+        """pickle: ('ecpsim.State', version, t, steps, bodies, contacts) of plain Python values."""
+    def __setstate__(self, state: tuple) -> None: ...
 
 class Simulation:
     """One simulation of a Scene, stepped from Python; step() and render() release the GIL."""

@@ -36,6 +36,7 @@
 #include "geometry/mass_properties.h"
 #include "geometry/mesh_topology.h"
 #include "python/simulation.h"
+#include "python/state_pickle.h"
 #include "render/renderer.h"
 #include "render/scene_frame.h"
 
@@ -884,7 +885,8 @@ PYBIND11_MODULE(ecpsim, m) {
   py::class_<engine::State>(
       m, "State",
       "A saved simulation state (Simulation.get_state()): time, poses, velocities and the "
-      "contacts' solutions and warm starts. Simulation.set_state() continues from it bit for bit.")
+      "contacts' solutions and warm starts. Simulation.set_state() continues from it bit for bit, "
+      "also after copy.copy() or a pickle round trip (to another process or machine).")
       .def_property_readonly("time", [](const engine::State& s) { return s.t; }, "s")
       .def_property_readonly("steps", [](const engine::State& s) { return s.steps; },
                              "Steps taken since t = 0.")
@@ -903,7 +905,9 @@ PYBIND11_MODULE(ecpsim, m) {
           "(n, 3) rad/s, world frame.")
       .def("__copy__", [](const engine::State& s) { return engine::State(s); })
       .def("__deepcopy__", [](const engine::State& s, py::dict) { return engine::State(s); },
-           py::arg("memo"));
+           py::arg("memo"))
+      // pickle (multiprocessing, Dask): plain Python values, the doubles bit for bit
+      .def(py::pickle(&StateToTuple, &StateFromTuple));
 
   py::class_<PySimulation> sim(
       m, "Simulation",

@@ -1,7 +1,9 @@
 #include "python/simulation.h"
 
+#include <algorithm>
 #include <string>
 #include <utility>
+#include <variant>
 
 #include <fmt/format.h>
 
@@ -21,6 +23,33 @@ void RequireMagnitude(const Eigen::Vector3d& v, const std::string& what) {
     if (!problem.empty()) {
       throw InputError(fmt::format("{} = {}: expected {}", what, Format(v), problem));
     }
+  }
+}
+
+// a hull warm start's multipliers are indexed by the sizes of its contact (hull_model.cpp):
+// l by `window`, l_G by G's constraints (a fixed obstacle's all, a body's `other_window`), and
+// `window` is searched as a sorted list. A state of another scene, or a pickle not made by
+// get_state, must not reach the engine with other sizes. (The multi-patch model checks its own
+// warm starts, FitsWarmStart, and the planar and point models keep none.)
+void RequireFittingWarmStart(const engine::Scene& scene, size_t k, const engine::WarmStart& warm) {
+  const auto* hull = std::get_if<engine::HullWarmStart>(&warm);
+  if (hull == nullptr) return;
+  const engine::ContactPair& pair = scene.contacts[k];
+  const size_t g_count =
+      pair.WithBody() ? hull->other_window.size()
+                      : static_cast<size_t>(scene.obstacles[pair.obstacle].shape->NumConstraints());
+  if (static_cast<size_t>(hull->l.size()) != hull->window.size() ||
+      static_cast<size_t>(hull->l_g.size()) != g_count ||
+      !std::is_sorted(hull->window.begin(), hull->window.end())) {
+    const std::string& other = pair.WithBody() ? scene.bodies[pair.other_body].name
+                                               : scene.obstacles[pair.obstacle].name;
+    throw InputError(fmt::format(
+        "set_state: contact {} ({}.{}): a hull warm start of {} multipliers for {} hull faces "
+        "({}) and {} for G's constraints: expected as many as faces, sorted, and {} for G's (a "
+        "state of another scene with as many bodies and contacts?)",
+        k, scene.bodies[pair.body].name, other, hull->l.size(), hull->window.size(),
+        std::is_sorted(hull->window.begin(), hull->window.end()) ? "sorted" : "not sorted",
+        hull->l_g.size(), g_count));
   }
 }
 
@@ -88,6 +117,9 @@ void Simulation::SetState(const engine::State& state) {
       throw InputError(fmt::format("set_state: body '{}': expected a finite pose and velocity",
                                    scene_.bodies[b].name));
     }
+  }
+  for (size_t k = 0; k < state.contacts.size(); ++k) {
+    RequireFittingWarmStart(scene_, k, state.contacts[k].warm_start);
   }
   state_ = state;
 }

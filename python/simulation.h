@@ -36,8 +36,9 @@ class Simulation {
 
   /// Replaces the state (e.g. one saved by state()); stepping on from it is bit-identical to
   /// stepping on from where it was saved, given the same inputs.
-  /// @throws InputError if its body or contact count does not fit the scene, or a body's pose or
-  ///         velocity is not finite.
+  /// @throws InputError if its body or contact count does not fit the scene, a body's pose or
+  ///         velocity is not finite, or a contact's hull warm start does not have the sizes of
+  ///         that contact (a state of another scene).
   void SetState(const engine::State& state);
 
   /// Adds a wrench on dynamic body `body` for the next step: `force` (N, world) at the world point

@@ -15,6 +15,8 @@ packages=(
   assimp-testmodels python3
   # the Python module (python/) and its tests (tests/python/), for Debian's python3
   pybind11-dev python3-dev python3-numpy python3-pytest
+  # the examples (examples/): Dask sweeps on a LocalCluster or a cluster, matplotlib plots
+  python3-distributed python3-matplotlib
   libmujoco-dev libbullet-dev libode-dev
   # libmujoco-dev's CMake config names /usr/include/libqhull_r/ without depending on its package
   libqhull-dev

@@ -2,11 +2,15 @@
 
 import os
 import pathlib
+import sys
 
 import pytest
 
 SOURCE_DIR = pathlib.Path(os.environ.get("ECPSIM_SOURCE_DIR",
                                          pathlib.Path(__file__).resolve().parents[2]))
+
+# examples/ as importable modules (tests/python/test_<example>.py import them by name)
+sys.path.insert(0, str(SOURCE_DIR / "examples"))
 
 
 @pytest.fixture
