@@ -12,24 +12,6 @@
 
 namespace ecpsim::engine {
 
-const char* StepModelName(StepModel model) {
-  switch (model) {
-    case StepModel::kFree:
-      return "free";
-    case StepModel::kPlanar:
-      return "planar";
-    case StepModel::kHull:
-      return "hull";
-    case StepModel::kMultiPatch:
-      return "multipatch";
-    case StepModel::kPoint:
-      return "point";
-    case StepModel::kKinematic:
-      break;
-  }
-  return "kinematic";
-}
-
 std::unique_ptr<ContactModelStepper> MakeContactModel(const Scene& scene) {
   // the hull and point models have contacts between two moving hulls (the planar and
   // multi-patch models combine ECPs on one fixed plane)

@@ -250,15 +250,15 @@ double IslandMncpResidual(const IslandProblem& problem, const IslandLayout& layo
     // rows carry a creeping contact's friction impulses with their round-off
     for (int b : {cp.body, cp.other_kind == Other::kBody ? cp.other : -1}) {
       if (b < 0) continue;
+      moment_factor[b] = std::max(moment_factor[b], round_off / units.body_length[b]);
+      if (!(cp.stick_creep > 0)) continue;
       const int col = IslandLayout::Velocity(b);
-      const double impulse = 1 / row_scale[col];            // N·s: the body's impulse scale
-      const double angular = 1 / row_scale[col + 3];        // N·m·s
+      const double impulse = 1 / row_scale[col];      // N·s: the body's impulse scale
+      const double angular = 1 / row_scale[col + 3];  // N·m·s
       const double arm = (z.segment<3>(L.a1) - problem.bodies[b].c).norm();
-      force_factor[b] =
-          std::max(force_factor[b], creep.force / (units.tolerance * impulse));
+      force_factor[b] = std::max(force_factor[b], creep.force / (units.tolerance * impulse));
       moment_factor[b] = std::max(
-          {moment_factor[b], round_off / units.body_length[b],
-           (creep.force * arm + creep.torque) / (units.tolerance * angular)});
+          moment_factor[b], (creep.force * arm + creep.torque) / (units.tolerance * angular));
     }
   }
   for (int b = 0; b < layout.num_bodies; ++b) {

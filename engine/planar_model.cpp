@@ -26,10 +26,11 @@ constexpr double kFlatTolerance = 1e-9;  // rad
 // of the body's length scale: far above the solver's relative 1e-12, far below a face
 constexpr double kSupportRelTolerance = 1e-9;
 
-// the face of the polyhedral hull whose outward normal (body frame) is closest to `direction_B`
-int MostAlignedFace(const geometry::PolyhedralShape& hull, const Vector3d& direction_B) {
-  int best = 0;
-  for (int i = 1; i < hull.NumConstraints(); ++i)
+// the face among `faces` whose outward normal (body frame) is closest to `direction_B`
+int MostAlignedFace(const geometry::PolyhedralShape& hull, const std::vector<int>& faces,
+                    const Vector3d& direction_B) {
+  int best = faces.front();
+  for (int i : faces)
     if (hull.hull().normals[i].dot(direction_B) > hull.hull().normals[best].dot(direction_B))
       best = i;
   return best;
@@ -89,8 +90,29 @@ PlanarStep SolvePlanarStep(const Scene& scene, const Island& island, double t, d
   const Vector3d& N = frame.n();
   const Eigen::Matrix3d R = b.Q_WB.toRotationMatrix();
   const double length = std::sqrt(body.inertia.trace() / body.mass);
+  if (checks.in_plane_motion) {
+    const double tolerance = *checks.in_plane_motion;
+    // the body's velocity scale at the scene's step, at most BodyScales' (so the test is at
+    // least as strict as the hull model's measure)
+    const double speed =
+        std::max(b.v_WB.norm() + b.w_WB.norm() * length, scene.gravity.norm() * scene.h);
+    if (std::abs(N.dot(b.v_WB)) > tolerance * speed ||
+        b.w_WB.cross(N).norm() * length > tolerance * speed) {
+      step.invalid = "it moves off the plane or turns about an axis in it";
+      return step;
+    }
+    // otherwise spinning about N makes a gyroscopic tipping moment the model does not have
+    const Vector3d IN = R * (body.inertia * (R.transpose() * N));
+    if (IN.cross(N).norm() > tolerance * N.dot(IN)) {
+      step.invalid = "the plane's normal is no principal axis of its inertia";
+      return step;
+    }
+  }
   const double support_tolerance = checks.support_length * length;
-  const int face = MostAlignedFace(*hull, R.transpose() * -N);
+  // the face most aligned with −N among those at the support vertex in −N: a face flat on the
+  // plane is one of them, and the search costs the vertex's degree, not the hull's size
+  const Vector3d down_B = R.transpose() * -N;
+  const int face = MostAlignedFace(*hull, SelectWindow(*hull, down_B, 0, true), down_B);
   // the angle between −N and the face's normal through its sine: a cosine cannot resolve
   // angles below 1e-8 rad (cos 1e-9 rounds to 1)
   const Vector3d support_normal = R * hull->hull().normals[face];
@@ -99,7 +121,7 @@ PlanarStep SolvePlanarStep(const Scene& scene, const Island& island, double t, d
     return step;
   }
   // CM height above the plane, constant in this model
-  const Vector3d lowest = b.p_WB + R * hull->Support(R.transpose() * -N);
+  const Vector3d lowest = b.p_WB + R * hull->Support(down_B);
   const double height = plane.Value(0, b.p_WB) - plane.Value(0, lowest);
   if (std::abs(plane.Value(0, lowest)) > support_tolerance) {
     step.invalid = fmt::format("its lowest point is {:.3g} m off the plane", plane.Value(0, lowest));
@@ -250,7 +272,7 @@ PlanarStep SolvePlanarStep(const Scene& scene, const Island& island, double t, d
 AdvanceResult PlanarModel::Advance(const Island& island, double t, double h,
                                   IslandState& state) const {
   const PlanarStep step =
-      SolvePlanarStep(scene_, island, t, h, {kFlatTolerance, kSupportRelTolerance, INFINITY}, state);
+      SolvePlanarStep(scene_, island, t, h, {kFlatTolerance, kSupportRelTolerance, INFINITY, {}}, state);
   if (!step.invalid.empty()) {
     throw ModelInvalid(fmt::format("planar model invalid at t = {:.6g} s on body '{}': {}; use "
                                    "--model hull", t, scene_.bodies[island.bodies[0]].name,

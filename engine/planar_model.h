@@ -3,6 +3,7 @@
 // sliding and turning in it without motion along its normal or tipping; a few quadratic
 // equations per step. Valid only while the ECP stays inside the support face and p_n > 0.
 
+#include <optional>
 #include <string>
 
 #include "engine/contact_model.h"
@@ -17,6 +18,11 @@ struct PlanarChecks {
   double flat_angle;       // rad: the support face's normal within this of −N
   double support_length;   // of L: the lowest point on the plane, the ECP on the support face
   double max_rotation;     // rad: the largest turn h|ω⁺| of the step (beyond: not solved)
+  // relative: when set, the body must already move in the plane and turn about its normal
+  // (|v · N| and |ω × N| L within this of its velocity scale) and N be a principal axis of its
+  // inertia (|I_w N × N| within this of N · I_w N), as `model: auto` needs (engine/README.md);
+  // unset, those parts of the state are dropped (`model: planar`)
+  std::optional<double> in_plane_motion;
 };
 
 /// What PlanarStep did: `invalid` names the assumption that failed ("" when the model applies;
