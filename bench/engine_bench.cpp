@@ -56,6 +56,7 @@ void BM_TBarStep(benchmark::State& bench) {
   tbar.v0 = Eigen::Vector3d(0.4, -0.1, 0);
   tbar.w0 = Eigen::Vector3d(0, 0, 1.0);
   Scene scene = testing::MakeGroundScene({tbar});
+  scene.model = ContactModel::kHull;  // the hull step, not auto's planar step of a flat T-bar
   Load force;
   force.x = TimeFunction("3*sin(2*pi*t)+3", "bench");
   scene.loads = {force};
@@ -88,6 +89,7 @@ void BM_HullFaces(benchmark::State& bench) {
   body.v0 = Eigen::Vector3d(0.5, 0.1, 0);
   body.w0 = Eigen::Vector3d(0, 0, 2);
   Scene scene = testing::MakeGroundScene({body});
+  scene.model = ContactModel::kHull;  // the hull window's cost, not auto's planar step
   bench.counters["hull_faces"] = hull->NumConstraints();
   RunSteps(bench, scene, 100);
 }
