@@ -16,6 +16,7 @@
 #include "engine/mncp_system.h"
 #include "engine/obstacle_queries.h"
 #include "engine/rotation.h"
+#include "geometry/convex_separation.h"
 #include "common/errors.h"
 
 namespace ecpsim::engine {
@@ -70,6 +71,10 @@ constexpr double kStickCreepFraction = 1e-7;
 // faces than three plus the drops left is tried one face at a time without going deeper: the
 // tree of drops grows as n³ (a 37 m elk mesh's fan took 680,000 iterations in one step)
 constexpr int kMaxDegenerateDrops = 3;
+// a start-of-step overlap of two hulls along their last normal below this fraction of F's size
+// is round-off of a resting contact, and its ejection energy negligible: the overlap itself
+// stands for the depth, without a GJK query per step
+constexpr double kNegligibleDepthRel = 1e-9;
 // an island of several bodies is re-solved on fewer faces only when it stalled within this
 // factor of the tolerance: Newton stalls 10–100 × above it between the planes of a degenerate
 // vertex (engine/README.md, "Degenerate vertices"), 10⁴ leaves margin
@@ -109,6 +114,7 @@ class IslandStepper {
     }
 
     RaiseToIslandVelocity(problem, scales);
+    SeparatePairs(problem, scales, state);
     // every contact of an island with bodies touching bodies: a box squeezed between a jaw and
     // a pusher on the ground is indeterminate in how much the ground's sticking friction carries
     // too. A body alone against obstacles keeps the paper's exact law
@@ -148,7 +154,7 @@ class IslandStepper {
 
     // a body that starts the step inside an obstacle (allowed at t = 0, or round-off) is pushed
     // out within the step: the contact may give it the energy of that ejection
-    const double ejection_energy = EjectionEnergy(problem, state);
+    const double ejection_energy = EjectionEnergy(problem, state, scales);
 
     // in contact (or about to be): the warm start, then the guesses that fit the bodies' motion
     const bool have_warm_start =
@@ -542,23 +548,59 @@ class IslandStepper {
     return true;
   }
 
+  // A pair's last normal orients its guesses and hull windows and is the axis of its ejection
+  // allowance. One that was not solved in the last step — its first, whose normal is the line
+  // of the centres, or one coming back into reach — may face a direction along which hulls that
+  // are apart overlap; from there Newton found roots where a finger 4 mm behind a box kicked it
+  // into touching at the end of the step. Such a pair takes the candidate axis that separates
+  // its start-of-step hulls the most (the separating axis where one exists).
+  static void SeparatePairs(const IslandProblem& problem, const IslandScales& scales,
+                            IslandState& state) {
+    for (size_t k = 0; k < problem.contacts.size(); ++k) {
+      const IslandContact& cp = problem.contacts[k];
+      // a pair that pushed in the last step has its solved normal (and its warm start's
+      // friction is in that normal's frame)
+      if (cp.other_kind == Other::kFixed || state.contacts[k].p_n > 0) continue;
+      Vector3d& n = state.contacts[k].n;
+      const auto [X_F, X_G] = StartPoses(problem, cp);
+      const double overlap =
+          -geometry::SeparationAlong(*cp.hull, X_F, *cp.other_shape, X_G, n).separation;
+      if (overlap <= kNegligibleDepthRel * scales.bodies[cp.body].length) continue;
+      n = geometry::BestSeparatingAxis(*cp.hull, X_F, *cp.other_shape, X_G, {n}).axis;
+    }
+  }
+
   // J: twice the kinetic energy of moving the bodies out of their deepest start-of-step
   // penetration of any G within one step, plus the applied impulses' work over that depth
-  static double EjectionEnergy(const IslandProblem& problem, const IslandState& state) {
+  static double EjectionEnergy(const IslandProblem& problem, const IslandState& state,
+                               const IslandScales& scales) {
     double depth = 0;
     for (size_t k = 0; k < problem.contacts.size(); ++k) {
       const IslandContact& cp = problem.contacts[k];
       const BodyProblem& body = problem.bodies[cp.body];
       const Vector3d& n = state.contacts[k].n;
-      const Vector3d lowest = body.c + body.R * cp.hull->Support(body.R.transpose() * -n);
       if (cp.other_kind == Other::kFixed) {
+        // F's deepest point along the last normal: a lower bound of the depth, exact for a
+        // half-space
+        const Vector3d lowest = body.c + body.R * cp.hull->Support(body.R.transpose() * -n);
         const double g = cp.other_shape->Value(LargestConstraint(*cp.other_shape, lowest), lowest);
         depth = std::max(depth, -g);
-      } else {
-        const auto [c, R] = StartPose(problem, cp);
-        const Vector3d highest = c + R * cp.other_shape->Support(R.transpose() * n);
-        depth = std::max(depth, n.dot(highest - lowest));
+        continue;
       }
+      // the overlap of the two hulls' extents along the last normal bounds the depth from
+      // above (SeparatePairs made it the best candidate axis), and is the depth of a resting or
+      // pushed pair. Where the candidates leave an overlap, the depth is measured (GJK and EPA):
+      // an overlap that is not one (two cylinders side by side, crossed edges) would let the
+      // contact give the bodies energy they never had
+      const auto [X_F, X_G] = StartPoses(problem, cp);
+      double pair_depth =
+          -geometry::SeparationAlong(*cp.hull, X_F, *cp.other_shape, X_G, n).separation;
+      const double length = scales.bodies[cp.body].length;
+      if (pair_depth > kNegligibleDepthRel * length) {
+        pair_depth = std::min(pair_depth, geometry::PenetrationDepth(*cp.hull, X_F, *cp.other_shape,
+                                                                     X_G, length));
+      }
+      depth = std::max(depth, pair_depth);
     }
     const double speed = depth / problem.h;
     double energy = 0;
@@ -567,12 +609,22 @@ class IslandStepper {
     return energy;
   }
 
-  // G's pose at the start of the step (a moving G's)
-  static std::pair<Vector3d, Matrix3d> StartPose(const IslandProblem& problem,
-                                                 const IslandContact& cp) {
-    if (cp.other_kind == Other::kBody) return {problem.bodies[cp.other].c, problem.bodies[cp.other].R};
+  // F's and G's poses at the start of the step (a moving G's)
+  static std::pair<Eigen::Isometry3d, Eigen::Isometry3d> StartPoses(const IslandProblem& problem,
+                                                                      const IslandContact& cp) {
+    const auto pose = [](const Vector3d& c, const Matrix3d& R) {
+      Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+      X.linear() = R;
+      X.translation() = c;
+      return X;
+    };
+    const BodyProblem& body = problem.bodies[cp.body];
+    if (cp.other_kind == Other::kBody) {
+      const BodyProblem& other = problem.bodies[cp.other];
+      return {pose(body.c, body.R), pose(other.c, other.R)};
+    }
     const KinematicBody& g = problem.kinematic[cp.other];
-    return {g.c, g.R};
+    return {pose(body.c, body.R), pose(g.c, g.R)};
   }
 
   VectorXd MakeGuess(Guess guess, IslandProblem& problem, const IslandLayout& layout,

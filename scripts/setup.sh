@@ -8,7 +8,7 @@ packages=(
   libeigen3-dev libcgal-dev libgmp-dev libmpfr-dev libboost-dev
   libassimp-dev libosmesa6-dev libpng-dev zlib1g-dev libfreetype-dev fonts-dejavu-core
   libgtest-dev libgmock-dev googletest libbenchmark-dev
-  libyaml-cpp-dev libcli11-dev libmuparser-dev libfmt-dev nlohmann-json3-dev
+  libccd-dev libyaml-cpp-dev libcli11-dev libmuparser-dev libfmt-dev nlohmann-json3-dev
   ffmpeg gnuplot-nox
   # tests: assimp's own test models (a mirrored-transform FBX, and every file through `ecpsim hull`);
   # Python generates the corrupt-mesh corpus (tests/fixtures/make_mesh_corpus.py)

@@ -27,10 +27,11 @@ constexpr double kStackDrift = 1e-9;
 // each row's scale, with a margin for the rows it is summed over
 constexpr double kSolvedRel = 1e-10;
 // relative to the weight: the sticking friction that stick_creep makes unique is −e² μ p_n v / ε
-// with ε = 1e-7 V (hull_model.cpp, kStickCreepFraction); the solver leaves v in error by at most
-// its tolerance 1e-12 V, so that friction by ≤ e² μ p_n · 1e-5 = 3e-6 of the weight here (e = 1,
-// μ = 0.3, p_n = the weight's impulse)
-constexpr double kStickingForceRel = 3e-6;
+// with ε = 1e-7 V (hull_model.cpp, kStickCreepFraction); the solver leaves v in error by its
+// tolerance 1e-12 V, and a vertical v set by the ground's gap (held to 1e-12 of the box's length
+// L) by 1e-12 L / h, so that friction by ≤ e² μ p_n · 1e-5 (1 + L / (h V)) — here e = 1, μ = 0.3,
+// p_n ≤ the weight's impulse, L = sqrt(trace I / m) = 0.1225 m for the pushed box, V = 0.1 m/s
+constexpr double kStickingForceRel = 1e-5 * 0.3 * (1 + 0.1225 / (0.01 * 0.1));
 
 Friction TestFriction(double mu) { return Friction{mu, 1, 1, 0.05}; }
 
@@ -200,6 +201,41 @@ TEST(PushTest, AConstantSpeedPusherCarriesTheBoxAtItsSpeedAgainstCoulombFriction
     EXPECT_NEAR(sensor.force.y(), 0, kStickingForceRel * weight) << "t = " << state.t;
     EXPECT_NEAR(sensor.force.z(), 0, kStickingForceRel * weight) << "t = " << state.t;
   }
+}
+
+// Bug: a 2 cm cube finger moving at 0.3 m/s toward the upper corner of a standing box (from
+// −x, 1 cm before it at t = 0) made the box jump 2 m/s sideways at t = 0.02 s, 4 mm before they
+// touched: the pair's first normal was the line of the centres, along which the apart hulls
+// overlap 3 cm, so the step's ejection allowance took that for a penetration and accepted a
+// root where the impulse spun the box's corner into the finger by the step's end.
+TEST(PushTest, Issue13_AFingerBeforeTheBoxDoesNotKickItBeforeTheyTouch) {
+  const double speed = 0.3;
+  Body box = MakeBoxBody(Vector3d(0.1, 0.2, 0.2), 1, "box");
+  box.p0 = Vector3d(0, 0, 0.1);
+  box.friction = TestFriction(0.3);
+  Body finger = MakeBoxBody(Vector3d(0.02, 0.02, 0.02), 1, "finger");
+  ConstantTwist twist;
+  twist.start.p = Vector3d(-0.07, 0.08, 0.18);
+  twist.v = Vector3d(speed, 0, 0);
+  finger.motion = std::make_shared<KinematicMotion>(twist, "test finger");
+  finger.friction = Friction{0.3, 1, 1, 0.01};
+  Scene scene = testing::MakeGroundScene({box, finger}, 0.01, TestFriction(0.3));
+  AddBodyPairs(scene);
+  State state = InitialState(scene);
+  // the finger's +x face reaches the box's −x face, 1 cm away, at t = 0.01 / 0.3 = 0.033 s
+  const double touch_time = 0.01 / speed;
+  while (state.t + scene.h < touch_time) {
+    ASSERT_TRUE(Step(scene, state).converged) << "t = " << state.t;
+    // at rest on the ground to round-off: nothing has touched it
+    EXPECT_LT(state.bodies[0].v_WB.norm(), kSolvedRel * kG * scene.h) << "t = " << state.t;
+    EXPECT_LT(state.bodies[0].w_WB.norm(), kSolvedRel * kG * scene.h / 0.1) << "t = " << state.t;
+    EXPECT_EQ(state.contacts[1].p_n, 0) << "t = " << state.t;
+  }
+  // and once touched, pushed forward (+x), not kicked sideways: the box's speed stays below the
+  // finger's
+  for (int step = 0; step < 10; ++step) ASSERT_TRUE(Step(scene, state).converged);
+  EXPECT_GT(state.bodies[0].v_WB.x(), 0);
+  EXPECT_LT(state.bodies[0].v_WB.norm(), speed);
 }
 
 TEST(IslandTest, BodiesApartAreIslandsOfTheirOwnAndKinematicBodiesInNone) {
