@@ -97,7 +97,9 @@ TEST(DominoesTest, BlocksFallInOrderWithoutPenetrationAndLoseEnergy) {
   // the first kFallen blocks fall, each starting after the one before; the rest still stand
   for (int b = 0; b < kFallen; ++b) {
     EXPECT_GT(Tilt(state.bodies[b]), kFallingAngle) << scene.bodies[b].name;
-    if (b > 0) EXPECT_GT(tipping_time[b], tipping_time[b - 1]) << scene.bodies[b].name;
+    if (b > 0) {
+      EXPECT_GT(tipping_time[b], tipping_time[b - 1]) << scene.bodies[b].name;
+    }
   }
   for (size_t b = kFallen; b < scene.bodies.size(); ++b)
     EXPECT_LT(Tilt(state.bodies[b]), kTippingAngle) << scene.bodies[b].name;
