@@ -366,9 +366,10 @@ class IslandStepper {
     return worst;
   }
 
-  // Re-solves from the stalled `z` with each of F's windows cut to the faces that carry the
-  // contact (multiplier above kCarryingFraction of the largest): the weakly active faces left
-  // out, the reduced problem's pairs are no longer degenerate. Exact when its window check passes.
+  // Re-solves from the stalled `z` with each of F's windows, and a moving G's, cut to the
+  // constraints that carry the contact (multiplier above kCarryingFraction of the largest): the
+  // weakly active ones left out, the reduced problem's pairs are no longer degenerate. Exact when
+  // its window check passes.
   bool SolveOnCarryingFaces(const IslandProblem& problem, const IslandLayout& layout,
                             const VectorXd& z, McpOptions& options, const IslandScales& scales,
                             double ejection_energy, IslandState& state,
@@ -386,6 +387,16 @@ class IslandStepper {
           carrying.push_back(problem.contacts[k].window[i]);
       cut |= carrying.size() < problem.contacts[k].window.size();
       reduced.contacts[k].window = std::move(carrying);
+      // a moving G's constraints alike: a finger's cap rim weakly active beside its side
+      if (problem.contacts[k].other_kind == Other::kFixed) continue;
+      const double largest_g = z.segment(L.l_g, L.l_g_count).maxCoeff();
+      if (!(largest_g > 0)) continue;
+      std::vector<int> carrying_g;
+      for (int j = 0; j < L.l_g_count; ++j)
+        if (z[L.l_g + j] > kCarryingFraction * largest_g)
+          carrying_g.push_back(problem.contacts[k].other_window[j]);
+      cut |= carrying_g.size() < problem.contacts[k].other_window.size();
+      reduced.contacts[k].other_window = std::move(carrying_g);
     }
     if (!cut) return false;
     const IslandLayout reduced_layout = MakeIslandLayout(reduced);
