@@ -282,21 +282,28 @@ int PolyhedralShape::SupportVertex(const Eigen::Vector3d& direction) const {
   const int start = last_support_vertex_.load(std::memory_order_relaxed);
   int v = (start >= 0 && start < count) ? start : 0;
   double best = direction.dot(hull_.vertices[v]);
-  // greedy climbing: every step strictly improves, so it ends within `count` steps at a local
-  // maximum, which on a convex polytope is the global one up to rounding
+  // greedy climbing over every vertex of the faces at v: every step strictly improves, so it
+  // ends within `count` steps at a vertex no vertex of its faces exceeds — a local maximum of the
+  // exact hull's edge graph (each of its triangles lies in one merged face), which on a convex
+  // polytope is the global one up to rounding. Climbing along the merged polygons' edges alone
+  // is not: a merged face is planar only to the coplanar tolerance, d·x can dip along its
+  // boundary, and a climb stranded there missed a 52 m mesh's lowest vertex by 5 mm
   int steps = 0;
   for (bool improved = true; improved && steps <= count; ++steps) {
     improved = false;
-    for (int w : hull_.vertex_neighbors[v]) {
-      const double value = direction.dot(hull_.vertices[w]);
-      if (value > best) {
-        best = value;
-        v = w;
-        improved = true;
+    const int from = v;
+    for (int f : hull_.vertex_faces[from]) {
+      for (int w : hull_.faces[f]) {
+        const double value = direction.dot(hull_.vertices[w]);
+        if (value > best) {
+          best = value;
+          v = w;
+          improved = true;
+        }
       }
     }
   }
-  if (steps > count || hull_.vertex_neighbors[v].empty()) {
+  if (steps > count || hull_.vertex_faces[v].empty()) {
     // a hand-built hull without adjacency (an isolated start) or a runaway climb: scan everything
     v = 0;
     best = direction.dot(hull_.vertices[0]);

@@ -244,6 +244,64 @@ TEST(ConvexShapeTest, SupportVertexDoesNotDependOnEarlierQueries) {
   }
 }
 
+// Bug: the drop sweep's 52 m test1.3ds (assimp's test models) sank 8 mm into the ground in free
+// flight: the support query for its lowest vertex climbed along the merged faces' polygon edges
+// and stopped at a vertex 5 mm above it. Its +y side merges triangles planar only to the
+// coplanar tolerance, and along that polygon's boundary d·x dips before it rises to the maximum.
+// These are its hull's vertices (mesh frame, m) and the direction of that query.
+TEST(ConvexShapeTest, Issue14_SupportClimbsAcrossANearlyPlanarMergedFace) {
+  const std::vector<Eigen::Vector3d> points = {
+      {-17.288187, 17.4667664, -8.6953783},
+      {-17.2881851, 17.4667645, 8.58876991},
+      {-17.2881813, -17.4667664, 8.58876514},
+      {-17.2881813, -17.4667625, -8.69538498},
+      {-17.2801151, 17.4567509, 8.92438126},
+      {-17.2801151, 17.4567528, -8.92438507},
+      {-17.2801113, -17.4471588, 8.92438126},
+      {-17.2801094, -17.4471569, -8.92438507},
+      {-16.6169586, 17.4667645, 8.58876991},
+      {-16.6169567, 17.4667664, -8.6953783},
+      {-16.6169529, -17.4667664, 8.58876514},
+      {-16.6169529, -17.4667625, -8.69538498},
+      {16.6104584, -17.4666462, 8.58876991},
+      {16.6104603, -17.4666462, -8.6953783},
+      {16.6107292, 17.464819, -8.69537735},
+      {16.6107292, 17.464819, 8.58876991},
+      {17.2776146, -17.4533863, 8.58876705},
+      {17.2776165, -17.4533863, -8.69538021},
+      {17.2881794, 17.4567566, 8.92438507},
+      {17.2881813, 17.4567585, -8.92438126},
+      {17.2881851, -17.447155, 8.92438507},
+      {17.288187, -17.447155, -8.92438126}};
+  const PolyhedralShape shape(ComputeConvexHull(points));
+  const ConvexHull& hull = shape.hull();
+  const Eigen::Vector3d d(5.7213119149523983e-05, 0.99999995011541043, -0.00031063778910533912);
+  int best = 0;
+  for (size_t i = 1; i < hull.vertices.size(); ++i)
+    if (d.dot(hull.vertices[i]) > d.dot(hull.vertices[best])) best = static_cast<int>(i);
+  // a climb along polygon edges alone strands from some start, far below the maximum
+  double worst_edge_climb = d.dot(hull.vertices[best]);
+  for (size_t start = 0; start < hull.vertices.size(); ++start) {
+    int v = static_cast<int>(start);
+    for (bool improved = true; improved;) {
+      improved = false;
+      for (int w : hull.vertex_neighbors[v]) {
+        if (d.dot(hull.vertices[w]) > d.dot(hull.vertices[v])) {
+          v = w;
+          improved = true;
+        }
+      }
+    }
+    worst_edge_climb = std::min(worst_edge_climb, d.dot(hull.vertices[v]));
+  }
+  ASSERT_LT(worst_edge_climb, d.dot(hull.vertices[best]) - 1e-3);
+  // the support query finds the maximum from every start
+  for (size_t start = 0; start < hull.vertices.size(); ++start) {
+    shape.SupportVertex(hull.vertices[start]);  // the next climb starts there
+    EXPECT_EQ(shape.SupportVertex(d), best) << "start " << start;
+  }
+}
+
 TEST(ConvexShapeTest, HalfSpaceHasOneConstraintAFootPointAndADisplaySlab) {
   const auto ground = MakeHalfSpace({0, 0, 2}, 0.5);
   ASSERT_EQ(ground->NumConstraints(), 1);
