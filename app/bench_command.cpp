@@ -151,10 +151,8 @@ void Merge(const BenchOptions& o) {
               wp.size(), st.size(), drops.size(), o.merge.size());
 }
 
-// the drop sweep's part of this shard: drop_sweep.csv, and the mesh and the scene of every
-// failed case in drop_failures/
-std::vector<evaluation::DropRow> RunDrops(const BenchOptions& o, int shard_index,
-                                          int shard_count) {
+// the drop sweep of this shard, every option checked (PlanDropSweep)
+evaluation::DropSweepOptions DropSweep(const BenchOptions& o, int shard_index, int shard_count) {
   evaluation::DropSweepOptions sweep;
   sweep.kinds = o.drop_kinds;
   sweep.seeds_per_kind =
@@ -185,28 +183,40 @@ std::vector<evaluation::DropRow> RunDrops(const BenchOptions& o, int shard_index
   }
   sweep.scratch_dir = (fs::path(o.out_dir) / kDropScratchDir).string();
   sweep.failures_dir = (fs::path(o.out_dir) / kDropFailuresDir).string();
-  std::vector<evaluation::DropRow> rows = evaluation::RunDropSweep(sweep);
-  WriteFileAtomically((fs::path(o.out_dir) / kDropCsv).string(), evaluation::DropSweepCsv(rows));
-  return rows;
+  return sweep;
 }
 
 void Run(const BenchOptions& o) {
   if (!o.merge.empty()) return Merge(o);
   int shard_index = 1, shard_count = 1;
   ParseShard(o.shard, shard_index, shard_count);
+  // every option is checked before any work: a typo in the last one must not cost the minutes
+  // of the sweeps before it
   const std::vector<evaluation::Method> methods =
       Select(evaluation::AllMethods(), o.methods, "--methods",
              [](const evaluation::Method& m) { return m.name; });
   const std::vector<double> steps =
       o.steps.empty() ? (o.quick ? kQuickSteps : kFullSteps) : o.steps;
+  std::vector<evaluation::Scenario> scenarios;
+  if (!o.skip_work_precision) {
+    scenarios = Select(
+        evaluation::WorkPrecisionScenarios(
+            o.scenes_dir, o.quick ? kQuickConvergedDuration : kFullConvergedDuration),
+        o.scenarios, "--scenarios", [](const evaluation::Scenario& s) { return s.name; });
+  }
+  std::vector<evaluation::StabilityMapSpec> maps;
+  if (!o.skip_stability) {
+    maps = Select(evaluation::StabilityMaps(o.scenes_dir), o.maps, "--maps",
+                  [](const evaluation::StabilityMapSpec& m) { return m.name; });
+  }
+  const evaluation::DropSweepOptions drop_sweep = DropSweep(o, shard_index, shard_count);
+  const evaluation::DropPlan drop_plan =
+      o.skip_drops ? evaluation::DropPlan{} : evaluation::PlanDropSweep(drop_sweep);
+
   fs::create_directories(o.out_dir);
   std::vector<evaluation::WorkPrecisionRow> wp;
   std::vector<evaluation::StabilityRow> st;
   if (!o.skip_work_precision) {
-    const std::vector<evaluation::Scenario> scenarios = Select(
-        evaluation::WorkPrecisionScenarios(
-            o.scenes_dir, o.quick ? kQuickConvergedDuration : kFullConvergedDuration),
-        o.scenarios, "--scenarios", [](const evaluation::Scenario& s) { return s.name; });
     evaluation::SweepOptions sweep;
     sweep.steps = steps;
     sweep.cpu_limit_s = o.cpu_limit_s;
@@ -218,16 +228,19 @@ void Run(const BenchOptions& o) {
                         evaluation::WorkPrecisionCsv(wp));
   }
   if (!o.skip_stability) {
-    const std::vector<evaluation::StabilityMapSpec> maps =
-        Select(evaluation::StabilityMaps(o.scenes_dir), o.maps, "--maps",
-               [](const evaluation::StabilityMapSpec& m) { return m.name; });
     st = evaluation::RunStabilityMaps(maps, methods, steps, shard_index, shard_count,
                                       o.cpu_limit_s, Progress);
     WriteFileAtomically((fs::path(o.out_dir) / "stability.csv").string(),
                         evaluation::StabilityCsv(st));
   }
+  // the drop sweep's part of this shard: drop_sweep.csv, and the mesh and the scene of every
+  // failed case in drop_failures/
   std::vector<evaluation::DropRow> drops;
-  if (!o.skip_drops) drops = RunDrops(o, shard_index, shard_count);
+  if (!o.skip_drops) {
+    drops = evaluation::RunDropSweep(drop_sweep, drop_plan);
+    WriteFileAtomically((fs::path(o.out_dir) / kDropCsv).string(),
+                        evaluation::DropSweepCsv(drops));
+  }
   // a shard's charts would show a part of the sweep: they are drawn by the merge
   for (const std::string& path :
        WriteBenchReport(o.out_dir, wp, st, drops, o.charts && shard_count == 1)) {

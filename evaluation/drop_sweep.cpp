@@ -406,11 +406,9 @@ std::vector<std::string> CollectionFiles(const std::vector<std::string>& dirs) {
   return files;
 }
 
-std::vector<DropRow> RunDropSweep(const DropSweepOptions& o) {
-  ECPSIM_DEMAND(o.shard_count >= 1 && o.shard_index >= 1 && o.shard_index <= o.shard_count);
-  ECPSIM_DEMAND(!o.scratch_dir.empty() && !o.failures_dir.empty());
+DropPlan PlanDropSweep(const DropSweepOptions& o) {
   // the groups in order: one per generated case, one per file (all its poses)
-  std::vector<std::vector<DropCase>> groups;
+  DropPlan groups;
   if (!o.only.empty()) {
     for (const std::string& key : o.only) groups.push_back({ParseDropCaseKey(key)});
   } else {
@@ -448,7 +446,16 @@ std::vector<DropRow> RunDropSweep(const DropSweepOptions& o) {
       }
     }
   }
+  return groups;
+}
 
+std::vector<DropRow> RunDropSweep(const DropSweepOptions& o) {
+  return RunDropSweep(o, PlanDropSweep(o));
+}
+
+std::vector<DropRow> RunDropSweep(const DropSweepOptions& o, const DropPlan& groups) {
+  ECPSIM_DEMAND(o.shard_count >= 1 && o.shard_index >= 1 && o.shard_index <= o.shard_count);
+  ECPSIM_DEMAND(!o.scratch_dir.empty() && !o.failures_dir.empty());
   std::vector<DropRow> rows;
   std::map<std::string, std::pair<int, int>> ok_of_kind;  // kind → (ok, cases), for progress
   for (size_t g = 0; g < groups.size(); ++g) {

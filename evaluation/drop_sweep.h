@@ -175,12 +175,22 @@ struct DropSweepOptions {
 /// @throws InputError naming a folder that does not exist.
 std::vector<std::string> CollectionFiles(const std::vector<std::string>& dirs);
 
-/// Runs this shard's part: the cases are cut into groups (each generated mesh with its step
-/// sizes; each file with all its poses and step sizes, loaded once) in order, group g
-/// (0-based) belonging to shard (g mod N) + 1. A file that does not load or is not closed
-/// gives one kSkipped row. The files of every failed case end up in options.failures_dir.
-/// @throws InputError for an unknown kind in options.kinds or a bad key in options.only.
+/// The sweep's cases cut into groups, in order: each generated mesh with its step sizes, each
+/// collection file with all its poses and step sizes (loaded once).
+using DropPlan = std::vector<std::vector<DropCase>>;
+
+/// The plan of `options`' sweep, every option checked (no mesh is made or loaded): a caller
+/// that runs other work first (ecpsim bench) rejects a bad option before any of it.
+/// @throws InputError for an unknown kind in options.kinds, a bad key in options.only or a
+///         collection folder that does not exist.
+DropPlan PlanDropSweep(const DropSweepOptions& options);
+
+/// Runs this shard's part of `plan` (PlanDropSweep(options) unless given): group g (0-based)
+/// belongs to shard (g mod N) + 1. A file that does not load or is not closed gives one
+/// kSkipped row. The files of every failed case end up in options.failures_dir.
+/// @throws InputError as PlanDropSweep.
 std::vector<DropRow> RunDropSweep(const DropSweepOptions& options);
+std::vector<DropRow> RunDropSweep(const DropSweepOptions& options, const DropPlan& plan);
 
 /// Rows in the sweep's order (generated kinds in AllMeshKinds order by seed, then files by
 /// path and pose; fixed before scaled), e.g. after a merge.

@@ -125,5 +125,25 @@ TEST_F(BenchCommandTest, BadInputIsNamed) {
       << r.output;
 }
 
+// every option is checked before any work: a bad stability map or drop kind used to be found
+// only after the work-precision sweep (minutes in a full run) had run and written its table
+TEST_F(BenchCommandTest, ABadLaterOptionStopsTheRunBeforeAnyWork) {
+  const fs::path out = dir_ / "never";
+  const std::string small = "bench --methods hull --scenarios slide --steps 0.01 ";
+  CliResult r = Run(small + "--maps nosuch --no-drops -o " + out.string());
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("--maps 'nosuch': expected one of impact"), std::string::npos)
+      << r.output;
+  EXPECT_FALSE(fs::exists(out)) << r.output;
+  r = Run(small + "--no-stability --drop-kinds cube -o " + out.string());
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("drop sweep kind 'cube'"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(out)) << r.output;
+  r = Run(small + "--no-stability --drop-steps sometimes -o " + out.string());
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("--drop-steps 'sometimes'"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(out)) << r.output;
+}
+
 }  // namespace
 }  // namespace ecpsim::testing
