@@ -1,0 +1,100 @@
+// Step-time benchmarks of contact islands (issue 13): what several bodies cost against one.
+// The issue's bars, read as ratios of medians of one run (README.md, "Islands"):
+//   BM_IslandStack3 ≤ 4 × BM_IslandRestingBox (three boxes stacked against one box at rest);
+//   BM_IslandScattered/64 ≤ 1.2 × 64 × BM_IslandRestingBox (each body an island of its own);
+//   BM_IslandFreeFall: a body that can touch nothing costs the closed-form free flight.
+// Every scene is stepped with the hull model, whose islands these are (model: auto would turn
+// the single resting box into a planar step and the comparison into one of two models).
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <benchmark/benchmark.h>
+
+#include "engine/scene_builders.h"
+#include "engine/time_step.h"
+#include "tests/engine/test_bodies.h"
+
+namespace ecpsim::engine {
+namespace {
+
+using Eigen::Vector3d;
+
+constexpr int kRestartSteps = 500;  // 5 s at h = 0.01 s, then from t = 0 again
+
+const Friction kFriction{0.5, 1, 1, 0.05};
+
+Body RestingBox(const Vector3d& size, double mass, const Vector3d& at, const std::string& name) {
+  Body box = testing::MakeBoxBody(size, mass, name);
+  box.p0 = at;
+  box.friction = kFriction;
+  return box;
+}
+
+Scene HullScene(std::vector<Body> bodies) {
+  Scene scene = testing::MakeGroundScene(std::move(bodies), 0.01, kFriction);
+  AddBodyPairs(scene);
+  scene.model = ContactModel::kHull;
+  return scene;
+}
+
+// steps `scene`, restarting from t = 0 every kRestartSteps steps; µs per step, and per body;
+// mean Newton iterations per step
+void RunSteps(benchmark::State& bench, const Scene& scene) {
+  State state = InitialState(scene);
+  long count = 0, iterations = 0;
+  for (auto _ : bench) {
+    if (count % kRestartSteps == 0) state = InitialState(scene);
+    iterations += Step(scene, state).iterations;
+    ++count;
+  }
+  bench.counters["bodies"] = static_cast<double>(scene.bodies.size());
+  bench.counters["newton_iters"] = static_cast<double>(iterations) / count;
+  bench.counters["per_body"] = benchmark::Counter(
+      static_cast<double>(count) * scene.bodies.size(),
+      benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+
+// one 0.2 m box at rest on the ground: the unit of the other benchmarks
+void BM_IslandRestingBox(benchmark::State& bench) {
+  RunSteps(bench, HullScene({RestingBox({0.2, 0.2, 0.1}, 1, {0, 0, 0.05}, "box")}));
+}
+BENCHMARK(BM_IslandRestingBox)->Unit(benchmark::kMicrosecond);
+
+// three boxes stacked at rest (tests/engine/body_contact_test.cpp's stack): one island of three
+// bodies and three contacts
+void BM_IslandStack3(benchmark::State& bench) {
+  std::vector<Body> boxes;
+  const double sizes[3] = {0.3, 0.2, 0.1};
+  for (int i = 0; i < 3; ++i) {
+    boxes.push_back(RestingBox({sizes[i], sizes[i], 0.1}, 3 - i, {0, 0, 0.05 + 0.1 * i},
+                               "box" + std::to_string(i)));
+  }
+  RunSteps(bench, HullScene(boxes));
+}
+BENCHMARK(BM_IslandStack3)->Unit(benchmark::kMicrosecond);
+
+// n boxes at rest on a grid 0.5 m apart: n one-body islands, the broad phase over n(n−1)/2
+// pairs
+void BM_IslandScattered(benchmark::State& bench) {
+  const int n = static_cast<int>(bench.range(0));
+  const int side = static_cast<int>(std::ceil(std::sqrt(n)));
+  std::vector<Body> boxes;
+  for (int i = 0; i < n; ++i) {
+    boxes.push_back(RestingBox({0.2, 0.2, 0.1}, 1, {0.5 * (i % side), 0.5 * (i / side), 0.05},
+                               "box" + std::to_string(i)));
+  }
+  RunSteps(bench, HullScene(boxes));
+}
+BENCHMARK(BM_IslandScattered)->Arg(8)->Arg(64)->Unit(benchmark::kMicrosecond);
+
+// a box falling from 200 m (122 m in the 5 s before each restart): every step is the
+// closed-form free flight
+void BM_IslandFreeFall(benchmark::State& bench) {
+  RunSteps(bench, HullScene({RestingBox({0.2, 0.2, 0.1}, 1, {0, 0, 200}, "box")}));
+}
+BENCHMARK(BM_IslandFreeFall)->Unit(benchmark::kMicrosecond);
+
+}  // namespace
+}  // namespace ecpsim::engine
