@@ -12,6 +12,7 @@
 
 #include "engine/scene_yaml.h"
 #include "engine/time_step.h"
+#include "tests/engine/auto_comparison.h"
 #include "tests/engine/test_bodies.h"
 
 namespace ecpsim::engine {
@@ -31,44 +32,14 @@ constexpr double kAgreement = 1e-10;
 // pushes, the drop and rest of tilted_box, the stack and the cascade of dominoes' first blocks
 constexpr double kMaxCompared = 1.5;
 
-// rad: the angle of the rotation between two orientations
-double AngleBetween(const Eigen::Quaterniond& a, const Eigen::Quaterniond& b) {
-  return a.angularDistance(b);
-}
+using Comparison = testing::AutoHullComparison;
 
-struct Comparison {
-  double difference = 0;                       // largest over bodies, steps and quantities
-  std::array<long, kNumStepModels> models{};   // auto's body-steps per model
-};
-
-// runs `scene` with model auto and with model hull side by side for `steps` steps, or until a
-// contact between two bodies carries an impulse when `until_coupled` (see CoupledIslands below)
-Comparison CompareAutoWithHull(Scene scene, long steps, bool until_coupled = false) {
-  Scene hull_scene = scene;
-  scene.model = ContactModel::kAuto;
-  hull_scene.model = ContactModel::kHull;
-  State a = InitialState(scene), h = InitialState(hull_scene);
-  Comparison result;
-  for (long k = 0; k < steps; ++k) {
-    const StepReport report = Step(scene, a);
-    Step(hull_scene, h);
-    if (until_coupled) {
-      bool coupled = false;
-      for (size_t k = 0; k < scene.contacts.size(); ++k)
-        coupled |= scene.contacts[k].WithBody() && h.contacts[k].p_n > 0;
-      if (coupled) break;
-    }
-    for (StepModel model : report.models) ++result.models[static_cast<int>(model)];
-    for (size_t b = 0; b < a.bodies.size(); ++b) {
-      const BodyState& x = a.bodies[b];
-      const BodyState& y = h.bodies[b];
-      result.difference = std::max({result.difference, (x.p_WB - y.p_WB).cwiseAbs().maxCoeff(),
-                                    AngleBetween(x.Q_WB, y.Q_WB),
-                                    (x.v_WB - y.v_WB).cwiseAbs().maxCoeff(),
-                                    (x.w_WB - y.w_WB).cwiseAbs().maxCoeff()});
-    }
-  }
-  return result;
+// the two models side by side, neither failing a step
+Comparison CompareAutoWithHull(const Scene& scene, long steps, bool until_coupled = false) {
+  const Comparison c = testing::CompareAutoWithHull(scene, steps, until_coupled);
+  EXPECT_EQ(c.auto_failed_at, -1);
+  EXPECT_EQ(c.hull_failed_at, -1);
+  return c;
 }
 
 long Count(const Comparison& c, StepModel model) { return c.models[static_cast<int>(model)]; }
