@@ -28,11 +28,11 @@ constexpr double kStackDrift = 1e-9;
 // each row's scale, with a margin for the rows it is summed over
 constexpr double kSolvedRel = 1e-10;
 // relative to the weight: the sticking friction that stick_creep makes unique is −e² μ p_n v / ε
-// with ε = 1e-7 V (hull_model.cpp, kStickCreepFraction); the solver leaves v in error by its
+// with ε = 1e-5 V (hull_model.cpp, kStickCreepFraction); the solver leaves v in error by its
 // tolerance 1e-12 V, and a vertical v set by the ground's gap (held to 1e-12 of the box's length
-// L) by 1e-12 L / h, so that friction by ≤ e² μ p_n · 1e-5 (1 + L / (h V)) — here e = 1, μ = 0.3,
+// L) by 1e-12 L / h, so that friction by ≤ e² μ p_n · 1e-7 (1 + L / (h V)) — here e = 1, μ = 0.3,
 // p_n ≤ the weight's impulse, L = sqrt(trace I / m) = 0.1225 m for the pushed box, V = 0.1 m/s
-constexpr double kStickingForceRel = 1e-5 * 0.3 * (1 + 0.1225 / (0.01 * 0.1));
+constexpr double kStickingForceRel = 1e-7 * 0.3 * (1 + 0.1225 / (0.01 * 0.1));
 
 Friction TestFriction(double mu) { return Friction{mu, 1, 1, 0.05}; }
 

@@ -15,9 +15,9 @@ G, MASS = 9.8, 1.0  # m/s², kg: push_sweep.yaml
 # s: every finger (≥ 0.05 m/s from 1 cm behind) pushes for at least 0.3 s, a steady push
 DURATION = 0.5
 # relative to the weight: the finger's sticking friction made unique by the island's creep is
-# −e² μ p_n v / ε (ε = 1e-7 V); the solver leaves v in error by its tolerance 1e-12 of V, and the
+# −e² μ p_n v / ε (ε = 1e-5 V); the solver leaves v in error by its tolerance 1e-12 of V, and the
 # box's vertical v, set by the ground's gap (held to 1e-12 of the box's length L), by
-# 1e-12 L / h, so that friction is off by ≤ e² μ_pair p_n · 1e-5 (1 + L / (h V))
+# 1e-12 L / h, so that friction is off by ≤ e² μ_pair p_n · 1e-7 (1 + L / (h V))
 # (engine/README.md; tests/engine/body_contact_test.cpp). Here e = 1, μ_pair ≤ sqrt(0.5 × 0.7),
 # p_n = μ m g h ≤ 0.7 m g h, L = sqrt(trace I / m) = 0.1225 m and V ≥ max(speed, g h)
 BOX_LENGTH = math.sqrt((0.1**2 + 0.2**2 + 0.2**2) * 2 / 12)
@@ -25,12 +25,12 @@ BOX_LENGTH = math.sqrt((0.1**2 + 0.2**2 + 0.2**2) * 2 / 12)
 
 def sticking_force_rel(speed):
     velocity = max(speed, G * 0.01)
-    return 1e-5 * math.sqrt(0.5 * 0.7) * 0.7 * (1 + BOX_LENGTH / (0.01 * velocity))
+    return 1e-7 * math.sqrt(0.5 * 0.7) * 0.7 * (1 + BOX_LENGTH / (0.01 * velocity))
 
 
 # rad: a mirror-symmetric push turns the box only through the creep of its sticking contacts,
-# ≤ 1e-7 V with V = g h + |v| ≤ 0.4 m/s, over a lever of the box's half-width 0.1 m, for 0.5 s
-SYMMETRIC_TURN = 1e-7 * 0.4 / 0.1 * DURATION
+# ≤ 1e-5 V with V = g h + |v| ≤ 0.4 m/s, over a lever of the box's half-width 0.1 m, for 0.5 s
+SYMMETRIC_TURN = 1e-5 * 0.4 / 0.1 * DURATION
 # m: the box's back face rides on the finger to the solver's position error (1e-12 of the
 # lengths) with margin, as tests/engine/manipulation_scenes_test.cpp's kPenetration
 CONTACT_GAP = 1e-9
