@@ -5,6 +5,7 @@
 
 #include <benchmark/benchmark.h>
 
+#include "bench/step_loop.h"
 #include "engine/scene_yaml.h"
 #include "engine/time_step.h"
 
@@ -16,15 +17,7 @@ namespace {
 void BM_DeskModelStep(benchmark::State& bench, const std::string& model) {
   const Scene scene =
       LoadScene(std::string(ECPSIM_SOURCE_DIR) + "/scenes/desk.yaml", {"model=" + model});
-  const int steps = static_cast<int>(scene.duration / scene.h + 0.5);
-  State state = InitialState(scene);
-  long iterations = 0, count = 0;
-  for (auto _ : bench) {
-    if (count % steps == 0) state = InitialState(scene);
-    iterations += Step(scene, state).iterations;
-    ++count;
-  }
-  bench.counters["newton_iters"] = static_cast<double>(iterations) / count;
+  RunSteps(bench, scene, static_cast<int>(scene.duration / scene.h + 0.5));
 }
 BENCHMARK_CAPTURE(BM_DeskModelStep, planar, std::string("planar"))
     ->Unit(benchmark::kMicrosecond);

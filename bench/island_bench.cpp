@@ -12,8 +12,8 @@
 
 #include <benchmark/benchmark.h>
 
+#include "bench/step_loop.h"
 #include "engine/scene_builders.h"
-#include "engine/time_step.h"
 #include "tests/engine/test_bodies.h"
 
 namespace ecpsim::engine {
@@ -39,26 +39,19 @@ Scene HullScene(std::vector<Body> bodies) {
   return scene;
 }
 
-// steps `scene`, restarting from t = 0 every kRestartSteps steps; µs per step, and per body;
-// mean Newton iterations per step
-void RunSteps(benchmark::State& bench, const Scene& scene) {
-  State state = InitialState(scene);
-  long count = 0, iterations = 0;
-  for (auto _ : bench) {
-    if (count % kRestartSteps == 0) state = InitialState(scene);
-    iterations += Step(scene, state).iterations;
-    ++count;
-  }
+// steps `scene` (bench/step_loop.h), restarting from t = 0 every kRestartSteps steps; µs per
+// step, and per body
+void RunIslandSteps(benchmark::State& bench, const Scene& scene) {
+  RunSteps(bench, scene, kRestartSteps);
   bench.counters["bodies"] = static_cast<double>(scene.bodies.size());
-  bench.counters["newton_iters"] = static_cast<double>(iterations) / count;
   bench.counters["per_body"] = benchmark::Counter(
-      static_cast<double>(count) * scene.bodies.size(),
+      static_cast<double>(bench.iterations()) * scene.bodies.size(),
       benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 
 // one 0.2 m box at rest on the ground: the unit of the other benchmarks
 void BM_IslandRestingBox(benchmark::State& bench) {
-  RunSteps(bench, HullScene({RestingBox({0.2, 0.2, 0.1}, 1, {0, 0, 0.05}, "box")}));
+  RunIslandSteps(bench, HullScene({RestingBox({0.2, 0.2, 0.1}, 1, {0, 0, 0.05}, "box")}));
 }
 BENCHMARK(BM_IslandRestingBox)->Unit(benchmark::kMicrosecond);
 
@@ -71,7 +64,7 @@ void BM_IslandStack3(benchmark::State& bench) {
     boxes.push_back(RestingBox({sizes[i], sizes[i], 0.1}, 3 - i, {0, 0, 0.05 + 0.1 * i},
                                "box" + std::to_string(i)));
   }
-  RunSteps(bench, HullScene(boxes));
+  RunIslandSteps(bench, HullScene(boxes));
 }
 BENCHMARK(BM_IslandStack3)->Unit(benchmark::kMicrosecond);
 
@@ -85,14 +78,14 @@ void BM_IslandScattered(benchmark::State& bench) {
     boxes.push_back(RestingBox({0.2, 0.2, 0.1}, 1, {0.5 * (i % side), 0.5 * (i / side), 0.05},
                                "box" + std::to_string(i)));
   }
-  RunSteps(bench, HullScene(boxes));
+  RunIslandSteps(bench, HullScene(boxes));
 }
 BENCHMARK(BM_IslandScattered)->Arg(8)->Arg(64)->Unit(benchmark::kMicrosecond);
 
 // a box falling from 200 m (122 m in the 5 s before each restart): every step is the
 // closed-form free flight
 void BM_IslandFreeFall(benchmark::State& bench) {
-  RunSteps(bench, HullScene({RestingBox({0.2, 0.2, 0.1}, 1, {0, 0, 200}, "box")}));
+  RunIslandSteps(bench, HullScene({RestingBox({0.2, 0.2, 0.1}, 1, {0, 0, 200}, "box")}));
 }
 BENCHMARK(BM_IslandFreeFall)->Unit(benchmark::kMicrosecond);
 
