@@ -157,11 +157,16 @@ IslandLayout MakeIslandLayout(const IslandProblem& problem) {
 }
 
 void EvaluateIslandMncp(const IslandProblem& problem, const IslandLayout& layout,
-                        const VectorXd& z, VectorXd* F, MatrixXd* J) {
+                        const VectorXd& z, VectorXd* F, MatrixXd* J, bool jacobian_is_zero) {
   F->setZero(layout.size);
-  if (J) J->setZero(layout.size, layout.size);
+  if (J && jacobian_is_zero) {
+    ECPSIM_DEMAND(J->rows() == layout.size && J->cols() == layout.size);
+  } else if (J) {
+    J->setZero(layout.size, layout.size);
+  }
   // per body the contact-free Newton–Euler rows, then per contact its rows and its wrenches
   std::vector<StepMotion> bodies;
+  bodies.reserve(layout.num_bodies);
   for (int b = 0; b < layout.num_bodies; ++b)
     bodies.push_back(AddBodyRows(problem.bodies[b], IslandLayout::Velocity(b), z, *F, J));
   const std::vector<StepMotion> kinematic = KinematicMotions(problem);
@@ -237,8 +242,10 @@ double IslandMncpResidual(const IslandProblem& problem, const IslandLayout& layo
                           const VectorXd& var_scale, const IslandResidualUnits& units) {
   // row by row, as MncpResidual: each contact's rows in its own length, floored by round-off
   ScaledRowResidual r(layout.num_free, z, F, row_scale, var_scale);
-  std::vector<double> force_factor(layout.num_bodies, 1.0);
-  std::vector<double> moment_factor(layout.num_bodies, 1.0);
+  // per body the divisors of its force and moment rows (one allocation for both)
+  std::vector<std::array<double, 2>> divisors(layout.num_bodies, {1.0, 1.0});
+  const auto force_factor = [&](int b) -> double& { return divisors[b][0]; };
+  const auto moment_factor = [&](int b) -> double& { return divisors[b][1]; };
   for (size_t k = 0; k < layout.contacts.size(); ++k) {
     const IslandContact& cp = problem.contacts[k];
     const MncpLayout::Contact& L = layout.contacts[k];
@@ -250,22 +257,22 @@ double IslandMncpResidual(const IslandProblem& problem, const IslandLayout& layo
     // rows carry a creeping contact's friction impulses with their round-off
     for (int b : {cp.body, cp.other_kind == Other::kBody ? cp.other : -1}) {
       if (b < 0) continue;
-      moment_factor[b] = std::max(moment_factor[b], round_off / units.body_length[b]);
+      moment_factor(b) = std::max(moment_factor(b), round_off / units.body_length[b]);
       if (!(cp.stick_creep > 0)) continue;
       const int col = IslandLayout::Velocity(b);
       const double impulse = 1 / row_scale[col];      // N·s: the body's impulse scale
       const double angular = 1 / row_scale[col + 3];  // N·m·s
       const double arm = (z.segment<3>(L.a1) - problem.bodies[b].c).norm();
-      force_factor[b] = std::max(force_factor[b], creep.force / (units.tolerance * impulse));
-      moment_factor[b] = std::max(
-          moment_factor[b], (creep.force * arm + creep.torque) / (units.tolerance * angular));
+      force_factor(b) = std::max(force_factor(b), creep.force / (units.tolerance * impulse));
+      moment_factor(b) = std::max(
+          moment_factor(b), (creep.force * arm + creep.torque) / (units.tolerance * angular));
     }
   }
   for (int b = 0; b < layout.num_bodies; ++b) {
     const int col = IslandLayout::Velocity(b);
     for (int i = 0; i < 3; ++i) {
-      r.AddRow(col + i, force_factor[b]);
-      r.AddRow(col + 3 + i, moment_factor[b]);
+      r.AddRow(col + i, force_factor(b));
+      r.AddRow(col + 3 + i, moment_factor(b));
     }
   }
   return r.value();

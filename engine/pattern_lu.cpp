@@ -123,9 +123,16 @@ void PatternLu::FactorDense() {
   double* const a = lu_.data();  // column-major, leading dimension n
   for (Eigen::Index k = 0; k < n; ++k) {
     double* const col_k = a + k * n;
+    // the first of the largest magnitudes (the running largest kept, not reloaded)
     Eigen::Index pivot = k;
-    for (Eigen::Index i = k + 1; i < n; ++i)
-      if (std::abs(col_k[i]) > std::abs(col_k[pivot])) pivot = i;
+    double largest = std::abs(col_k[k]);
+    for (Eigen::Index i = k + 1; i < n; ++i) {
+      const double magnitude = std::abs(col_k[i]);
+      if (magnitude > largest) {
+        largest = magnitude;
+        pivot = i;
+      }
+    }
     pivots_[k] = pivot;
     if (col_k[pivot] != 0) {
       if (pivot != k)
