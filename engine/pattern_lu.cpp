@@ -143,11 +143,14 @@ void PatternLu::FactorDense() {
     }
     Eigen::Index end = n;
     while (end > k + 1 && col_k[end - 1] == 0) --end;
-    for (Eigen::Index j = k + 1; j < n; ++j) {
-      double* const col_j = a + j * n;
+    if (end == k + 1) continue;  // no multipliers: nothing to update
+    const Eigen::Index count = end - (k + 1);
+    const double* const multipliers = col_k + k + 1;
+    for (double* col_j = col_k + n; col_j != a + n * n; col_j += n) {
       const double u = col_j[k];
       if (u == 0) continue;
-      for (Eigen::Index i = k + 1; i < end; ++i) col_j[i] -= col_k[i] * u;
+      double* const below = col_j + k + 1;
+      for (Eigen::Index i = 0; i < count; ++i) below[i] -= multipliers[i] * u;
     }
   }
 }
