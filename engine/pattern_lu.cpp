@@ -135,8 +135,10 @@ void PatternLu::FactorDense() {
     }
     pivots_[k] = pivot;
     if (col_k[pivot] != 0) {
+      // the rows' entries from column k on: L's columns keep the row order of their own
+      // elimination (LINPACK's storage), and SolveInPlace interchanges as it goes
       if (pivot != k)
-        for (Eigen::Index j = 0; j < n; ++j) std::swap(a[j * n + k], a[j * n + pivot]);
+        for (Eigen::Index j = k; j < n; ++j) std::swap(a[j * n + k], a[j * n + pivot]);
       // divided, not multiplied by the reciprocal, as Eigen does: the multi-patch model's
       // ill-conditioned systems take other Newton paths on the reciprocal's round-off
       for (Eigen::Index i = k + 1; i < n; ++i) col_k[i] /= col_k[k];
@@ -240,12 +242,11 @@ void PatternLu::SolveInPlace(Eigen::VectorXd& x) const {
   }
   const Eigen::Index n = lu_.rows();
   const double* const a = lu_.data();
-  const std::vector<Eigen::Index>& pivots = mode_ == Mode::kReplayed ? replayed_->pivots : pivots_;
-  for (Eigen::Index k = 0; k < n; ++k) std::swap(x[k], x[pivots[k]]);
   if (mode_ == Mode::kReplayed) {
-    // the same operations as below on the structural entries only (in any order within a
-    // column: each x[p] still takes its terms in the order of j)
+    // the row interchanges, then the same operations as below on the structural entries only
+    // (in any order within a column: each x[p] still takes its terms in the order of j)
     const Schedule& s = *replayed_;
+    for (Eigen::Index k = 0; k < n; ++k) std::swap(x[k], x[s.pivots[k]]);
     for (Eigen::Index j = 0; j < n; ++j) {
       const double xj = x[j];
       if (xj == 0) continue;
@@ -261,9 +262,12 @@ void PatternLu::SolveInPlace(Eigen::VectorXd& x) const {
     }
     return;
   }
-  // the row interchanges, then the unit lower and the upper triangular solves, column-oriented
-  // (Eigen's triangular solve allocates a temporary for dynamic vectors)
+  // the unit lower triangular solve with the row interchanges as the elimination made them (L
+  // as FactorDense left it: each entry still takes the same terms in the same order as after all
+  // interchanges up front), then the upper one; column-oriented (Eigen's triangular solve
+  // allocates a temporary for dynamic vectors)
   for (Eigen::Index j = 0; j < n; ++j) {
+    std::swap(x[j], x[pivots_[j]]);
     const double xj = x[j];
     if (xj == 0) continue;
     for (Eigen::Index i = j + 1; i < n; ++i) x[i] -= a[j * n + i] * xj;
