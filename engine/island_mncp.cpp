@@ -34,8 +34,28 @@ std::vector<StepMotion> KinematicMotions(const IslandProblem& problem) {
   return motions;
 }
 
+// per-body values of an island: in place for one body (the usual island, whose MNCP is evaluated
+// and measured every Newton iteration: no heap allocation), in a vector for several
+template <typename T>
+class PerBody {
+ public:
+  explicit PerBody(int count) {
+    if (count > 1) several_.resize(count);
+  }
+  PerBody(int count, const T& value) : single_(value) {
+    if (count > 1) several_.assign(count, value);
+  }
+  T& operator[](int b) { return several_.empty() ? single_ : several_[b]; }
+  const T& operator[](int b) const { return several_.empty() ? single_ : several_[b]; }
+
+ private:
+  T single_{};
+  std::vector<T> several_;
+};
+
 // G's motion for contact `cp`: null for a fixed G
-const StepMotion* OtherMotion(const IslandContact& cp, const std::vector<StepMotion>& bodies,
+template <typename Bodies>
+const StepMotion* OtherMotion(const IslandContact& cp, const Bodies& bodies,
                               const std::vector<StepMotion>& kinematic) {
   if (cp.other_kind == Other::kBody) return &bodies[cp.other];
   if (cp.other_kind == Other::kKinematic) return &kinematic[cp.other];
@@ -165,10 +185,9 @@ void EvaluateIslandMncp(const IslandProblem& problem, const IslandLayout& layout
     J->setZero(layout.size, layout.size);
   }
   // per body the contact-free Newton–Euler rows, then per contact its rows and its wrenches
-  std::vector<StepMotion> bodies;
-  bodies.reserve(layout.num_bodies);
+  PerBody<StepMotion> bodies(layout.num_bodies);
   for (int b = 0; b < layout.num_bodies; ++b)
-    bodies.push_back(AddBodyRows(problem.bodies[b], IslandLayout::Velocity(b), z, *F, J));
+    bodies[b] = AddBodyRows(problem.bodies[b], IslandLayout::Velocity(b), z, *F, J);
   const std::vector<StepMotion> kinematic = KinematicMotions(problem);
   for (size_t k = 0; k < problem.contacts.size(); ++k) {
     const IslandContact& cp = problem.contacts[k];
@@ -242,8 +261,8 @@ double IslandMncpResidual(const IslandProblem& problem, const IslandLayout& layo
                           const VectorXd& var_scale, const IslandResidualUnits& units) {
   // row by row, as MncpResidual: each contact's rows in its own length, floored by round-off
   ScaledRowResidual r(layout.num_free, z, F, row_scale, var_scale);
-  // per body the divisors of its force and moment rows (one allocation for both)
-  std::vector<std::array<double, 2>> divisors(layout.num_bodies, {1.0, 1.0});
+  // per body the divisors of its force and moment rows
+  PerBody<std::array<double, 2>> divisors(layout.num_bodies, {1.0, 1.0});
   const auto force_factor = [&](int b) -> double& { return divisors[b][0]; };
   const auto moment_factor = [&](int b) -> double& { return divisors[b][1]; };
   for (size_t k = 0; k < layout.contacts.size(); ++k) {
