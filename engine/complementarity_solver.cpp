@@ -43,13 +43,18 @@ struct Reformulation {
   Matrix H;             // an element of the generalized Jacobian of Φ
 };
 
-// penalized Fischer–Burmeister φ_λ(a, b) = λ(√(a²+b²) − a − b) − (1−λ) a₊ b₊ and the
-// derivative of its smoothing with √(a²+b²+2μ²) (Jacobian smoothing, Chen–Qi–Sun: the value is
-// the true φ_λ, the derivative is nonsingular where a and b are both near 0)
-void PenalizedFb(double a, double b, double lambda, double mu, double* phi, double* da,
-                 double* db) {
-  const double r = std::hypot(a, b);
-  *phi = lambda * (r - a - b) - (1 - lambda) * std::max(a, 0.0) * std::max(b, 0.0);
+// penalized Fischer–Burmeister φ_λ(a, b) = λ(√(a²+b²) − a − b) − (1−λ) a₊ b₊, with
+// r = √(a²+b²) for its derivative
+double PenalizedFb(double a, double b, double lambda, double* r) {
+  *r = std::hypot(a, b);
+  return lambda * (*r - a - b) - (1 - lambda) * std::max(a, 0.0) * std::max(b, 0.0);
+}
+
+// the derivative of φ_λ's smoothing with √(a²+b²+2μ²) (Jacobian smoothing, Chen–Qi–Sun: the
+// value is the true φ_λ, the derivative is nonsingular where a and b are both near 0); r is
+// √(a²+b²) from PenalizedFb
+void PenalizedFbDerivative(double a, double b, double r, double lambda, double mu, double* da,
+                           double* db) {
   const double rs = std::sqrt(r * r + 2 * mu * mu);
   if (rs > 0) {
     *da = lambda * (a / rs - 1);
@@ -67,27 +72,46 @@ void PenalizedFb(double a, double b, double lambda, double mu, double* phi, doub
 // ScaledProblem's storage, kept from call to call
 template <typename Matrix>
 struct ScaledStorage {
-  Eigen::VectorXd z, row_factor, diagonal;
+  Eigen::VectorXd z, row_factor, diagonal, fb_radius;
   Matrix J;
+  bool J_zero = false;  // dense: J is n × n and zero (McpFunction's contract)
 };
 
-// H = diag(row_factor) J diag(var_scale) + diag(diagonal), dense
-void FormNewtonMatrix(const Eigen::MatrixXd& J, const Eigen::VectorXd& row_factor,
+// J ready for the callback: dense, n × n and zero (cleared only when a previous evaluation did
+// not leave it so, see FormNewtonMatrix); sparse, as the callback leaves it
+void PrepareJacobian(ScaledStorage<Eigen::MatrixXd>& storage, Eigen::Index n) {
+  if (!storage.J_zero || storage.J.rows() != n) storage.J.setZero(n, n);
+  storage.J_zero = false;
+}
+void PrepareJacobian(ScaledStorage<SparseMatrix>& /*storage*/, Eigen::Index /*n*/) {}
+
+// H = diag(row_factor) J diag(var_scale) + diag(diagonal), dense; J is cleared in the same pass,
+// ready for the next evaluation (one pass over it instead of two)
+void FormNewtonMatrix(ScaledStorage<Eigen::MatrixXd>& storage, const Eigen::VectorXd& row_factor,
                       const Eigen::VectorXd& var_scale, const Eigen::VectorXd& diagonal,
                       Eigen::MatrixXd& H) {
+  Eigen::MatrixXd& J = storage.J;
   const Eigen::Index n = J.cols();
   H.resize(n, n);
-  for (Eigen::Index j = 0; j < n; ++j)
-    H.col(j) = (var_scale[j] * row_factor).cwiseProduct(J.col(j));
+  for (Eigen::Index j = 0; j < n; ++j) {
+    double* const J_col = J.col(j).data();
+    double* const H_col = H.col(j).data();
+    const double scale = var_scale[j];
+    for (Eigen::Index i = 0; i < n; ++i) {
+      H_col[i] = (scale * row_factor[i]) * J_col[i];
+      J_col[i] = 0;
+    }
+  }
+  storage.J_zero = true;
   H.diagonal() += diagonal;
 }
 
 // the same on J's pattern (the diagonal added to it where missing): the same products, entry by
 // entry
-void FormNewtonMatrix(const SparseMatrix& J, const Eigen::VectorXd& row_factor,
+void FormNewtonMatrix(ScaledStorage<SparseMatrix>& storage, const Eigen::VectorXd& row_factor,
                       const Eigen::VectorXd& var_scale, const Eigen::VectorXd& diagonal,
                       SparseMatrix& H) {
-  H = J;
+  H = storage.J;
   H.makeCompressed();
   for (Eigen::Index j = 0; j < H.outerSize(); ++j)
     for (SparseMatrix::InnerIterator it(H, j); it; ++it)
@@ -110,44 +134,43 @@ class ScaledProblem {
         var_scale_(var_scale),
         lambda_(lambda),
         smoothing_(smoothing),
-        z_(storage.z),
-        row_factor_(storage.row_factor),
-        diagonal_(storage.diagonal),
-        J_(storage.J) {}
+        storage_(storage) {}
 
   // Φ and (optionally) its Jacobian at scaled x; F is the unscaled residual at z = var_scale ⊙ x
   void Evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* F, Reformulation<Matrix>* out,
                 bool jacobian) {
-    // z_, J_ and out's members keep their storage from call to call: no allocation per iterate
-    z_ = var_scale_.cwiseProduct(x);
-    f_(z_, F, jacobian ? &J_ : nullptr);
+    // the storage's and out's members keep their storage from call to call: no allocation per
+    // iterate
+    Eigen::VectorXd& z = storage_.z;
+    Eigen::VectorXd& radius = storage_.fb_radius;
     const int n = static_cast<int>(x.size());
+    z = var_scale_.cwiseProduct(x);
+    if (jacobian) PrepareJacobian(storage_, n);
+    f_(z, F, jacobian ? &storage_.J : nullptr);
     out->phi.resize(n);
-    // H = diag(row_factor) J diag(var_scale) + diag(diagonal): row_factor is row_scale times
-    // ∂φ/∂F̃ on complementarity rows, diagonal is ∂φ/∂x there, formed in one pass over J
-    row_factor_.resize(n);
-    diagonal_.setZero(n);
-    double da, db;
+    radius.resize(n);
     for (int i = 0; i < n; ++i) {
       const double Fs = row_scale_[i] * (*F)[i];
-      if (i < num_free_) {
-        out->phi[i] = Fs;
-        row_factor_[i] = row_scale_[i];
-        continue;
-      }
-      PenalizedFb(x[i], Fs, lambda_, 0, &out->phi[i], &da, &db);
-    }
-    // the smoothing parameter shrinks with the residual, so the Newton iteration keeps its fast
-    // local convergence
-    const double mu = smoothing_ * out->phi.norm();
-    for (int i = num_free_; i < n; ++i) {
-      double phi;
-      PenalizedFb(x[i], row_scale_[i] * (*F)[i], lambda_, mu, &phi, &da, &db);
-      row_factor_[i] = row_scale_[i] * db;
-      diagonal_[i] = da;
+      out->phi[i] = i < num_free_ ? Fs : PenalizedFb(x[i], Fs, lambda_, &radius[i]);
     }
     if (!jacobian) return;
-    FormNewtonMatrix(J_, row_factor_, var_scale_, diagonal_, out->H);
+    // H = diag(row_factor) J diag(var_scale) + diag(diagonal): row_factor is row_scale times
+    // ∂φ/∂F̃ on complementarity rows, diagonal is ∂φ/∂x there, formed in one pass over J. The
+    // smoothing parameter shrinks with the residual, so the Newton iteration keeps its fast
+    // local convergence
+    Eigen::VectorXd& row_factor = storage_.row_factor;
+    Eigen::VectorXd& diagonal = storage_.diagonal;
+    row_factor.resize(n);
+    diagonal.setZero(n);
+    row_factor.head(num_free_) = row_scale_.head(num_free_);
+    const double mu = smoothing_ * out->phi.norm();
+    double da, db;
+    for (int i = num_free_; i < n; ++i) {
+      PenalizedFbDerivative(x[i], row_scale_[i] * (*F)[i], radius[i], lambda_, mu, &da, &db);
+      row_factor[i] = row_scale_[i] * db;
+      diagonal[i] = da;
+    }
+    FormNewtonMatrix(storage_, row_factor, var_scale_, diagonal, out->H);
   }
 
  private:
@@ -157,10 +180,7 @@ class ScaledProblem {
   const Eigen::VectorXd& var_scale_;
   double lambda_;
   double smoothing_;
-  Eigen::VectorXd& z_;
-  Eigen::VectorXd& row_factor_;
-  Eigen::VectorXd& diagonal_;
-  Matrix& J_;
+  ScaledStorage<Matrix>& storage_;
 };
 
 bool AllFinite(const Eigen::VectorXd& v) { return v.allFinite(); }

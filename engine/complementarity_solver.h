@@ -12,7 +12,8 @@
 namespace ecpsim::engine {
 
 /// Find z with F_i(z) = 0 for i < num_free and 0 ≤ z_i ⊥ F_i(z) ≥ 0 for i ≥ num_free.
-/// The callback returns F(z) and, when J is not null, the Jacobian ∂F/∂z.
+/// The callback returns F(z) and, when J is not null, the Jacobian ∂F/∂z; J then arrives n × n
+/// and zero, so the callback may add its entries without clearing it first.
 using McpFunction =
     std::function<void(const Eigen::VectorXd& z, Eigen::VectorXd* F, Eigen::MatrixXd* J)>;
 

@@ -237,23 +237,32 @@ class IslandStepper {
   Attempt Solve(const IslandProblem& problem, const IslandLayout& layout, VectorXd& z,
                 McpOptions& options, const IslandScales& scales, double ejection_energy,
                 AdvanceResult& result) const {
-    const VectorXd row_scale = IslandRowScales(problem, layout, scales);
-    const VectorXd var_scale = IslandVariableScales(problem, layout, scales);
-    const IslandResidualUnits units = MakeIslandResidualUnits(problem, scales, options.tolerance);
-    options.measure = [&](const VectorXd& zz, const VectorXd& F) {
-      return IslandMncpResidual(problem, layout, zz, F, row_scale, var_scale, units);
+    // what the callbacks need, captured by one reference: std::function keeps a lambda that
+    // small in place instead of allocating it on every solve
+    struct Context {
+      const IslandProblem& problem;
+      const IslandLayout& layout;
+      const VectorXd row_scale, var_scale;
+      const IslandResidualUnits units;
+    };
+    const Context c{problem, layout, IslandRowScales(problem, layout, scales),
+                    IslandVariableScales(problem, layout, scales),
+                    MakeIslandResidualUnits(problem, scales, options.tolerance)};
+    options.measure = [&c](const VectorXd& zz, const VectorXd& F) {
+      return IslandMncpResidual(c.problem, c.layout, zz, F, c.row_scale, c.var_scale, c.units);
     };
     McpResult solve;
     if (layout.num_bodies > 1 && layout.size >= kMinSparseUnknowns) {
-      const SparseMcpFunction f = [&](const VectorXd& zz, VectorXd* F, SparseMatrix* J) {
-        EvaluateIslandMncpSparse(problem, layout, zz, F, J);
+      const SparseMcpFunction f = [&c](const VectorXd& zz, VectorXd* F, SparseMatrix* J) {
+        EvaluateIslandMncpSparse(c.problem, c.layout, zz, F, J);
       };
-      solve = SolveMcp(f, layout.num_free, row_scale, var_scale, z, options);
+      solve = SolveMcp(f, layout.num_free, c.row_scale, c.var_scale, z, options);
     } else {
-      const McpFunction f = [&](const VectorXd& zz, VectorXd* F, Eigen::MatrixXd* J) {
-        EvaluateIslandMncp(problem, layout, zz, F, J);
+      // SolveMcp hands J over zero (complementarity_solver.h)
+      const McpFunction f = [&c](const VectorXd& zz, VectorXd* F, Eigen::MatrixXd* J) {
+        EvaluateIslandMncp(c.problem, c.layout, zz, F, J, /*jacobian_is_zero=*/true);
       };
-      solve = SolveMcp(f, layout.num_free, row_scale, var_scale, z, options);
+      solve = SolveMcp(f, layout.num_free, c.row_scale, c.var_scale, z, options);
     }
     options.measure = nullptr;
     result.iterations += solve.iterations;

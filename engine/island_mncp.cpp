@@ -34,8 +34,28 @@ std::vector<StepMotion> KinematicMotions(const IslandProblem& problem) {
   return motions;
 }
 
+// per-body values of an island: in place for one body (the usual island, whose MNCP is evaluated
+// and measured every Newton iteration: no heap allocation), in a vector for several
+template <typename T>
+class PerBody {
+ public:
+  explicit PerBody(int count) {
+    if (count > 1) several_.resize(count);
+  }
+  PerBody(int count, const T& value) : single_(value) {
+    if (count > 1) several_.assign(count, value);
+  }
+  T& operator[](int b) { return several_.empty() ? single_ : several_[b]; }
+  const T& operator[](int b) const { return several_.empty() ? single_ : several_[b]; }
+
+ private:
+  T single_{};
+  std::vector<T> several_;
+};
+
 // G's motion for contact `cp`: null for a fixed G
-const StepMotion* OtherMotion(const IslandContact& cp, const std::vector<StepMotion>& bodies,
+template <typename Bodies>
+const StepMotion* OtherMotion(const IslandContact& cp, const Bodies& bodies,
                               const std::vector<StepMotion>& kinematic) {
   if (cp.other_kind == Other::kBody) return &bodies[cp.other];
   if (cp.other_kind == Other::kKinematic) return &kinematic[cp.other];
@@ -157,13 +177,17 @@ IslandLayout MakeIslandLayout(const IslandProblem& problem) {
 }
 
 void EvaluateIslandMncp(const IslandProblem& problem, const IslandLayout& layout,
-                        const VectorXd& z, VectorXd* F, MatrixXd* J) {
+                        const VectorXd& z, VectorXd* F, MatrixXd* J, bool jacobian_is_zero) {
   F->setZero(layout.size);
-  if (J) J->setZero(layout.size, layout.size);
+  if (J && jacobian_is_zero) {
+    ECPSIM_DEMAND(J->rows() == layout.size && J->cols() == layout.size);
+  } else if (J) {
+    J->setZero(layout.size, layout.size);
+  }
   // per body the contact-free Newton–Euler rows, then per contact its rows and its wrenches
-  std::vector<StepMotion> bodies;
+  PerBody<StepMotion> bodies(layout.num_bodies);
   for (int b = 0; b < layout.num_bodies; ++b)
-    bodies.push_back(AddBodyRows(problem.bodies[b], IslandLayout::Velocity(b), z, *F, J));
+    bodies[b] = AddBodyRows(problem.bodies[b], IslandLayout::Velocity(b), z, *F, J);
   const std::vector<StepMotion> kinematic = KinematicMotions(problem);
   for (size_t k = 0; k < problem.contacts.size(); ++k) {
     const IslandContact& cp = problem.contacts[k];
@@ -237,8 +261,10 @@ double IslandMncpResidual(const IslandProblem& problem, const IslandLayout& layo
                           const VectorXd& var_scale, const IslandResidualUnits& units) {
   // row by row, as MncpResidual: each contact's rows in its own length, floored by round-off
   ScaledRowResidual r(layout.num_free, z, F, row_scale, var_scale);
-  std::vector<double> force_factor(layout.num_bodies, 1.0);
-  std::vector<double> moment_factor(layout.num_bodies, 1.0);
+  // per body the divisors of its force and moment rows
+  PerBody<std::array<double, 2>> divisors(layout.num_bodies, {1.0, 1.0});
+  const auto force_factor = [&](int b) -> double& { return divisors[b][0]; };
+  const auto moment_factor = [&](int b) -> double& { return divisors[b][1]; };
   for (size_t k = 0; k < layout.contacts.size(); ++k) {
     const IslandContact& cp = problem.contacts[k];
     const MncpLayout::Contact& L = layout.contacts[k];
@@ -250,22 +276,22 @@ double IslandMncpResidual(const IslandProblem& problem, const IslandLayout& layo
     // rows carry a creeping contact's friction impulses with their round-off
     for (int b : {cp.body, cp.other_kind == Other::kBody ? cp.other : -1}) {
       if (b < 0) continue;
-      moment_factor[b] = std::max(moment_factor[b], round_off / units.body_length[b]);
+      moment_factor(b) = std::max(moment_factor(b), round_off / units.body_length[b]);
       if (!(cp.stick_creep > 0)) continue;
       const int col = IslandLayout::Velocity(b);
       const double impulse = 1 / row_scale[col];      // N·s: the body's impulse scale
       const double angular = 1 / row_scale[col + 3];  // N·m·s
       const double arm = (z.segment<3>(L.a1) - problem.bodies[b].c).norm();
-      force_factor[b] = std::max(force_factor[b], creep.force / (units.tolerance * impulse));
-      moment_factor[b] = std::max(
-          moment_factor[b], (creep.force * arm + creep.torque) / (units.tolerance * angular));
+      force_factor(b) = std::max(force_factor(b), creep.force / (units.tolerance * impulse));
+      moment_factor(b) = std::max(
+          moment_factor(b), (creep.force * arm + creep.torque) / (units.tolerance * angular));
     }
   }
   for (int b = 0; b < layout.num_bodies; ++b) {
     const int col = IslandLayout::Velocity(b);
     for (int i = 0; i < 3; ++i) {
-      r.AddRow(col + i, force_factor[b]);
-      r.AddRow(col + 3 + i, moment_factor[b]);
+      r.AddRow(col + i, force_factor(b));
+      r.AddRow(col + 3 + i, moment_factor(b));
     }
   }
   return r.value();

@@ -110,8 +110,11 @@ IslandLayout MakeIslandLayout(const IslandProblem& problem);
 /// island is exactly force · v_c + p_r v_r for every z (the friction rows' dissipation); linear
 /// momentum is exchanged exactly, and angular momentum about any point too wherever a1 = a2
 /// (every solution: a1 ≠ a2 only when separated, where p = 0).
+/// With `jacobian_is_zero` the caller promises J is already layout.size square and zero (as
+/// SolveMcp hands it to its callback), and J is not cleared again.
 void EvaluateIslandMncp(const IslandProblem& problem, const IslandLayout& layout,
-                        const Eigen::VectorXd& z, Eigen::VectorXd* F, Eigen::MatrixXd* J);
+                        const Eigen::VectorXd& z, Eigen::VectorXd* F, Eigen::MatrixXd* J,
+                        bool jacobian_is_zero = false);
 
 /// EvaluateIslandMncp with the Jacobian assembled sparse (column-major, compressed): per body
 /// its 6 × 6 Newton–Euler block, per contact its rows over its own block and the ν⁺ of its one

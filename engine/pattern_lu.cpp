@@ -123,24 +123,36 @@ void PatternLu::FactorDense() {
   double* const a = lu_.data();  // column-major, leading dimension n
   for (Eigen::Index k = 0; k < n; ++k) {
     double* const col_k = a + k * n;
+    // the first of the largest magnitudes (the running largest kept, not reloaded)
     Eigen::Index pivot = k;
-    for (Eigen::Index i = k + 1; i < n; ++i)
-      if (std::abs(col_k[i]) > std::abs(col_k[pivot])) pivot = i;
+    double largest = std::abs(col_k[k]);
+    for (Eigen::Index i = k + 1; i < n; ++i) {
+      const double magnitude = std::abs(col_k[i]);
+      if (magnitude > largest) {
+        largest = magnitude;
+        pivot = i;
+      }
+    }
     pivots_[k] = pivot;
     if (col_k[pivot] != 0) {
+      // the rows' entries from column k on: L's columns keep the row order of their own
+      // elimination (LINPACK's storage), and SolveInPlace interchanges as it goes
       if (pivot != k)
-        for (Eigen::Index j = 0; j < n; ++j) std::swap(a[j * n + k], a[j * n + pivot]);
+        for (Eigen::Index j = k; j < n; ++j) std::swap(a[j * n + k], a[j * n + pivot]);
       // divided, not multiplied by the reciprocal, as Eigen does: the multi-patch model's
       // ill-conditioned systems take other Newton paths on the reciprocal's round-off
       for (Eigen::Index i = k + 1; i < n; ++i) col_k[i] /= col_k[k];
     }
     Eigen::Index end = n;
     while (end > k + 1 && col_k[end - 1] == 0) --end;
-    for (Eigen::Index j = k + 1; j < n; ++j) {
-      double* const col_j = a + j * n;
+    if (end == k + 1) continue;  // no multipliers: nothing to update
+    const Eigen::Index count = end - (k + 1);
+    const double* const multipliers = col_k + k + 1;
+    for (double* col_j = col_k + n; col_j != a + n * n; col_j += n) {
       const double u = col_j[k];
       if (u == 0) continue;
-      for (Eigen::Index i = k + 1; i < end; ++i) col_j[i] -= col_k[i] * u;
+      double* const below = col_j + k + 1;
+      for (Eigen::Index i = 0; i < count; ++i) below[i] -= multipliers[i] * u;
     }
   }
 }
@@ -230,12 +242,11 @@ void PatternLu::SolveInPlace(Eigen::VectorXd& x) const {
   }
   const Eigen::Index n = lu_.rows();
   const double* const a = lu_.data();
-  const std::vector<Eigen::Index>& pivots = mode_ == Mode::kReplayed ? replayed_->pivots : pivots_;
-  for (Eigen::Index k = 0; k < n; ++k) std::swap(x[k], x[pivots[k]]);
   if (mode_ == Mode::kReplayed) {
-    // the same operations as below on the structural entries only (in any order within a
-    // column: each x[p] still takes its terms in the order of j)
+    // the row interchanges, then the same operations as below on the structural entries only
+    // (in any order within a column: each x[p] still takes its terms in the order of j)
     const Schedule& s = *replayed_;
+    for (Eigen::Index k = 0; k < n; ++k) std::swap(x[k], x[s.pivots[k]]);
     for (Eigen::Index j = 0; j < n; ++j) {
       const double xj = x[j];
       if (xj == 0) continue;
@@ -251,9 +262,12 @@ void PatternLu::SolveInPlace(Eigen::VectorXd& x) const {
     }
     return;
   }
-  // the row interchanges, then the unit lower and the upper triangular solves, column-oriented
-  // (Eigen's triangular solve allocates a temporary for dynamic vectors)
+  // the unit lower triangular solve with the row interchanges as the elimination made them (L
+  // as FactorDense left it: each entry still takes the same terms in the same order as after all
+  // interchanges up front), then the upper one; column-oriented (Eigen's triangular solve
+  // allocates a temporary for dynamic vectors)
   for (Eigen::Index j = 0; j < n; ++j) {
+    std::swap(x[j], x[pivots_[j]]);
     const double xj = x[j];
     if (xj == 0) continue;
     for (Eigen::Index i = j + 1; i < n; ++i) x[i] -= a[j * n + i] * xj;

@@ -75,7 +75,9 @@ class PatternLu {
   static constexpr int kMaxSchedules = 4;
 
   Mode mode_ = Mode::kDense;
-  Eigen::MatrixXd lu_;  // dense: the factors in position order; replayed: in original rows
+  // dense: U in position order, each column of L in the row order of its elimination (the
+  // interchanges of later columns not applied to it); replayed: the factors in original rows
+  Eigen::MatrixXd lu_;
   std::vector<Eigen::Index> pivots_;
   const Schedule* replayed_ = nullptr;
   std::vector<Schedule> schedules_;  // most recently used first

@@ -1,6 +1,8 @@
 #include "engine/complementarity_solver.h"
 
 #include <cmath>
+#include <stdexcept>
+#include <utility>
 
 #include <gtest/gtest.h>
 
@@ -164,6 +166,48 @@ TEST(ComplementaritySolverTest, NestedSolveInTheCallbackKeepsTheOuterWorkspace) 
   EXPECT_TRUE(result.converged);
   EXPECT_EQ(inner_failures, 0);
   EXPECT_LT((z - outer.z_star).cwiseAbs().maxCoeff(), 1e-12);
+}
+
+TEST(ComplementaritySolverTest, HandsTheCallbackAZeroJacobianOfTheProblemsSize) {
+  // the callback may add its entries into J (complementarity_solver.h): J arrives n × n and zero
+  // at every evaluation, also when the shared workspace served another size in between, when an
+  // evaluation left without its Jacobian (a converged trial point) and after a callback that
+  // threw half-way through writing J
+  {
+    const PlantedMcp p = MakePlantedMcp(25, 16);
+    const McpFunction throwing = [&](const Eigen::VectorXd& z, Eigen::VectorXd* F,
+                                     Eigen::MatrixXd* J) {
+      *F = p.M * z + p.q;
+      if (J != nullptr) {
+        *J += p.M;
+        throw std::runtime_error("callback failed");
+      }
+    };
+    Eigen::VectorXd z = Eigen::VectorXd::Constant(25, 0.5);
+    const Eigen::VectorXd ones = Eigen::VectorXd::Ones(25);
+    EXPECT_THROW(SolveMcp(throwing, 16, ones, ones, z), std::runtime_error);
+  }
+  int unclean = 0, evaluations = 0;
+  for (const auto& [n, num_free] : {std::pair{25, 16}, {82, 40}, {25, 16}, {7, 2}}) {
+    const PlantedMcp p = MakePlantedMcp(n, num_free);
+    const McpFunction f = [&](const Eigen::VectorXd& z, Eigen::VectorXd* F, Eigen::MatrixXd* J) {
+      *F = p.M * z + p.q;
+      if (J == nullptr) return;
+      ++evaluations;
+      if (J->rows() != n || J->cols() != n || !(J->array() == 0).all()) ++unclean;
+      *J += p.M;
+    };
+    McpOptions options;
+    options.tolerance = 1e-12;
+    Eigen::VectorXd z = Eigen::VectorXd::Constant(n, 0.5);
+    const Eigen::VectorXd ones = Eigen::VectorXd::Ones(n);
+    const McpResult result = SolveMcp(f, num_free, ones, ones, z, options);
+    EXPECT_TRUE(result.converged) << "n = " << n;
+    // as ExpectSolvesPlanted: residual ≤ 1e-12 bounds the error by 1e-12 / 3
+    EXPECT_LT((z - p.z_star).cwiseAbs().maxCoeff(), 1e-12) << "n = " << n;
+  }
+  EXPECT_GT(evaluations, 8);
+  EXPECT_EQ(unclean, 0);
 }
 
 }  // namespace

@@ -110,6 +110,11 @@ TEST(IslandReductionTest, OneBodyWithFixedContactsIsTodaysMncpToTheBit) {
         EXPECT_EQ(FirstDifference(F_island, F_body), -1);
         EXPECT_EQ(FirstDifference(F_only, F_body), -1);
         EXPECT_EQ(FirstDifference(J_island, J_body), -1);
+        // and so is the Jacobian added into a zero matrix the caller keeps (the hull model's
+        // solves, complementarity_solver.h)
+        Eigen::MatrixXd J_kept = Eigen::MatrixXd::Zero(layout.size, layout.size);
+        EvaluateIslandMncp(island, layout, c.z, &F_only, &J_kept, /*jacobian_is_zero=*/true);
+        EXPECT_EQ(FirstDifference(J_kept, J_body), -1);
 
         const IslandScales scales{{c.scales}};
         const VectorXd row_scale = RowScales(c.problem, c.layout, c.scales);
