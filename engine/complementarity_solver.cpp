@@ -346,7 +346,6 @@ McpResult SolveMcpWith(
   if (project) x.tail(n - num_free) = x.tail(n - num_free).cwiseMax(0.0);
   F.resize(n);
   F_trial.resize(n);
-  problem.Evaluate(x, &F, &current, true);
 
   McpResult result;
   // the measure of (z, F): the problem's own, else McpResidual of the scaled problem (no
@@ -355,6 +354,18 @@ McpResult SolveMcpWith(
     return options.measure ? options.measure(zz, FF)
                            : McpResidual(zz, FF, num_free, row_scale, var_scale);
   };
+  if (options.verify_start_first) {
+    // F alone decides whether the start is a solution: then no Jacobian is formed (the same F,
+    // the same decision as the first iteration's below)
+    problem.Evaluate(x, &F, &current, false);
+    result.residual = measure(z, F);
+    if (!AllFinite(current.phi)) return result;
+    if (result.residual <= options.tolerance) {
+      result.converged = true;
+      return result;
+    }
+  }
+  problem.Evaluate(x, &F, &current, true);
   result.residual = measure(z, F);
   if (!AllFinite(current.phi)) return result;
   // the last few merit values, oldest first (a handful: erasing at the front is cheap)

@@ -54,6 +54,10 @@ struct McpOptions {
   // stop, unconverged, when the measure has not halved for this many iterations (0: never):
   // for callers with other guesses to try, a stalled solve's remaining iterations are wasted
   int stall_iterations = 0;
+  // the start is likely a solution already (a warm start of bodies at rest under unchanged
+  // loads): F is evaluated alone first and the start accepted if it meets the tolerance, without
+  // the Jacobian a first Newton step needs; else the solve goes on as without it (one more F)
+  bool verify_start_first = false;
 };
 
 struct McpResult {

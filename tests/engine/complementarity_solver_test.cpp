@@ -212,3 +212,44 @@ TEST(ComplementaritySolverTest, HandsTheCallbackAZeroJacobianOfTheProblemsSize) 
 
 }  // namespace
 }  // namespace ecpsim::engine
+
+namespace ecpsim::engine {
+namespace {
+
+// McpOptions::verify_start_first: a start that solves the problem is accepted on F alone (no
+// Jacobian asked for); any other start is solved to the same doubles as without the option
+TEST(ComplementaritySolverTest, AStartThatSolvesTheProblemIsVerifiedWithoutAJacobian) {
+  const int n = 25, num_free = 10;
+  const PlantedMcp p = MakePlantedMcp(n, num_free);
+  int jacobians = 0;
+  const McpFunction f = [&](const Eigen::VectorXd& z, Eigen::VectorXd* F, Eigen::MatrixXd* J) {
+    *F = p.M * z + p.q;
+    if (J != nullptr) {
+      *J = p.M;
+      ++jacobians;
+    }
+  };
+  const Eigen::VectorXd ones = Eigen::VectorXd::Ones(n);
+  McpOptions options;
+  options.tolerance = 1e-12;
+  options.verify_start_first = true;
+  Eigen::VectorXd z = p.z_star;
+  McpResult result = SolveMcp(f, num_free, ones, ones, z, options);
+  EXPECT_TRUE(result.converged);
+  EXPECT_EQ(result.iterations, 0);
+  EXPECT_EQ(jacobians, 0);
+  EXPECT_EQ(z, p.z_star);
+
+  // from a start that is no solution: the same iterates as the plain solve
+  Eigen::VectorXd verified = Eigen::VectorXd::Constant(n, 0.5), plain = verified;
+  result = SolveMcp(f, num_free, ones, ones, verified, options);
+  options.verify_start_first = false;
+  const McpResult plain_result = SolveMcp(f, num_free, ones, ones, plain, options);
+  EXPECT_TRUE(result.converged);
+  EXPECT_GT(jacobians, 0);
+  EXPECT_EQ(result.iterations, plain_result.iterations);
+  EXPECT_EQ(verified, plain);
+}
+
+}  // namespace
+}  // namespace ecpsim::engine
