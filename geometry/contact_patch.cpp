@@ -165,6 +165,73 @@ bool IntervalsConnected(std::vector<std::pair<double, double>> intervals, double
   return true;
 }
 
+// the hull, area and mode of `patch` from its features (docs at ExtractContactPatch below)
+void Classify(const PlaneBasis& basis, double tolerance, ContactPatch& patch) {
+  // hull of every feature in plane coordinates
+  std::vector<Eigen::Vector2d> feature_points;
+  for (const auto& polygon : patch.polygons) {
+    for (const Eigen::Vector3d& p : polygon) feature_points.push_back(basis.ToPlane(p));
+  }
+  for (const auto& segment : patch.segments) {
+    for (const Eigen::Vector3d& p : segment) feature_points.push_back(basis.ToPlane(p));
+  }
+  for (const Eigen::Vector3d& p : patch.points) feature_points.push_back(basis.ToPlane(p));
+  const PlanarHull hull = SimplifiedHull(feature_points, tolerance);
+  for (const Eigen::Vector2d& p : hull.points) patch.hull.push_back(basis.ToWorld(p));
+  if (hull.kind == HullKind::kPolygon) patch.area = SignedArea(hull.points);
+
+  // the mode
+  const bool only_points = patch.polygons.empty() && patch.segments.empty();
+  switch (hull.kind) {
+    case HullKind::kEmpty:
+      patch.mode = ContactMode::kNone;
+      break;
+    case HullKind::kPoint:
+      patch.mode = ContactMode::kPoint;
+      break;
+    case HullKind::kSegment: {
+      if (only_points) {
+        patch.mode = patch.points.size() == 2 ? ContactMode::kTwoPoint : ContactMode::kNonConvexLine;
+        break;
+      }
+      // positions along the hull's line; every feature is an interval on it
+      const Eigen::Vector2d origin = hull.points[0];
+      const Eigen::Vector2d direction = (hull.points[1] - origin).normalized();
+      const auto along = [&](const Eigen::Vector3d& p) {
+        return direction.dot(basis.ToPlane(p) - origin);
+      };
+      std::vector<std::pair<double, double>> intervals;
+      for (const auto& polygon : patch.polygons) {
+        double lo = std::numeric_limits<double>::infinity();
+        double hi = -lo;
+        for (const Eigen::Vector3d& p : polygon) {
+          lo = std::min(lo, along(p));
+          hi = std::max(hi, along(p));
+        }
+        intervals.emplace_back(lo, hi);
+      }
+      for (const auto& segment : patch.segments) {
+        const double a = along(segment[0]);
+        const double b = along(segment[1]);
+        intervals.emplace_back(std::min(a, b), std::max(a, b));
+      }
+      for (const Eigen::Vector3d& p : patch.points) intervals.emplace_back(along(p), along(p));
+      patch.mode = IntervalsConnected(std::move(intervals), tolerance) ? ContactMode::kLine
+                                                                       : ContactMode::kNonConvexLine;
+      break;
+    }
+    case HullKind::kPolygon:
+      if (!patch.polygons.empty()) {
+        const bool convex = std::abs(patch.area - patch.feature_area) <=
+                            kConvexAreaRelativeTolerance * patch.area;
+        patch.mode = convex ? ContactMode::kConvexPatch : ContactMode::kNonConvexPatch;
+      } else {
+        patch.mode = only_points ? ContactMode::kMultiPoint : ContactMode::kNonConvexPatch;
+      }
+      break;
+  }
+}
+
 }  // namespace
 
 const char* ContactModeName(ContactMode mode) {
@@ -380,70 +447,171 @@ ContactPatch ExtractContactPatch(const TriangleMesh& mesh, const Eigen::Isometry
     if (!on_edge[c]) patch.points.push_back(cluster_xyz[c]);
   }
 
-  // hull of every feature in plane coordinates
-  std::vector<Eigen::Vector2d> feature_points;
-  for (const auto& polygon : patch.polygons) {
-    for (const Eigen::Vector3d& p : polygon) feature_points.push_back(basis.ToPlane(p));
-  }
-  for (const auto& segment : patch.segments) {
-    for (const Eigen::Vector3d& p : segment) feature_points.push_back(basis.ToPlane(p));
-  }
-  for (const Eigen::Vector3d& p : patch.points) feature_points.push_back(basis.ToPlane(p));
-  const PlanarHull hull = SimplifiedHull(feature_points, tolerance);
-  for (const Eigen::Vector2d& p : hull.points) patch.hull.push_back(basis.ToWorld(p));
-  if (hull.kind == HullKind::kPolygon) patch.area = SignedArea(hull.points);
-
-  // the mode
-  const bool only_points = patch.polygons.empty() && patch.segments.empty();
-  switch (hull.kind) {
-    case HullKind::kEmpty:
-      patch.mode = ContactMode::kNone;
-      break;
-    case HullKind::kPoint:
-      patch.mode = ContactMode::kPoint;
-      break;
-    case HullKind::kSegment: {
-      if (only_points) {
-        patch.mode = patch.points.size() == 2 ? ContactMode::kTwoPoint : ContactMode::kNonConvexLine;
-        break;
-      }
-      // positions along the hull's line; every feature is an interval on it
-      const Eigen::Vector2d origin = hull.points[0];
-      const Eigen::Vector2d direction = (hull.points[1] - origin).normalized();
-      const auto along = [&](const Eigen::Vector3d& p) {
-        return direction.dot(basis.ToPlane(p) - origin);
-      };
-      std::vector<std::pair<double, double>> intervals;
-      for (const auto& polygon : patch.polygons) {
-        double lo = std::numeric_limits<double>::infinity();
-        double hi = -lo;
-        for (const Eigen::Vector3d& p : polygon) {
-          lo = std::min(lo, along(p));
-          hi = std::max(hi, along(p));
-        }
-        intervals.emplace_back(lo, hi);
-      }
-      for (const auto& segment : patch.segments) {
-        const double a = along(segment[0]);
-        const double b = along(segment[1]);
-        intervals.emplace_back(std::min(a, b), std::max(a, b));
-      }
-      for (const Eigen::Vector3d& p : patch.points) intervals.emplace_back(along(p), along(p));
-      patch.mode = IntervalsConnected(std::move(intervals), tolerance) ? ContactMode::kLine
-                                                                       : ContactMode::kNonConvexLine;
-      break;
-    }
-    case HullKind::kPolygon:
-      if (!patch.polygons.empty()) {
-        const bool convex = std::abs(patch.area - patch.feature_area) <=
-                            kConvexAreaRelativeTolerance * patch.area;
-        patch.mode = convex ? ContactMode::kConvexPatch : ContactMode::kNonConvexPatch;
-      } else {
-        patch.mode = only_points ? ContactMode::kMultiPoint : ContactMode::kNonConvexPatch;
-      }
-      break;
-  }
+  Classify(basis, tolerance, patch);
   return patch;
+}
+
+namespace {
+
+using Polygon2 = std::vector<Eigen::Vector2d>;
+
+// the part of `polygon` on the inner (left) side of the directed line a → b, the line included
+// (one Sutherland–Hodgman pass)
+Polygon2 ClipByHalfPlane(const Polygon2& polygon, const Eigen::Vector2d& a,
+                         const Eigen::Vector2d& b) {
+  const Eigen::Vector2d edge = b - a;
+  const auto side = [&](const Eigen::Vector2d& p) { return Cross2(edge, p - a); };
+  Polygon2 out;
+  for (std::size_t k = 0; k < polygon.size(); ++k) {
+    const Eigen::Vector2d& p = polygon[k];
+    const Eigen::Vector2d& q = polygon[(k + 1) % polygon.size()];
+    const double sp = side(p), sq = side(q);
+    if (sp >= 0) out.push_back(p);
+    if ((sp >= 0) != (sq >= 0)) out.push_back(p + (q - p) * (sp / (sp - sq)));
+  }
+  return out;
+}
+
+// the interval of the segment p → q (parameters in [0, 1]) inside the convex ccw polygon `hull`,
+// its boundary included; empty (lo > hi) if none
+std::pair<double, double> SegmentInConvex(const Eigen::Vector2d& p, const Eigen::Vector2d& q,
+                                          const Polygon2& hull) {
+  double lo = 0, hi = 1;
+  for (std::size_t k = 0; k < hull.size() && lo <= hi; ++k) {
+    const Eigen::Vector2d& a = hull[k];
+    const Eigen::Vector2d edge = hull[(k + 1) % hull.size()] - a;
+    if (edge.squaredNorm() == 0) continue;
+    const double sp = Cross2(edge, p - a);
+    const double sq = Cross2(edge, q - a);
+    if (sp < 0 && sq < 0) return {1, 0};
+    if (sp < 0) lo = std::max(lo, sp / (sp - sq));
+    if (sq < 0) hi = std::min(hi, sp / (sp - sq));
+  }
+  return {lo, hi};
+}
+
+// true if `point` lies in `polygon` (any simple polygon) or within `tolerance` of its boundary
+bool PolygonHolds(const Polygon2& polygon, const Eigen::Vector2d& point, double tolerance) {
+  bool inside = false;
+  for (std::size_t k = 0, j = polygon.size() - 1; k < polygon.size(); j = k++) {
+    const Eigen::Vector2d& a = polygon[k];
+    const Eigen::Vector2d& b = polygon[j];
+    if (DistanceToSegment(point, a, b) <= tolerance) return true;
+    if ((a.y() > point.y()) != (b.y() > point.y()) &&
+        point.x() < a.x() + (b.x() - a.x()) * (point.y() - a.y()) / (b.y() - a.y())) {
+      inside = !inside;
+    }
+  }
+  return inside;
+}
+
+// the sub-intervals of the segment p → q inside `polygon` (any simple polygon), as parameters
+std::vector<std::pair<double, double>> SegmentInPolygon(const Eigen::Vector2d& p,
+                                                        const Eigen::Vector2d& q,
+                                                        const Polygon2& polygon,
+                                                        double tolerance) {
+  std::vector<double> cuts = {0, 1};
+  const Eigen::Vector2d d = q - p;
+  for (std::size_t k = 0; k < polygon.size(); ++k) {
+    const Eigen::Vector2d& a = polygon[k];
+    const Eigen::Vector2d e = polygon[(k + 1) % polygon.size()] - a;
+    const double denominator = Cross2(d, e);
+    if (denominator == 0) continue;
+    const double t = Cross2(a - p, e) / denominator;
+    const double s = Cross2(a - p, d) / denominator;
+    if (t > 0 && t < 1 && s >= 0 && s <= 1) cuts.push_back(t);
+  }
+  std::sort(cuts.begin(), cuts.end());
+  std::vector<std::pair<double, double>> inside;
+  for (std::size_t k = 0; k + 1 < cuts.size(); ++k) {
+    const double middle = 0.5 * (cuts[k] + cuts[k + 1]);
+    if (!PolygonHolds(polygon, p + middle * d, tolerance)) continue;
+    if (!inside.empty() && inside.back().second == cuts[k]) {
+      inside.back().second = cuts[k + 1];
+    } else {
+      inside.emplace_back(cuts[k], cuts[k + 1]);
+    }
+  }
+  return inside;
+}
+
+}  // namespace
+
+ContactPatch IntersectContactPatches(const ContactPatch& patch, const ContactPatch& other,
+                                     const Plane& plane, double tolerance) {
+  ECPSIM_DEMAND(std::isfinite(tolerance) && tolerance > 0);
+  const PlaneBasis basis(plane);
+  ContactPatch result;
+  if (patch.hull.empty() || other.hull.empty()) return result;
+  Polygon2 clip;
+  for (const Eigen::Vector3d& p : other.hull) clip.push_back(basis.ToPlane(p));
+  if (clip.size() >= 3 && SignedArea(clip) < 0) std::reverse(clip.begin(), clip.end());
+  const auto world = [&](const Eigen::Vector2d& p) { return basis.ToWorld(p); };
+  const auto add_segment = [&](const Eigen::Vector2d& p, const Eigen::Vector2d& q) {
+    if ((q - p).norm() <= tolerance) {
+      result.points.push_back(world(p));
+    } else {
+      result.segments.push_back({world(p), world(q)});
+    }
+  };
+
+  if (clip.size() >= 3) {
+    // other's touching region is a convex polygon: clip every feature to it
+    for (const auto& polygon : patch.polygons) {
+      Polygon2 piece;
+      for (const Eigen::Vector3d& p : polygon) piece.push_back(basis.ToPlane(p));
+      for (std::size_t k = 0; k < clip.size() && piece.size() >= 3; ++k)
+        piece = ClipByHalfPlane(piece, clip[k], clip[(k + 1) % clip.size()]);
+      if (piece.size() < 3) continue;
+      result.feature_area += std::abs(SignedArea(piece));
+      std::vector<Eigen::Vector3d> corners;
+      for (const Eigen::Vector2d& p : piece) corners.push_back(world(p));
+      result.polygons.push_back(std::move(corners));
+    }
+    for (const auto& segment : patch.segments) {
+      const Eigen::Vector2d p = basis.ToPlane(segment[0]), q = basis.ToPlane(segment[1]);
+      const auto [lo, hi] = SegmentInConvex(p, q, clip);
+      if (lo <= hi) add_segment(p + lo * (q - p), p + hi * (q - p));
+    }
+    for (const Eigen::Vector3d& point : patch.points) {
+      if (PolygonHolds(clip, basis.ToPlane(point), tolerance)) result.points.push_back(point);
+    }
+  } else if (clip.size() == 2) {
+    // other touches along a segment (a cylinder's side): that segment where this touches too
+    const Eigen::Vector2d p = clip[0], q = clip[1];
+    for (const auto& polygon : patch.polygons) {
+      Polygon2 piece;
+      for (const Eigen::Vector3d& x : polygon) piece.push_back(basis.ToPlane(x));
+      for (const auto& [lo, hi] : SegmentInPolygon(p, q, piece, tolerance))
+        add_segment(p + lo * (q - p), p + hi * (q - p));
+    }
+    for (const auto& segment : patch.segments) {
+      const Eigen::Vector2d a = basis.ToPlane(segment[0]), b = basis.ToPlane(segment[1]);
+      for (const auto& [lo, hi] : SegmentInPolygon(p, q, {a, b}, tolerance))
+        add_segment(p + lo * (q - p), p + hi * (q - p));
+    }
+    for (const Eigen::Vector3d& point : patch.points) {
+      if (DistanceToSegment(basis.ToPlane(point), p, q) <= tolerance) result.points.push_back(point);
+    }
+  } else {
+    // other touches at a point: it, where this touches too
+    bool held = false;
+    for (const auto& polygon : patch.polygons) {
+      Polygon2 piece;
+      for (const Eigen::Vector3d& x : polygon) piece.push_back(basis.ToPlane(x));
+      held |= PolygonHolds(piece, clip[0], tolerance);
+    }
+    for (const auto& segment : patch.segments) {
+      held |= DistanceToSegment(clip[0], basis.ToPlane(segment[0]), basis.ToPlane(segment[1])) <=
+              tolerance;
+    }
+    for (const Eigen::Vector3d& point : patch.points)
+      held |= (basis.ToPlane(point) - clip[0]).norm() <= tolerance;
+    if (held) result.points.push_back(world(clip[0]));
+  }
+  if (result.polygons.empty() && result.segments.empty() && result.points.empty()) return result;
+  Classify(basis, tolerance, result);
+  return result;
 }
 
 // The distance from `point` to the hull, a planar convex set in 3-D: the in-plane distance to the

@@ -59,6 +59,15 @@ double ContactPatchTolerance(const TriangleMesh& mesh);
 ContactPatch ExtractContactPatch(const TriangleMesh& mesh, const Eigen::Isometry3d& X_WB,
                                  const Plane& plane, double tolerance);
 
+/// Where two bodies touch each other: the part of `patch` (one body's features, extracted on
+/// `plane`) that lies in the hull of `other` (the other body's features on the same plane, its
+/// normal either way). Polygons and segments are clipped to `other`'s hull (a convex polygon, a
+/// segment or a point), so a T-shaped face on a box's larger top keeps its T and a box's face on
+/// a narrower one is cut to the overlap; points are kept where the hull holds them within
+/// `tolerance` (m), which also decides the result's mode as in ExtractContactPatch.
+ContactPatch IntersectContactPatches(const ContactPatch& patch, const ContactPatch& other,
+                                     const Plane& plane, double tolerance);
+
 /// As above with the default tolerance ContactPatchTolerance(mesh).
 ContactPatch ExtractContactPatch(const TriangleMesh& mesh, const Eigen::Isometry3d& X_WB,
                                  const Plane& plane);

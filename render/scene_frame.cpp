@@ -147,20 +147,31 @@ FrameInput SceneFrameBuilder::Build(const engine::State& state, int iterations,
     const engine::ContactState& c = state.contacts[k];
     const Eigen::Isometry3d& X_WB = frame.bodies[pair.body].X_WB;
     ContactVisual contact;
-    // a contact between bodies has no fixed plane to extract a patch on
     const std::optional<geometry::Plane> plane =
         pair.WithBody() ? std::nullopt : planes_[pair.obstacle];
     if (plane) {
       contact.plane = *plane;
       contact.patch = geometry::ExtractContactPatch(*meshes_[pair.body], X_WB, *plane,
                                                     PatchTolerance(pair.body, X_WB, *plane));
-      const Eigen::Vector3d p = X_WB.translation();
-      contact.cm_projection = p - (plane->normal.dot(p) - plane->offset) * plane->normal;
     } else {
-      // no plane to extract a patch on: the contact frame's plane through a2, for the inset
-      contact.plane.normal = c.n;
-      contact.plane.offset = c.n.dot(c.a2);
+      // between two bodies: the contact plane through a2 (G's tangent plane, n out of G), and
+      // the features of F on it that lie where G's features on it reach
+      contact.plane.normal = c.n.normalized();
+      contact.plane.offset = contact.plane.normal.dot(c.a2);
+      if (c.p_n > 0) {
+        const Eigen::Isometry3d& X_WG = frame.bodies[pair.other_body].X_WB;
+        const geometry::Plane below{-contact.plane.normal, -contact.plane.offset};
+        const double tolerance = std::max(PatchTolerance(pair.body, X_WB, contact.plane),
+                                          PatchTolerance(pair.other_body, X_WG, below));
+        contact.patch = geometry::IntersectContactPatches(
+            geometry::ExtractContactPatch(*meshes_[pair.body], X_WB, contact.plane, tolerance),
+            geometry::ExtractContactPatch(*meshes_[pair.other_body], X_WG, below, tolerance),
+            contact.plane, tolerance);
+      }
     }
+    const Eigen::Vector3d p = X_WB.translation();
+    contact.cm_projection =
+        p - (contact.plane.normal.dot(p) - contact.plane.offset) * contact.plane.normal;
     if (c.p_n > 0 || contact.patch.mode != geometry::ContactMode::kNone) {
       contact.a1 = c.a1;
       contact.force = (c.p_n * c.n + c.p_t * c.t + c.p_o * c.o) / scene_.h;

@@ -297,6 +297,79 @@ TEST(ContactPatchTest, TiltedPlaneUsesItsOwnFrame) {
   EXPECT_FALSE(PatchHullContains(patch, plane, X * Eigen::Vector3d(0.1 + 2e-6, 0, 0), 1e-6));
 }
 
+// Where two bodies touch: a 0.2 m box's bottom on a 0.3 m box's top is the whole bottom, the
+// 0.3 m box's bottom on the 0.2 m box's top the 0.2 m square, the bottom of a box shifted by half
+// its width over the top's edge half of it, and one shifted to the edge that edge (both patches
+// extracted on the contact plane, the lower body's with the plane's normal reversed)
+TEST(ContactPatchTest, BoxOnBoxIsTheOverlapOfTheirFaces) {
+  const TriangleMesh small = MakeBoxMesh({-0.1, -0.1, 0}, {0.1, 0.1, 0.1});
+  const TriangleMesh large = MakeBoxMesh({-0.15, -0.15, -0.1}, {0.15, 0.15, 0});
+  const Plane below{-Eigen::Vector3d::UnitZ(), 0};  // the lower body's side of z = 0
+  const double tolerance = 1e-9;
+  const Eigen::Isometry3d I = Eigen::Isometry3d::Identity();
+  const ContactPatch small_bottom = ExtractContactPatch(small, I, kGround, tolerance);
+  const ContactPatch large_top = ExtractContactPatch(large, I, below, tolerance);
+  ASSERT_EQ(large_top.mode, ContactMode::kConvexPatch);
+  const ContactPatch on_large = IntersectContactPatches(small_bottom, large_top, kGround, tolerance);
+  EXPECT_EQ(on_large.mode, ContactMode::kConvexPatch);
+  EXPECT_NEAR(on_large.area, 0.04, 1e-15);
+  EXPECT_NEAR(on_large.feature_area, 0.04, 1e-15);
+
+  // the large box above the small one: its bottom cut to the small top
+  const TriangleMesh large_above = MakeBoxMesh({-0.15, -0.15, 0}, {0.15, 0.15, 0.1});
+  const TriangleMesh small_below = MakeBoxMesh({-0.1, -0.1, -0.1}, {0.1, 0.1, 0});
+  const ContactPatch cut = IntersectContactPatches(
+      ExtractContactPatch(large_above, I, kGround, tolerance),
+      ExtractContactPatch(small_below, I, below, tolerance), kGround, tolerance);
+  EXPECT_EQ(cut.mode, ContactMode::kConvexPatch);
+  EXPECT_NEAR(cut.area, 0.04, 1e-15);
+  for (const Eigen::Vector3d& corner : cut.hull) {
+    EXPECT_NEAR(std::abs(corner.x()), 0.1, 1e-15);
+    EXPECT_NEAR(std::abs(corner.y()), 0.1, 1e-15);
+  }
+
+  // shifted by 0.15 m in x: half its 0.2 m width over the large top; by 0.25 m, only its edge
+  Eigen::Isometry3d shifted = I;
+  shifted.translation() = Eigen::Vector3d(0.15, 0, 0);
+  const ContactPatch half = IntersectContactPatches(
+      ExtractContactPatch(small, shifted, kGround, tolerance), large_top, kGround, tolerance);
+  EXPECT_EQ(half.mode, ContactMode::kConvexPatch);
+  EXPECT_NEAR(half.area, 0.1 * 0.2, 1e-15);
+  shifted.translation() = Eigen::Vector3d(0.25, 0, 0);
+  const ContactPatch edge = IntersectContactPatches(
+      ExtractContactPatch(small, shifted, kGround, tolerance), large_top, kGround, tolerance);
+  EXPECT_EQ(edge.mode, ContactMode::kLine);
+  EXPECT_EQ(edge.area, 0);
+}
+
+// The desk's four feet on a support that only reaches under two of them: a non-convex patch of
+// two squares; on a beam under its middle, nothing; along a line under two feet (a cylinder's
+// top), that line across the two feet
+TEST(ContactPatchTest, TheDesksFeetOnANarrowerSupportKeepTheFeetItReaches) {
+  const ContactPatch feet =
+      ExtractContactPatch(MakeDeskMesh(), Eigen::Isometry3d::Identity(), kGround);
+  const double tolerance = 1e-9;
+  ContactPatch support;  // a 0.3 × 0.6 m top under x ∈ [0, 0.3] (ccw about −z, as extracted)
+  support.hull = {{0, -0.3, 0}, {0, 0.3, 0}, {0.3, 0.3, 0}, {0.3, -0.3, 0}};
+  const ContactPatch two = IntersectContactPatches(feet, support, kGround, tolerance);
+  EXPECT_EQ(two.polygons.size(), 2u);
+  EXPECT_NEAR(two.feature_area, 2 * 0.0036, 1e-15);
+  EXPECT_EQ(two.mode, ContactMode::kNonConvexPatch);
+
+  ContactPatch beam;  // under the desk's middle, between the feet
+  beam.hull = {{-0.1, -0.1, 0}, {0.1, -0.1, 0}, {0.1, 0.1, 0}, {-0.1, 0.1, 0}};
+  EXPECT_EQ(IntersectContactPatches(feet, beam, kGround, tolerance).mode, ContactMode::kNone);
+
+  ContactPatch line;  // along x = 0.22, through the two feet at x ∈ [0.19, 0.25]
+  line.hull = {{0.22, -0.4, 0}, {0.22, 0.4, 0}};
+  const ContactPatch across = IntersectContactPatches(feet, line, kGround, tolerance);
+  EXPECT_EQ(across.segments.size(), 2u);
+  double length = 0;
+  for (const auto& segment : across.segments) length += (segment[1] - segment[0]).norm();
+  EXPECT_NEAR(length, 2 * 0.06, 1e-15);
+  EXPECT_EQ(across.mode, ContactMode::kNonConvexLine);
+}
+
 TEST(ContactPatchTest, ModeNames) {
   const std::vector<std::pair<ContactMode, std::string>> names = {
       {ContactMode::kNone, "none"},

@@ -97,6 +97,37 @@ TEST(SceneFrameBuilder, RestingDeskHasFourFeetTheEcpAndItsWeight) {
   EXPECT_GT(frame.force_scale, 0);
 }
 
+// Bodies on bodies: scenes/stack.yaml's boxes at rest show, for each pair, the upper box's
+// bottom where the lower box's top reaches — the whole 0.2 m and 0.1 m squares, each box being
+// the smaller — with the ECP in it and the weight above it as the force
+TEST(SceneFrameBuilder, AStackShowsEachBoxsFaceOnTheOneBelow) {
+  const engine::Scene scene =
+      engine::LoadScene(std::string(ECPSIM_SOURCE_DIR) + "/scenes/stack.yaml");
+  engine::State state = engine::InitialState(scene);
+  for (int k = 0; k < 5; ++k) engine::Step(scene, state);
+  const SceneFrameBuilder builder(scene);
+  const FrameInput frame = builder.Build(state, 0);
+  int body_pairs = 0;
+  for (size_t k = 0; k < scene.contacts.size(); ++k) {
+    const engine::ContactPair& pair = scene.contacts[k];
+    if (!pair.WithBody() || state.contacts[k].p_n == 0) continue;
+    ++body_pairs;
+    const ContactVisual& contact = frame.contacts[k];
+    // the upper box of the pair is the smaller: its bottom face, 0.2 m or 0.1 m square
+    const int upper = scene.bodies[pair.body].p0.z() > scene.bodies[pair.other_body].p0.z()
+                          ? pair.body : pair.other_body;
+    const double side = upper == 1 ? 0.2 : 0.1;
+    EXPECT_EQ(contact.patch.mode, geometry::ContactMode::kConvexPatch) << k;
+    EXPECT_NEAR(contact.patch.area, side * side, 1e-9) << k;
+    ASSERT_TRUE(contact.a1 && contact.force) << k;
+    EXPECT_TRUE(geometry::PatchHullContains(contact.patch, contact.plane, *contact.a1, 1e-9)) << k;
+    // the weight of what rests on this face (top 1 kg, middle + top 3 kg)
+    const double above = upper == 1 ? 3 : 1;
+    EXPECT_NEAR(std::abs(contact.force->z()), above * 9.8, 1e-6) << k;
+  }
+  EXPECT_EQ(body_pairs, 2);
+}
+
 TEST(SceneFrameBuilder, SeparatedContactShowsNoEcp) {
   const engine::Scene scene = DeskScene();
   engine::State state = RestingState(scene);
