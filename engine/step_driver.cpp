@@ -127,19 +127,14 @@ StepReport StepIslands(const Scene& scene, State& state, const ContactModelStepp
   StepReport report;
   report.converged = true;
   report.models.assign(scene.bodies.size(), StepModel::kKinematic);
-  State next = state;
+  // the step's results, written into `state` only once every island is solved (a failure leaves
+  // it as it was); the contacts' states are not copied as a whole: with every pair of bodies a
+  // potential contact they outnumber the bodies by far (2,016 pairs for 64 boxes)
+  std::vector<BodyState> next_bodies = state.bodies;
+  std::vector<int> next_contact_ids;
+  std::vector<ContactState> next_contacts;
 
   const std::vector<Island> islands = FormIslands(scene, state);
-  // contacts in no island: their bodies are apart for the whole step
-  std::vector<bool> in_island(scene.contacts.size(), false);
-  for (const Island& island : islands)
-    for (int k : island.contacts) in_island[k] = true;
-  for (size_t k = 0; k < scene.contacts.size(); ++k) {
-    if (in_island[k]) continue;
-    ContactState& c = next.contacts[k];
-    c.p_n = c.p_t = c.p_o = c.p_r = c.sigma = 0;
-    c.warm_start = std::monostate();
-  }
 
   for (const Island& island : islands) {
     std::string tried;
@@ -178,12 +173,12 @@ StepReport StepIslands(const Scene& scene, State& state, const ContactModelStepp
       }
       if (!ok) continue;
       for (size_t i = 0; i < island.bodies.size(); ++i) {
-        next.bodies[island.bodies[i]] = local.bodies[i];
+        next_bodies[island.bodies[i]] = local.bodies[i];
         report.models[island.bodies[i]] = island_model;
       }
       for (size_t i = 0; i < island.contacts.size(); ++i) {
-        ContactState& c = next.contacts[island.contacts[i]];
-        c = local.contacts[i];
+        next_contact_ids.push_back(island.contacts[i]);
+        ContactState& c = next_contacts.emplace_back(std::move(local.contacts[i]));
         c.p_n = impulse[i][0];
         c.p_t = impulse[i][1];
         c.p_o = impulse[i][2];
@@ -211,11 +206,22 @@ StepReport StepIslands(const Scene& scene, State& state, const ContactModelStepp
     const KinematicMotion::Twist twist = body.motion->StepTwist(state.t, scene.h);
     const KinematicPose end =
         body.motion->PoseAt(static_cast<double>(state.steps + 1) * scene.h);
-    next.bodies[b] = {end.p, end.q, twist.v, twist.w};
+    next_bodies[b] = {end.p, end.q, twist.v, twist.w};
   }
 
-  state.bodies = std::move(next.bodies);
-  state.contacts = std::move(next.contacts);
+  state.bodies = std::move(next_bodies);
+  // contacts in no island: their bodies are apart for the whole step
+  std::vector<bool> in_island(scene.contacts.size(), false);
+  for (const Island& island : islands)
+    for (int k : island.contacts) in_island[k] = true;
+  for (size_t k = 0; k < scene.contacts.size(); ++k) {
+    if (in_island[k]) continue;
+    ContactState& c = state.contacts[k];
+    c.p_n = c.p_t = c.p_o = c.p_r = c.sigma = 0;
+    c.warm_start = std::monostate();
+  }
+  for (size_t i = 0; i < next_contact_ids.size(); ++i)
+    state.contacts[next_contact_ids[i]] = std::move(next_contacts[i]);
   AdvanceTime(scene.h, state);
   return report;
 }
