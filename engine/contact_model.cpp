@@ -25,6 +25,14 @@ std::unique_ptr<ContactModelStepper> MakeContactModel(const Scene& scene) {
           scene.bodies[pair.other_body].name));
     }
   }
+  // a gripper's jaws move under the gripper's equations, which the hull model's MNCP carries
+  if (!scene.grippers.empty() && scene.model != ContactModel::kHull &&
+      scene.model != ContactModel::kAuto) {
+    throw ModelInvalid(fmt::format(
+        "{} model: gripper '{}' moves its jaws by equations of the hull model's step; use --model "
+        "hull or auto",
+        ContactModelName(scene.model), scene.grippers.front().name));
+  }
   switch (scene.model) {
     case ContactModel::kPlanar:
       return std::make_unique<PlanarModel>(scene);

@@ -106,6 +106,7 @@ class IslandStepper {
       }
     }
 
+    RaiseToGripperDrive(problem, scales);
     RaiseToIslandVelocity(problem, scales);
     SeparatePairs(problem, scales, state);
     // every contact of an island with bodies touching bodies: a box squeezed between a jaw and
@@ -465,6 +466,21 @@ class IslandStepper {
                        [](const IslandContact& cp) { return cp.other_kind != Other::kFixed; });
   }
 
+  // a jaw moves as its gripper drives it: at the frame's velocity across the axis, turning with
+  // it, and closing under the actuator's impulse, none of which its applied loads show
+  static void RaiseToGripperDrive(const IslandProblem& problem, IslandScales& scales) {
+    for (const IslandGripper& g : problem.grippers) {
+      for (int j = 0; j < 2; ++j) {
+        Scales& s = scales.bodies[g.jaws[j]];
+        const double mass = problem.bodies[g.jaws[j]].mass;
+        const double drive = g.v[j].norm() + g.w[j].norm() * s.length + g.grip / mass;
+        if (s.velocity >= drive) continue;
+        s.velocity = drive;
+        s.impulse = mass * drive;
+      }
+    }
+  }
+
   static void RaiseToIslandVelocity(const IslandProblem& problem, IslandScales& scales) {
     double velocity = 0;
     for (const Scales& s : scales.bodies) velocity = std::max(velocity, s.velocity);
@@ -524,6 +540,16 @@ class IslandStepper {
         }
       }
       p.contacts.push_back(std::move(cp));
+    }
+    // the grippers whose jaws are in the island (both are: FormIslands joins them)
+    for (const Gripper& gripper : scene_.grippers) {
+      const auto jaw = std::find(island_.bodies.begin(), island_.bodies.end(), gripper.jaws[0]);
+      if (jaw == island_.bodies.end()) continue;
+      const int jaw0 = static_cast<int>(jaw - island_.bodies.begin());
+      const int jaw1 = IslandIndex(gripper.jaws[1]);
+      p.grippers.push_back(
+          MakeIslandGripper(gripper, p.bodies[jaw0], p.bodies[jaw1], jaw0, jaw1, t, h));
+      SetGripperFreeFlight(p.grippers.back(), p.bodies);
     }
     return p;
   }

@@ -167,6 +167,13 @@ IslandLayout MakeIslandLayout(const IslandProblem& problem) {
     counts.push_back(
         {static_cast<int>(cp.window.size()), static_cast<int>(cp.other_window.size())});
   }
+  std::vector<bool> jaw(num_bodies, false);
+  for (const IslandGripper& g : problem.grippers) {
+    for (int b : g.jaws) {
+      ECPSIM_DEMAND(b >= 0 && b < num_bodies && !jaw[b]);
+      jaw[b] = true;
+    }
+  }
   const MncpLayout blocks = LayOutContacts(IslandLayout::Velocity(num_bodies), counts);
   IslandLayout layout;
   layout.num_bodies = num_bodies;
@@ -194,6 +201,7 @@ void EvaluateIslandMncp(const IslandProblem& problem, const IslandLayout& layout
     AddContactRows(Sides(cp), layout.contacts[k], bodies[cp.body],
                    OtherMotion(cp, bodies, kinematic), problem.h, z, *F, J);
   }
+  for (const IslandGripper& g : problem.grippers) ApplyGripperRows(g, problem.bodies, z, *F, J);
 }
 
 void EvaluateIslandMncpSparse(const IslandProblem& problem, const IslandLayout& layout,
@@ -251,6 +259,8 @@ void EvaluateIslandMncpSparse(const IslandProblem& problem, const IslandLayout& 
     }
     if (J) ScatterNonZeros(J_local, local.global, triplets);
   }
+  for (const IslandGripper& g : problem.grippers)
+    ApplyGripperRows(g, problem.bodies, z, *F, J ? &triplets : nullptr);
   if (!J) return;
   J->resize(layout.size, layout.size);
   J->setFromTriplets(triplets.begin(), triplets.end());
@@ -299,24 +309,49 @@ double IslandMncpResidual(const IslandProblem& problem, const IslandLayout& layo
 
 double IslandStepEnergyGain(const IslandProblem& problem, const IslandLayout& layout,
                             const VectorXd& z) {
+  PerBody<char> jaw(layout.num_bodies, 0);  // bool: std::vector<bool> has no references
+  for (const IslandGripper& g : problem.grippers)
+    for (int b : g.jaws) jaw[b] = 1;
   const auto body_gain = [&](int b) {
+    if (jaw[b]) return 0.0;
     const int col = IslandLayout::Velocity(b);
     return StepEnergyGain(problem.bodies[b], z.segment<3>(col), z.segment<3>(col + 3));
   };
   double gain = body_gain(0);
   for (int b = 1; b < layout.num_bodies; ++b) gain += body_gain(b);
-  // the kinematic bodies' work: their contact impulse times their prescribed velocities
+  // the work of the bodies that drive the others — kinematic bodies and jaws — on them: their
+  // contact impulse times their own velocity at the contact point
   const std::vector<StepMotion> kinematic = KinematicMotions(problem);
   for (size_t k = 0; k < problem.contacts.size(); ++k) {
     const IslandContact& cp = problem.contacts[k];
-    if (cp.other_kind != Other::kKinematic) continue;
+    const bool other_drives = cp.other_kind == Other::kKinematic ||
+                              (cp.other_kind == Other::kBody && jaw[cp.other]);
+    const bool body_drives = jaw[cp.body];
+    // a driver against a driver, or against a fixed obstacle, moves no body of the balance
+    if (body_drives == other_drives || (body_drives && cp.other_kind != Other::kBody)) continue;
     const MncpLayout::Contact& L = layout.contacts[k];
-    const StepMotion& other = kinematic[cp.other];
+    StepMotion other;
+    if (cp.other_kind == Other::kKinematic) {
+      other = kinematic[cp.other];
+    } else {
+      const int col = IslandLayout::Velocity(cp.other);
+      other.end = OtherEndPose(problem, z, static_cast<int>(k));
+      other.v = z.segment<3>(col);
+      other.w = z.segment<3>(col + 3);
+    }
     const ContactFrame frame = MakeContactFrame(
         ContactNormalCombination(Sides(cp), L, &other, z), cp.tangent_reference);
     const Vector3d force = frame.n * z[L.p_n] + frame.t * z[L.p_t] + frame.o * z[L.p_o];
-    const Vector3d r_other = z.segment<3>(L.a2) - other.end.c;
-    gain -= force.dot(other.v + other.w.cross(r_other)) + z[L.p_r] * frame.n.dot(other.w);
+    if (other_drives) {
+      const Vector3d r_other = z.segment<3>(L.a2) - other.end.c;
+      gain -= force.dot(other.v + other.w.cross(r_other)) + z[L.p_r] * frame.n.dot(other.w);
+    } else {
+      // the jaw is F: its impulse on G is −force at a2 and −n p_r
+      const int col = IslandLayout::Velocity(cp.body);
+      const Vector3d v = z.segment<3>(col), w = z.segment<3>(col + 3);
+      const Vector3d r_body = z.segment<3>(L.a1) - PoseAfterStep(problem.bodies[cp.body], v, w).c;
+      gain += force.dot(v + w.cross(r_body)) + z[L.p_r] * frame.n.dot(w);
+    }
   }
   return gain;
 }

@@ -17,6 +17,7 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
+#include "engine/island_gripper.h"
 #include "engine/mncp_system.h"
 #include "engine/scene.h"
 #include "geometry/convex_shape.h"
@@ -69,6 +70,9 @@ struct IslandProblem {
   std::vector<BodyProblem> bodies;       // per island body; their `contacts` stay empty
   std::vector<KinematicBody> kinematic;  // referenced by contacts of kind kKinematic
   std::vector<IslandContact> contacts;
+  // grippers whose two jaws are island bodies: their Newton–Euler rows are the gripper's
+  // (island_gripper.h)
+  std::vector<IslandGripper> grippers;
 };
 
 /// Where each unknown of the island's MNCP lives in z: first ν⁺ = (v⁺, ω⁺) of every body (6
@@ -91,7 +95,8 @@ struct IslandLayout {
 
 /// The layout of `problem`. ECPSIM_DEMAND (a bug in the caller) on: no bodies, a body whose h
 /// differs from problem.h or that has contacts of its own, a contact whose body, G or window
-/// index is out of range, a null shape, or a contact of a body with itself.
+/// index is out of range, a null shape, a contact of a body with itself, or a gripper whose jaws
+/// are out of range, equal, or jaws of another gripper too.
 IslandLayout MakeIslandLayout(const IslandProblem& problem);
 
 /// Residual F(z) in physical units (rows as in IslandLayout) and, if `J` is not null, its
@@ -110,6 +115,7 @@ IslandLayout MakeIslandLayout(const IslandProblem& problem);
 /// island is exactly force · v_c + p_r v_r for every z (the friction rows' dissipation); linear
 /// momentum is exchanged exactly, and angular momentum about any point too wherever a1 = a2
 /// (every solution: a1 ≠ a2 only when separated, where p = 0).
+/// A gripper's jaws have their Newton–Euler rows replaced by ApplyGripperRows.
 /// With `jacobian_is_zero` the caller promises J is already layout.size square and zero (as
 /// SolveMcp hands it to its callback), and J is not cleared again.
 void EvaluateIslandMncp(const IslandProblem& problem, const IslandLayout& layout,
@@ -156,8 +162,10 @@ double IslandMncpResidual(const IslandProblem& problem, const IslandLayout& layo
 /// + p_r n · ω_G (a kinematic body moves at its prescribed twist, so this is its contact
 /// impulse's work exactly). What remains is the contacts' work at ν⁺, Σ force · v_c + p_r v_r —
 /// friction only dissipates, the normal impulse works against a closing gap (≤ 0) or pushes a
-/// start-of-step overlap out — and the implicit step's own losses (StepEnergyGain). For one body
-/// with fixed contacts it is StepEnergyGain to the bit.
+/// start-of-step overlap out — and the implicit step's own losses (StepEnergyGain). A gripper's
+/// jaws count as the kinematic bodies do: their own energy is the frame's and the actuator's
+/// business, and their contact impulses' work on the other bodies (at the jaws' ν⁺) is taken
+/// off. For one body with fixed contacts it is StepEnergyGain to the bit.
 double IslandStepEnergyGain(const IslandProblem& problem, const IslandLayout& layout,
                             const Eigen::VectorXd& z);
 

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "common/errors.h"
+
 namespace ecpsim::engine {
 
 const char* ContactModelName(ContactModel model) {
@@ -27,6 +29,23 @@ Friction PairFriction(const Friction& a, const Friction& b) {
   f.e_o = std::sqrt(a.e_o * b.e_o);
   f.e_r = std::sqrt(a.e_r * b.e_r);
   return f;
+}
+
+void AddGripper(Scene& scene, Gripper gripper) {
+  ECPSIM_DEMAND(gripper.motion != nullptr);
+  const int index = static_cast<int>(scene.grippers.size());
+  const KinematicPose frame = gripper.motion->PoseAt(0);
+  for (int j = 0; j < 2; ++j) {
+    const int b = gripper.jaws[j];
+    ECPSIM_DEMAND(b >= 0 && b < static_cast<int>(scene.bodies.size()));
+    Body& jaw = scene.bodies[b];
+    gripper.jaw_in_frame[j].p = frame.q.conjugate() * (jaw.p0 - frame.p);
+    gripper.jaw_in_frame[j].q = (frame.q.conjugate() * jaw.q0).normalized();
+    if (jaw.gripper < 0) jaw.gripper = index;  // ValidateScene reports a body in two grippers
+  }
+  const double length = gripper.axis.norm();
+  if (length > 0 && std::isfinite(length)) gripper.axis /= length;
+  scene.grippers.push_back(std::move(gripper));
 }
 
 }  // namespace ecpsim::engine

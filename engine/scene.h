@@ -2,6 +2,7 @@
 // The immutable description of a simulation: bodies, fixed convex obstacles, contacts, loads and
 // settings (MuJoCo's model/data split: this is the model; state.h is the data).
 
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
@@ -58,6 +59,27 @@ struct Body {
   // pushes and is never pushed. Null: a dynamic body
   std::shared_ptr<const KinematicMotion> motion;
   bool IsKinematic() const { return motion != nullptr; }
+  // a jaw of Scene::grippers[gripper] (a dynamic body whose motion the gripper constrains); -1:
+  // no jaw
+  int gripper = -1;
+  bool IsJaw() const { return gripper >= 0; }
+};
+
+/// A parallel-jaw gripper (docs/scene_format.md, "Grippers"): a frame whose pose is prescribed
+/// like a kinematic body's carries two jaws, dynamic bodies of the scene that slide along the
+/// frame's closing axis only, coupled about the frame's centre like the two fingers of one
+/// actuator (a rack or a linkage). Across the axis and in orientation each jaw follows the frame
+/// exactly (position control); along it the grip is force-controlled: the actuator closes the
+/// jaws with `force` on each, and their midpoint follows the frame's centre.
+struct Gripper {
+  std::string name;
+  std::array<int, 2> jaws = {-1, -1};  // scene body indices: jaws[0] closes along +axis
+  std::shared_ptr<const KinematicMotion> motion;  // the frame's pose
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitX();  // frame coordinates, unit, jaws[0] → jaws[1]
+  TimeFunction force;  // N, ≥ 0 at every step: the closing force on each jaw
+  // each jaw's pose in the frame, from the jaws' and the frame's poses at t = 0; the part of its
+  // position along the axis is where the grip starts, the rest is fixed
+  std::array<KinematicPose, 2> jaw_in_frame;
 };
 
 /// A fixed convex body G (the ground, a tilted plane, a box fixture) in world coordinates.
@@ -117,9 +139,16 @@ struct Scene {
   std::vector<ContactPair> contacts;
   std::vector<Load> loads;
   std::vector<Impulse> impulses;
+  std::vector<Gripper> grippers;
   SolverSettings solver;
   OutputSettings output;
   ContactModel model = ContactModel::kAuto;
 };
+
+/// Adds `gripper` to `scene`: its jaws' poses in the frame (jaw_in_frame) from the jaws' initial
+/// poses (Body::p0, q0) and the frame's pose at t = 0, the axis normalized (a zero or non-finite
+/// one is left for ValidateScene to report), and each jaw marked as its (Body::gripper).
+/// ECPSIM_DEMAND: a motion and jaws that are bodies of the scene.
+void AddGripper(Scene& scene, Gripper gripper);
 
 }  // namespace ecpsim::engine

@@ -326,6 +326,68 @@ void CheckLoads(const Scene& scene) {
   }
 }
 
+// ---- grippers --------------------------------------------------------------------------------
+
+void CheckGrippers(const Scene& scene) {
+  std::vector<int> jaw_of(scene.bodies.size(), -1);
+  for (size_t g = 0; g < scene.grippers.size(); ++g) {
+    const Gripper& gripper = scene.grippers[g];
+    const std::string at = Index("grippers", g);
+    CheckName(at + ".name", gripper.name);
+    for (size_t other = 0; other < g; ++other) {
+      if (scene.grippers[other].name == gripper.name) {
+        Fail({at + ".name"}, fmt::format("\"{}\"", gripper.name), "a name no other gripper has");
+      }
+    }
+    ECPSIM_DEMAND(gripper.motion != nullptr);
+    for (int j = 0; j < 2; ++j) {
+      const std::string key = fmt::format("{}.jaws[{}]", at, j);
+      const int b = gripper.jaws[j];
+      CheckBodyIndex(scene, key, b);
+      const Body& jaw = scene.bodies[b];
+      if (jaw.IsKinematic()) {
+        Fail({key}, fmt::format("\"{}\"", jaw.name),
+             "a dynamic body (a kinematic body's motion is prescribed; the gripper moves its jaws)");
+      }
+      if (jaw_of[b] >= 0) {
+        Fail({key}, fmt::format("\"{}\"", jaw.name),
+             fmt::format("a body that is no other jaw (it is one of {})",
+                         jaw_of[b] == static_cast<int>(g) ? "this gripper's already"
+                                                          : scene.grippers[jaw_of[b]].name));
+      }
+      jaw_of[b] = static_cast<int>(g);
+      // the loader and scene builders set the back reference; a mismatch is their bug
+      ECPSIM_DEMAND(jaw.gripper == static_cast<int>(g));
+      if (jaw.v0.norm() != 0 || jaw.w0.norm() != 0) {
+        Fail(Keys(Index("bodies", b), {"velocity", "angular_velocity"}),
+             fmt::format("({}, {})", Show(jaw.v0), Show(jaw.w0)),
+             fmt::format("no initial velocity for jaw \"{}\" of gripper \"{}\" (the gripper "
+                         "moves it)",
+                         jaw.name, gripper.name));
+      }
+    }
+    if (!(gripper.axis.allFinite() && std::abs(gripper.axis.norm() - 1) < 1e-12)) {
+      Fail({at + ".axis"}, Show(gripper.axis), "a unit closing axis (frame coordinates)");
+    }
+    const double spread =
+        gripper.axis.dot(gripper.jaw_in_frame[1].p - gripper.jaw_in_frame[0].p);
+    if (!(spread > 0)) {
+      Fail({at + ".axis", at + ".jaws"}, Show(gripper.axis),
+           fmt::format("an axis from jaw \"{}\" towards jaw \"{}\" (their centres are {:.3g} m "
+                       "apart along it at t = 0; swap the jaws or flip the axis)",
+                       scene.bodies[gripper.jaws[0]].name, scene.bodies[gripper.jaws[1]].name,
+                       spread));
+    }
+    const double force = gripper.force(0);
+    if (!(force >= 0 && force <= kMaxMagnitude)) {
+      Fail({at + ".force"}, fmt::format("{}", force),
+           "a closing force ≥ 0 N at t = 0 (the jaws open only as far as what they hold pushes "
+           "them)");
+    }
+  }
+  for (size_t b = 0; b < scene.bodies.size(); ++b) ECPSIM_DEMAND(scene.bodies[b].gripper == jaw_of[b]);
+}
+
 // ---- settings --------------------------------------------------------------------------------
 
 void CheckSettings(const Scene& scene) {
@@ -418,6 +480,7 @@ void ValidateScene(const Scene& scene) {
   CheckBodies(scene);
   CheckContacts(scene);
   CheckLoads(scene);
+  CheckGrippers(scene);
   CheckSettings(scene);
   CheckInitialPenetration(scene);
 }

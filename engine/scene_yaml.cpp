@@ -10,6 +10,7 @@ namespace ecpsim::engine {
 namespace {
 
 namespace fs = std::filesystem;
+using yaml::BodyNamed;
 using yaml::Context;
 using yaml::Fail;
 using yaml::Index;
@@ -125,17 +126,6 @@ struct PairSetting {
   Friction friction;
 };
 
-// a body of `scene` by name
-int BodyNamed(const Context& ctx, const YAML::Node& node, const std::string& key,
-              const Scene& scene) {
-  std::string names;
-  for (size_t i = 0; i < scene.bodies.size(); ++i) {
-    if (node.IsScalar() && node.Scalar() == scene.bodies[i].name) return static_cast<int>(i);
-    names += (names.empty() ? "" : ", ") + scene.bodies[i].name;
-  }
-  Fail(ctx, node, key, fmt::format("the name of a body of the scene ({})", names));
-}
-
 // every pair of bodies that can touch (not both kinematic, not excluded by `pairs:`) becomes a
 // contact: F the dynamic body (the lower index when both are), G the other
 void AddBodyPairs(const Context& ctx, const MapNode& map, Scene& scene) {
@@ -183,7 +173,7 @@ void AddBodyPairs(const Context& ctx, const MapNode& map, Scene& scene) {
 Scene ReadScene(const Context& ctx, const YAML::Node& root) {
   const MapNode map(ctx, root, "",
                     {"gravity", "h", "duration", "ground", "obstacles", "bodies", "loads",
-                     "impulses", "solver", "output", "model", "pairs"});
+                     "impulses", "solver", "output", "model", "pairs", "grippers"});
   Scene scene;
   scene.source = ctx.file;
   if (map.Has("model")) scene.model = yaml::ReadModel(ctx, map.Get("model"), "model");
@@ -259,6 +249,14 @@ Scene ReadScene(const Context& ctx, const YAML::Node& root) {
     for (size_t i = 0; i < list.size(); ++i) {
       scene.loads.push_back(yaml::ReadLoad(ctx, list[i], Index("loads", i), scene.bodies, extras));
     }
+  }
+  if (map.Has("grippers")) {
+    const YAML::Node list = map.Get("grippers");
+    if (!list.IsSequence()) {
+      Fail(ctx, list, "grippers", "a list of `- {name, jaws: [A, B], motion, axis, force}`");
+    }
+    for (size_t i = 0; i < list.size(); ++i)
+      AddGripper(scene, yaml::ReadGripper(ctx, list[i], Index("grippers", i), scene));
   }
   if (map.Has("impulses")) {
     const YAML::Node list = map.Get("impulses");

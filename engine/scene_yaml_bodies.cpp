@@ -296,4 +296,14 @@ Body ReadBody(const Context& ctx, const YAML::Node& node, const std::string& key
   return body;
 }
 
+int BodyNamed(const Context& ctx, const YAML::Node& node, const std::string& key,
+              const Scene& scene) {
+  std::string names;
+  for (size_t i = 0; i < scene.bodies.size(); ++i) {
+    if (node.IsScalar() && node.Scalar() == scene.bodies[i].name) return static_cast<int>(i);
+    names += (names.empty() ? "" : ", ") + scene.bodies[i].name;
+  }
+  Fail(ctx, node, key, fmt::format("the name of a body of the scene ({})", names));
+}
+
 }  // namespace ecpsim::engine::yaml

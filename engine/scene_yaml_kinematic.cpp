@@ -1,5 +1,6 @@
-// Kinematic bodies of the scene format: `motion:` as expressions of t, waypoints or a constant
-// twist (docs/scene_format.md, "Kinematic bodies").
+// Prescribed motion in the scene format: a kinematic body's (or a gripper frame's) `motion:` as
+// expressions of t, waypoints or a constant twist (docs/scene_format.md, "Kinematic bodies"),
+// and the grippers that carry their jaws on such a frame ("Grippers").
 
 #include <cmath>
 
@@ -124,6 +125,35 @@ KinematicMotion ReadMotion(const Context& ctx, const YAML::Node& node, const std
     return KinematicMotion(ReadWaypoints(ctx, map.Get("waypoints"), map.Key("waypoints")), where);
   }
   return KinematicMotion(ReadConstantTwist(ctx, map.Get("velocity"), map.Key("velocity")), where);
+}
+
+Gripper ReadGripper(const Context& ctx, const YAML::Node& node, const std::string& key,
+                    const Scene& scene) {
+  const MapNode map(ctx, node, key, {"name", "jaws", "motion", "axis", "force"});
+  Gripper gripper;
+  gripper.name = map.Has("name") ? ReadName(ctx, map.Get("name"), map.Key("name"))
+                                 : fmt::format("gripper{}", scene.grippers.size());
+  const YAML::Node jaws = map.Require(
+      "jaws", "[A, B]: the names of the two jaw bodies, A closing along +axis towards B");
+  if (!jaws.IsSequence() || jaws.size() != 2) {
+    Fail(ctx, jaws, map.Key("jaws"),
+         "[A, B]: the names of the two jaw bodies, A closing along +axis towards B");
+  }
+  for (size_t j = 0; j < 2; ++j)
+    gripper.jaws[j] = BodyNamed(ctx, jaws[j], Index(map.Key("jaws"), j), scene);
+  gripper.motion = std::make_shared<const KinematicMotion>(ReadMotion(
+      ctx, map.Require("motion", "the frame's motion: {expressions | waypoints | velocity}"),
+      map.Key("motion")));
+  gripper.axis = ReadVector3(
+      ctx, map.Require("axis", "[x, y, z]: the closing axis in the frame, from jaw A to jaw B"),
+      map.Key("axis"), "a direction in the frame");
+  if (!(gripper.axis.norm() >= kMinRotationAxisLength)) {
+    map.FailAt("axis", "a non-zero axis [x, y, z] (it is normalized)");
+  }
+  gripper.force = ReadTimeFunction(
+      ctx, map.Require("force", "the closing force on each jaw (N), a number or an expression of t"),
+      map.Key("force"));
+  return gripper;
 }
 
 }  // namespace ecpsim::engine::yaml

@@ -172,12 +172,21 @@ Body ReadBody(const Context& ctx, const YAML::Node& node, const std::string& key
               const std::string& default_name, BodyExtras& extras,
               std::vector<std::string>& warnings);
 
+/// The index of the body of `scene` named by the scalar `node`.
+int BodyNamed(const Context& ctx, const YAML::Node& node, const std::string& key,
+              const Scene& scene);
+
 /// A number or a quoted muparser expression of t (a load component, a motion coordinate).
 TimeFunction ReadTimeFunction(const Context& ctx, const YAML::Node& node, const std::string& key);
 
 /// A kinematic body's `motion: {expressions | waypoints | velocity: ...}` (docs/scene_format.md,
 /// "Kinematic bodies"); later errors of the motion (PoseAt, StepTwist) name `key`'s location.
 KinematicMotion ReadMotion(const Context& ctx, const YAML::Node& node, const std::string& key);
+
+/// An entry of `grippers`: `{name, jaws: [A, B], motion, axis, force}` (docs/scene_format.md,
+/// "Grippers"), the jaws bodies of `scene` by name; jaw_in_frame is left to AddGripper.
+Gripper ReadGripper(const Context& ctx, const YAML::Node& node, const std::string& key,
+                    const Scene& scene);
 
 /// An entry of `loads` / `impulses` (bodies by name or index; `at` in the mesh frame).
 Load ReadLoad(const Context& ctx, const YAML::Node& node, const std::string& key,

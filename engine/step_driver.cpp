@@ -42,6 +42,21 @@ Box HullBox(const geometry::ConvexShape& hull, const Eigen::Vector3d& c, const E
   return box;
 }
 
+// A jaw is moved by its gripper beyond its own motion: to the frame's pose at the step's end
+// (its displacement and turn over the step) and by the actuator's force
+double JawSpeedBound(const Scene& scene, int b, const State& state, double radius) {
+  const Gripper& gripper = scene.grippers[scene.bodies[b].gripper];
+  const int j = gripper.jaws[0] == b ? 0 : 1;
+  const double h = scene.h;
+  const BodyState& s = state.bodies[b];
+  const KinematicPose frame = gripper.motion->PoseAt(state.t + h);
+  const KinematicPose& in_frame = gripper.jaw_in_frame[j];
+  const Eigen::Vector3d target = frame.p + frame.q * in_frame.p;
+  const double turn = (frame.q * in_frame.q).angularDistance(s.Q_WB);
+  const double force = std::abs(gripper.force(state.t));
+  return ((target - s.p_WB).norm() + turn * radius) / h + h * force / scene.bodies[b].mass;
+}
+
 // Each body's box for the step [t, t + h]: its hull's box at the start pose grown by how far any
 // of its points can move within the step — h (|v| + |ω| r + |p_applied| / m + h |g|) for its
 // own motion, plus h V_max for what a contact can give it: a body struck by another, or pushed,
@@ -69,6 +84,7 @@ std::vector<Box> StepBoxes(const Scene& scene, const State& state) {
         AppliedImpulse(scene.loads, scene.impulses, static_cast<int>(b), state.t, h, R);
     speed[b] = s.v_WB.norm() + s.w_WB.norm() * radius + applied.head<3>().norm() / body.mass +
                h * scene.gravity.norm();
+    if (body.IsJaw()) speed[b] += JawSpeedBound(scene, static_cast<int>(b), state, radius);
     fastest = std::max(fastest, speed[b]);
   }
   for (size_t b = 0; b < boxes.size(); ++b) {
@@ -107,6 +123,8 @@ std::vector<Island> FormIslands(const Scene& scene, const State& state) {
     if (in_step[k] && !scene.bodies[pair.other_body].IsKinematic())
       root[find(pair.body)] = find(pair.other_body);
   }
+  // a gripper's jaws move as one (island_gripper.h)
+  for (const Gripper& gripper : scene.grippers) root[find(gripper.jaws[0])] = find(gripper.jaws[1]);
   std::vector<Island> islands;
   std::vector<int> island_of(n, -1);
   for (int b = 0; b < n; ++b) {

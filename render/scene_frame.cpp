@@ -121,7 +121,8 @@ FrameInput SceneFrameBuilder::Build(const engine::State& state, int iterations,
     body.X_WB = Eigen::Isometry3d::Identity();
     body.X_WB.linear() = b.Q_WB.normalized().toRotationMatrix();
     body.X_WB.translation() = b.p_WB;
-    body.colour = scene_.bodies[i].IsKinematic()
+    // the gripper's jaws are what the robot drives, like a kinematic body
+    body.colour = scene_.bodies[i].IsKinematic() || scene_.bodies[i].IsJaw()
                       ? kKinematicColour
                       : kBodyColours[i % (sizeof(kBodyColours) / sizeof(kBodyColours[0]))];
     frame.bodies.push_back(body);

@@ -383,6 +383,44 @@ TEST(IslandJacobianTest, StackOfThreeOnAConveyorWithAWall) {
   EXPECT_TRUE(d.full_diagonal);
 }
 
+TEST(IslandJacobianTest, AGrippersJawsHoldingABoxOnTheGround) {
+  // a box between two jaws of different masses, the jaws touching each other's far side too;
+  // the gripper's rows replace the jaws' Newton–Euler rows (island_gripper.h), with targets
+  // and an axis off every coordinate axis so that no product of the row map vanishes
+  // (masses of a few kg: the random impulses scale with m g h, and far below the central
+  // differences' 1e-6 step the friction cone's curvature shows in them)
+  IslandCase c({MakeBoxBody(Vector3d(0.05, 0.05, 0.08), 2, "box"),
+                MakeBoxBody(Vector3d(0.01, 0.04, 0.03), 0.5, "jaw0"),
+                MakeBoxBody(Vector3d(0.01, 0.04, 0.03), 0.8, "jaw1")},
+               {MovingState(Vector3d(0, 0, 0.04), Rotation(0.1, Vector3d(0, 0, 1)),
+                            Vector3d(0.1, 0.05, 0), Vector3d(0.1, -0.2, 0.3)),
+                MovingState(Vector3d(-0.03, 0, 0.04), Rotation(0.12, Vector3d(0, 0, 1)),
+                            Vector3d(0.2, 0.1, 0), Vector3d(0, 0, 0.4)),
+                MovingState(Vector3d(0.03, 0, 0.04), Rotation(0.12, Vector3d(0, 0, 1)),
+                            Vector3d(-0.1, 0.1, 0), Vector3d(0, 0, 0.4))});
+  c.Add(0, Other::kFixed, -1, c.scene.obstacles[0].shape.get());
+  c.Add(0, Other::kBody, 1, c.hull(1));
+  c.Add(0, Other::kBody, 2, c.hull(2)).tangent_reference = Vector3d::UnitY();
+  c.Add(1, Other::kBody, 2, c.hull(2));
+  IslandGripper g;
+  g.jaws = {1, 2};
+  g.axis = Vector3d(0.9, 0.3, 0.1).normalized();
+  g.v = {Vector3d(0.1, 0.12, -0.01), Vector3d(0.09, 0.13, 0.02)};
+  g.w = {Vector3d(0.01, -0.02, 0.5), Vector3d(-0.01, 0.02, 0.45)};
+  g.centre_speed = 0.11;
+  g.grip = 0.05;
+  c.problem.grippers = {g};
+  SetGripperFreeFlight(g, c.problem.bodies);
+  c.Randomize({Vector3d(0, 0, 0), Vector3d(-0.025, 0, 0.04), Vector3d(0.025, 0, 0.04),
+               Vector3d(0, 0, 0.04)},
+              11);
+  EXPECT_LT(c.JacobianError(), kJacobianTolerance);
+  const SparseDifference d = SparseAgainstDense(c);
+  EXPECT_LE(d.F, kRoundOffRelative);
+  EXPECT_LE(d.J, kRoundOffRelative);
+  EXPECT_TRUE(d.full_diagonal);
+}
+
 TEST(IslandSparseJacobianTest, EqualsTheDenseOneToRoundOff) {
   // every kind of G (fixed, kinematic, a body as F and as G) and face, edge and vertex contact:
   // the same rows, only the Newton–Euler rows' sums over contacts in another order

@@ -1,5 +1,6 @@
 // The shipped manipulation scenes (issue 13) run to their end with the physics their comments
-// state: scenes/tbar_push.yaml pushes and turns the T-bar flat on the table.
+// state: scenes/tbar_push.yaml pushes and turns the T-bar flat on the table; scenes/gripper.yaml
+// drags a box 15 cm, turns it a quarter turn and lets go.
 
 #include <cmath>
 #include <string>
@@ -7,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "engine/contact_wrench.h"
+#include "engine/hull_model.h"
 #include "engine/penetration.h"
 #include "engine/scene.h"
 #include "engine/scene_yaml.h"
@@ -77,6 +79,40 @@ TEST(TbarPushSceneTest, TheFingerPushesAndTurnsTheTFlatOnTheTableAndOnlyEverPush
   const double yaw = 2 * std::atan2(T.Q_WB.z(), T.Q_WB.w()) * 180 / M_PI;
   EXPECT_LT(yaw, 80);
   EXPECT_GT(yaw, 0);
+}
+
+TEST(GripperSceneTest, TheBoxEndsDraggedAndTurnedAQuarterWhereTheFrameTookIt) {
+  const Scene scene = LoadScene(ScenePath("gripper.yaml"));
+  const int box = BodyIndex(scene, "box");
+  const int left = ContactIndex(scene, box, BodyIndex(scene, "left_jaw"));
+  const int right = ContactIndex(scene, box, BodyIndex(scene, "right_jaw"));
+  const PenetrationProbe probe(scene);
+  // m: the box sticks to the pads up to the creep ε = kStickCreepFraction V, V the jaws' drive
+  // h F / m (1 m/s), over the whole run
+  constexpr double kForce = 5, kJawMass = 0.05;  // N, kg: the scene's hold
+  const double creep_drift = kStickCreepFraction * scene.h * kForce / kJawMass * scene.duration;
+  State state = InitialState(scene);
+  while (state.t < scene.duration - 0.5 * scene.h) {
+    ASSERT_TRUE(Step(scene, state).converged) << "t = " << state.t;
+    ASSERT_LE(probe.MaxDepth(scene, state), kPenetration) << "t = " << state.t;
+    // dragged at 0.15 m/s between 0.5 and 1.5 s, each pad pressing with the grip
+    if (state.t > 0.55 && state.t < 1.5) {
+      EXPECT_NEAR(state.bodies[box].v_WB.y(), 0.15, creep_drift) << "t = " << state.t;
+      for (int pad : {left, right})
+        EXPECT_NEAR(state.contacts[pad].p_n / scene.h, kForce, kSolvedRel * kForce)
+            << "t = " << state.t;
+    }
+  }
+  // let go at 2.6 s, 1 cm above the table: back on it, at rest, 15 cm along y, turned by 90°
+  const BodyState& end = state.bodies[box];
+  EXPECT_NEAR(end.p_WB.x(), 0, creep_drift);
+  EXPECT_NEAR(end.p_WB.y(), 0.15, creep_drift);
+  EXPECT_NEAR(end.p_WB.z(), 0.04, kPenetration);
+  const double yaw = 2 * std::atan2(end.Q_WB.z(), end.Q_WB.w());
+  EXPECT_NEAR(yaw, M_PI / 2, creep_drift / 0.025);  // rad: the drift over the box's half width
+  EXPECT_LE(end.v_WB.norm(), kSolvedRel);
+  // the open jaws still touch its sides, pressing with nothing
+  for (int pad : {left, right}) EXPECT_LE(state.contacts[pad].p_n, kSolvedRel * kForce * scene.h);
 }
 
 }  // namespace

@@ -602,6 +602,40 @@ const BadScene kBadScenes[] = {
     {"PairOfOneBody", "duration: 1\n" ECPSIM_BODY "    mass: 1\n"
      "pairs:\n  - {bodies: [body0, body0]}\n",
      "pairs[0].bodies = [body0, body0]: expected two different bodies"},
+    // ---- grippers
+#define ECPSIM_JAWS(A_EXTRA)                                                                  \
+  "duration: 1\nbodies:\n"                                                                   \
+  "  - {name: a, shape: {box: {size: [0.01, 0.04, 0.03]}}, mass: 0.05, position: [-0.05, 0, "  \
+  "0.5]" A_EXTRA "}\n"                                                                         \
+  "  - {name: b, shape: {box: {size: [0.01, 0.04, 0.03]}}, mass: 0.05, position: [0.05, 0, "   \
+  "0.5]}\n"
+#define ECPSIM_FRAME "motion: {velocity: {position: [0, 0, 0.5]}}"
+    {"GripperOfAnUnknownJaw",
+     ECPSIM_JAWS("") "grippers:\n  - {jaws: [a, ghost], axis: [1, 0, 0], force: 1, " ECPSIM_FRAME "}\n",
+     "grippers[0].jaws[1] = ghost: expected the name of a body of the scene (a, b)"},
+    {"GripperWithOneJawTwice",
+     ECPSIM_JAWS("") "grippers:\n  - {jaws: [a, a], axis: [1, 0, 0], force: 1, " ECPSIM_FRAME "}\n",
+     "grippers[0].jaws[1] = a: expected a body that is no other jaw (it is one of this "
+     "gripper's already)"},
+    {"GripperWithAZeroAxis",
+     ECPSIM_JAWS("") "grippers:\n  - {jaws: [a, b], axis: [0, 0, 0], force: 1, " ECPSIM_FRAME "}\n",
+     "grippers[0].axis = [0, 0, 0]: expected a non-zero axis"},
+    {"GripperWhoseAxisPointsFromTheSecondJaw",
+     ECPSIM_JAWS("") "grippers:\n  - {jaws: [a, b], axis: [-1, 0, 0], force: 1, " ECPSIM_FRAME "}\n",
+     "expected an axis from jaw \"a\" towards jaw \"b\" (their centres are -0.1 m apart along it "
+     "at t = 0; swap the jaws or flip the axis)"},
+    {"GripperPullingItsJawsOpen",
+     ECPSIM_JAWS("") "grippers:\n  - {jaws: [a, b], axis: [1, 0, 0], force: -1, " ECPSIM_FRAME "}\n",
+     "grippers[0].force = -1: expected a closing force ≥ 0 N at t = 0"},
+    {"GripperWithoutForce",
+     ECPSIM_JAWS("") "grippers:\n  - {jaws: [a, b], axis: [1, 0, 0], " ECPSIM_FRAME "}\n",
+     "grippers[0].force"},
+    {"JawWithAnInitialVelocity",
+     ECPSIM_JAWS(", velocity: [0, 1, 0]")
+     "grippers:\n  - {jaws: [a, b], axis: [1, 0, 0], force: 1, " ECPSIM_FRAME "}\n",
+     "expected no initial velocity for jaw \"a\" of gripper \"gripper0\" (the gripper moves it)"},
+#undef ECPSIM_FRAME
+#undef ECPSIM_JAWS
 };
 #undef ECPSIM_BODY
 
@@ -636,6 +670,24 @@ TEST_F(SceneYamlTest, KinematicBodiesAndPairSettingsMakeTheDocumentedContacts) {
   EXPECT_EQ(scene.contacts[3].body, 0);
   EXPECT_EQ(scene.contacts[3].other_body, 2);
   EXPECT_EQ(scene.contacts[3].friction.mu, 0.4);  // sqrt(0.4 · 0.4): a and the finger
+}
+
+TEST_F(SceneYamlTest, TheShippedGripperCarriesItsJawsAtTheirPlacesInItsFrame) {
+  const Scene scene = LoadScene(std::string(ECPSIM_SOURCE_DIR) + "/scenes/gripper.yaml");
+  ASSERT_EQ(scene.grippers.size(), 1u);
+  const Gripper& hand = scene.grippers[0];
+  EXPECT_EQ(hand.name, "hand");
+  EXPECT_EQ(scene.bodies[hand.jaws[0]].name, "left_jaw");
+  EXPECT_EQ(scene.bodies[hand.jaws[1]].name, "right_jaw");
+  EXPECT_EQ(scene.bodies[hand.jaws[0]].gripper, 0);
+  EXPECT_FALSE(scene.bodies[0].IsJaw());
+  EXPECT_EQ(hand.axis, Eigen::Vector3d::UnitX());
+  // the frame starts at (0, 0, 0.04), the jaws 5 cm to either side of it
+  EXPECT_EQ(hand.jaw_in_frame[0].p, Eigen::Vector3d(-0.05, 0, 0));
+  EXPECT_EQ(hand.jaw_in_frame[1].p, Eigen::Vector3d(0.05, 0, 0));
+  EXPECT_EQ(hand.force(0.1), 0.2);
+  EXPECT_EQ(hand.force(1), 5);
+  EXPECT_EQ(hand.force(2.7), 0);
 }
 
 TEST_F(SceneYamlTest, SyntaxErrorIsReportedAsYamlError) {
