@@ -64,6 +64,10 @@ constexpr double kCarryingFraction = 1e-6;
 // faces than three plus the drops left is tried one face at a time without going deeper: the
 // tree of drops grows as n³ (a 37 m elk mesh's fan took 680,000 iterations in one step)
 constexpr int kMaxDegenerateDrops = 3;
+// starts spread along a stalled contact's edge (SolveAlongCarryingEdge): the retinal mesh's
+// root was reached from 7 of 17 starts along its 4.7 m edge; 16 keep its spacing within a
+// sixteenth of the hull's extent along the edge
+constexpr int kEdgeStarts = 16;
 // a start-of-step overlap of two hulls along their last normal below this fraction of F's size
 // is round-off of a resting contact, and its ejection energy negligible: the overlap itself
 // stands for the depth, without a GJK query per step
@@ -196,7 +200,9 @@ class IslandStepper {
               (SolveOnCarryingFaces(problem, layout, z, options, scales, ejection_energy, state,
                                     result) ||
                SolveAtDegenerateVertex(problem, layout, z, options, scales, ejection_energy,
-                                       state, result))) {
+                                       state, result) ||
+               SolveAlongCarryingEdge(problem, layout, z, options, scales, ejection_energy, state,
+                                      result))) {
             result.solved = true;
             return result;
           }
@@ -346,6 +352,68 @@ class IslandStepper {
         if (AcceptReduced(reduced, reduced_layout, rz, attempt, scales, state, result)) {
           return true;
         }
+      }
+    }
+    return false;
+  }
+
+  // Re-solves a stall on an edge of F's hull from starts spread along the edge. A body that
+  // slides and spins on an edge, its ECP near the centre of rotation, has a moment balance that
+  // is not monotone in the ECP's place along the edge (the friction's direction turns there), and
+  // Newton can end on the fold between — a local minimum of the merit function with a singular
+  // Jacobian, the root elsewhere on the same edge (the drop sweep's knot and retinal meshes: a
+  // 19 m crease, a 4.7 m edge). Starts: the stalled iterate and each carrying face's own solution,
+  // each with the ECPs moved along the edge to kEdgeStarts places over the hull's extent along
+  // it, nearest first; a root is accepted only as every solve is (converged, no energy gained,
+  // the window check).
+  bool SolveAlongCarryingEdge(const IslandProblem& problem, const IslandLayout& layout,
+                              const VectorXd& z, McpOptions& options, const IslandScales& scales,
+                              double ejection_energy, IslandState& state,
+                              AdvanceResult& result) const {
+    if (!z.allFinite()) return false;
+    const int stalled = layout.num_bodies > 1 ? StalledContact(problem, layout, z, scales) : 0;
+    if (stalled >= static_cast<int>(problem.contacts.size())) return false;
+    const IslandContact& cp = problem.contacts[stalled];
+    const MncpLayout::Contact& L = layout.contacts[stalled];
+    const double largest = z.segment(L.l, L.l_count).maxCoeff();
+    std::vector<int> carrying;  // window positions
+    for (int i = 0; i < L.l_count; ++i)
+      if (z[L.l + i] > kCarryingFraction * largest) carrying.push_back(i);
+    if (carrying.size() != 2) return false;
+    // the edge's direction in F's end-of-step frame, and the hull's extent along it
+    const int col = IslandLayout::Velocity(cp.body);
+    const EndPose end = PoseAfterStep(problem.bodies[cp.body], z.segment<3>(col),
+                                      z.segment<3>(col + 3));
+    const Vector3d y = end.R.transpose() * (z.segment<3>(L.a1) - end.c);
+    const Vector3d edge_body = cp.hull->Gradient(cp.window[carrying[0]], y)
+                                   .cross(cp.hull->Gradient(cp.window[carrying[1]], y));
+    if (!(edge_body.norm() > 0)) return false;
+    const Vector3d e = edge_body.normalized();
+    const double from = (cp.hull->Support(-e) - y).dot(e), to = (cp.hull->Support(e) - y).dot(e);
+    std::vector<double> shifts;
+    for (int i = 0; i < kEdgeStarts; ++i) shifts.push_back(from + (to - from) * (i + 0.5) / kEdgeStarts);
+    std::sort(shifts.begin(), shifts.end(),
+              [](double a, double b) { return std::abs(a) < std::abs(b); });
+    // the starts' bases: the stalled iterate and each carrying face's own root
+    std::vector<VectorXd> bases = {z};
+    for (int face : carrying) {
+      IslandProblem single = problem;
+      single.contacts[stalled].window = {cp.window[face]};
+      const IslandLayout single_layout = MakeIslandLayout(single);
+      VectorXd sz = RemapWindows(problem, layout, z, single, single_layout);
+      if (Solve(single, single_layout, sz, options, scales, ejection_energy, result).outcome ==
+          Outcome::kSolved) {
+        bases.push_back(RemapWindows(single, single_layout, sz, problem, layout));
+      }
+    }
+    const Vector3d e_world = end.R * e;
+    for (double shift : shifts) {
+      for (const VectorXd& base : bases) {
+        VectorXd start = base;
+        start.segment<3>(L.a1) += shift * e_world;
+        start.segment<3>(L.a2) += shift * e_world;
+        const Attempt attempt = Solve(problem, layout, start, options, scales, ejection_energy, result);
+        if (AcceptReduced(problem, layout, start, attempt, scales, state, result)) return true;
       }
     }
     return false;
