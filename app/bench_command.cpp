@@ -310,7 +310,7 @@ void AddBenchCommand(CLI::App& app) {
                     "join the CSVs of these shard output folders into -o and draw the charts")
       ->expected(1, -1);
   bench->add_option("--scenes", o->scenes_dir,
-                    "folder of desk.yaml, tbar.yaml, dumbbell.yaml, stack.yaml, push_box.yaml")
+                    "folder of desk.yaml, tbar.yaml, dumbbell.yaml, stack.yaml, push_box.yaml, tbar_push.yaml")
       ->capture_default_str();
   bench->add_option("--cpu-limit", o->cpu_limit_s, "CPU seconds allowed per run")
       ->capture_default_str()

@@ -222,7 +222,8 @@ double MeanRadiusOfRectangle(double a, double b) {
 }
 
 std::vector<std::string> WorkPrecisionScenarioNames() {
-  return {"slide", "spin", "push_slide", "rest", "desk", "tbar", "dumbbell", "stack", "push_box"};
+  return {"slide",    "spin",  "push_slide", "rest",    "desk",
+          "tbar",     "dumbbell", "stack",   "push_box", "tbar_push"};
 }
 
 std::vector<Scenario> WorkPrecisionScenarios(const std::string& scenes_dir,
@@ -241,6 +242,13 @@ std::vector<Scenario> WorkPrecisionScenarios(const std::string& scenes_dir,
   scenarios.push_back(dumbbell);
   scenarios.push_back(Stack(scenes_dir));
   scenarios.push_back(PushBox(scenes_dir));
+  // the paper's motivating figure: a finger pushes and turns the T-bar on the table; no closed
+  // form, the converged reference
+  const Scenario tbar_push = SceneScenario(scenes_dir, "tbar_push", "tbar_push.yaml", "tbar",
+                                     converged_duration, 0.25,
+                                     "a kinematic finger pushing and turning the T-bar on the "
+                                     "table (converged reference)");
+  scenarios.push_back(tbar_push);
   return scenarios;
 }
 

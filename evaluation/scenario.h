@@ -35,8 +35,8 @@ struct Scenario {
 };
 
 /// The work–precision scenarios. `scenes_dir` holds desk.yaml, tbar.yaml, dumbbell.yaml,
-/// stack.yaml and push_box.yaml (the durations of the first three are cut to
-/// `converged_duration` seconds, the last two to kBodyScenarioDuration, to keep the sweep
+/// stack.yaml, push_box.yaml and tbar_push.yaml (desk, tbar, dumbbell and tbar_push are cut to
+/// `converged_duration` seconds, stack and push_box to kBodyScenarioDuration, to keep the sweep
 /// affordable).
 /// @throws InputError if a scene file is missing or invalid.
 std::vector<Scenario> WorkPrecisionScenarios(const std::string& scenes_dir,

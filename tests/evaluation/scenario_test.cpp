@@ -75,11 +75,15 @@ TEST_F(WorkPrecisionScenariosTest, SpinTorsionIsTheFootprintsMeanRadius) {
 }
 
 TEST_F(WorkPrecisionScenariosTest, ConvergedScenesAreCutAndFlagged) {
-  for (const char* name : {"desk", "tbar", "dumbbell"}) {
+  for (const char* name : {"desk", "tbar", "dumbbell", "tbar_push"}) {
     const Scenario& s = Find(name);
     EXPECT_FALSE(s.analytic) << name;
     EXPECT_DOUBLE_EQ(s.scene.duration, 0.5) << name;
   }
+  // the finger pushes the T-bar, which is measured
+  const Scenario& push = Find("tbar_push");
+  EXPECT_EQ(push.scene.bodies[push.body].name, "tbar");
+  EXPECT_TRUE(push.scene.bodies[1 - push.body].IsKinematic());
   EXPECT_TRUE(Find("desk").planar_applies);
   EXPECT_TRUE(Find("desk").multipatch_applies);  // its four legs are parts
   EXPECT_FALSE(Find("tbar").planar_applies);
