@@ -95,6 +95,22 @@ std::vector<Box> StepBoxes(const Scene& scene, const State& state) {
   return boxes;
 }
 
+// whether anything in `box` can touch the fixed convex `obstacle` (world frame): a half-space's
+// constraint at the box's point deepest into it, else the obstacle's own box
+bool InReach(const Box& box, const geometry::ConvexShape& obstacle) {
+  const Eigen::Vector3d centre = box.center(), half = 0.5 * box.sizes();
+  if (obstacle.IsHalfSpace()) {
+    const Eigen::Vector3d g = obstacle.Gradient(0, centre);
+    return obstacle.Value(0, centre) - g.cwiseAbs().dot(half) <= 0;
+  }
+  Box reach;
+  for (int i = 0; i < 3; ++i) {
+    reach.extend(obstacle.Support(Eigen::Vector3d::Unit(i)));
+    reach.extend(obstacle.Support(-Eigen::Vector3d::Unit(i)));
+  }
+  return reach.intersects(box);
+}
+
 std::string BodyNames(const Scene& scene, const Island& island) {
   std::string names;
   for (int b : island.bodies)
@@ -135,6 +151,15 @@ std::vector<Island> FormIslands(const Scene& scene, const State& state) {
       islands.emplace_back();
     }
     islands[island_of[r]].bodies.push_back(b);
+  }
+  // an obstacle out of reach of a body of a coupled island leaves its MNCP: there every contact
+  // is a block of the coupled Newton system (the stack's upper boxes over the ground, a gripper's
+  // jaws over the table), while a body alone takes far obstacles in closed form (free flight)
+  for (size_t k = 0; k < scene.contacts.size(); ++k) {
+    const ContactPair& pair = scene.contacts[k];
+    if (pair.WithBody() || islands[island_of[find(pair.body)]].bodies.size() < 2) continue;
+    if (boxes.empty()) boxes = StepBoxes(scene, state);
+    in_step[k] = InReach(boxes[pair.body], *scene.obstacles[pair.obstacle].shape);
   }
   for (size_t k = 0; k < scene.contacts.size(); ++k)
     if (in_step[k]) islands[island_of[find(scene.contacts[k].body)]].contacts.push_back(static_cast<int>(k));

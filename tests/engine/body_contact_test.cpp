@@ -281,12 +281,15 @@ TEST(IslandTest, BodiesApartAreIslandsOfTheirOwnAndKinematicBodiesInNone) {
   ASSERT_EQ(islands.size(), 2u);
   EXPECT_EQ(islands[0].bodies, std::vector<int>{0});
   EXPECT_EQ(islands[1].bodies, (std::vector<int>{1, 2}));
-  // a's island: its ground contact and the finger; b's: two ground contacts and b–c
+  // a's island: its ground contact and the finger; b's: b's ground contact and b–c — c's
+  // ground contact, 10 cm below it, is out of reach and left out of the coupled island
   const auto pair_of = [&](int k) { return scene.contacts[k]; };
   ASSERT_EQ(islands[0].contacts.size(), 2u);
   EXPECT_EQ(pair_of(islands[0].contacts[1]).other_body, 3);
-  ASSERT_EQ(islands[1].contacts.size(), 3u);
-  EXPECT_EQ(pair_of(islands[1].contacts[2]).other_body, 2);
+  ASSERT_EQ(islands[1].contacts.size(), 2u);
+  EXPECT_EQ(pair_of(islands[1].contacts[0]).body, 1);
+  EXPECT_EQ(pair_of(islands[1].contacts[0]).obstacle, 0);
+  EXPECT_EQ(pair_of(islands[1].contacts[1]).other_body, 2);
 }
 
 TEST(ModelTest, ModelsWithoutContactsBetweenBodiesRefuseThem) {
