@@ -47,6 +47,10 @@ class Scene:
     def obstacles(self) -> List[Dict[str, Any]]:
         """Per obstacle: name, friction."""
     @property
+    def grippers(self) -> List[Dict[str, Any]]:
+        """Per gripper: name, jaws (two body names, the first closing along +axis), axis (frame
+        coordinates), force (N, or the scene's expression of t)."""
+    @property
     def contact_names(self) -> List[str]:
         """'body.other' per potential contact, the order of Simulation.contacts()."""
     @property
@@ -113,6 +117,15 @@ class Simulation:
         self, body: BodyRef, position: Vector3, quaternion: Optional[Sequence[float]] = None
     ) -> None:
         """A kinematic body's pose at the end of the next step."""
+    def set_gripper_target(
+        self,
+        gripper: Union[str, int],
+        position: Vector3,
+        quaternion: Optional[Sequence[float]] = None,
+        force: Optional[float] = None,
+    ) -> None:
+        """A gripper frame's pose at the end of the next step, and its closing force (N on each
+        jaw, ≥ 0) from the next step on."""
     def contacts(self) -> List[Dict[str, Any]]:
         """Per potential contact: name, body, other, other_is_body, a1, a2, normal, tangent,
         tangent2, p_n, p_t, p_o, p_r, sigma, f_n, f_t, f_o, f_r, force, mode, model, friction."""

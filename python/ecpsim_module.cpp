@@ -82,22 +82,56 @@ Vector3d ToVector3(const py::handle& value, const std::string& what) {
   return Vector3d(a.at(0), a.at(1), a.at(2));
 }
 
-// a body by name or index
-int BodyIndex(const engine::Scene& scene, const py::handle& body, const std::string& where) {
-  if (py::isinstance<py::int_>(body)) {
-    const long i = body.cast<long>();
-    if (i >= 0 && i < static_cast<long>(scene.bodies.size())) return static_cast<int>(i);
-  } else if (py::isinstance<py::str>(body)) {
-    const std::string name = body.cast<std::string>();
-    for (size_t i = 0; i < scene.bodies.size(); ++i) {
-      if (scene.bodies[i].name == name) return static_cast<int>(i);
+// a number from Python
+double ToDouble(const py::handle& value, const std::string& what) {
+  try {
+    return value.cast<double>();
+  } catch (const py::cast_error&) {
+    throw InputError(fmt::format("{} = {}: expected a number", what,
+                                 py::repr(value).cast<std::string>()));
+  }
+}
+
+// an entry of `items` (each with a `name`) by name or index; `what` ("body") for the message
+template <typename Item>
+int IndexByName(const std::vector<Item>& items, const py::handle& key, const std::string& where,
+                const char* what) {
+  if (py::isinstance<py::int_>(key)) {
+    const long i = key.cast<long>();
+    if (i >= 0 && i < static_cast<long>(items.size())) return static_cast<int>(i);
+  } else if (py::isinstance<py::str>(key)) {
+    const std::string name = key.cast<std::string>();
+    for (size_t i = 0; i < items.size(); ++i) {
+      if (items[i].name == name) return static_cast<int>(i);
     }
   }
   std::string names;
-  for (const engine::Body& b : scene.bodies) names += (names.empty() ? "" : ", ") + b.name;
-  throw InputError(fmt::format("{}: body = {}: expected a body name ({}) or an index 0 … {}",
-                               where, py::repr(body).cast<std::string>(), names,
-                               scene.bodies.size() - 1));
+  for (const Item& item : items) names += (names.empty() ? "" : ", ") + item.name;
+  throw InputError(fmt::format("{}: {} = {}: expected a {} name ({}) or an index below {}", where,
+                               what, py::repr(key).cast<std::string>(), what,
+                               names.empty() ? "the scene has none" : names, items.size()));
+}
+
+// a body by name or index
+int BodyIndex(const engine::Scene& scene, const py::handle& body, const std::string& where) {
+  return IndexByName(scene.bodies, body, where, "body");
+}
+
+// a gripper by name or index
+int GripperIndex(const engine::Scene& scene, const py::handle& gripper) {
+  return IndexByName(scene.grippers, gripper, "set_gripper_target", "gripper");
+}
+
+// (w, x, y, z) from Python, or `otherwise` for None
+Eigen::Quaterniond ToQuaternion(const py::object& quaternion, const std::string& where,
+                                const Eigen::Quaterniond& otherwise) {
+  if (quaternion.is_none()) return otherwise;
+  const auto q = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(quaternion);
+  if (!q || q.ndim() != 1 || q.shape(0) != 4) {
+    throw ecpsim::InputError(fmt::format("{}: quaternion = {}: expected 4 numbers (w, x, y, z)",
+                                         where, py::str(quaternion).cast<std::string>()));
+  }
+  return Eigen::Quaterniond(q.at(0), q.at(1), q.at(2), q.at(3));
 }
 
 // a Python value as the YAML text `--set key=value` takes
@@ -854,6 +888,23 @@ PYBIND11_MODULE(ecpsim, m) {
           },
           "Per fixed obstacle a dict: name, friction.")
       .def_property_readonly(
+          "grippers",
+          [](const engine::Scene& s) {
+            py::list list;
+            for (const engine::Gripper& g : s.grippers) {
+              py::dict d;
+              d["name"] = g.name;
+              d["jaws"] = py::make_tuple(s.bodies[g.jaws[0]].name, s.bodies[g.jaws[1]].name);
+              d["axis"] = Array(g.axis);
+              d["force"] = g.force.expression().empty() ? py::cast(g.force(0))
+                                                         : py::cast(g.force.expression());
+              list.append(d);
+            }
+            return list;
+          },
+          "Per gripper a dict: name, jaws (the two body names, the first closing along +axis), "
+          "axis (its frame's coordinates), force (N: a number, or the scene's expression of t).")
+      .def_property_readonly(
           "contact_names",
           [](const engine::Scene& s) {
             std::vector<std::string> names;
@@ -1010,22 +1061,35 @@ PYBIND11_MODULE(ecpsim, m) {
             const int b = BodyIndex(self.sim.scene(), body, "set_kinematic_target");
             engine::KinematicPose pose;
             pose.p = ToVector3(position, "set_kinematic_target: position");
-            pose.q = self.sim.state().bodies[b].Q_WB;
-            if (!quaternion.is_none()) {
-              const auto q = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(quaternion);
-              if (!q || q.ndim() != 1 || q.shape(0) != 4) {
-                throw ecpsim::InputError(fmt::format(
-                    "set_kinematic_target: quaternion = {}: expected 4 numbers (w, x, y, z)",
-                    py::str(quaternion).cast<std::string>()));
-              }
-              pose.q = Eigen::Quaterniond(q.at(0), q.at(1), q.at(2), q.at(3));
-            }
+            pose.q = ToQuaternion(quaternion, "set_kinematic_target", self.sim.state().bodies[b].Q_WB);
             self.sim.SetKinematicTarget(b, pose);
           },
           py::arg("body"), py::arg("position"), py::arg("quaternion") = py::none(),
           "Moves a kinematic body (name or index) to `position` (m) and `quaternion` (w, x, y, z; "
           "default: its orientation now) at the end of the next step, at a constant twist; it "
           "stays there until the next target (MuJoCo's mocap bodies).")
+      .def(
+          "set_gripper_target",
+          [](PySimulation& self, const py::handle& gripper, const py::handle& position,
+             const py::object& quaternion, const py::object& force) {
+            const std::lock_guard<std::mutex> lock(self.mutex);
+            const engine::Scene& scene = self.sim.scene();
+            const int g = GripperIndex(scene, gripper);
+            const double now = static_cast<double>(self.sim.state().steps) * scene.h;
+            engine::KinematicPose pose;
+            pose.p = ToVector3(position, "set_gripper_target: position");
+            pose.q = ToQuaternion(quaternion, "set_gripper_target",
+                                  scene.grippers[g].motion->PoseAt(now).q);
+            std::optional<double> closing;
+            if (!force.is_none()) closing = ToDouble(force, "set_gripper_target: force");
+            self.sim.SetGripperTarget(g, pose, closing);
+          },
+          py::arg("gripper"), py::arg("position"), py::arg("quaternion") = py::none(),
+          py::arg("force") = py::none(),
+          "Moves a gripper's frame (name or index) to `position` (m) and `quaternion` (w, x, y, "
+          "z; default: its orientation now) at the end of the next step, at a constant twist, "
+          "and sets its closing force (N on each jaw, ≥ 0; default: unchanged) from the next "
+          "step on; both hold until the next target.")
       .def(
           "contacts",
           [](PySimulation& self) {

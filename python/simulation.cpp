@@ -26,6 +26,20 @@ void RequireMagnitude(const Eigen::Vector3d& v, const std::string& what) {
   }
 }
 
+// a motion from `now` at t = k h to `target` at (k + 1) h, the times the step driver asks for
+// (step_driver.cpp: PoseAt((steps + 1) h)); the last waypoint's pose holds after it
+std::shared_ptr<const engine::KinematicMotion> StepTo(const engine::KinematicPose& now,
+                                                      const engine::KinematicPose& target,
+                                                      const engine::State& state, double h,
+                                                      const std::string& where) {
+  std::vector<engine::Waypoint> waypoints(2);
+  waypoints[0].t = static_cast<double>(state.steps) * h;
+  waypoints[0].pose = now;
+  waypoints[1].t = static_cast<double>(state.steps + 1) * h;
+  waypoints[1].pose = target;
+  return std::make_shared<const engine::KinematicMotion>(std::move(waypoints), where);
+}
+
 // a hull warm start's multipliers are indexed by the sizes of its contact (hull_model.cpp):
 // l by `window`, l_G by G's constraints (a fixed obstacle's all, a body's `other_window`), and
 // `window` is searched as a sorted list. A state of another scene, or a pickle not made by
@@ -165,15 +179,22 @@ void Simulation::SetKinematicTarget(int body, const engine::KinematicPose& targe
                                  "true`); apply_wrench pushes a dynamic body",
                                  where));
   }
-  // from the pose now at t = k h to the target at (k + 1) h, the times the step driver asks for
-  // (step_driver.cpp: PoseAt((steps + 1) h)); the last waypoint's pose holds after it
   const engine::BodyState& s = state_.bodies[static_cast<size_t>(body)];
-  std::vector<engine::Waypoint> waypoints(2);
-  waypoints[0].t = static_cast<double>(state_.steps) * scene_.h;
-  waypoints[0].pose = {s.p_WB, s.Q_WB};
-  waypoints[1].t = static_cast<double>(state_.steps + 1) * scene_.h;
-  waypoints[1].pose = target;
-  b.motion = std::make_shared<const engine::KinematicMotion>(std::move(waypoints), where);
+  b.motion = StepTo({s.p_WB, s.Q_WB}, target, state_, scene_.h, where);
+}
+
+void Simulation::SetGripperTarget(int gripper, const engine::KinematicPose& frame,
+                                  std::optional<double> force) {
+  ECPSIM_DEMAND(gripper >= 0 && static_cast<size_t>(gripper) < scene_.grippers.size());
+  engine::Gripper& g = scene_.grippers[static_cast<size_t>(gripper)];
+  const std::string where = fmt::format("set_gripper_target(gripper '{}')", g.name);
+  if (force && !(*force >= 0 && *force <= engine::kMaxMagnitude)) {
+    throw InputError(fmt::format("{}: force = {}: expected a closing force ≥ 0 N within {:g}",
+                                 where, *force, engine::kMaxMagnitude));
+  }
+  const engine::KinematicPose now = g.motion->PoseAt(static_cast<double>(state_.steps) * scene_.h);
+  g.motion = StepTo(now, frame, state_, scene_.h, where);
+  if (force) g.force = engine::TimeFunction(*force);
 }
 
 }  // namespace ecpsim::python

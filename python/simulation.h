@@ -1,6 +1,7 @@
 #pragma once
 // The state machine behind the Python module's `Simulation`: a scene, its state, and the inputs a
-// controller gives between steps (external wrenches for the next step, kinematic targets). Plain
+// controller gives between steps (external wrenches for the next step, kinematic and gripper
+// targets). Plain
 // C++, no Python: the bindings (python/ecpsim_module.cpp) only convert.
 
 #include <cstdint>
@@ -55,6 +56,14 @@ class Simulation {
   /// @throws InputError for a dynamic or unknown body, a non-finite or zero quaternion, or a turn
   ///         of π or more within the step.
   void SetKinematicTarget(int body, const engine::KinematicPose& target);
+
+  /// Prescribes gripper `gripper`'s frame pose at the end of the next step (as SetKinematicTarget
+  /// a kinematic body's: a constant twist over the step, held until the next target) and, when
+  /// given, its closing force (N on each jaw) from the next step on.
+  /// @throws InputError for an unknown gripper, a force that is negative or not finite within
+  ///         ±1e150, a non-finite or zero quaternion, or a turn of π or more within the step.
+  void SetGripperTarget(int gripper, const engine::KinematicPose& frame,
+                        std::optional<double> force);
 
   /// The scene as stepped: the scene given, with the kinematic targets set so far.
   const engine::Scene& scene() const { return scene_; }

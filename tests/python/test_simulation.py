@@ -1,4 +1,4 @@
-"""Simulation: stepping, state arrays, save/restore, apply_wrench, kinematic targets, contacts
+"""Simulation: stepping, state arrays, save/restore, apply_wrench, kinematic and gripper targets, contacts
 and errors, checked against closed forms and against the engine's own scene loads."""
 
 import numpy as np
@@ -14,6 +14,9 @@ FORCE_REL_TOL = 1e-9
 # m: a point given in world coordinates returns to the body frame through R^T (p + R r − p):
 # a few ulps of the box's 0.5 m size
 POINT_ROUNDOFF_TOL = 1e-14
+# m: a box held by sticking pads creeps at most 1e-5 of the jaws' drive (h F / m = 1 m/s in
+# scenes/gripper.yaml) for the 0.2 s of a drag (engine/README.md, "Grippers")
+GRIP_CREEP_TOL = 2e-6
 
 BOX_ON_GROUND = """\
 h: 0.01
@@ -177,6 +180,36 @@ def test_kinematic_target_moves_the_pusher_at_constant_speed(scenes):
         sim.set_kinematic_target("box", [0, 0, 0])
     sim.reset()
     np.testing.assert_array_equal(sim.positions[pusher], start)
+
+
+def test_a_gripper_driven_step_by_step_drags_what_it_holds(scenes):
+    # scenes/gripper.yaml's hand closes on the box with 5 N by 0.5 s; from there the controller
+    # drags the frame 1 mm per step along +y, then lets go (force 0) and lifts the frame
+    scene = ecpsim.load_scene(str(scenes / "gripper.yaml"))
+    assert scene.grippers == [{"name": "hand", "jaws": ("left_jaw", "right_jaw"),
+                               "axis": pytest.approx([1, 0, 0]),
+                               "force": "t < 0.3 ? 0.2 : (t < 2.6 ? 5 : 0)"}]
+    sim = ecpsim.Simulation(scene)
+    sim.step(50)
+    box = sim.body_names.index("box")
+    frame = np.array([0.0, 0.0, 0.04])
+    for _ in range(20):
+        frame += [0, 0.001, 0]
+        sim.set_gripper_target("hand", frame)
+        sim.step()
+    # held: the box moved with the frame, up to the pads' sticking creep (1e-5 of the jaws'
+    # 1 m/s drive, over 0.2 s: 2e-6 m)
+    np.testing.assert_allclose(sim.positions[box][:2], [0, 0.02], atol=GRIP_CREEP_TOL)
+    # released, the frame lifts and leaves the box on the table
+    sim.set_gripper_target("hand", frame + [0, 0, 0.05], force=0)
+    sim.step(10)
+    assert sim.positions[box][2] == pytest.approx(0.04, abs=1e-9)
+    jaws = [sim.body_names.index(j) for j in ("left_jaw", "right_jaw")]
+    assert all(sim.positions[j][2] == pytest.approx(0.09, abs=1e-12) for j in jaws)
+    with pytest.raises(ecpsim.InputError, match="expected a closing force"):
+        sim.set_gripper_target("hand", frame, force=-1)
+    with pytest.raises(ecpsim.InputError, match=r"expected a gripper name \(hand\)"):
+        sim.set_gripper_target("claw", frame)
 
 
 def test_contact_modes_and_forces_through_a_fall(scenes):
