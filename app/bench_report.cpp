@@ -202,6 +202,40 @@ void StabilityCharts(PlotWriter& writer, const std::vector<StabilityRow>& rows) 
   }
 }
 
+// a push scenario's force against its closed form, per method at each step size (empty when
+// the scenario has no push)
+std::string PushForceTable(const std::vector<WorkPrecisionRow>& wp, const std::string& scenario) {
+  std::set<double> steps;
+  for (const WorkPrecisionRow& r : wp)
+    if (r.scenario == scenario && r.push_force_error >= 0) steps.insert(r.h);
+  if (steps.empty()) return "";
+  std::string md = fmt::format(
+      "The pusher's force on the box after it settled ({:g} s after the first contact), each "
+      "step against the closed form μ m g: max |f − μ m g| / μ m g, and in parentheses the "
+      "share of steps in which the contact broke (f ≤ 0).\n\n| method |",
+      evaluation::kPushSettleTime);
+  for (auto h = steps.rbegin(); h != steps.rend(); ++h) md += fmt::format(" h = {:g} |", *h);
+  md += "\n|---|";
+  for (size_t i = 0; i < steps.size(); ++i) md += "---|";
+  md += "\n";
+  for (const std::string& method : InOrder(wp, MethodOf<WorkPrecisionRow>, MethodOrder())) {
+    std::string line;
+    for (auto h = steps.rbegin(); h != steps.rend(); ++h) {
+      std::string cell = " |";
+      for (const WorkPrecisionRow& r : wp) {
+        if (r.scenario != scenario || r.method != method || r.h != *h) continue;
+        cell = r.push_force_error < 0
+                   ? (r.failed ? " failed |" : " |")
+                   : fmt::format(" {} ({:.0f} %) |", Sci(r.push_force_error),
+                                 100 * r.push_contact_breaks);
+      }
+      line += cell;
+    }
+    if (line.find_first_not_of(" |") != std::string::npos) md += "| " + method + " |" + line + "\n";
+  }
+  return md + "\n";
+}
+
 std::string ResultsMarkdown(const std::vector<WorkPrecisionRow>& wp,
                             const std::vector<StabilityRow>& stability) {
   std::string md = "# ecpsim bench results\n\n";
@@ -237,7 +271,7 @@ std::string ResultsMarkdown(const std::vector<WorkPrecisionRow>& wp,
                           Sci(fine->cpu_per_sim_s), Sci(penetration), 100 * wrong,
                           Sci(fine->error_vs_hull), failures);
       }
-      md += "\n";
+      md += "\n" + PushForceTable(wp, scenario);
     }
   }
   if (!stability.empty()) {

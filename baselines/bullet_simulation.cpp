@@ -276,6 +276,29 @@ class BulletSimulation final : public ExternalSimulation {
 
   const engine::State& state() const override { return state_; }
 
+  Vector3d ContactForce(int body, int other) const override {
+    // the manifolds of the step just taken, with the solver's impulses written back: on body A
+    // along the normal on B (pointing towards A) and along the two friction directions
+    Vector3d impulse = Vector3d::Zero();
+    for (int m = 0; m < dispatcher_->getNumManifolds(); ++m) {
+      const btPersistentManifold* manifold = dispatcher_->getManifoldByIndexInternal(m);
+      const btCollisionObject* a = manifold->getBody0();
+      const btCollisionObject* b = manifold->getBody1();
+      if (a->getUserIndex2() != kBodyTag || b->getUserIndex2() != kBodyTag) continue;
+      const double sign = a->getUserIndex() == body && b->getUserIndex() == other   ? 1
+                          : b->getUserIndex() == body && a->getUserIndex() == other ? -1
+                                                                                    : 0;
+      if (sign == 0) continue;
+      for (int k = 0; k < manifold->getNumContacts(); ++k) {
+        const btManifoldPoint& pt = manifold->getContactPoint(k);
+        impulse += sign * (FromBt(pt.m_normalWorldOnB) * pt.getAppliedImpulse() +
+                           FromBt(pt.m_lateralFrictionDir1) * pt.m_appliedImpulseLateral1 +
+                           FromBt(pt.m_lateralFrictionDir2) * pt.m_appliedImpulseLateral2);
+      }
+    }
+    return impulse / scene_.h;
+  }
+
  private:
   // body b's transform X_WP (principal axes P) for its body frame at (p, Q_WB), Q_WB unit
   btTransform PoseOf(int b, const Vector3d& p, const Quaterniond& Q_WB) const {

@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Core>
+
 #include "engine/scene.h"
 #include "engine/state.h"
 
@@ -41,6 +43,11 @@ class ExternalSimulation {
   /// frame: CM origin, the mesh's axes), linear and angular velocity (world), in ecpsim's
   /// conventions. `contacts` is empty.
   virtual const engine::State& state() const = 0;
+
+  /// The mean contact force (N, world) that body `other` exerted on body `body` over the last
+  /// step, from the engine's own contact impulses or forces of that step (what a force sensor
+  /// between them reads); zero when they did not touch. Indices as in scene.bodies.
+  virtual Eigen::Vector3d ContactForce(int body, int other) const = 0;
 };
 
 /// Builds `engine`'s model of `scene`: each body's collision geometry is the convex hull of its

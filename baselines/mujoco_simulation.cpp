@@ -328,6 +328,25 @@ class MujocoSimulation final : public ExternalSimulation {
 
   const engine::State& state() const override { return state_; }
 
+  Vector3d ContactForce(int body, int other) const override {
+    // mj_step's contacts are those of the step just taken; each force is in the contact frame
+    // (rows: normal from geom1 to geom2, then the tangents) and acts on geom2, its opposite on
+    // geom1
+    Vector3d force = Vector3d::Zero();
+    const int on = BodyId(static_cast<size_t>(body)), by = BodyId(static_cast<size_t>(other));
+    for (int i = 0; i < data_->ncon; ++i) {
+      const mjContact& c = data_->contact[i];
+      const int body1 = model_->geom_bodyid[c.geom1], body2 = model_->geom_bodyid[c.geom2];
+      const double sign = body2 == on && body1 == by ? 1 : body1 == on && body2 == by ? -1 : 0;
+      if (sign == 0) continue;
+      mjtNum local[6];
+      mj_contactForce(model_, data_, i, local);
+      for (int k = 0; k < 3; ++k)
+        force += sign * local[k] * Vector3d(c.frame[3 * k], c.frame[3 * k + 1], c.frame[3 * k + 2]);
+    }
+    return force;
+  }
+
   const mjModel* model() const { return model_; }
   const mjData* data() const { return data_; }
 

@@ -5,6 +5,7 @@
 // pairs, body–body ones included (settings and measurements: baselines/ode.md).
 
 #include <cmath>
+#include <deque>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -193,6 +194,7 @@ class OdeSimulation final : public ExternalSimulation {
       w_predicted_[b] = body.w_WB + h * I_W.ldlt().solve(torque);
       dBodyAddTorque(bodies_[b], torque.x(), torque.y(), torque.z());
     }
+    feedback_.clear();
     dSpaceCollide(space_, this, &OdeSimulation::NearCallback);
     if (settings_.dantzig_step) {
       dWorldStep(world_, h);
@@ -217,7 +219,24 @@ class OdeSimulation final : public ExternalSimulation {
 
   const engine::State& state() const override { return state_; }
 
+  Vector3d ContactForce(int body, int other) const override {
+    Vector3d force = Vector3d::Zero();
+    for (const ContactFeedback& c : feedback_) {
+      const dReal* f = c.body1 == body && c.body2 == other   ? c.forces.f1
+                       : c.body2 == body && c.body1 == other ? c.forces.f2
+                                                             : nullptr;
+      if (f != nullptr) force += Vector3d(f[0], f[1], f[2]);
+    }
+    return force;
+  }
+
  private:
+  // the forces of one contact joint between two bodies in the last step (ODE writes them)
+  struct ContactFeedback {
+    int body1, body2;  // scene body indices of the joint's bodies 1 and 2
+    dJointFeedback forces;
+  };
+
   static void SetPose(dBodyID id, const Vector3d& p, const Quaterniond& q_WB) {
     dBodySetPosition(id, p.x(), p.y(), p.z());
     const Quaterniond q = q_WB.normalized();
@@ -280,6 +299,11 @@ class OdeSimulation final : public ExternalSimulation {
       // through their lever arms (ecpsim's e_r models the same resistance for one ECP)
       dJointID joint = dJointCreateContact(world_, contact_group_, &c);
       dJointAttach(joint, dGeomGetBody(o1), dGeomGetBody(o2));
+      // between two bodies: ODE reports the joint's force on each (ContactForce)
+      if (t1->is_body && t2->is_body) {
+        feedback_.push_back({t1->index, t2->index, dJointFeedback{}});
+        dJointSetFeedback(joint, &feedback_.back().forces);
+      }
     }
   }
 
@@ -293,6 +317,7 @@ class OdeSimulation final : public ExternalSimulation {
   std::vector<ConvexArrays> convex_arrays_;    // reserved up front: convex geoms point into it
   std::vector<dBodyID> bodies_;
   std::vector<Vector3d> v_predicted_, w_predicted_;  // m/s, rad/s, world: no-contact end velocities
+  std::deque<ContactFeedback> feedback_;  // this step's, at stable addresses (ODE writes into them)
   engine::State state_;
 };
 

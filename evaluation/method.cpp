@@ -22,6 +22,20 @@ class EcpsimStepper final : public Stepper {
   void Step() override { iterations_ = engine::Step(scene_, state_).iterations; }
   const engine::State& state() const override { return state_; }
   int iterations() const override { return iterations_; }
+  Eigen::Vector3d ContactForce(int body, int other) const override {
+    // each pair's impulse acts on its F side (`body`), its opposite on G
+    Eigen::Vector3d impulse = Eigen::Vector3d::Zero();
+    for (size_t k = 0; k < scene_.contacts.size(); ++k) {
+      const engine::ContactPair& pair = scene_.contacts[k];
+      if (!pair.WithBody()) continue;
+      const double sign = pair.body == body && pair.other_body == other   ? 1
+                          : pair.body == other && pair.other_body == body ? -1
+                                                                          : 0;
+      const engine::ContactState& c = state_.contacts[k];
+      if (sign != 0) impulse += sign * (c.n * c.p_n + c.t * c.p_t + c.o * c.p_o);
+    }
+    return impulse / scene_.h;
+  }
 
  private:
   engine::Scene scene_;
@@ -36,6 +50,9 @@ class ExternalStepper final : public Stepper {
   void Step() override { simulation_->Step(); }
   const engine::State& state() const override { return simulation_->state(); }
   int iterations() const override { return 0; }
+  Eigen::Vector3d ContactForce(int body, int other) const override {
+    return simulation_->ContactForce(body, other);
+  }
 
  private:
   std::unique_ptr<baselines::ExternalSimulation> simulation_;

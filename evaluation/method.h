@@ -39,6 +39,8 @@ class Stepper {
   virtual const engine::State& state() const = 0;
   /// Iterations of the last step (Newton iterations, Lemke pivots; 0 for external engines).
   virtual int iterations() const = 0;
+  /// The mean contact force (N, world) body `other` exerted on body `body` over the last step.
+  virtual Eigen::Vector3d ContactForce(int body, int other) const = 0;
 };
 
 /// @throws InputError if an external engine cannot model the scene.

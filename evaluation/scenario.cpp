@@ -179,6 +179,15 @@ Scenario PushBox(const std::string& scenes_dir) {
   const double box_back = u.dot(box.p_WB) + u.dot(box.Q_WB * s.scene.bodies[s.body].hull->Support(
                                                                  box.Q_WB.inverse() * -u));
   const double contact_time = (box_back - pusher_front) / velocity.norm();
+  // pushed at constant speed, the box's friction on the ground is the whole push: μ m g
+  s.pusher = s.body == 0 ? 1 : 0;
+  s.push_direction = u;
+  s.push_contact_time = contact_time;
+  for (const engine::ContactPair& pair : s.scene.contacts) {
+    if (pair.body == s.body && !pair.WithBody()) {
+      s.push_force = pair.friction.mu * s.scene.bodies[s.body].mass * s.scene.gravity.norm();
+    }
+  }
   s.analytic = [=](double t) {
     engine::BodyState b = box;
     if (t > contact_time) {

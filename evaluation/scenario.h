@@ -32,7 +32,19 @@ struct Scenario {
   // contact modes are compared (not for a smooth hull: a tolerance band on a curved surface
   // makes the mode depend on the band, not on the motion)
   bool compare_modes = true;
+  // a push: body `pusher` (≥ 0) pushes the measured body along `push_direction` (world, unit),
+  // touching it from `push_contact_time` (s) on, with the steady force `push_force` (N) in closed
+  // form (RunRecord::push_forces, WorkPrecisionRow::push_force_error)
+  int pusher = -1;
+  Eigen::Vector3d push_direction = Eigen::Vector3d::UnitX();
+  double push_contact_time = 0;
+  double push_force = 0;
 };
+
+/// s after a push's first contact that its force is not compared: the pusher strikes the body
+/// (an impulse m v in the first step) and a soft contact settles; the closed form is the steady
+/// push after that
+constexpr double kPushSettleTime = 0.1;
 
 /// The work–precision scenarios. `scenes_dir` holds desk.yaml, tbar.yaml, dumbbell.yaml,
 /// stack.yaml, push_box.yaml and tbar_push.yaml (desk, tbar, dumbbell and tbar_push are cut to

@@ -189,6 +189,10 @@ RunRecord RunTrajectory(const Method& method, const Scenario& scenario, double h
       run.drift_late = std::max(run.drift_late, PoseDistance(b, late_start, scenario.length));
     }
     if (k % per_sample == 0) record(state);
+    if (scenario.pusher >= 0 && state.t > scenario.push_contact_time + kPushSettleTime) {
+      run.push_forces.push_back(
+          scenario.push_direction.dot(stepper->ContactForce(measured, scenario.pusher)));
+    }
     if (run.cpu_seconds > cpu_limit_s) {
       run.failed = true;
       run.failure = fmt::format("CPU limit of {} s reached at t = {} s", cpu_limit_s, state.t);

@@ -45,6 +45,9 @@ struct RunRecord {
   double drift_late = 0;      // m, |Δp| + length·|Δθ| over that window
   int iterations_max = 0;
   double iterations_mean = 0;
+  // a push (Scenario::pusher ≥ 0): per step from kPushSettleTime after the first contact on,
+  // the pusher's mean force on the measured body over the step along the push direction, N
+  std::vector<double> push_forces;
 };
 
 /// Runs `method` on `scenario` with step h until scenario.scene.duration.

@@ -19,7 +19,8 @@ const std::vector<std::string> kHeader = {
     "error_state",     "error_position",  "error_angle",
     "error_velocity",  "wrong_mode",      "stop_time_error",
     "error_vs_hull",   "reference_uncertainty", "max_penetration",
-    "iterations_mean", "iterations_max",  "failure"};
+    "iterations_mean", "iterations_max",  "push_force_error",
+    "push_contact_breaks", "failure"};
 
 // The reference trajectories of one scenario, computed on first use.
 class References {
@@ -104,6 +105,16 @@ std::vector<WorkPrecisionRow> RunWorkPrecision(const std::vector<Scenario>& scen
         row.iterations_max = run.iterations_max;
         row.failure = CsvField(run.failure);
         row.reference_uncertainty = uncertainty;
+        if (scenario.pusher >= 0 && !run.failed && !run.push_forces.empty()) {
+          double worst = 0;
+          long breaks = 0;
+          for (double f : run.push_forces) {
+            worst = std::max(worst, std::abs(f - scenario.push_force) / scenario.push_force);
+            breaks += f <= 0;
+          }
+          row.push_force_error = worst;
+          row.push_contact_breaks = static_cast<double>(breaks) / run.push_forces.size();
+        }
         if (!run.failed && !reference.failed) {
           const TrajectoryErrors e = CompareTrajectories(run, reference, scenario.length);
           row.error_state = e.state;
@@ -136,12 +147,13 @@ std::string WorkPrecisionCsv(const std::vector<WorkPrecisionRow>& rows) {
   for (size_t i = 0; i < kHeader.size(); ++i) csv += (i ? "," : "") + kHeader[i];
   csv += "\n";
   for (const WorkPrecisionRow& r : rows) {
-    csv += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", r.scenario,
+    csv += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", r.scenario,
                        r.method, Number(r.h), r.steps, r.failed ? 1 : 0, Number(r.cpu_per_sim_s),
                        Number(r.error_state), Number(r.error_position), Number(r.error_angle),
                        Number(r.error_velocity), Number(r.wrong_mode), Number(r.stop_time_error),
                        Number(r.error_vs_hull), Number(r.reference_uncertainty),
                        Number(r.max_penetration), Number(r.iterations_mean), r.iterations_max,
+                       Number(r.push_force_error), Number(r.push_contact_breaks),
                        CsvField(r.failure));
   }
   return csv;
@@ -170,6 +182,8 @@ std::vector<WorkPrecisionRow> ReadWorkPrecisionCsv(const std::string& path) {
     r.max_penetration = file.Number(i, c++);
     r.iterations_mean = file.Number(i, c++);
     r.iterations_max = static_cast<int>(file.Number(i, c++));
+    r.push_force_error = file.Number(i, c++);
+    r.push_contact_breaks = file.Number(i, c++);
     r.failure = file.rows[i][c++];
     rows.push_back(r);
   }

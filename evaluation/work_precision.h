@@ -31,6 +31,11 @@ struct WorkPrecisionRow {
   double max_penetration = 0;    // m
   double iterations_mean = 0;    // per step (Newton iterations or Lemke pivots; 0 external)
   int iterations_max = 0;
+  // a push (Scenario::pusher): the pusher's force after it settled (RunRecord::push_forces)
+  // against the closed form's steady force F: max |f − F| / F over the steps, and the fraction
+  // of steps in which the contact broke (f ≤ 0); −1 where there is no push or the run failed
+  double push_force_error = -1;
+  double push_contact_breaks = -1;
   std::string failure;           // message of the failure (commas and newlines replaced)
 };
 

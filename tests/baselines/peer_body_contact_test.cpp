@@ -35,6 +35,12 @@ constexpr double kKinematicTurn = 1e-6;
 // peer carries it, its soft contact chattering (MuJoCo's default: mean 0.085 m/s, between
 // 0.004 and 0.18 m/s); the chatter, the gaps and the overlaps are printed
 constexpr double kPushMeanSpeed = 0.25;
+// relative: the pusher's mean force on the box over the last second (ExternalSimulation::
+// ContactForce) within 25 % of μ m g: the box's momentum changes by at most m × its speed's
+// spread over that second, and the ground's friction on it is μ times a normal force the
+// pusher's friction moves by a few per cent (the 3–8 %); a sign or frame error of an
+// adapter's force is off by 100 % or more
+constexpr double kPushMeanForce = 0.25;
 
 struct Peer {
   ExternalEngine engine;
@@ -96,7 +102,7 @@ TEST(PeerBodyContact, FlatPusherAtATenthOfAMeterPerSecond) {
   for (const Peer& peer : AvailablePeers()) {
     auto sim = MakeExternalSimulation(peer.engine, peer.setting, scene);
     double sum = 0, lowest = INFINITY, highest = -INFINITY, overlap = 0, late_sum = 0;
-    double gap_sum = 0, widest = -INFINITY;
+    double gap_sum = 0, widest = -INFINITY, late_force = 0;
     int count = 0, late_count = 0;
     for (int k = 1; k <= steps; ++k) {
       ASSERT_NO_THROW(sim->Step()) << PeerName(peer) << " step " << k;
@@ -117,12 +123,18 @@ TEST(PeerBodyContact, FlatPusherAtATenthOfAMeterPerSecond) {
       highest = std::max(highest, v);
       gap_sum += gap;
       widest = std::max(widest, gap);
-      if (s.t > scene.duration - 1) late_sum += v, ++late_count;
+      if (s.t > scene.duration - 1) {
+        late_sum += v;
+        late_force += sim->ContactForce(0, 1).x();
+        ++late_count;
+      }
     }
     std::printf("%-16s %.4f, %.4f, %.4f  %.3f, %.3f  %.2f  %.3f\n", PeerName(peer).c_str(),
                 sum / count, lowest, highest, 1e3 * gap_sum / count, 1e3 * widest, 1e3 * overlap,
                 1e3 * std::abs(sim->state().bodies[0].p_WB.y()));
     EXPECT_NEAR(late_sum / late_count, speed, kPushMeanSpeed * speed) << PeerName(peer);
+    const double friction = 0.3 * 1 * kG;  // N: μ m g of the scene's 1 kg box
+    EXPECT_NEAR(late_force / late_count, friction, kPushMeanForce * friction) << PeerName(peer);
   }
 }
 

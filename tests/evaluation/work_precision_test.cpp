@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include "engine/hull_model.h"
 #include "evaluation/stability_map.h"
 #include "common/errors.h"
 
@@ -66,6 +67,28 @@ TEST(WorkPrecisionTest, PlanarAndHullAgreeWhereBothApply) {
   }
 }
 
+TEST(WorkPrecisionTest, TheHullModelsPushForceIsMuMgAtEveryStepAndNeverBreaks) {
+  Scenario push;
+  for (Scenario& s : WorkPrecisionScenarios(std::string(ECPSIM_SOURCE_DIR) + "/scenes", 0.5)) {
+    if (s.name == "push_box") push = s;
+  }
+  ASSERT_EQ(push.name, "push_box");
+  ASSERT_GE(push.pusher, 0);
+  EXPECT_DOUBLE_EQ(push.push_force, 0.3 * 1 * 9.8);  // μ m g of the scene's 1 kg box
+  SweepOptions options;
+  options.steps = {0.01};
+  const auto rows = RunWorkPrecision({push}, {FindMethod("hull")}, options);
+  ASSERT_EQ(rows.size(), 1u);
+  // relative: the box slides on the ground with μ p_n exactly; the pusher's own friction on it
+  // (vertical, sticking with the creep) is known to μ τ / kStickCreepFraction of its normal force
+  // (tests/engine/island_gripper_test.cpp) and moves the ground's p_n by that: μ_g μ_pair 1e-7,
+  // times 10 for the rows it sums
+  constexpr double kMu = 0.3, kSolverTolerance = 1e-12;  // push_box.yaml's, both pairs
+  constexpr double kPushForceRel = 10 * kMu * kMu * kSolverTolerance / engine::kStickCreepFraction;
+  EXPECT_LE(rows[0].push_force_error, kPushForceRel);
+  EXPECT_EQ(rows[0].push_contact_breaks, 0);
+}
+
 TEST(WorkPrecisionTest, CsvRoundTripKeepsNineDigits) {
   WorkPrecisionRow row;
   row.scenario = "slide";
@@ -75,6 +98,8 @@ TEST(WorkPrecisionTest, CsvRoundTripKeepsNineDigits) {
   row.cpu_per_sim_s = 0.00383123456;
   row.error_state = 1.00000000123e-3;
   row.failure = "solver failed, at t = 1";
+  row.push_force_error = 0.25;
+  row.push_contact_breaks = 0.125;
   const std::string path = WriteTemporary("wp.csv", WorkPrecisionCsv({row, row}));
   const std::vector<WorkPrecisionRow> back = ReadWorkPrecisionCsv(path);
   ASSERT_EQ(back.size(), 2u);
@@ -84,13 +109,15 @@ TEST(WorkPrecisionTest, CsvRoundTripKeepsNineDigits) {
   EXPECT_NEAR(back[0].error_state, row.error_state, 5e-9 * row.error_state);
   EXPECT_EQ(back[0].error_angle, -1);
   EXPECT_EQ(back[0].failure, "solver failed; at t = 1");  // commas cannot split the row
+  EXPECT_EQ(back[0].push_force_error, 0.25);
+  EXPECT_EQ(back[0].push_contact_breaks, 0.125);
   std::filesystem::remove(path);
 }
 
 TEST(WorkPrecisionTest, MalformedCsvNamesFileLineAndColumn) {
   const std::string header = WorkPrecisionCsv({}).substr(0, WorkPrecisionCsv({}).find('\n'));
   const std::string path = WriteTemporary(
-      "bad.csv", header + "\nslide,hull,abc,1,0,0,0,0,0,0,0,0,0,0,0,0,0,\n");
+      "bad.csv", header + "\nslide,hull,abc,1,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,\n");
   try {
     ReadWorkPrecisionCsv(path);
     ADD_FAILURE() << "no error";
