@@ -49,6 +49,7 @@ std::string Num(double value) { return fmt::format("{}", value); }
 // contact, `<body>.` / `<body>.<obstacle>.` otherwise (docs/scene_format.md).
 struct Columns {
   std::string body;     // prefix of px ... wz
+  std::vector<std::string> bodies;  // every body's prefix, in the file's order (body the first)
   std::string contact;  // prefix of a1x ... sigma; empty string also when there is no contact
   bool has_contact = false;
 };
@@ -61,8 +62,9 @@ Columns FindColumns(const TrajectoryTable& table) {
       return name.size() >= suffix.size() &&
              name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0;
     };
-    if (!body_found && ends_with("px")) {
-      columns.body = name.substr(0, name.size() - 2);
+    if (ends_with("px")) {
+      columns.bodies.push_back(name.substr(0, name.size() - 2));
+      if (!body_found) columns.body = columns.bodies.back();
       body_found = true;
     }
     if (!columns.has_contact && ends_with("a1x")) {
@@ -205,6 +207,34 @@ std::string Columnar(const std::vector<const std::vector<double>*>& columns) {
 }
 
 // stacked panels sharing the time axis: panel i plots column i + 2 (1-based; column 1 is t)
+// panels of several bodies' curves: `data` holds t, then per label one column per body (their
+// names in `bodies`, the legend's titles: "box", not the column prefix "box.")
+void PlotStackedBodies(PlotWriter& writer, const std::string& png, const std::string& data,
+                       const std::vector<std::string>& labels,
+                       const std::vector<std::string>& bodies, const std::string& title) {
+  static const char* const kColours[] = {"#1f5fbf", "#d62728", "#2ca02c", "#ff7f0e",
+                                         "#9467bd", "#8c564b", "#e377c2", "#17becf"};
+  writer.BeginPng(png, 1000, 300 * static_cast<int>(labels.size()) + 40);
+  writer.Line(fmt::format("set multiplot layout {},1 title {}", labels.size(), GnuplotQuote(title)));
+  writer.Line("set key outside right noenhanced");
+  for (std::size_t i = 0; i < labels.size(); ++i) {
+    writer.Line(fmt::format("set ylabel {}", GnuplotQuote(labels[i])));
+    writer.Line(i + 1 == labels.size() ? "set xlabel 't (s)'" : "unset xlabel");
+    std::string plot;
+    for (std::size_t j = 0; j < bodies.size(); ++j) {
+      const std::string name = bodies[j].empty() || bodies[j].back() != '.'
+                                   ? bodies[j]
+                                   : bodies[j].substr(0, bodies[j].size() - 1);
+      plot += fmt::format("{}{} using 1:{} with lines lw 2 lc rgb '{}' title {}",
+                          plot.empty() ? "plot " : ", ", data, 2 + i * bodies.size() + j,
+                          kColours[j % std::size(kColours)],
+                          GnuplotQuote(name.empty() ? "body" : name));
+    }
+    writer.Line(plot);
+  }
+  writer.EndPng();
+}
+
 void PlotStacked(PlotWriter& writer, const std::string& png, const std::string& data,
                  const std::vector<std::string>& labels, const std::string& title) {
   writer.BeginPng(png, 1000, 300 * static_cast<int>(labels.size()) + 40);
@@ -457,17 +487,19 @@ std::vector<std::string> PlotRun(const std::string& dir, PlotKind kind) {
     }
     case PlotKind::kGeneric:
     case PlotKind::kAuto: {
+      // every body (a legend when there are several)
       std::vector<const std::vector<double>*> position = {&t}, velocity = {&t};
-      for (const char* name : {"px", "py", "pz"}) position.push_back(&table.Column(c.body + name));
-      for (const char* name : {"vx", "vy", "vz", "wx", "wy", "wz"}) {
-        velocity.push_back(&table.Column(c.body + name));
-      }
-      PlotStacked(writer, "position.png", writer.Data("position", Columnar(position)),
-                  {"p_x (m)", "p_y (m)", "p_z (m)"}, "centre of mass");
-      PlotStacked(writer, "velocity.png", writer.Data("velocity", Columnar(velocity)),
-                  {"v_x (m/s)", "v_y (m/s)", "v_z (m/s)", "w_x (rad/s)", "w_y (rad/s)",
-                   "w_z (rad/s)"},
-                  "velocity (world frame)");
+      for (const char* name : {"px", "py", "pz"})
+        for (const std::string& body : c.bodies) position.push_back(&table.Column(body + name));
+      for (const char* name : {"vx", "vy", "vz", "wx", "wy", "wz"})
+        for (const std::string& body : c.bodies) velocity.push_back(&table.Column(body + name));
+      const std::string title = c.bodies.size() > 1 ? "centres of mass" : "centre of mass";
+      PlotStackedBodies(writer, "position.png", writer.Data("position", Columnar(position)),
+                        {"p_x (m)", "p_y (m)", "p_z (m)"}, c.bodies, title);
+      PlotStackedBodies(writer, "velocity.png", writer.Data("velocity", Columnar(velocity)),
+                        {"v_x (m/s)", "v_y (m/s)", "v_z (m/s)", "w_x (rad/s)", "w_y (rad/s)",
+                         "w_z (rad/s)"},
+                        c.bodies, "velocity (world frame)");
       break;
     }
   }

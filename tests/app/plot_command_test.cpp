@@ -15,6 +15,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "render/png_writer.h"
 #include "tests/cli_test.h"
 
 namespace ecpsim {
@@ -80,6 +81,36 @@ TEST_F(PlotCommandTest, TBarRunGivesEcpHeightModeAndSnapshotPlots) {
   ASSERT_EQ(plot.exit_code, 0) << plot.output;
   for (const char* png : {"tbar_ecp.png", "tbar_qz.png", "tbar_vz_ax.png", "tbar_patches.png"}) {
     ExpectValidPng(out / png);
+  }
+  ExpectNoLeftovers(out);
+}
+
+// pixels of exactly the colour (r, g, b) in the PNG at `path`: a curve's colour, anti-aliased
+// at its edges only
+long PixelsOfColour(const fs::path& path, int r, int g, int b) {
+  const render::Image image = render::ReadPng(path.string());
+  long count = 0;
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x) {
+      const std::uint8_t* p = image.Pixel(x, y);
+      count += p[0] == r && p[1] == g && p[2] == b;
+    }
+  return count;
+}
+
+TEST_F(PlotCommandTest, SeveralBodiesAreCurvesOfTheirOwnWithALegend) {
+  const fs::path out = RunScene("gripper", 0.3);
+  const testing::CliResult plot = Run(fmt::format("plot '{}'", out.string()));
+  ASSERT_EQ(plot.exit_code, 0) << plot.output;
+  ExpectValidPng(out / "position.png");
+  ExpectValidPng(out / "velocity.png");
+  // the box, left_jaw and right_jaw in the first three colours (#1f5fbf, #d62728, #2ca02c):
+  // each one's curves and legend sample; 200 pixels is a short line segment
+  constexpr long kCurvePixels = 200;
+  for (const char* png : {"position.png", "velocity.png"}) {
+    EXPECT_GT(PixelsOfColour(out / png, 0x1f, 0x5f, 0xbf), kCurvePixels) << png;
+    EXPECT_GT(PixelsOfColour(out / png, 0xd6, 0x27, 0x28), kCurvePixels) << png;
+    EXPECT_GT(PixelsOfColour(out / png, 0x2c, 0xa0, 0x2c), kCurvePixels) << png;
   }
   ExpectNoLeftovers(out);
 }
