@@ -29,12 +29,6 @@ constexpr double kInitialSigmaFraction = 1e-3;  // of the velocity scale
 // scale of the lowest part's is taken as touching in the in-contact guesses (the feet of a flat
 // desk: exactly level; a tilted body: only its lowest part)
 constexpr double kTouchingRelTol = 1e-6;
-// the multi-patch MNCP's solutions are not isolated (each flat foot's a1_i is free on its face,
-// and four feet share the normal load statically indeterminately): semismooth Newton loses its
-// fast local convergence there and the Levenberg–Marquardt fallback needs more iterations. On the
-// desk, 4 × the scene's budget removed every sub-step (1 × left some, which differ from the hull
-// model by O(h²))
-constexpr int kIterationBudgetFactor = 4;
 // vertices this close to the support plane belong to the support feature (a face or an edge):
 // far above the hull's round-off, far below any part's size
 constexpr double kFeatureRelTol = 1e-9;  // of the part's width along the direction, or its offset
@@ -42,6 +36,16 @@ constexpr double kFeatureRelTol = 1e-9;  // of the part's width along the direct
 // tolerance's effect on the ECP (it moves a1 by ≈ 1e-12 of the part spacing), far above 0 so
 // that a1 stays defined when no part carries load
 constexpr double kWeightFloorRel = 1e-12;
+// the proximal terms of the Newton matrix (AddProximalTerms), in the scaled problem's units (an
+// ECP's offset in L against the dimensionless normal-cone rows, a normal impulse in P against the
+// gap row in L): far above the round-off of the matrix's O(1) entries (1e-16), so the directions
+// along which the solutions are not unique get a well-defined Newton step, and far below 1, so
+// that the others keep it. On the desk (iterations_mean of `ecpsim run scenes/desk.yaml --model
+// multipatch` with these two changed) the mean Newton iterations per step are flat at 3.0–3.2
+// for ECP terms of 1e-6 … 1e-4 and load terms of 1e-9 … 1e-6 (9.2 at 1e-10 / 1e-13, one step
+// 522; 3.7 at 1e-4 / 1e-4, 4.0 at 1e-2 / 1e-6, 10 at 1e-2 / 1e-2); these sit in the middle
+constexpr double kEcpDampingRel = 1e-5;   // of 1/L
+constexpr double kLoadDampingRel = 1e-7;  // of L/P
 
 // the centroid of the part's support feature in `direction` (body frame): a face's vertex centroid,
 // an edge's midpoint, or the support point. A guess at a corner of a flat foot leaves the side
@@ -161,13 +165,16 @@ class MultiPatchStepper {
 
     McpOptions options;
     options.tolerance = scene_.solver.tolerance;
-    options.max_iterations = kIterationBudgetFactor * scene_.solver.max_iterations;
-    // no pivot replay (pattern_lu.h), though it cost the desk's 82-unknown Newton matrix 3.5 ×
-    // fewer instructions: the replay depends on the patterns recorded by earlier solves, so a
-    // run resumed from a saved state (a checkpoint, a pickled State) left the uninterrupted one
-    // by an ulp (tests/python/test_state_pickle.py, dumbbell under multipatch)
+    options.max_iterations = scene_.solver.max_iterations;
+    // no pivot replay (pattern_lu.h): the replay depends on the patterns recorded by earlier
+    // solves, so a run resumed from a saved state (a checkpoint, a pickled State) left the
+    // uninterrupted one by an ulp (tests/python/test_state_pickle.py, dumbbell under
+    // multipatch); it once cost the desk's 82-unknown Newton matrix 3.5 × fewer instructions, but
+    // with the proximal terms the desk's median step takes twice as long with it (234 against
+    // 114 µs, `options.replay_pivots = true` here)
     const McpFunction f = [&](const VectorXd& zz, VectorXd* F, Eigen::MatrixXd* J) {
       EvaluateMultiPatch(problem, layout, zz, F, J);
+      if (J != nullptr) AddProximalTerms(problem, layout, *J);
     };
     const VectorXd row_scale = RowScales(problem.body, layout, scales);
     const VectorXd var_scale = VariableScales(problem.body, layout, scales);
@@ -205,6 +212,8 @@ class MultiPatchStepper {
   MultiPatchProblem MakeProblem(const BodyProblem& start, const Scales& scales) const {
     MultiPatchProblem problem;
     problem.weight_floor = kWeightFloorRel * scales.impulse;
+    problem.ecp_damping = kEcpDampingRel / scales.length;
+    problem.load_damping = kLoadDampingRel * scales.length / scales.impulse;
     BodyProblem& p = problem.body;
     p = start;
     for (size_t g = 0; g < contact_ids_.size(); ++g) {
@@ -493,6 +502,24 @@ void EvaluateMultiPatch(const MultiPatchProblem& problem, const MncpLayout& layo
         add_through_d(L.sigma, -c_r);
       }
     }
+  }
+}
+
+void AddProximalTerms(const MultiPatchProblem& problem, const MncpLayout& layout,
+                      Eigen::MatrixXd& J) {
+  // a group of one part is the hull model's contact, whose solutions are isolated: there the
+  // terms would only perturb the Newton step (scenes/slide.yaml under multipatch took 1.64
+  // iterations per step on average with them, 0.66 without)
+  std::vector<int> parts(problem.num_groups, 0);
+  for (int g : problem.group) ++parts[g];
+  for (size_t i = 0; i < problem.body.contacts.size(); ++i) {
+    if (parts[problem.group[i]] < 2) continue;
+    const MncpLayout::Contact& L = layout.contacts[i];
+    // a1 along the plane: where a flat part's ECP lies on its face is not determined
+    const Vector3d n = PlaneFrame(problem.body.contacts[i]).n;
+    J.block<3, 3>(L.a2, L.a1) += problem.ecp_damping * (Matrix3d::Identity() - n * n.transpose());
+    // p_n: how coplanar parts share the normal load is not determined
+    J(L.p_n, L.p_n) += problem.load_damping;
   }
 }
 

@@ -27,6 +27,10 @@ struct MultiPatchProblem {
   // N·s: every part's weight in the combined ECP is max(p_n_i, 0) + weight_floor, so that the
   // combined ECP stays defined while no part carries load (see engine/README.md)
   double weight_floor = 1e-12;
+  // the proximal terms of the Newton matrix (AddProximalTerms; engine/README.md, "Non-isolated
+  // solutions"): 1/m on each part's ECP along the plane, m/(N·s) on each part's normal impulse
+  double ecp_damping = 0;
+  double load_damping = 0;
 };
 
 /// The combined ECP of group `g`: a1 = Σ w_i a1_i / Σ w_i over the group's blocks, w_i =
@@ -44,6 +48,17 @@ Eigen::Vector3d CombinedEcp(const MultiPatchProblem& problem, const MncpLayout& 
 ///     e_r² μ p_n,i v_r + p_rE,i σ_i = 0,  0 ≤ σ_i ⊥ μ p_n,i − ‖(p_t,i/e_t, p_o,i/e_o, p_rE,i/e_r)‖ ≥ 0.
 void EvaluateMultiPatch(const MultiPatchProblem& problem, const MncpLayout& layout,
                         const Eigen::VectorXd& z, Eigen::VectorXd* F, Eigen::MatrixXd* J);
+
+/// Adds the proximal terms to `J` (EvaluateMultiPatch's Jacobian at some z) that make the Newton
+/// matrix nonsingular on the MNCP's non-isolated solutions: ecp_damping × (I − n nᵀ) to the
+/// derivative of each block's normal-cone rows N + Σ l ∇f by its a1 (n the plane's normal), and
+/// load_damping to the derivative of its gap row s by its p_n. They are the Jacobian of
+/// ecp_damping (I − n nᵀ)(a1 − a1_k) and load_damping (p_n − p_n,k), which vanish at the
+/// iterate z_k: a Newton step with them is the step of the proximal-point subproblem at z_k,
+/// and F, hence every solution, is unchanged. Zero dampings add nothing, and neither do groups
+/// of one block (the hull model's contact, whose solutions are isolated).
+void AddProximalTerms(const MultiPatchProblem& problem, const MncpLayout& layout,
+                      Eigen::MatrixXd& J);
 
 /// The multi-patch model (ContactModel::kMultiPatch) for islands of one body. A body's parts are
 /// Body::parts, or its hull alone when it has none (then the model is the hull model). Each scene
