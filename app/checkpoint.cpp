@@ -80,7 +80,8 @@ json WarmStartJson(const engine::WarmStart& warm) {
             {"s", Exact(hull->s)},
             {"l_g", Exact(hull->l_g)},
             {"window", hull->window},
-            {"l", Exact(hull->l)}};
+            {"l", Exact(hull->l)},
+            {"other_window", hull->other_window}};
   }
   if (const auto* multipatch = std::get_if<engine::MultiPatchWarmStart>(&warm)) {
     json parts = json::array();
@@ -99,6 +100,8 @@ engine::WarmStart ReadWarmStart(const json& node, const std::string& key) {
     hull.l_g = ReadExactVector(node.at("l_g"), key + ".l_g", -1);
     hull.window = node.at("window").get<std::vector<int>>();
     hull.l = ReadExactVector(node.at("l"), key + ".l", static_cast<Eigen::Index>(hull.window.size()));
+    // a moving G's window, by which l_G is carried to the next step's (empty: a fixed G)
+    hull.other_window = node.at("other_window").get<std::vector<int>>();
     return hull;
   }
   if (model == "multipatch") {
