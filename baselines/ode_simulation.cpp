@@ -5,10 +5,13 @@
 // pairs, body–body ones included (settings and measurements: baselines/ode.md).
 
 #include <cmath>
+#include <cstdarg>
+#include <cstdio>
 #include <deque>
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <stdexcept>
 #include <vector>
 
 #include <fmt/format.h>
@@ -80,9 +83,28 @@ ConvexArrays MakeConvexArrays(const geometry::ConvexHull& hull) {
   return arrays;
 }
 
+// ODE reports an internal error (a failed internal assertion: "ODE INTERNAL ERROR 1: assertion
+// "!bSafeNormalize4Fault" failed in dxNormalize4()", a body's quaternion that blew up on
+// tbar_push at small h) by aborting the process; its handlers throw this instead, so a run that
+// blows ODE up is a failed run of the benchmark, not a crash of it
+class OdeInternalError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+[[noreturn]] void ThrowOdeError(int number, const char* format, va_list arguments) {
+  char text[512];
+  std::vsnprintf(text, sizeof text, format, arguments);
+  throw OdeInternalError(fmt::format("ODE internal error {}: {}", number, text));
+}
+
 void InitOdeOnce() {
   static std::once_flag once;
-  std::call_once(once, [] { dInitODE2(0); });
+  std::call_once(once, [] {
+    dInitODE2(0);
+    dSetErrorHandler(&ThrowOdeError);
+    dSetDebugHandler(&ThrowOdeError);
+  });
 }
 
 class OdeSimulation final : public ExternalSimulation {
@@ -195,11 +217,17 @@ class OdeSimulation final : public ExternalSimulation {
       dBodyAddTorque(bodies_[b], torque.x(), torque.y(), torque.z());
     }
     feedback_.clear();
-    dSpaceCollide(space_, this, &OdeSimulation::NearCallback);
-    if (settings_.dantzig_step) {
-      dWorldStep(world_, h);
-    } else {
-      dWorldQuickStep(world_, h);
+    try {
+      dSpaceCollide(space_, this, &OdeSimulation::NearCallback);
+      if (settings_.dantzig_step) {
+        dWorldStep(world_, h);
+      } else {
+        dWorldQuickStep(world_, h);
+      }
+    } catch (const OdeInternalError& error) {
+      dJointGroupEmpty(contact_group_);
+      throw engine::SolverFailure(fmt::format("{}: {} at t = {} s", scene_.source, error.what(),
+                                              state_.t));
     }
     dJointGroupEmpty(contact_group_);
     engine::AdvanceTime(h, state_);

@@ -156,6 +156,18 @@ TEST(OdeSimulation, RejectsAnObstacleThatIsNotAHalfSpace) {
                   ::testing::HasSubstr("fixture"), ::testing::HasSubstr("half-spaces only"))));
 }
 
+TEST(OdeSimulation, AnInternalErrorOfOdeIsASolverFailureNotAnAbort) {
+  // an infinite spin makes ODE's orientation update NaN: its quaternion normalization
+  // fails an internal assertion, which would abort the process (a whole benchmark with it)
+  engine::Scene scene = BoxOnGroundScene();
+  scene.bodies[0].p0.z() = 10;  // far from the ground: free flight
+  scene.bodies[0].w0 = Eigen::Vector3d(INFINITY, 0, 0);
+  auto sim = MakeExternalSimulation(ExternalEngine::kOde, FrictionSetting::kCoulomb, scene);
+  EXPECT_THAT([&] { sim->Step(); },
+              ::testing::ThrowsMessage<engine::SolverFailure>(::testing::AllOf(
+                  ::testing::HasSubstr("ODE internal error"), ::testing::HasSubstr("t = 0 s"))));
+}
+
 }  // namespace
 }  // namespace ecpsim::baselines
 
