@@ -55,6 +55,10 @@ std::vector<std::string> TrajectoryColumns(const Scene& scene) {
     }
     for (const char* c : kWrenchColumns) columns.push_back(name + "." + c);
   }
+  for (const Gripper& gripper : scene.grippers) {
+    columns.push_back(gripper.name + ".width");
+    columns.push_back(gripper.name + ".force");
+  }
   columns.push_back("iters");
   columns.push_back("residual");
   return columns;
@@ -104,6 +108,14 @@ std::vector<double> TrajectoryValues(const Scene& scene, const State& state,
       total.moment += w.moment;
     }
     AppendWrench(total, values);
+  }
+  for (const Gripper& gripper : scene.grippers) {
+    // the opening: the jaws' centres apart along the frame's closing axis at t; the force of the
+    // step that ended at t (the initial row: the first step's)
+    const Eigen::Vector3d axis = gripper.motion->PoseAt(state.t).q * gripper.axis;
+    values.push_back(axis.dot(state.bodies[gripper.jaws[1]].p_WB -
+                              state.bodies[gripper.jaws[0]].p_WB));
+    values.push_back(gripper.force(state.steps > 0 ? state.t - scene.h : 0.0));
   }
   values.push_back(report.iterations);
   values.push_back(report.residual);

@@ -22,6 +22,9 @@ namespace ecpsim::engine {
 /// - per kinematic body K, what a force/torque sensor on it reads (WrenchOnOther): for each of
 ///   its contacts `<K>.<F>.fx fy fz mx my mz` (from body F) and their sum `<K>.fx fy fz mx my
 ///   mz`, in N and N·m, world axes, moments about K's reference point;
+/// - per gripper G `<G>.width` (m: its jaws' centres apart along its closing axis) and
+///   `<G>.force` (N: the closing force of the step that ended at the row; the initial row: the
+///   first step's);
 /// - `iters residual`.
 std::vector<std::string> TrajectoryColumns(const Scene& scene);
 

@@ -2,6 +2,7 @@
 // the jaws following the frame across the axis and in orientation, and a box held on the table:
 // dragged at the frame's speed with the table's friction μ m g carried by the pads, left behind
 // when the grip is too weak for that, and lifted off the table.
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <string>
@@ -12,6 +13,7 @@
 #include "engine/hull_model.h"
 #include "engine/scene_validation.h"
 #include "engine/step_driver.h"
+#include "engine/trajectory_columns.h"
 #include "engine/step_report.h"
 #include "engine/time_step.h"
 #include "tests/engine/test_bodies.h"
@@ -315,6 +317,26 @@ TEST(GripperTest, JawsOverTheTableLeaveItOutOfTheirIsland) {
     box_on_table |= pair.body == 0;
   }
   EXPECT_TRUE(box_on_table);
+}
+
+TEST(GripperTest, TrajectoryRowsCarryTheGripsOpeningAndForce) {
+  const Scene scene = HeldBox(Drag(0.1), 5);
+  State state = InitialState(scene);
+  StepReport report;
+  for (int k = 0; k < 20; ++k) report = Step(scene, state);
+  const std::vector<std::string> columns = TrajectoryColumns(scene);
+  const std::vector<double> values = TrajectoryValues(scene, state, report);
+  ASSERT_EQ(columns.size(), values.size());
+  const auto value = [&](const std::string& name) {
+    const auto it = std::find(columns.begin(), columns.end(), name);
+    EXPECT_NE(it, columns.end()) << name;
+    return it == columns.end() ? NAN : values[it - columns.begin()];
+  };
+  // closed on the 5 cm box: the pads' centres one pad thickness further apart (m: to the
+  // solver's bar on the jaws' velocities times h and the coordinates' round-off)
+  constexpr double kOpeningTol = 1e-12;
+  EXPECT_NEAR(value("hand.width"), kBoxSize.x() + kPadSize.x(), kOpeningTol);
+  EXPECT_EQ(value("hand.force"), 5);
 }
 
 TEST(GripperTest, OnlyTheHullModelStepsAGripper) {
