@@ -208,7 +208,8 @@ std::string Columnar(const std::vector<const std::vector<double>*>& columns) {
 
 // stacked panels sharing the time axis: panel i plots column i + 2 (1-based; column 1 is t)
 // panels of several bodies' curves: `data` holds t, then per label one column per body (their
-// names in `bodies`, the legend's titles: "box", not the column prefix "box.")
+// names in `bodies`, the legend's titles: "box", not the column prefix "box."); one body: one
+// curve per panel, no legend
 void PlotStackedBodies(PlotWriter& writer, const std::string& png, const std::string& data,
                        const std::vector<std::string>& labels,
                        const std::vector<std::string>& bodies, const std::string& title) {
@@ -216,7 +217,7 @@ void PlotStackedBodies(PlotWriter& writer, const std::string& png, const std::st
                                          "#9467bd", "#8c564b", "#e377c2", "#17becf"};
   writer.BeginPng(png, 1000, 300 * static_cast<int>(labels.size()) + 40);
   writer.Line(fmt::format("set multiplot layout {},1 title {}", labels.size(), GnuplotQuote(title)));
-  writer.Line("set key outside right noenhanced");
+  writer.Line(bodies.size() > 1 ? "set key outside right noenhanced" : "unset key");
   for (std::size_t i = 0; i < labels.size(); ++i) {
     writer.Line(fmt::format("set ylabel {}", GnuplotQuote(labels[i])));
     writer.Line(i + 1 == labels.size() ? "set xlabel 't (s)'" : "unset xlabel");
@@ -225,27 +226,19 @@ void PlotStackedBodies(PlotWriter& writer, const std::string& png, const std::st
       const std::string name = bodies[j].empty() || bodies[j].back() != '.'
                                    ? bodies[j]
                                    : bodies[j].substr(0, bodies[j].size() - 1);
-      plot += fmt::format("{}{} using 1:{} with lines lw 2 lc rgb '{}' title {}",
-                          plot.empty() ? "plot " : ", ", data, 2 + i * bodies.size() + j,
-                          kColours[j % std::size(kColours)],
-                          GnuplotQuote(name.empty() ? "body" : name));
+      plot += fmt::format("{}{} using 1:{} with lines lw 2 lc rgb '{}'", plot.empty() ? "plot " : ", ",
+                          data, 2 + i * bodies.size() + j, kColours[j % std::size(kColours)]);
+      if (bodies.size() > 1) plot += " title " + GnuplotQuote(name.empty() ? "body" : name);
     }
     writer.Line(plot);
   }
   writer.EndPng();
 }
 
+// panels of one curve each: `data` holds t, then one column per label
 void PlotStacked(PlotWriter& writer, const std::string& png, const std::string& data,
                  const std::vector<std::string>& labels, const std::string& title) {
-  writer.BeginPng(png, 1000, 300 * static_cast<int>(labels.size()) + 40);
-  writer.Line(fmt::format("set multiplot layout {},1 title {}", labels.size(), GnuplotQuote(title)));
-  writer.Line("unset key");
-  for (std::size_t i = 0; i < labels.size(); ++i) {
-    writer.Line(fmt::format("set ylabel {}", GnuplotQuote(labels[i])));
-    writer.Line(i + 1 == labels.size() ? "set xlabel 't (s)'" : "unset xlabel");
-    writer.Line(fmt::format("plot {} using 1:{} with lines lw 2 lc rgb '#1f5fbf'", data, i + 2));
-  }
-  writer.EndPng();
+  PlotStackedBodies(writer, png, data, labels, {""}, title);
 }
 
 std::optional<TrajectoryTable> ReadSibling(const std::string& dir, const std::string& name,

@@ -112,7 +112,7 @@ class IslandStepper {
 
     RaiseToGripperDrive(problem, scales);
     RaiseToIslandVelocity(problem, scales);
-    SeparatePairs(problem, scales, state);
+    const std::vector<double> overlaps = SeparatePairs(problem, scales, state);
     // every contact of an island with bodies touching bodies: a box squeezed between a jaw and
     // a pusher on the ground is indeterminate in how much the ground's sticking friction carries
     // too. A body alone against obstacles keeps the paper's exact law
@@ -152,7 +152,7 @@ class IslandStepper {
 
     // a body that starts the step inside an obstacle (allowed at t = 0, or round-off) is pushed
     // out within the step: the contact may give it the energy of that ejection
-    const double ejection_energy = EjectionEnergy(problem, state, scales);
+    const double ejection_energy = EjectionEnergy(problem, state, scales, overlaps);
 
     // in contact (or about to be): the warm start, then the guesses that fit the bodies' motion
     const bool have_warm_start =
@@ -375,10 +375,7 @@ class IslandStepper {
     if (stalled >= static_cast<int>(problem.contacts.size())) return false;
     const IslandContact& cp = problem.contacts[stalled];
     const MncpLayout::Contact& L = layout.contacts[stalled];
-    const double largest = z.segment(L.l, L.l_count).maxCoeff();
-    std::vector<int> carrying;  // window positions
-    for (int i = 0; i < L.l_count; ++i)
-      if (z[L.l + i] > kCarryingFraction * largest) carrying.push_back(i);
+    const std::vector<int> carrying = Carrying(z, L.l, L.l_count);  // window positions
     if (carrying.size() != 2) return false;
     // the edge's direction in F's end-of-step frame, and the hull's extent along it
     const int col = IslandLayout::Velocity(cp.body);
@@ -453,22 +450,17 @@ class IslandStepper {
     bool cut = false;
     for (size_t k = 0; k < problem.contacts.size(); ++k) {
       const MncpLayout::Contact& L = layout.contacts[k];
-      const double largest = z.segment(L.l, L.l_count).maxCoeff();
-      if (!(largest > 0)) continue;
+      if (!(z.segment(L.l, L.l_count).maxCoeff() > 0)) continue;
       std::vector<int> carrying;  // stays sorted, as windows are
-      for (int i = 0; i < L.l_count; ++i)
-        if (z[L.l + i] > kCarryingFraction * largest)
-          carrying.push_back(problem.contacts[k].window[i]);
+      for (int i : Carrying(z, L.l, L.l_count)) carrying.push_back(problem.contacts[k].window[i]);
       cut |= carrying.size() < problem.contacts[k].window.size();
       reduced.contacts[k].window = std::move(carrying);
       // a moving G's constraints alike: a finger's cap rim weakly active beside its side
       if (problem.contacts[k].other_kind == Other::kFixed) continue;
-      const double largest_g = z.segment(L.l_g, L.l_g_count).maxCoeff();
-      if (!(largest_g > 0)) continue;
+      if (!(z.segment(L.l_g, L.l_g_count).maxCoeff() > 0)) continue;
       std::vector<int> carrying_g;
-      for (int j = 0; j < L.l_g_count; ++j)
-        if (z[L.l_g + j] > kCarryingFraction * largest_g)
-          carrying_g.push_back(problem.contacts[k].other_window[j]);
+      for (int j : Carrying(z, L.l_g, L.l_g_count))
+        carrying_g.push_back(problem.contacts[k].other_window[j]);
       cut |= carrying_g.size() < problem.contacts[k].other_window.size();
       reduced.contacts[k].other_window = std::move(carrying_g);
     }
@@ -478,6 +470,16 @@ class IslandStepper {
     const Attempt attempt =
         Solve(reduced, reduced_layout, rz, options, scales, ejection_energy, result);
     return AcceptReduced(reduced, reduced_layout, rz, attempt, scales, state, result);
+  }
+
+  // the positions among z's `count` multipliers from `first` on that carry the contact: above
+  // kCarryingFraction of the largest
+  static std::vector<int> Carrying(const VectorXd& z, int first, int count) {
+    const double largest = z.segment(first, count).maxCoeff();
+    std::vector<int> carrying;
+    for (int i = 0; i < count; ++i)
+      if (z[first + i] > kCarryingFraction * largest) carrying.push_back(i);
+    return carrying;
   }
 
   // commits a solution of a problem whose windows were cut (faces left out) when it converged
@@ -664,26 +666,36 @@ class IslandStepper {
   // are apart overlap; from there Newton found roots where a finger 4 mm behind a box kicked it
   // into touching at the end of the step. Such a pair takes the candidate axis that separates
   // its start-of-step hulls the most (the separating axis where one exists).
-  static void SeparatePairs(const IslandProblem& problem, const IslandScales& scales,
-                            IslandState& state) {
+  // Per contact the overlap of the two hulls' extents along its normal at the start of the step
+  // (m; 0 for a fixed G), after a pair that did not push in the last step got the best separating
+  // axis for its normal where the last one leaves them overlapping (a pair that pushed keeps its
+  // solved normal: its warm start's friction is in that normal's frame)
+  static std::vector<double> SeparatePairs(const IslandProblem& problem,
+                                           const IslandScales& scales, IslandState& state) {
+    std::vector<double> overlaps(problem.contacts.size(), 0.0);
     for (size_t k = 0; k < problem.contacts.size(); ++k) {
       const IslandContact& cp = problem.contacts[k];
-      // a pair that pushed in the last step has its solved normal (and its warm start's
-      // friction is in that normal's frame)
-      if (cp.other_kind == Other::kFixed || state.contacts[k].p_n > 0) continue;
+      if (cp.other_kind == Other::kFixed) continue;
       Vector3d& n = state.contacts[k].n;
       const auto [X_F, X_G] = StartPoses(problem, cp);
-      const double overlap =
-          -geometry::SeparationAlong(*cp.hull, X_F, *cp.other_shape, X_G, n).separation;
-      if (overlap <= kNegligibleDepthRel * scales.bodies[cp.body].length) continue;
-      n = geometry::BestSeparatingAxis(*cp.hull, X_F, *cp.other_shape, X_G, {n}).axis;
+      overlaps[k] = -geometry::SeparationAlong(*cp.hull, X_F, *cp.other_shape, X_G, n).separation;
+      if (state.contacts[k].p_n > 0 ||
+          overlaps[k] <= kNegligibleDepthRel * scales.bodies[cp.body].length) {
+        continue;
+      }
+      const geometry::AxisSeparation best =
+          geometry::BestSeparatingAxis(*cp.hull, X_F, *cp.other_shape, X_G, {n});
+      n = best.axis;
+      overlaps[k] = -best.separation;
     }
+    return overlaps;
   }
 
   // J: twice the kinetic energy of moving the bodies out of their deepest start-of-step
-  // penetration of any G within one step, plus the applied impulses' work over that depth
+  // penetration of any G within one step, plus the applied impulses' work over that depth;
+  // `overlaps` as SeparatePairs returns them
   static double EjectionEnergy(const IslandProblem& problem, const IslandState& state,
-                               const IslandScales& scales) {
+                               const IslandScales& scales, const std::vector<double>& overlaps) {
     double depth = 0;
     for (size_t k = 0; k < problem.contacts.size(); ++k) {
       const IslandContact& cp = problem.contacts[k];
@@ -697,16 +709,15 @@ class IslandStepper {
         depth = std::max(depth, -g);
         continue;
       }
-      // the overlap of the two hulls' extents along the last normal bounds the depth from
-      // above (SeparatePairs made it the best candidate axis), and is the depth of a resting or
-      // pushed pair. Where the candidates leave an overlap, the depth is measured (GJK and EPA):
-      // an overlap that is not one (two cylinders side by side, crossed edges) would let the
+      // the overlap of the two hulls' extents along the normal bounds the depth from above
+      // (SeparatePairs made it the best candidate axis), and is the depth of a resting or pushed
+      // pair. Where the candidates leave an overlap, the depth is measured (GJK and EPA): an
+      // overlap that is not one (two cylinders side by side, crossed edges) would let the
       // contact give the bodies energy they never had
-      const auto [X_F, X_G] = StartPoses(problem, cp);
-      double pair_depth =
-          -geometry::SeparationAlong(*cp.hull, X_F, *cp.other_shape, X_G, n).separation;
+      double pair_depth = overlaps[k];
       const double length = scales.bodies[cp.body].length;
       if (pair_depth > kNegligibleDepthRel * length) {
+        const auto [X_F, X_G] = StartPoses(problem, cp);
         pair_depth = std::min(pair_depth, geometry::PenetrationDepth(*cp.hull, X_F, *cp.other_shape,
                                                                      X_G, length));
       }

@@ -98,21 +98,18 @@ IslandGripper MakeIslandGripper(const Gripper& gripper, const BodyProblem& jaw0,
   // the frame's step twist only for its checks (a turn of π or more per step is refused)
   gripper.motion->StepTwist(t, h);
   const KinematicPose frame = gripper.motion->PoseAt(t + h);
-  const Matrix3d R_frame = frame.q.toRotationMatrix();
   IslandGripper g;
   g.jaws = {jaw0_index, jaw1_index};
-  g.axis = (R_frame * gripper.axis).normalized();
+  g.axis = ClosingAxis(gripper, frame);
   g.grip = h * force;
   const std::array<const BodyProblem*, 2> jaws = {&jaw0, &jaw1};
   Vector3d target_centre = Vector3d::Zero(), start_centre = Vector3d::Zero();
   for (int j = 0; j < 2; ++j) {
-    const KinematicPose& in_frame = gripper.jaw_in_frame[j];
-    const Vector3d target = frame.p + R_frame * in_frame.p;
-    const Eigen::Quaterniond turn_to =
-        (frame.q * in_frame.q) * Eigen::Quaterniond(jaws[j]->R).conjugate();
-    g.v[j] = (target - jaws[j]->c) / h;
+    const KinematicPose target = JawOnFrame(gripper, j, frame);
+    const Eigen::Quaterniond turn_to = target.q * Eigen::Quaterniond(jaws[j]->R).conjugate();
+    g.v[j] = (target.p - jaws[j]->c) / h;
     g.w[j] = QuaternionLog(turn_to.normalized()) / h;
-    target_centre += 0.5 * target;
+    target_centre += 0.5 * target.p;
     start_centre += 0.5 * jaws[j]->c;
   }
   g.centre_speed = g.axis.dot(target_centre - start_centre) / h;

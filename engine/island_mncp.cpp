@@ -167,11 +167,14 @@ IslandLayout MakeIslandLayout(const IslandProblem& problem) {
     counts.push_back(
         {static_cast<int>(cp.window.size()), static_cast<int>(cp.other_window.size())});
   }
-  std::vector<bool> jaw(num_bodies, false);
-  for (const IslandGripper& g : problem.grippers) {
-    for (int b : g.jaws) {
-      ECPSIM_DEMAND(b >= 0 && b < num_bodies && !jaw[b]);
-      jaw[b] = true;
+  // each jaw of at most one gripper (checked only where there are grippers: this runs every solve)
+  if (!problem.grippers.empty()) {
+    std::vector<bool> jaw(num_bodies, false);
+    for (const IslandGripper& g : problem.grippers) {
+      for (int b : g.jaws) {
+        ECPSIM_DEMAND(b >= 0 && b < num_bodies && !jaw[b]);
+        jaw[b] = true;
+      }
     }
   }
   const MncpLayout blocks = LayOutContacts(IslandLayout::Velocity(num_bodies), counts);

@@ -48,4 +48,13 @@ void AddGripper(Scene& scene, Gripper gripper) {
   scene.grippers.push_back(std::move(gripper));
 }
 
+KinematicPose JawOnFrame(const Gripper& gripper, int jaw, const KinematicPose& frame) {
+  const KinematicPose& in_frame = gripper.jaw_in_frame[jaw];
+  return {frame.p + frame.q.toRotationMatrix() * in_frame.p, frame.q * in_frame.q};
+}
+
+Eigen::Vector3d ClosingAxis(const Gripper& gripper, const KinematicPose& frame) {
+  return (frame.q.toRotationMatrix() * gripper.axis).normalized();
+}
+
 }  // namespace ecpsim::engine

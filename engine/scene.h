@@ -151,4 +151,11 @@ struct Scene {
 /// ECPSIM_DEMAND: a motion and jaws that are bodies of the scene.
 void AddGripper(Scene& scene, Gripper gripper);
 
+/// Jaw `jaw` (0 or 1) of `gripper` at its place on the frame when the frame is at `frame`: the
+/// frame's pose composed with the jaw's pose in it (along the axis, where the grip started).
+KinematicPose JawOnFrame(const Gripper& gripper, int jaw, const KinematicPose& frame);
+
+/// The closing axis in world coordinates when the frame is at `frame` (unit).
+Eigen::Vector3d ClosingAxis(const Gripper& gripper, const KinematicPose& frame);
+
 }  // namespace ecpsim::engine

@@ -60,18 +60,15 @@ JawReach JawReachOf(const Scene& scene, int b, const State& state, double radius
   const Body& body = scene.bodies[b];
   const BodyState& s = state.bodies[b];
   const KinematicPose frame = gripper.motion->PoseAt(state.t + h);
-  const KinematicPose& in_frame = gripper.jaw_in_frame[j];
-  const Eigen::Vector3d axis = frame.q * gripper.axis;
+  const Eigen::Vector3d axis = ClosingAxis(gripper, frame);
   // across the axis to its place on the frame; along it, with the jaws' midpoint to the frame's
   // centre (island_gripper.h), the jaw's own opening being free
-  const auto target = [&](int jaw) -> Eigen::Vector3d {
-    return frame.p + frame.q * gripper.jaw_in_frame[jaw].p;
-  };
-  const Eigen::Vector3d across = target(j) - s.p_WB;
+  const KinematicPose target = JawOnFrame(gripper, j, frame);
+  const Eigen::Vector3d across = target.p - s.p_WB;
   const Eigen::Vector3d centre_shift =
-      0.5 * (target(0) + target(1) - state.bodies[gripper.jaws[0]].p_WB -
+      0.5 * (target.p + JawOnFrame(gripper, 1 - j, frame).p - state.bodies[gripper.jaws[0]].p_WB -
              state.bodies[gripper.jaws[1]].p_WB);
-  const double turn = (frame.q * in_frame.q).angularDistance(s.Q_WB);
+  const double turn = target.q.angularDistance(s.Q_WB);
   JawReach reach;
   reach.speed = ((across - axis.dot(across) * axis).norm() + std::abs(axis.dot(centre_shift)) +
                  turn * radius) / h +

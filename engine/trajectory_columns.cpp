@@ -112,7 +112,7 @@ std::vector<double> TrajectoryValues(const Scene& scene, const State& state,
   for (const Gripper& gripper : scene.grippers) {
     // the opening: the jaws' centres apart along the frame's closing axis at t; the force of the
     // step that ended at t (the initial row: the first step's)
-    const Eigen::Vector3d axis = gripper.motion->PoseAt(state.t).q * gripper.axis;
+    const Eigen::Vector3d axis = ClosingAxis(gripper, gripper.motion->PoseAt(state.t));
     values.push_back(axis.dot(state.bodies[gripper.jaws[1]].p_WB -
                               state.bodies[gripper.jaws[0]].p_WB));
     values.push_back(gripper.force(state.steps > 0 ? state.t - scene.h : 0.0));
