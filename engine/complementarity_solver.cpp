@@ -9,6 +9,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
 #include <Eigen/OrderingMethods>
+#include <Eigen/QR>
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseLU>
 
@@ -185,16 +186,49 @@ class ScaledProblem {
 
 bool AllFinite(const Eigen::VectorXd& v) { return v.allFinite(); }
 
+// H d = b in the minimum-norm least-squares sense (McpOptions::minimum_norm_steps), with the
+// rank decided by kMinimumNormRankTolerance; the factorization and its storage kept from call to
+// call
+class MinimumNormSolver {
+ public:
+  void Factor(const Eigen::MatrixXd& H) {
+    cod_.setThreshold(kMinimumNormRankTolerance);
+    cod_.compute(H);
+  }
+  void Solve(Eigen::VectorXd& x) {
+    rhs_ = x;
+    x = cod_.solve(rhs_);
+  }
+
+ private:
+  Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod_;
+  Eigen::VectorXd rhs_;
+};
+
 // The Newton matrix's linear algebra, dense: PatternLu for the Newton direction (the elimination
 // replayed on the matrix's non-zeros) and the normal matrix HᵀH for the Levenberg–Marquardt one —
 // the fastest for one body's MNCP and small islands
 class DenseNewtonAlgebra {
  public:
   using Matrix = Eigen::MatrixXd;
-  // the dense elimination, or (replay) the pattern's schedule with threshold pivoting
-  void Factor(const Matrix& H, bool replay) { lu_.Compute(H, replay); }
-  // x ← H⁻¹ x (non-finite where H is singular)
-  void Solve(Eigen::VectorXd& x) const { lu_.SolveInPlace(x); }
+  // the dense elimination, or (replay) the pattern's schedule with threshold pivoting, or
+  // (minimum_norm) the complete orthogonal decomposition
+  void Factor(const Matrix& H, bool replay, bool minimum_norm) {
+    minimum_norm_ = minimum_norm;
+    if (minimum_norm) {
+      minimum_norm_solver_.Factor(H);
+    } else {
+      lu_.Compute(H, replay);
+    }
+  }
+  // x ← H⁻¹ x (non-finite where H is singular), or the minimum-norm least-squares solution
+  void Solve(Eigen::VectorXd& x) {
+    if (minimum_norm_) {
+      minimum_norm_solver_.Solve(x);
+    } else {
+      lu_.SolveInPlace(x);
+    }
+  }
   // direction = −(HᵀH + μ I)⁻¹ gradient
   static void SolveDamped(const Matrix& H, double mu, const Eigen::VectorXd& gradient,
                           Eigen::VectorXd& direction) {
@@ -205,6 +239,8 @@ class DenseNewtonAlgebra {
 
  private:
   PatternLu lu_;
+  MinimumNormSolver minimum_norm_solver_;
+  bool minimum_norm_ = false;
 };
 
 // The same on a sparse H (an island's: bodies' 6 × 6 blocks coupled only through their shared
@@ -215,11 +251,17 @@ class DenseNewtonAlgebra {
 class SparseNewtonAlgebra {
  public:
   using Matrix = SparseMatrix;
-  // (the sparse LU keeps its analysis per pattern anyway: `replay` changes nothing here)
-  void Factor(const Matrix& H, bool /*replay*/) {
+  // (the sparse LU keeps its analysis per pattern anyway: `replay` changes nothing here; the
+  // minimum-norm solve factors H dense: a rescue's cost, not a step's)
+  void Factor(const Matrix& H, bool /*replay*/, bool minimum_norm) {
     // a non-finite entry would reach the LU's pivot search, whose comparisons it defeats
     factored_ = AllFinite(H);
+    minimum_norm_ = minimum_norm;
     if (!factored_) return;
+    if (minimum_norm) {
+      minimum_norm_solver_.Factor(Eigen::MatrixXd(H));
+      return;
+    }
     if (!SamePattern(H)) {
       lu_.analyzePattern(H);
       outer_.assign(H.outerIndexPtr(), H.outerIndexPtr() + H.outerSize() + 1);
@@ -231,6 +273,10 @@ class SparseNewtonAlgebra {
   void Solve(Eigen::VectorXd& x) {
     if (!factored_) {
       x.setConstant(std::numeric_limits<double>::quiet_NaN());
+      return;
+    }
+    if (minimum_norm_) {
+      minimum_norm_solver_.Solve(x);
       return;
     }
     rhs_ = x;
@@ -261,6 +307,8 @@ class SparseNewtonAlgebra {
   }
 
   bool factored_ = false;
+  bool minimum_norm_ = false;
+  MinimumNormSolver minimum_norm_solver_;
   Eigen::SparseLU<Matrix, Eigen::COLAMDOrdering<int>> lu_;
   std::vector<int> outer_, inner_;  // the pattern lu_ was analysed for
   Eigen::VectorXd rhs_;
@@ -396,7 +444,7 @@ McpResult SolveMcpWith(
 
     // semismooth Newton direction, else Levenberg–Marquardt with μ = ‖Φ‖² (Yamashita–Fukushima:
     // fast local convergence even where solutions are not isolated), else steepest descent
-    algebra.Factor(current.H, options.replay_pivots);
+    algebra.Factor(current.H, options.replay_pivots, options.minimum_norm_steps);
     direction = -current.phi;
     algebra.Solve(direction);
     bool newton_ok = AllFinite(direction);

@@ -89,6 +89,11 @@ constexpr int kMaxWindowGrowth = 6;
 // (engine/README.md, "The island's linear algebra")
 constexpr int kMinSparseUnknowns = 200;
 
+// an island's last pass with minimum-norm Newton steps (McpOptions::minimum_norm_steps) factors
+// its Newton matrix dense, O(n³) per iteration: up to this size a failing step's rescue costs
+// well under a second (nine dominoes: 417 unknowns), beyond it the pass is left out
+constexpr int kMaxMinimumNormUnknowns = 600;
+
 using Other = IslandContact::Other;
 
 class IslandStepper {
@@ -176,16 +181,27 @@ class IslandStepper {
     // the ladder as it is first; only when every guess fails, again with iterates kept in the
     // orthant of the complementarity unknowns (engine/README.md, "Impacts": the merit function
     // has stationary points with σ < 0 — friction pushing along the slip — that capture Newton
-    // at hard impacts)
-    for (const bool project : {false, true}) {
-      options.project_nonnegative = project;
+    // at hard impacts); and only when that fails too, with minimum-norm Newton steps, for
+    // solutions that are not isolated (engine/README.md, "Non-isolated solutions")
+    struct Pass {
+      bool project, minimum_norm;
+      const char* name;
+    };
+    static constexpr Pass kPasses[] = {
+        {false, false, ""}, {true, false, " (projected)"}, {false, true, " (minimum-norm)"}};
+    const bool minimum_norm_affordable =
+        MakeIslandLayout(problem).size <= kMaxMinimumNormUnknowns;
+    for (const Pass& pass : kPasses) {
+      if (pass.minimum_norm && !minimum_norm_affordable) continue;
+      options.project_nonnegative = pass.project;
+      options.minimum_norm_steps = pass.minimum_norm;
       for (Guess guess : ladder) {
         // bodies at rest under unchanged loads: the last step's solution usually solves this one
         // too (a stack, a box on the table), and is verified on the residual alone
         options.verify_start_first = guess == Guess::kWarm && !moving;
         const auto note = [&](const std::string& what) {
           result.tried += fmt::format("{}{}{} (h = {:g} s): {}", result.tried.empty() ? "" : "; ",
-                                      GuessName(guess), project ? " (projected)" : "", h, what);
+                                      GuessName(guess), pass.name, h, what);
           ++result.retries;
         };
         for (int growth = 0; growth <= kMaxWindowGrowth; ++growth) {

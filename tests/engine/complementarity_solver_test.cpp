@@ -138,6 +138,41 @@ TEST(ComplementaritySolverTest, SparseAndDenseFallbacksReachTheSameDoubleRoot) {
   EXPECT_NEAR(z_sparse[1], 2, 1e-12);
 }
 
+// F(z) = A z − b with A of rank 2 and b in its range: the solutions form the line
+// (t, 2 − t, 3), the Newton matrix is singular everywhere, and the minimum-norm Newton step from
+// z₀ lands on the solution nearest z₀ — (4, −2, 3) from (5, −1, 0) — in one iteration, moving
+// nothing along the line (McpOptions::minimum_norm_steps), dense and sparse alike
+TEST(ComplementaritySolverTest, MinimumNormStepsStayNearTheStartOnANonIsolatedSolutionSet) {
+  Eigen::Matrix3d A;
+  A << 1, 1, 0, 1, 1, 0, 0, 0, 1;
+  const Eigen::Vector3d b(2, 2, 3);
+  const Eigen::Vector3d nearest(4, -2, 3);
+  McpOptions options;
+  options.tolerance = 1e-12;
+  options.minimum_norm_steps = true;
+  const Eigen::VectorXd ones = Eigen::VectorXd::Ones(3);
+  const McpFunction dense = [&](const Eigen::VectorXd& z, Eigen::VectorXd* F, Eigen::MatrixXd* J) {
+    *F = A * z - b;
+    if (J) *J = A;
+  };
+  const SparseMcpFunction sparse = [&](const Eigen::VectorXd& z, Eigen::VectorXd* F,
+                                       SparseMatrix* J) {
+    *F = A * z - b;
+    if (J) *J = A.sparseView();
+  };
+  Eigen::VectorXd z_dense = Eigen::Vector3d(5, -1, 0), z_sparse = z_dense;
+  const McpResult a = SolveMcp(dense, 3, ones, ones, z_dense, options);
+  const McpResult c = SolveMcp(sparse, 3, ones, ones, z_sparse, options);
+  for (const McpResult& result : {a, c}) {
+    EXPECT_TRUE(result.converged);
+    EXPECT_EQ(result.iterations, 1);
+  }
+  // one orthogonal decomposition's round-off on O(1) entries
+  constexpr double kRoundOff = 1e-14;
+  EXPECT_LT((z_dense - nearest).cwiseAbs().maxCoeff(), kRoundOff);
+  EXPECT_LT((z_sparse - nearest).cwiseAbs().maxCoeff(), kRoundOff);
+}
+
 TEST(ComplementaritySolverTest, NestedSolveInTheCallbackKeepsTheOuterWorkspace) {
   // the outer callback solves an inner problem on every evaluation: both must still converge
   const PlantedMcp outer = MakePlantedMcp(25, 16);
