@@ -1,6 +1,7 @@
 #include "app/frame_recorder.h"
 
 #include <filesystem>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -33,32 +34,52 @@ int FramesUpTo(const engine::Scene& scene, double t) {
   return frames;
 }
 
-FrameRecorder::FrameRecorder(const engine::Scene& scene, const std::string& out_dir, bool video,
-                             const engine::State* resumed_from)
+FrameRecorder::FrameRecorder(const engine::Scene& scene, const std::string& out_dir,
+                             FrameOutputs outputs, const engine::State* resumed_from)
     : scene_(scene),
       builder_(scene),
       renderer_(RenderSettingsFor(scene)),
-      png_((fs::path(out_dir) / "frames").string(), 1, 4, render::kFastPngCompression,
-           resumed_from ? FramesUpTo(scene, resumed_from->t) : 0),
       frames_(resumed_from ? FramesUpTo(scene, resumed_from->t) : 0) {
-  if (!video) return;
+  ECPSIM_DEMAND(outputs.frames || outputs.video);
+  if (outputs.frames) {
+    png_.emplace((fs::path(out_dir) / "frames").string(), 1, 4, render::kFastPngCompression,
+                 frames_);
+  }
+  if (!outputs.video) return;
+  const std::string video_path = (fs::path(out_dir) / "video.mp4").string();
+  const int width = scene.output.width, height = scene.output.height;
+  if (!png_) {
+    // a video alone: a resumed run continues the one there, which holds the earlier frames
+    if (frames_ > 0) {
+      const bool there = fs::is_regular_file(video_path);
+      const int earlier = there ? render::CountVideoFrames(video_path) : 0;
+      if (earlier != frames_) {
+        throw InputError(fmt::format("{}: {}; the run to resume rendered {} frames up to t = {} "
+                                     "s, so the video cannot be continued: start the run again",
+                                     video_path,
+                                     there ? fmt::format("{} frames", earlier) : "missing",
+                                     frames_, resumed_from->t));
+      }
+    }
+    video_ = std::make_unique<render::FfmpegPipe>(
+        video_path, width, height, scene.output.fps, "ffmpeg",
+        frames_ > 0 ? render::VideoStart::kAppend : render::VideoStart::kReplace);
+    return;
+  }
   try {
-    video_ = std::make_unique<render::FfmpegPipe>((fs::path(out_dir) / "video.mp4").string(),
-                                                  scene.output.width, scene.output.height,
-                                                  scene.output.fps);
+    video_ = std::make_unique<render::FfmpegPipe>(video_path, width, height, scene.output.fps);
   } catch (const InputError& e) {
     video_error_ = e.what();
     return;
   }
   // a resumed video starts with the frames of the run's earlier part
   for (int k = 0; k < frames_; ++k) {
-    const render::Image frame = render::ReadPng(png_.FramePath(k));
-    if (frame.width != scene.output.width || frame.height != scene.output.height) {
+    render::Image frame = render::ReadPng(png_->FramePath(k));
+    if (frame.width != width || frame.height != height) {
       throw InputError(fmt::format("{}: {}x{} pixels; expected the run's {}x{} frames",
-                                   png_.FramePath(k), frame.width, frame.height,
-                                   scene.output.width, scene.output.height));
+                                   png_->FramePath(k), frame.width, frame.height, width, height));
     }
-    video_->Write(frame);
+    video_->Write(std::move(frame));
   }
 }
 
@@ -68,14 +89,18 @@ void FrameRecorder::Observe(const engine::State& state, const engine::StepReport
     render::FrameInput frame = builder_.Build(state, report.iterations, report.models);
     ApplyCamera(scene_, frame);
     render::Image image = renderer_.Render(frame);
-    if (video_) video_->Write(image);
-    png_.Add(std::move(image));
+    if (png_) {
+      if (video_) video_->Write(image);
+      png_->Add(std::move(image));
+    } else {
+      video_->Write(std::move(image));
+    }
     ++frames_;
   }
 }
 
 void FrameRecorder::Finish() {
-  png_.Finish();
+  if (png_) png_->Finish();
   if (video_) video_->Finish();
   if (video_error_) {
     throw InputError(*video_error_ + fmt::format(" (the {} PNG frames are written)", frames_));

@@ -49,6 +49,11 @@ void PrepareOutputFolder(const std::string& out_dir, bool resume) {
   for (const fs::directory_entry& entry : fs::directory_iterator(frames, error)) {
     if (IsFrameName(entry.path().filename().string())) RemoveRegularFile(entry.path());
   }
+  // a folder the frames leave empty goes too (a run with a video alone makes none); never a
+  // symbolic link to one
+  if (fs::is_directory(fs::symlink_status(frames, error)) && fs::is_empty(frames, error)) {
+    fs::remove(frames, error);
+  }
   RemoveRegularFile(fs::path(out_dir) / "video.mp4");
   RemoveRegularFile(fs::path(out_dir) / "checkpoint.json");
 }

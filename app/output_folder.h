@@ -14,8 +14,8 @@ bool IsFrameName(const std::string& file_name);
 /// of the run's output names (trajectory.csv, summary.json, video.mp4, checkpoint.json), and
 /// removes the temporary files that killed processes left in it and in its frames/ folder. For a
 /// new run (not `resume`) it also removes the earlier run's frames (the regular files named
-/// frame_NNNNNN.png in DIR/frames: nothing else there is touched), DIR/video.mp4 and
-/// DIR/checkpoint.json.
+/// frame_NNNNNN.png in DIR/frames: nothing else there is touched, and the folder itself only if
+/// that leaves it empty), DIR/video.mp4 and DIR/checkpoint.json.
 /// @throws InputError if the folder cannot be created or an output name is taken by something
 ///         other than a regular file; nothing is removed then.
 void PrepareOutputFolder(const std::string& out_dir, bool resume);

@@ -25,6 +25,7 @@
 #include "common/errors.h"
 #include "engine/drop_scene.h"
 #include "engine/scene_yaml.h"
+#include "render/ffmpeg_pipe.h"
 
 namespace ecpsim::app {
 namespace {
@@ -63,15 +64,26 @@ std::vector<std::string> Overrides(const RunOptions& options) {
   return overrides;
 }
 
+// what a run's arguments (RunArguments, DropArguments) ask to record
+FrameOutputs FrameOutputsOf(const nlohmann::json& arguments) {
+  return {arguments.at("frames").get<bool>(), arguments.at("video").get<bool>()};
+}
+
+// where the frames went, for the run's closing line
+std::string FramePlaces(FrameOutputs outputs, const std::string& out_dir) {
+  if (!outputs.video) return out_dir + "/frames";
+  if (!outputs.frames) return out_dir + "/video.mp4";
+  return fmt::format("{}/frames and {}/video.mp4", out_dir, out_dir);
+}
+
 // runs the scene, recording frames when its origin asks for them; frames and video are finished
 // also when the run stops on a failure, so what was rendered stays valid
 RunSummary RunWithFrames(const engine::Scene& scene, const std::string& out_dir,
                          RunSetup setup) {
-  const nlohmann::json& arguments = setup.origin.at("arguments");
-  const bool frames = arguments.at("frames").get<bool>(), video = arguments.at("video").get<bool>();
+  const FrameOutputs outputs = FrameOutputsOf(setup.origin.at("arguments"));
   setup.progress = isatty(fileno(stderr)) == 1;
-  if (!frames) return RunSimulation(scene, out_dir, setup);
-  FrameRecorder recorder(scene, out_dir, video, setup.resume ? &setup.resume->state : nullptr);
+  if (!outputs.frames && !outputs.video) return RunSimulation(scene, out_dir, setup);
+  FrameRecorder recorder(scene, out_dir, outputs, setup.resume ? &setup.resume->state : nullptr);
   setup.observer = [&](const engine::State& state, const engine::StepReport& report) {
     recorder.Observe(state, report);
   };
@@ -87,8 +99,7 @@ RunSummary RunWithFrames(const engine::Scene& scene, const std::string& out_dir,
     throw;
   }
   recorder.Finish();
-  std::printf("%d frames in %s/frames%s\n", recorder.frames(), out_dir.c_str(),
-              video ? fmt::format(" and {}/video.mp4", out_dir).c_str() : "");
+  std::printf("%d frames in %s\n", recorder.frames(), FramePlaces(outputs, out_dir).c_str());
   return summary;
 }
 
@@ -101,6 +112,12 @@ void RunAndReport(const engine::Scene& scene, const std::string& out_dir,
   RunSetup setup;
   setup.origin = RunOrigin(arguments, scene);
   setup.resume = resume;
+  // a video alone needs ffmpeg: without it the run would make nothing that was asked for, so it
+  // stops before the folder is touched (with PNG frames, the frames are made and the run says so)
+  const FrameOutputs outputs = FrameOutputsOf(arguments);
+  if (outputs.video && !outputs.frames) {
+    render::RequireVideoProgram((std::filesystem::path(out_dir) / "video.mp4").string());
+  }
   PrepareOutputFolder(out_dir, resume != nullptr);
   const InterruptGuard guard;
   const RunSummary summary = RunWithFrames(scene, out_dir, setup);
@@ -177,7 +194,8 @@ void AddRunCommand(CLI::App& app) {
       ->check(CLI::IsMember({"auto", "hull", "planar", "multipatch", "point"}));
   run->add_flag("--frames", options->frames, "also render DIR/frames/frame_NNNNNN.png");
   run->add_flag("--video", options->video,
-                "also render the frames into DIR/video.mp4 (H.264; needs the ffmpeg program)");
+                "also render DIR/video.mp4 (H.264; needs the ffmpeg program), with PNG frames "
+                "only if --frames is given too");
   run->add_option("--fps", options->fps, "frames per simulated second (default 30)")
       ->check(FinitePositive("--fps", engine::kMagnitudeRange));
   run->add_option("--width", options->width, "frame width in pixels (default 1280)")
@@ -239,7 +257,9 @@ void AddDropCommand(CLI::App& app) {
                    "the mesh's unit: mm, cm, m or in (the readable --scale; both must agree)")
       ->check(KnownUnit("--units"));
   drop->add_flag("--frames", *frames, "also render DIR/frames/frame_NNNNNN.png");
-  drop->add_flag("--video", *video, "also render DIR/video.mp4 (needs the ffmpeg program)");
+  drop->add_flag("--video", *video,
+                 "also render DIR/video.mp4 (needs the ffmpeg program), with PNG frames only if "
+                 "--frames is given too");
   drop->callback([options, out_dir, frames, video] {
     const engine::Scene scene = engine::MakeDropScene(*options);
     PrintWarnings(scene);

@@ -45,7 +45,7 @@ json RunArguments(const std::string& scene, const std::vector<std::string>& over
   return {{"command", "run"},
           {"scene", Absolute(scene)},
           {"overrides", overrides},
-          {"frames", frames || video},
+          {"frames", frames},
           {"video", video}};
 }
 
@@ -70,7 +70,7 @@ json DropArguments(const engine::DropOptions& options, bool frames, bool video) 
           {"height", options.height},     {"tilt_deg", options.tilt_deg},
           {"spin", options.spin},         {"duration", options.duration},
           {"h", options.h},               {"mass", Optional(options.mass)},
-          {"frames", frames || video},    {"video", video}};
+          {"frames", frames},             {"video", video}};
 }
 
 std::string CommandLine(const json& arguments) {
@@ -89,11 +89,8 @@ std::string CommandLine(const json& arguments) {
     }
     if (!arguments.at("mass").is_null()) line += " --mass " + arguments.at("mass").dump();
   }
-  if (arguments.value("video", false)) {
-    line += " --video";
-  } else if (arguments.value("frames", false)) {
-    line += " --frames";
-  }
+  if (arguments.value("frames", false)) line += " --frames";
+  if (arguments.value("video", false)) line += " --video";
   return line;
 }
 

@@ -17,7 +17,8 @@ namespace ecpsim::app {
 
 /// The arguments of `ecpsim run SCENE [overrides…] [--frames] [--video]`: the scene's absolute
 /// path, the overrides in order (the --set values, then --model, --fps, … as `key=value`), and
-/// whether frames (`frames`, also true with video) and a video were asked for.
+/// whether PNG frames (`frames`) and a video (`video`) were asked for, each as given: a video
+/// alone is rendered without PNG frames, so a resume must know which it was.
 nlohmann::json RunArguments(const std::string& scene, const std::vector<std::string>& overrides,
                             bool frames, bool video);
 

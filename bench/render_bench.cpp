@@ -1,5 +1,7 @@
-// Frames per second of render + PNG (and + MP4) at 1280×720 and 1920×1080, for the desk and a
-// 100k-triangle mesh. Meshes stay in GPU buffers across frames; PNGs encode on a worker thread.
+// Frames per second of render + PNG (and + MP4), and of render + MP4 without PNG, at 1280×720
+// and 1920×1080, for the desk and a 100k-triangle mesh. Meshes stay in GPU buffers across frames;
+// PNGs encode on a worker thread, frames go to ffmpeg on another (counter ffmpeg_cpu_ms: the
+// encoder process's CPU per frame, which cpu_ms leaves out).
 // Run: build/bench/ecpsim_bench_render --benchmark_repetitions=5 --benchmark_report_aggregates_only
 // (ECPSIM_BENCH_SUPERSAMPLE=2 measures 2×2 supersampling instead of the default 1.5×).
 // BM_RenderParts renders with parts of the scene left out, to attribute a frame's CPU to passes.
@@ -85,10 +87,11 @@ RenderSettings Settings(const benchmark::State& state) {
 }
 
 // CPU seconds of the whole process (every llvmpipe thread and the PNG workers): on a shared
-// machine wall time follows the load, CPU per frame much less
-double ProcessCpuSeconds() {
+// machine wall time follows the load, CPU per frame much less. RUSAGE_CHILDREN: of the ended
+// child processes (ffmpeg, once Finish has waited for it)
+double ProcessCpuSeconds(int who = RUSAGE_SELF) {
   rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
+  getrusage(who, &usage);
   const auto seconds = [](const timeval& t) { return t.tv_sec + 1e-6 * t.tv_usec; };
   return seconds(usage.ru_utime) + seconds(usage.ru_stime);
 }
@@ -98,6 +101,13 @@ void CountCpu(benchmark::State& state, double cpu_start) {
   const auto frames = std::max<benchmark::IterationCount>(1, state.iterations());
   state.counters["cpu_ms"] =
       1e3 * (ProcessCpuSeconds() - cpu_start) / static_cast<double>(frames);
+}
+
+// counter ffmpeg_cpu_ms: the encoder process's CPU per frame (ms, start and flush included)
+void CountFfmpegCpu(benchmark::State& state, double children_start) {
+  const auto frames = std::max<benchmark::IterationCount>(1, state.iterations());
+  state.counters["ffmpeg_cpu_ms"] =
+      1e3 * (ProcessCpuSeconds(RUSAGE_CHILDREN) - children_start) / static_cast<double>(frames);
 }
 
 void Label(benchmark::State& state, const char* what, double cpu_start) {
@@ -162,6 +172,7 @@ void BM_RenderPngVideo(benchmark::State& state) {
   renderer.Render(frame);
   const std::string dir = OutputDir("video");
   PngSequenceWriter writer(dir + "/frames", 1, 2);
+  const double children_start = ProcessCpuSeconds(RUSAGE_CHILDREN);
   FfmpegPipe video(dir + "/video.mp4", settings.width, settings.height, 30);
   const double cpu_start = ProcessCpuSeconds();
   for (auto _ : state) {
@@ -172,6 +183,22 @@ void BM_RenderPngVideo(benchmark::State& state) {
   writer.Finish();
   video.Finish();
   Label(state, "render+png+mp4", cpu_start);
+  CountFfmpegCpu(state, children_start);
+}
+
+// render + H.264 through ffmpeg, no PNG: the `--video` pipeline (a run that asks for a video only)
+void BM_RenderVideo(benchmark::State& state) {
+  const RenderSettings settings = Settings(state);
+  Renderer renderer(settings);
+  const FrameInput& frame = Frame(static_cast<int>(state.range(0)));
+  renderer.Render(frame);
+  const double children_start = ProcessCpuSeconds(RUSAGE_CHILDREN);
+  FfmpegPipe video(OutputDir("video_only") + "/video.mp4", settings.width, settings.height, 30);
+  const double cpu_start = ProcessCpuSeconds();
+  for (auto _ : state) video.Write(renderer.Render(frame));
+  video.Finish();
+  Label(state, "render+mp4", cpu_start);
+  CountFfmpegCpu(state, children_start);
 }
 
 void Sizes(benchmark::internal::Benchmark* b) {
@@ -215,6 +242,7 @@ void BM_RenderParts(benchmark::State& state) {
 BENCHMARK(BM_Render)->Apply(Sizes);
 BENCHMARK(BM_RenderPng)->Apply(Sizes);
 BENCHMARK(BM_RenderPngVideo)->Apply(Sizes);
+BENCHMARK(BM_RenderVideo)->Apply(Sizes);
 BENCHMARK(BM_RenderPngMovingCamera)
     ->Args({kDesk, 1280, 720})
     ->Args({kTorus, 1280, 720})

@@ -5,6 +5,6 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 bash scripts/build.sh
-./build/app/ecpsim run scenes/tbar.yaml -o out/tbar --video
+./build/app/ecpsim run scenes/tbar.yaml -o out/tbar --frames --video
 ./build/app/ecpsim plot out/tbar
 echo "main job done: out/tbar/{trajectory.csv,summary.json,frames/,video.mp4,*.png}"

@@ -4,6 +4,8 @@
 
 #include <signal.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -17,6 +19,7 @@
 #include "render/image_compare.h"
 #include "render/png_writer.h"
 #include "tests/app/run_fixture.h"
+#include "tests/render/decode_video.h"
 
 namespace ecpsim {
 namespace {
@@ -26,16 +29,26 @@ using ::testing::HasSubstr;
 
 // the T-bar's first second at h = 1e-5 s: 10^5 steps (about a second of CPU), sliding and turning
 // on changing contact modes, with warm starts and hull windows to carry over; a row every 7 steps,
-// so the interrupt's own row (off that cadence) must be dropped on resume; 21 small frames
+// so the interrupt's own row (off that cadence) must be dropped on resume; 21 small frames as PNGs
+// and a video
 const std::vector<std::string> kTbarRun = {
     "run", "scenes/tbar.yaml", "--dt", "1e-5", "--duration", "1", "--set", "output.every=7",
-    "--video", "--fps", "20", "--width", "64", "--height", "48"};
+    "--frames", "--video", "--fps", "20", "--width", "64", "--height", "48"};
+constexpr int kTbarFrames = 21;  // t = 0, 0.05, …, 1 s
 constexpr size_t kTbarRows = 1 + (100000 + 6) / 7;  // t = 0, every 7th step and the last one
 
 // frames of the same state drawn by a renderer with another history (a fresh one after the
 // resume) differ by at most 1 level in a few pixels (reported: the renderer's caches); a frame of
 // another time differs in hundreds of pixels by far more
 const render::CompareTolerance kSameFrame = {1, 0.002};
+
+// how much further from the rendered frames (mean levels) the decoded frames of a video continued
+// in segments may be than the worst frame of the video encoded in one go: each segment starts on
+// a key frame and x264's constant-quality rate control (crf 18) holds every frame near one
+// quality wherever it falls in a group of pictures (on the T-bar's frames both stay within 3 to 5
+// levels); twice that catches a segment encoded otherwise or damaged by the join, while a frame
+// of the wrong time is the nearest-frame check's to catch (neighbours differ by only 4 to 13)
+constexpr double kSegmentedCodecSlack = 2.0;
 
 class CheckpointTest : public testing::RunFixture {
  protected:
@@ -92,7 +105,7 @@ TEST_F(CheckpointTest, AResumedRunIsBitIdenticalToOneThatNeverStopped) {
   }
   EXPECT_EQ(b["resumed_from_step"], stopped["steps"]);
   // the frames: all 21, each showing the same state; the video is encoded from all of them
-  for (int k = 0; k < 21; ++k) {
+  for (int k = 0; k < kTbarFrames; ++k) {
     const std::string name = fmt::format("frame_{:06d}.png", k);
     const render::ImageComparison comparison =
         render::CompareImages(render::ReadPng((whole / "frames" / name).string()),
@@ -104,6 +117,73 @@ TEST_F(CheckpointTest, AResumedRunIsBitIdenticalToOneThatNeverStopped) {
   // a complete run leaves nothing to resume, and nothing temporary
   EXPECT_FALSE(fs::exists(parts / "checkpoint.json"));
   EXPECT_THAT(Leftovers(parts), ::testing::IsEmpty());
+}
+
+// a video alone has no PNG frames to encode again: each part of the run adds its frames as a
+// segment of the video, and the resumed video holds every frame of the run once, in order
+TEST_F(CheckpointTest, AVideoAloneStoppedTwiceHoldsEveryFrameOnceInOrder) {
+  const fs::path whole = dir_ / "whole", parts = dir_ / "parts";
+  ASSERT_EQ(Run(fmt::format("{} -o '{}'", fmt::join(kTbarRun, " "), whole.string())).exit_code,
+            0);
+  std::vector<std::string> alone = kTbarRun;
+  alone.erase(std::find(alone.begin(), alone.end(), "--frames"));
+
+  // stopped at a third: the video holds the frames rendered up to there
+  ASSERT_EQ(InterruptAfterRows(With(alone, parts), parts, kTbarRows / 3, {SIGINT}).exit_code, 130)
+      << log_;
+  const double t_stop = ReadJson(parts / "summary.json")["t_end"].get<double>();
+  EXPECT_EQ(testing::DecodeVideo((parts / "video.mp4").string(), 64, 48).size(),
+            static_cast<size_t>(std::floor(t_stop * 20 + 1e-5 * 20 / 2)) + 1);
+  // resumed and stopped again at two thirds (the video then joins its two segments), resumed to
+  // the end with its own command line
+  ASSERT_EQ(InterruptAfterRows({"run", "--resume", parts.string()}, parts, 2 * kTbarRows / 3,
+                               {SIGINT})
+                .exit_code,
+            130)
+      << log_;
+  const testing::CliResult resumed =
+      Run(fmt::format("{} -o '{}' --resume '{}'", fmt::join(alone, " "), parts.string(),
+                      parts.string()));
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+  EXPECT_TRUE(Read(whole / "trajectory.csv") == Read(parts / "trajectory.csv"));
+  EXPECT_FALSE(fs::exists(parts / "frames"));
+  EXPECT_FALSE(fs::exists(parts / "checkpoint.json"));
+  EXPECT_THAT(Leftovers(parts), ::testing::IsEmpty());
+
+  // the frames: as many as the uninterrupted run's, each nearest to the PNG of its own time
+  const std::vector<render::Image> reference =
+      testing::DecodeVideo((whole / "video.mp4").string(), 64, 48);
+  const std::vector<render::Image> segmented =
+      testing::DecodeVideo((parts / "video.mp4").string(), 64, 48);
+  ASSERT_EQ(reference.size(), static_cast<size_t>(kTbarFrames));
+  ASSERT_EQ(segmented.size(), static_cast<size_t>(kTbarFrames));
+  std::vector<render::Image> pngs;
+  double reference_error = 0;  // levels: the one-go video's worst frame against its PNG
+  for (int k = 0; k < kTbarFrames; ++k) {
+    pngs.push_back(render::ReadPng((whole / "frames" / fmt::format("frame_{:06d}.png", k)).string()));
+    reference_error = std::max(reference_error, testing::MeanLevelDifference(reference[k], pngs[k]));
+  }
+  for (int k = 0; k < kTbarFrames; ++k) {
+    EXPECT_EQ(testing::NearestImage(segmented[k], pngs), k) << "frame " << k;
+    EXPECT_LE(testing::MeanLevelDifference(segmented[k], pngs[k]),
+              kSegmentedCodecSlack * reference_error)
+        << "frame " << k;
+  }
+}
+
+TEST_F(CheckpointTest, AVideoAloneWithoutItsEarlierFramesIsNotResumed) {
+  // a video that lost frames (replaced by a shorter one) cannot be continued into the whole run's
+  const fs::path out = dir_ / "out";
+  const std::vector<std::string> run = {"run", "scenes/slide.yaml", "-o", out.string(),
+                                        "--duration", "1e4", "--video", "--fps", "100",
+                                        "--width", "64", "--height", "48"};
+  ASSERT_EQ(InterruptAfterRows(run, out, 20, {SIGINT}).exit_code, 130) << log_;
+  fs::remove(out / "video.mp4");
+  const testing::CliResult missing = Run(fmt::format("run --resume '{}'", out.string()));
+  EXPECT_EQ(missing.exit_code, 1) << missing.output;
+  EXPECT_THAT(missing.output, HasSubstr("video.mp4: missing; the run to resume rendered"));
+  EXPECT_THAT(missing.output, HasSubstr("so the video cannot be continued"));
+  EXPECT_TRUE(fs::exists(out / "checkpoint.json"));
 }
 
 // bodies touching moving bodies: a contact's warm start carries G's multipliers by G's window,

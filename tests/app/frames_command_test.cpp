@@ -1,4 +1,5 @@
-// Runs the built `ecpsim` binary with --frames/--video and `ecpsim render`, and checks the images.
+// Runs the built `ecpsim` binary with --frames/--video and `ecpsim render`, and checks the images
+// and videos.
 
 #include <unistd.h>
 
@@ -13,6 +14,7 @@
 
 #include "render/png_writer.h"
 #include "tests/cli_test.h"
+#include "tests/render/decode_video.h"
 
 namespace ecpsim::render {
 namespace {
@@ -53,7 +55,7 @@ TEST_F(FramesCommandTest, FramesFollowTheFrameRateNotTheStep) {
 
 TEST_F(FramesCommandTest, VideoIsWrittenNextToTheFrames) {
   const fs::path out = dir_ / "out";
-  ASSERT_EQ(Run(fmt::format("run scenes/slide.yaml -o '{}' --video --fps 20 --width 64 "
+  ASSERT_EQ(Run(fmt::format("run scenes/slide.yaml -o '{}' --frames --video --fps 20 --width 64 "
                             "--height 48",
                             out.string())),
             0)
@@ -68,10 +70,92 @@ TEST_F(FramesCommandTest, VideoIsWrittenNextToTheFrames) {
   EXPECT_TRUE(fs::exists(out / "frames" / "frame_000010.png"));
 }
 
+TEST_F(FramesCommandTest, AVideoAloneIsTheSameVideoWithoutPngFrames) {
+  // slide.yaml: 0.5 s at 20 frames/s = 11 frames, t = 0 to 0.5
+  const fs::path both = dir_ / "both", alone = dir_ / "alone";
+  const std::string options = "--fps 20 --width 64 --height 48";
+  ASSERT_EQ(Run(fmt::format("run scenes/slide.yaml -o '{}' --frames --video {}", both.string(),
+                            options)),
+            0)
+      << log_;
+  ASSERT_EQ(Run(fmt::format("run scenes/slide.yaml -o '{}' --video {}", alone.string(), options)),
+            0)
+      << log_;
+  EXPECT_THAT(log_, ::testing::HasSubstr(fmt::format("11 frames in {}/video.mp4", alone.string())));
+  EXPECT_FALSE(fs::exists(alone / "frames"));
+  // the same rendered frames into the same encoder: the same video, frame for frame (the
+  // renderer and x264 are deterministic on one machine)
+  const std::vector<Image> with_pngs = testing::DecodeVideo((both / "video.mp4").string(), 64, 48);
+  const std::vector<Image> without = testing::DecodeVideo((alone / "video.mp4").string(), 64, 48);
+  ASSERT_EQ(with_pngs.size(), 11u);
+  ASSERT_EQ(without.size(), 11u);
+  for (size_t k = 0; k < without.size(); ++k) {
+    EXPECT_TRUE(without[k].rgb == with_pngs[k].rgb) << "frame " << k;
+  }
+  // and each frame shows its own PNG's time, in order (H.264 is lossy: nearest, not equal)
+  std::vector<Image> pngs;
+  for (int k = 0; k < 11; ++k) {
+    pngs.push_back(ReadPng((both / "frames" / fmt::format("frame_{:06d}.png", k)).string()));
+  }
+  for (int k : {0, 10}) EXPECT_EQ(testing::NearestImage(without[k], pngs), k);
+}
+
+TEST_F(FramesCommandTest, AVideoAloneAlsoWorksForDrop) {
+  const fs::path out = dir_ / "drop";
+  ASSERT_EQ(Run(fmt::format("drop tests/fixtures/meshes/box.obj -o '{}' --height 0.05 "
+                            "--duration 0.1 --video",
+                            out.string())),
+            0)
+      << log_;
+  EXPECT_FALSE(fs::exists(out / "frames"));
+  // 30 frames/s (the default) over 0.1 s: t = 0, 1/30, 2/30, 3/30; 1280×720 (the default size)
+  EXPECT_EQ(testing::DecodeVideo((out / "video.mp4").string(), 1280, 720).size(), 4u);
+}
+
+TEST_F(FramesCommandTest, AVideoAloneWithoutFfmpegStopsBeforeTouchingTheFolder) {
+  // an earlier run's frames, trajectory and summary in the folder
+  const fs::path out = dir_ / "out";
+  ASSERT_EQ(Run(fmt::format("run scenes/slide.yaml -o '{}' --frames --fps 10 --width 64 "
+                            "--height 48 --duration 0.2",
+                            out.string())),
+            0)
+      << log_;
+  const auto trajectory_time = fs::last_write_time(out / "trajectory.csv");
+  EXPECT_EQ(Run(fmt::format("run scenes/slide.yaml -o '{}' --video --fps 10 --width 64 "
+                            "--height 48",
+                            out.string()),
+                "PATH=/nonexistent"),
+            1)
+      << log_;
+  EXPECT_THAT(log_, ::testing::HasSubstr("the program 'ffmpeg' is not on PATH; install the "
+                                         "Debian package ffmpeg"));
+  EXPECT_TRUE(fs::exists(out / "frames" / "frame_000002.png"));
+  EXPECT_EQ(fs::last_write_time(out / "trajectory.csv"), trajectory_time);
+  EXPECT_FALSE(fs::exists(out / "video.mp4"));
+}
+
+TEST_F(FramesCommandTest, AVideoAloneRemovesTheEarlierRunsFramesAndTheirFolder) {
+  const fs::path out = dir_ / "out";
+  ASSERT_EQ(Run(fmt::format("run scenes/slide.yaml -o '{}' --frames --fps 10 --width 64 "
+                            "--height 48",
+                            out.string())),
+            0)
+      << log_;
+  ASSERT_TRUE(fs::exists(out / "frames" / "frame_000005.png"));
+  ASSERT_EQ(Run(fmt::format("run scenes/slide.yaml -o '{}' --video --fps 10 --width 64 "
+                            "--height 48",
+                            out.string())),
+            0)
+      << log_;
+  // frames of another run would pass for this one's: they go, and the folder they leave empty
+  EXPECT_FALSE(fs::exists(out / "frames"));
+  EXPECT_EQ(testing::DecodeVideo((out / "video.mp4").string(), 64, 48).size(), 6u);
+}
+
 TEST_F(FramesCommandTest, MissingFfmpegIsAClearErrorAndTheFramesStay) {
   const fs::path out = dir_ / "out";
   // PATH without ffmpeg (the binary itself is started by its full path)
-  EXPECT_EQ(Run(fmt::format("run scenes/slide.yaml -o '{}' --video --fps 10 --width 64 "
+  EXPECT_EQ(Run(fmt::format("run scenes/slide.yaml -o '{}' --frames --video --fps 10 --width 64 "
                             "--height 48",
                             out.string()),
                 "PATH=/nonexistent"),
@@ -86,7 +170,7 @@ TEST_F(FramesCommandTest, MissingFfmpegIsAClearErrorAndTheFramesStay) {
 TEST_F(FramesCommandTest, ARerunRemovesTheEarlierRunsFramesAndVideoOnly) {
   // a run at 20 frames/s with video, then one at 10 frames/s without, into the same folder
   const fs::path out = dir_ / "out";
-  ASSERT_EQ(Run(fmt::format("run scenes/slide.yaml -o '{}' --video --fps 20 --width 64 "
+  ASSERT_EQ(Run(fmt::format("run scenes/slide.yaml -o '{}' --frames --video --fps 20 --width 64 "
                             "--height 48",
                             out.string())),
             0)

@@ -15,6 +15,7 @@
 
 #include "tests/app/child_process.h"
 #include "tests/app/run_fixture.h"
+#include "tests/render/decode_video.h"
 
 namespace ecpsim {
 namespace {
@@ -55,6 +56,16 @@ class SimulationRunTest : public testing::RunFixture {
     EXPECT_EQ(ReadJson(out / "summary.json")["steps"], static_cast<long>(duration / 0.001 + 0.5));
     return exit.max_rss_kb;
   }
+
+  // the frames an interrupted run at 100 frames/s in `out` has rendered: t = k / 100 up to t_end
+  // (FrameRecorder's rule, frame k at the step nearest to k / fps)
+  int FramesUpToTheEnd(const fs::path& out) {
+    const nlohmann::json summary = ReadJson(out / "summary.json");
+    const double t_end = summary["t_end"].get<double>(), h = summary["h"].get<double>();
+    int frames = 0;
+    while (frames / 100.0 <= t_end + h / 2) ++frames;
+    return frames;
+  }
 };
 
 TEST_F(SimulationRunTest, SigintFinishesTheStepAndWritesCompleteOutputs) {
@@ -73,16 +84,13 @@ TEST_F(SimulationRunTest, SigintFinishesTheStepAndWritesCompleteOutputs) {
 TEST_F(SimulationRunTest, SigtermFinishesTheFramesAndTheVideoSoFar) {
   const fs::path out = dir_ / "out";
   const testing::ChildExit exit = InterruptAfterRows(
-      {"run", "scenes/slide.yaml", "-o", out.string(), "--duration", "1e4", "--video", "--fps",
-       "100", "--width", "64", "--height", "48"},
+      {"run", "scenes/slide.yaml", "-o", out.string(), "--duration", "1e4", "--frames", "--video",
+       "--fps", "100", "--width", "64", "--height", "48"},
       out, 20, {SIGTERM});
   EXPECT_EQ(exit.exit_code, 143) << log_;
   ExpectConsistentInterruptedRun(out, "SIGTERM");
   // the frames up to t_end, each complete, and the video of the same frames
-  const nlohmann::json summary = ReadJson(out / "summary.json");
-  const double t_end = summary["t_end"].get<double>(), h = summary["h"].get<double>();
-  int expected_frames = 0;
-  while (expected_frames / 100.0 <= t_end + h / 2) ++expected_frames;  // FrameRecorder's rule
+  const int expected_frames = FramesUpToTheEnd(out);
   int frames = 0;
   for (const auto& entry : fs::directory_iterator(out / "frames")) {
     EXPECT_GT(fs::file_size(entry.path()), 0u) << entry.path();
@@ -90,10 +98,21 @@ TEST_F(SimulationRunTest, SigtermFinishesTheFramesAndTheVideoSoFar) {
   }
   EXPECT_EQ(frames, expected_frames);
   EXPECT_TRUE(fs::exists(out / "frames" / fmt::format("frame_{:06d}.png", expected_frames - 1)));
-  std::ifstream video(out / "video.mp4", std::ios::binary);
-  char head[8] = {};
-  video.read(head, 8);
-  EXPECT_EQ(std::string(head + 4, 4), "ftyp");
+  EXPECT_EQ(testing::DecodeVideo((out / "video.mp4").string(), 64, 48).size(),
+            static_cast<size_t>(expected_frames));
+}
+
+TEST_F(SimulationRunTest, SigtermFinishesAVideoAloneSoFar) {
+  const fs::path out = dir_ / "out";
+  const testing::ChildExit exit = InterruptAfterRows(
+      {"run", "scenes/slide.yaml", "-o", out.string(), "--duration", "1e4", "--video", "--fps",
+       "100", "--width", "64", "--height", "48"},
+      out, 20, {SIGTERM});
+  EXPECT_EQ(exit.exit_code, 143) << log_;
+  ExpectConsistentInterruptedRun(out, "SIGTERM");  // no temporary file either
+  EXPECT_FALSE(fs::exists(out / "frames"));
+  EXPECT_EQ(testing::DecodeVideo((out / "video.mp4").string(), 64, 48).size(),
+            static_cast<size_t>(FramesUpToTheEnd(out)));
 }
 
 TEST_F(SimulationRunTest, TenBillionStepsStartWithoutAllocatingPerStep) {

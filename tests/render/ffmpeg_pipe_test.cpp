@@ -1,4 +1,5 @@
-// MP4 through the ffmpeg program: a playable file from raw frames, odd sizes padded, clear errors.
+// MP4 through the ffmpeg program: a playable file from raw frames, odd sizes padded, clear errors;
+// a video continued by a second segment holds the earlier frames' bits and the new frames after.
 
 #include <filesystem>
 #include <fstream>
@@ -10,6 +11,7 @@
 
 #include "common/errors.h"
 #include "render/ffmpeg_pipe.h"
+#include "tests/render/decode_video.h"
 
 namespace ecpsim::render {
 namespace {
@@ -33,6 +35,39 @@ Image Frame(int width, int height, int k) {
   return image;
 }
 
+// a dark frame with a bright bar 4 pixels wide at x = 4k: frames that H.264 keeps apart
+Image Bar(int width, int height, int k) {
+  Image image;
+  image.width = width;
+  image.height = height;
+  image.rgb.assign(static_cast<size_t>(width) * height * 3, 20);
+  for (int y = 0; y < height; ++y) {
+    for (int x = 4 * k; x < 4 * k + 4 && x < width; ++x) image.Pixel(x, y)[0] = 240;
+  }
+  return image;
+}
+
+int FilesIn(const std::string& dir) {
+  int files = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+    (void)entry;
+    ++files;
+  }
+  return files;
+}
+
+std::string ReadBytes(const std::string& path) {
+  std::ifstream file(path, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+}
+
+// frames k in [from, to) of Bar as a video at `path`, continuing the one there with kAppend
+void WriteBars(const std::string& path, int from, int to, VideoStart start) {
+  FfmpegPipe pipe(path, 64, 48, 20, "ffmpeg", start);
+  for (int k = from; k < to; ++k) pipe.Write(Bar(64, 48, k));
+  pipe.Finish();
+}
+
 TEST(FfmpegPipe, WritesAnMp4FromOddSizedFrames) {
   const std::string dir = TempDir("video");
   const std::string path = dir + "/video.mp4";
@@ -43,17 +78,11 @@ TEST(FfmpegPipe, WritesAnMp4FromOddSizedFrames) {
     pipe.Finish();
     EXPECT_EQ(pipe.frames(), 10);
   }
-  std::ifstream file(path, std::ios::binary);
-  const std::string bytes((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  const std::string bytes = ReadBytes(path);
   ASSERT_GT(bytes.size(), 100u);
   EXPECT_EQ(bytes.substr(4, 4), "ftyp");  // an ISO media file
   // nothing else left in the folder: no temporary video, no log
-  int files = 0;
-  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
-    (void)entry;
-    ++files;
-  }
-  EXPECT_EQ(files, 1);
+  EXPECT_EQ(FilesIn(dir), 1);
 }
 
 TEST(FfmpegPipe, UnfinishedVideoLeavesNoFile) {
@@ -92,6 +121,71 @@ TEST(FfmpegPipe, EncoderFailureIsReportedWithItsExitStatus) {
       },
       ThrowsMessage<std::runtime_error>(HasSubstr("exit status 1")));
   EXPECT_TRUE(std::filesystem::is_empty(dir));
+}
+
+TEST(FfmpegPipe, AppendedFramesFollowTheEarlierOnesLosslessly) {
+  const std::string dir = TempDir("append");
+  const std::string path = dir + "/video.mp4";
+  WriteBars(path, 0, 6, VideoStart::kReplace);
+  const std::vector<Image> before = testing::DecodeVideo(path, 64, 48);
+  ASSERT_EQ(before.size(), 6u);
+  EXPECT_EQ(CountVideoFrames(path), 6);
+
+  WriteBars(path, 6, 10, VideoStart::kAppend);
+  // decoding to a constant frame rate duplicates or drops frames where timestamps leave a gap
+  // or overlap, so the count also checks the join's timing
+  const std::vector<Image> after = testing::DecodeVideo(path, 64, 48);
+  ASSERT_EQ(after.size(), 10u);
+  EXPECT_EQ(CountVideoFrames(path), 10);
+  // the earlier frames keep their bits (joined, not encoded again)
+  for (size_t k = 0; k < before.size(); ++k) EXPECT_TRUE(after[k].rgb == before[k].rgb) << k;
+  // every frame once, in order: each decoded frame is nearest to its own source
+  std::vector<Image> sources;
+  for (int k = 0; k < 10; ++k) sources.push_back(Bar(64, 48, k));
+  for (int k = 0; k < 10; ++k) EXPECT_EQ(testing::NearestImage(after[k], sources), k);
+  // nothing but the video left: no segment, no concat list, no temporary name
+  EXPECT_EQ(FilesIn(dir), 1);
+}
+
+TEST(FfmpegPipe, AppendingNoFrameLeavesTheVideoAsItWas) {
+  const std::string path = TempDir("append_nothing") + "/video.mp4";
+  WriteBars(path, 0, 3, VideoStart::kReplace);
+  const std::string bytes = ReadBytes(path);
+  WriteBars(path, 3, 3, VideoStart::kAppend);
+  EXPECT_TRUE(ReadBytes(path) == bytes);
+}
+
+TEST(FfmpegPipe, AFailedAppendLeavesTheEarlierVideo) {
+  const std::string dir = TempDir("append_failing");
+  const std::string path = dir + "/video.mp4";
+  WriteBars(path, 0, 3, VideoStart::kReplace);
+  const std::string bytes = ReadBytes(path);
+  // `false` exits at once: the second segment fails, the first stays whole
+  FfmpegPipe pipe(path, 32, 32, 25, "false", VideoStart::kAppend);
+  EXPECT_THROW(
+      {
+        for (int k = 0; k < 2000; ++k) pipe.Write(Frame(32, 32, k));
+        pipe.Finish();
+      },
+      std::runtime_error);
+  EXPECT_TRUE(ReadBytes(path) == bytes);
+  EXPECT_EQ(FilesIn(dir), 1);
+}
+
+TEST(FfmpegPipe, AppendNeedsAVideoToContinue) {
+  EXPECT_THAT(
+      [] {
+        FfmpegPipe pipe(TempDir("append_missing") + "/v.mp4", 32, 32, 25, "ffmpeg",
+                        VideoStart::kAppend);
+      },
+      ThrowsMessage<InputError>(HasSubstr("there is no video to continue")));
+}
+
+TEST(FfmpegPipe, CountingFramesOfWhatIsNoVideoIsAnInputError) {
+  const std::string path = TempDir("not_a_video") + "/v.mp4";
+  std::ofstream(path) << "not a video";
+  EXPECT_THAT([&] { CountVideoFrames(path); },
+              ThrowsMessage<InputError>(HasSubstr("not a readable video")));
 }
 
 }  // namespace
