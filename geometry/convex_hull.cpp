@@ -94,15 +94,15 @@ struct TriangulatedHull {
   std::vector<int> ring;
 };
 
-// compressed rows from (row, value) pairs given per row count
-void FillRows(int rows, const std::vector<std::pair<int, int>>& entries, std::vector<int>& start,
+// compressed rows of the indices 0 … n − 1 by their row `row_of[i]`, each row in increasing order
+void FillRows(int rows, const std::vector<int>& row_of, std::vector<int>& start,
               std::vector<int>& values) {
   start.assign(rows + 1, 0);
-  for (const auto& [row, value] : entries) ++start[row + 1];
+  for (int row : row_of) ++start[row + 1];
   std::partial_sum(start.begin(), start.end(), start.begin());
-  values.resize(entries.size());
+  values.resize(row_of.size());
   std::vector<int> cursor(start.begin(), start.end() - 1);
-  for (const auto& [row, value] : entries) values[cursor[row]++] = value;
+  for (int i = 0; i < static_cast<int>(row_of.size()); ++i) values[cursor[row_of[i]]++] = i;
 }
 
 // CGAL's convex_hull_3 shuffles its input with a process-wide random generator, so the labels of
@@ -161,21 +161,26 @@ TriangulatedHull ToTriangulatedHull(const std::vector<Point3>& points,
   hull.triangles = std::move(triangles);
   const int num_vertices = static_cast<int>(hull.points.size());
   const int num_triangles = static_cast<int>(hull.triangles.size());
-  // fan and ring entries in the same order: fan[j] holds the directed edge (v, ring[j])
-  std::vector<std::pair<int, int>> fan_entries;
-  std::vector<std::pair<int, int>> ring_entries;
-  fan_entries.reserve(3 * hull.triangles.size());
-  ring_entries.reserve(3 * hull.triangles.size());
+  // fan and ring rows filled alike, in triangle order: fan[j] holds the directed edge
+  // (v, ring[j]); each directed edge occurs once on a closed surface, so each neighbour is
+  // listed once
+  hull.fan_start.assign(num_vertices + 1, 0);
+  for (const std::array<int, 3>& tri : hull.triangles) {
+    for (int v : tri) ++hull.fan_start[v + 1];
+  }
+  std::partial_sum(hull.fan_start.begin(), hull.fan_start.end(), hull.fan_start.begin());
+  hull.ring_start = hull.fan_start;
+  hull.fan.resize(3 * hull.triangles.size());
+  hull.ring.resize(3 * hull.triangles.size());
+  std::vector<int> cursor(hull.fan_start.begin(), hull.fan_start.end() - 1);
   for (int t = 0; t < num_triangles; ++t) {
     const std::array<int, 3>& tri = hull.triangles[t];
     for (int k = 0; k < 3; ++k) {
-      fan_entries.emplace_back(tri[k], t);
-      // each directed edge occurs once on a closed surface, so each neighbour is listed once
-      ring_entries.emplace_back(tri[k], tri[(k + 1) % 3]);
+      const int j = cursor[tri[k]]++;
+      hull.fan[j] = t;
+      hull.ring[j] = tri[(k + 1) % 3];
     }
   }
-  FillRows(num_vertices, fan_entries, hull.fan_start, hull.fan);
-  FillRows(num_vertices, ring_entries, hull.ring_start, hull.ring);
   // the triangle across edge (a, b) is the one holding the reverse edge (b, a)
   hull.across.resize(num_triangles);
   for (int t = 0; t < num_triangles; ++t) {
@@ -336,13 +341,15 @@ ConvexHull ComputeConvexHull(const std::vector<Eigen::Vector3d>& points,
     area_normals[t] = (exact.points[tri[1]] - exact.points[tri[0]])
                           .cross(exact.points[tri[2]] - exact.points[tri[0]]);
   }
-  std::vector<int> order(num_triangles);
-  std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(), [&](int a, int b) {
-    const double area_a = area_normals[a].squaredNorm();
-    const double area_b = area_normals[b].squaredNorm();
-    return area_a != area_b ? area_a > area_b : a < b;
+  // (squared area, triangle) keys sort without reaching back into the triangles
+  std::vector<std::pair<double, int>> by_area(num_triangles);
+  for (int t = 0; t < num_triangles; ++t) by_area[t] = {area_normals[t].squaredNorm(), t};
+  std::sort(by_area.begin(), by_area.end(), [](const auto& a, const auto& b) {
+    return a.first != b.first ? a.first > b.first : a.second < b.second;
   });
+  std::vector<int> order(num_triangles);
+  for (int k = 0; k < num_triangles; ++k) order[k] = by_area[k].second;
+  by_area = {};
 
   // a set flat within the tolerance has its largest triangles on the flat sides
   for (int k = 0; k < std::min<int>(kFlatnessProbes, num_triangles); ++k) {
@@ -369,11 +376,8 @@ ConvexHull ComputeConvexHull(const std::vector<Eigen::Vector3d>& points,
   std::vector<int> loops;
   std::vector<char> corner(num_points, 0);
   std::vector<std::pair<int, int>> edges;
-  std::vector<int> incident;
   for (;;) {
-    std::vector<std::pair<int, int>> members(num_triangles);
-    for (int t = 0; t < num_triangles; ++t) members[t] = {group_of[t], t};
-    FillRows(num_groups, members, group_start, group_triangles);
+    FillRows(num_groups, group_of, group_start, group_triangles);
     std::vector<int> to_split;
     loop_start.assign(1, 0);
     loops.clear();
@@ -384,13 +388,17 @@ ConvexHull ComputeConvexHull(const std::vector<Eigen::Vector3d>& points,
       loop_start.push_back(static_cast<int>(loops.size()));
     }
     if (to_split.empty()) {
+      // a corner has three distinct groups around it
       for (int v = 0; v < num_points; ++v) {
-        incident.clear();
-        for (int k = exact.fan_start[v]; k < exact.fan_start[v + 1]; ++k) {
-          incident.push_back(group_of[exact.fan[k]]);
+        std::array<int, 3> seen{};
+        int distinct = 0;
+        for (int k = exact.fan_start[v]; k < exact.fan_start[v + 1] && distinct < 3; ++k) {
+          const int g = group_of[exact.fan[k]];
+          if (std::find(seen.begin(), seen.begin() + distinct, g) == seen.begin() + distinct) {
+            seen[distinct++] = g;
+          }
         }
-        std::sort(incident.begin(), incident.end());
-        corner[v] = std::unique(incident.begin(), incident.end()) - incident.begin() >= 3;
+        corner[v] = distinct >= 3;
       }
       for (int g = 0; g < num_groups; ++g) {
         const auto corners = std::count_if(loops.begin() + loop_start[g],
@@ -430,6 +438,8 @@ ConvexHull ComputeConvexHull(const std::vector<Eigen::Vector3d>& points,
   std::vector<int> occurrences(hull.vertices.size(), 0);
   for (int g = 0; g < num_groups; ++g) {
     std::vector<int>& polygon = hull.faces[g];
+    polygon.reserve(std::count_if(loops.begin() + loop_start[g], loops.begin() + loop_start[g + 1],
+                                  [&](int v) { return new_index[v] >= 0; }));
     for (int j = loop_start[g]; j < loop_start[g + 1]; ++j) {
       if (new_index[loops[j]] < 0) continue;
       polygon.push_back(new_index[loops[j]]);
