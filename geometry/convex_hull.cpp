@@ -113,7 +113,6 @@ void FillRows(int rows, const std::vector<int>& row_of, std::vector<int>& start,
 void CanonicalOrder(std::vector<Eigen::Vector3d>& points,
                     std::vector<std::array<int, 3>>& triangles) {
   const int num_vertices = static_cast<int>(points.size());
-  const int num_triangles = static_cast<int>(triangles.size());
   std::vector<int> by_position(num_vertices);
   std::iota(by_position.begin(), by_position.end(), 0);
   std::sort(by_position.begin(), by_position.end(), [&](int a, int b) {
@@ -137,7 +136,6 @@ void CanonicalOrder(std::vector<Eigen::Vector3d>& points,
     for (int k = 0; k < 3; ++k) triangle[k] = labels[(first + k) % 3];
   }
   std::sort(triangles.begin(), triangles.end());
-  ECPSIM_DEMAND(num_triangles == static_cast<int>(triangles.size()));
 }
 
 // The exact hull's triangles (outward, indices into `points`) as plain arrays in canonical
