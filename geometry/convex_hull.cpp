@@ -4,13 +4,13 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <ctime>
 #include <limits>
 #include <numeric>
 #include <tuple>
 #include <utility>
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <CGAL/Surface_mesh.h>
 #include <CGAL/convex_hull_2.h>
 #include <CGAL/convex_hull_3.h>
 #include <Eigen/Geometry>
@@ -24,15 +24,26 @@ namespace {
 using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 using Point3 = Kernel::Point_3;
 using Point2 = Kernel::Point_2;
-using HullMesh = CGAL::Surface_mesh<Point3>;
-using VertexIndex = HullMesh::Vertex_index;
-using FaceIndex = HullMesh::Face_index;
-using HalfedgeIndex = HullMesh::Halfedge_index;
+// convex_hull_3 writes its triangles straight into arrays (the indexed triangle set of its
+// documented convex_hull_3(first, last, vertices, faces) overload, which is much cheaper than
+// building a Surface_mesh), with the traits it picks for a Surface_mesh: the exact, statically
+// filtered plane-side test (the documented overload that takes traits does not compile in
+// CGAL 5.5, its point type is not deducible)
+using HullTriangles = CGAL::Convex_hull_3::internal::Indexed_triangle_set<
+    std::vector<Point3>, std::vector<std::array<int, 3>>>;
+using HullTraits = CGAL::Convex_hull_traits_3<Kernel, HullTriangles, CGAL::Tag_true>;
 
 // the flatness test looks at the normals of this many of the largest hull triangles
 constexpr int kFlatnessProbes = 16;
 
 Eigen::Vector3d ToEigen(const Point3& p) { return {p.x(), p.y(), p.z()}; }
+
+// CPU time of the calling thread, s: stage times that other processes on the machine do not skew
+double ThreadCpuSeconds() {
+  timespec now{};
+  ECPSIM_DEMAND(clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now) == 0);
+  return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
+}
 
 // rejects point sets that cannot bound a volume, with exact predicates, before CGAL sees them
 void CheckFullDimensional(const std::vector<Point3>& points, const std::string& source) {
@@ -71,9 +82,8 @@ void CheckFullDimensional(const std::vector<Point3>& points, const std::string& 
       source, tolerance, diagonal));
 }
 
-// The exact hull as plain arrays, which are much faster to walk than the Surface_mesh CGAL
-// builds: triangles (outward), the triangle across each edge (k, k + 1), and per vertex the
-// triangles around it and the vertices joined to it (compressed rows).
+// The exact hull as plain arrays: triangles (outward), the triangle across each edge (k, k + 1),
+// and per vertex the triangles around it and the vertices joined to it (compressed rows).
 struct TriangulatedHull {
   std::vector<Eigen::Vector3d> points;
   std::vector<std::array<int, 3>> triangles;
@@ -84,15 +94,15 @@ struct TriangulatedHull {
   std::vector<int> ring;
 };
 
-// compressed rows from (row, value) pairs given per row count
-void FillRows(int rows, const std::vector<std::pair<int, int>>& entries, std::vector<int>& start,
+// compressed rows of the indices 0 … n − 1 by their row `row_of[i]`, each row in increasing order
+void FillRows(int rows, const std::vector<int>& row_of, std::vector<int>& start,
               std::vector<int>& values) {
   start.assign(rows + 1, 0);
-  for (const auto& [row, value] : entries) ++start[row + 1];
+  for (int row : row_of) ++start[row + 1];
   std::partial_sum(start.begin(), start.end(), start.begin());
-  values.resize(entries.size());
+  values.resize(row_of.size());
   std::vector<int> cursor(start.begin(), start.end() - 1);
-  for (const auto& [row, value] : entries) values[cursor[row]++] = value;
+  for (int i = 0; i < static_cast<int>(row_of.size()); ++i) values[cursor[row_of[i]]++] = i;
 }
 
 // CGAL's convex_hull_3 shuffles its input with a process-wide random generator, so the labels of
@@ -100,78 +110,87 @@ void FillRows(int rows, const std::vector<std::pair<int, int>>& entries, std::ve
 // Relabels vertices in lexicographic order of their coordinates (hull vertices are distinct),
 // starts each triangle at its smallest label (keeping its winding) and sorts the triangles, so
 // the hull of a point set is the same arrays in every run.
-void CanonicalOrder(TriangulatedHull& hull) {
-  const int num_vertices = static_cast<int>(hull.points.size());
-  const int num_triangles = static_cast<int>(hull.triangles.size());
+void CanonicalOrder(std::vector<Eigen::Vector3d>& points,
+                    std::vector<std::array<int, 3>>& triangles) {
+  const int num_vertices = static_cast<int>(points.size());
   std::vector<int> by_position(num_vertices);
   std::iota(by_position.begin(), by_position.end(), 0);
   std::sort(by_position.begin(), by_position.end(), [&](int a, int b) {
-    const Eigen::Vector3d& p = hull.points[a];
-    const Eigen::Vector3d& q = hull.points[b];
+    const Eigen::Vector3d& p = points[a];
+    const Eigen::Vector3d& q = points[b];
     return std::tie(p.x(), p.y(), p.z()) < std::tie(q.x(), q.y(), q.z());
   });
   std::vector<int> vertex_label(num_vertices);
-  std::vector<Eigen::Vector3d> points(num_vertices);
+  std::vector<Eigen::Vector3d> sorted_points(num_vertices);
   for (int i = 0; i < num_vertices; ++i) {
     vertex_label[by_position[i]] = i;
-    points[i] = hull.points[by_position[i]];
+    sorted_points[i] = points[by_position[i]];
   }
-  // relabelled triangles, rotated to start at their smallest vertex; `across` rotates alike
-  std::vector<std::array<int, 3>> triangles(num_triangles), across(num_triangles);
-  for (int t = 0; t < num_triangles; ++t) {
-    std::array<int, 3> tri;
-    for (int k = 0; k < 3; ++k) tri[k] = vertex_label[hull.triangles[t][k]];
-    const int first = static_cast<int>(std::min_element(tri.begin(), tri.end()) - tri.begin());
-    for (int k = 0; k < 3; ++k) {
-      triangles[t][k] = tri[(first + k) % 3];
-      across[t][k] = hull.across[t][(first + k) % 3];
-    }
+  points = std::move(sorted_points);
+  // relabelled triangles, rotated to start at their smallest vertex, in lexicographic order
+  for (std::array<int, 3>& triangle : triangles) {
+    std::array<int, 3> labels;
+    for (int k = 0; k < 3; ++k) labels[k] = vertex_label[triangle[k]];
+    const int first = static_cast<int>(std::min_element(labels.begin(), labels.end()) -
+                                       labels.begin());
+    for (int k = 0; k < 3; ++k) triangle[k] = labels[(first + k) % 3];
   }
-  std::vector<int> by_vertices(num_triangles);
-  std::iota(by_vertices.begin(), by_vertices.end(), 0);
-  std::sort(by_vertices.begin(), by_vertices.end(),
-            [&](int a, int b) { return triangles[a] < triangles[b]; });
-  std::vector<int> triangle_label(num_triangles);
-  for (int i = 0; i < num_triangles; ++i) triangle_label[by_vertices[i]] = i;
-  hull.points = std::move(points);
-  for (int i = 0; i < num_triangles; ++i) {
-    hull.triangles[i] = triangles[by_vertices[i]];
-    for (int k = 0; k < 3; ++k) hull.across[i][k] = triangle_label[across[by_vertices[i]][k]];
-  }
+  std::sort(triangles.begin(), triangles.end());
 }
 
-TriangulatedHull ExactHull(const std::vector<Point3>& points) {
-  HullMesh mesh;
-  CGAL::convex_hull_3(points.begin(), points.end(), mesh);
-  ECPSIM_DEMAND(mesh.number_of_faces() >= 4 && !mesh.has_garbage());
-  TriangulatedHull hull;
-  hull.points.resize(mesh.number_of_vertices());
-  for (VertexIndex v : mesh.vertices()) hull.points[v.idx()] = ToEigen(mesh.point(v));
-  hull.triangles.resize(mesh.number_of_faces());
-  hull.across.resize(mesh.number_of_faces());
-  for (FaceIndex f : mesh.faces()) {
-    HalfedgeIndex h = mesh.halfedge(f);
-    for (int k = 0; k < 3; ++k, h = mesh.next(h)) {
-      hull.triangles[f.idx()][k] = static_cast<int>(mesh.source(h).idx());
-      hull.across[f.idx()][k] = static_cast<int>(mesh.face(mesh.opposite(h)).idx());
-    }
+// The exact hull's triangles (outward, indices into `points`) as plain arrays in canonical
+// order, with the triangles around each vertex, its neighbours and the triangle across each edge
+TriangulatedHull ToTriangulatedHull(const std::vector<Point3>& points,
+                                    std::vector<std::array<int, 3>> triangles) {
+  ECPSIM_DEMAND(triangles.size() >= 4);
+  // the triangles are consistently wound, but the indexed triangle set's tetrahedron (a hull of
+  // four points) faces inwards: a hull vertex off the first triangle tells, exactly
+  const std::array<int, 3>& first = triangles.front();
+  int off = 0;
+  while (off == first[0] || off == first[1] || off == first[2]) ++off;
+  if (CGAL::orientation(points[first[0]], points[first[1]], points[first[2]], points[off]) ==
+      CGAL::POSITIVE) {
+    for (std::array<int, 3>& triangle : triangles) std::swap(triangle[1], triangle[2]);
   }
-  CanonicalOrder(hull);
+  TriangulatedHull hull;
+  hull.points.reserve(points.size());
+  for (const Point3& p : points) hull.points.push_back(ToEigen(p));
+  CanonicalOrder(hull.points, triangles);
+  hull.triangles = std::move(triangles);
   const int num_vertices = static_cast<int>(hull.points.size());
-  std::vector<std::pair<int, int>> fan_entries;
-  std::vector<std::pair<int, int>> ring_entries;
-  fan_entries.reserve(3 * hull.triangles.size());
-  ring_entries.reserve(3 * hull.triangles.size());
-  for (int t = 0; t < static_cast<int>(hull.triangles.size()); ++t) {
+  const int num_triangles = static_cast<int>(hull.triangles.size());
+  // fan and ring rows filled alike, in triangle order: fan[j] holds the directed edge
+  // (v, ring[j]); each directed edge occurs once on a closed surface, so each neighbour is
+  // listed once
+  hull.fan_start.assign(num_vertices + 1, 0);
+  for (const std::array<int, 3>& tri : hull.triangles) {
+    for (int v : tri) ++hull.fan_start[v + 1];
+  }
+  std::partial_sum(hull.fan_start.begin(), hull.fan_start.end(), hull.fan_start.begin());
+  hull.ring_start = hull.fan_start;
+  hull.fan.resize(3 * hull.triangles.size());
+  hull.ring.resize(3 * hull.triangles.size());
+  std::vector<int> cursor(hull.fan_start.begin(), hull.fan_start.end() - 1);
+  for (int t = 0; t < num_triangles; ++t) {
     const std::array<int, 3>& tri = hull.triangles[t];
     for (int k = 0; k < 3; ++k) {
-      fan_entries.emplace_back(tri[k], t);
-      // each directed edge occurs once on a closed surface, so each neighbour is listed once
-      ring_entries.emplace_back(tri[k], tri[(k + 1) % 3]);
+      const int j = cursor[tri[k]]++;
+      hull.fan[j] = t;
+      hull.ring[j] = tri[(k + 1) % 3];
     }
   }
-  FillRows(num_vertices, fan_entries, hull.fan_start, hull.fan);
-  FillRows(num_vertices, ring_entries, hull.ring_start, hull.ring);
+  // the triangle across edge (a, b) is the one holding the reverse edge (b, a)
+  hull.across.resize(num_triangles);
+  for (int t = 0; t < num_triangles; ++t) {
+    for (int k = 0; k < 3; ++k) {
+      const int a = hull.triangles[t][k];
+      const int b = hull.triangles[t][(k + 1) % 3];
+      int j = hull.ring_start[b];
+      while (j < hull.ring_start[b + 1] && hull.ring[j] != a) ++j;
+      ECPSIM_DEMAND(j < hull.ring_start[b + 1]);
+      hull.across[t][k] = hull.fan[j];
+    }
+  }
   return hull;
 }
 
@@ -275,7 +294,7 @@ double MaxAlong(const TriangulatedHull& hull, const Eigen::Vector3d& n, int star
 }  // namespace
 
 ConvexHull ComputeConvexHull(const std::vector<Eigen::Vector3d>& points,
-                             const std::string& source) {
+                             const std::string& source, ConvexHullStageTimes* stage_times) {
   // validate before any work
   if (points.size() < 4) {
     throw InputError(fmt::format(
@@ -302,7 +321,14 @@ ConvexHull ComputeConvexHull(const std::vector<Eigen::Vector3d>& points,
   const double tolerance = kCoplanarTolerance * diagonal;
 
   // exact-predicate hull as outward triangles
-  const TriangulatedHull exact = ExactHull(cgal_points);
+  const double hull_start = ThreadCpuSeconds();
+  std::vector<Point3> hull_points;
+  std::vector<std::array<int, 3>> hull_triangles;
+  HullTriangles output(hull_points, hull_triangles);
+  CGAL::convex_hull_3(cgal_points.begin(), cgal_points.end(), output, HullTraits());
+  const double hull_done = ThreadCpuSeconds();
+  const TriangulatedHull exact = ToTriangulatedHull(hull_points, std::move(hull_triangles));
+  const double arrays_done = ThreadCpuSeconds();
   const int num_triangles = static_cast<int>(exact.triangles.size());
   const int num_points = static_cast<int>(exact.points.size());
 
@@ -313,13 +339,15 @@ ConvexHull ComputeConvexHull(const std::vector<Eigen::Vector3d>& points,
     area_normals[t] = (exact.points[tri[1]] - exact.points[tri[0]])
                           .cross(exact.points[tri[2]] - exact.points[tri[0]]);
   }
-  std::vector<int> order(num_triangles);
-  std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(), [&](int a, int b) {
-    const double area_a = area_normals[a].squaredNorm();
-    const double area_b = area_normals[b].squaredNorm();
-    return area_a != area_b ? area_a > area_b : a < b;
+  // (squared area, triangle) keys sort without reaching back into the triangles
+  std::vector<std::pair<double, int>> by_area(num_triangles);
+  for (int t = 0; t < num_triangles; ++t) by_area[t] = {area_normals[t].squaredNorm(), t};
+  std::sort(by_area.begin(), by_area.end(), [](const auto& a, const auto& b) {
+    return a.first != b.first ? a.first > b.first : a.second < b.second;
   });
+  std::vector<int> order(num_triangles);
+  for (int k = 0; k < num_triangles; ++k) order[k] = by_area[k].second;
+  by_area = {};
 
   // a set flat within the tolerance has its largest triangles on the flat sides
   for (int k = 0; k < std::min<int>(kFlatnessProbes, num_triangles); ++k) {
@@ -346,11 +374,8 @@ ConvexHull ComputeConvexHull(const std::vector<Eigen::Vector3d>& points,
   std::vector<int> loops;
   std::vector<char> corner(num_points, 0);
   std::vector<std::pair<int, int>> edges;
-  std::vector<int> incident;
   for (;;) {
-    std::vector<std::pair<int, int>> members(num_triangles);
-    for (int t = 0; t < num_triangles; ++t) members[t] = {group_of[t], t};
-    FillRows(num_groups, members, group_start, group_triangles);
+    FillRows(num_groups, group_of, group_start, group_triangles);
     std::vector<int> to_split;
     loop_start.assign(1, 0);
     loops.clear();
@@ -361,13 +386,17 @@ ConvexHull ComputeConvexHull(const std::vector<Eigen::Vector3d>& points,
       loop_start.push_back(static_cast<int>(loops.size()));
     }
     if (to_split.empty()) {
+      // a corner has three distinct groups around it
       for (int v = 0; v < num_points; ++v) {
-        incident.clear();
-        for (int k = exact.fan_start[v]; k < exact.fan_start[v + 1]; ++k) {
-          incident.push_back(group_of[exact.fan[k]]);
+        std::array<int, 3> seen{};
+        int distinct = 0;
+        for (int k = exact.fan_start[v]; k < exact.fan_start[v + 1] && distinct < 3; ++k) {
+          const int g = group_of[exact.fan[k]];
+          if (std::find(seen.begin(), seen.begin() + distinct, g) == seen.begin() + distinct) {
+            seen[distinct++] = g;
+          }
         }
-        std::sort(incident.begin(), incident.end());
-        corner[v] = std::unique(incident.begin(), incident.end()) - incident.begin() >= 3;
+        corner[v] = distinct >= 3;
       }
       for (int g = 0; g < num_groups; ++g) {
         const auto corners = std::count_if(loops.begin() + loop_start[g],
@@ -407,6 +436,8 @@ ConvexHull ComputeConvexHull(const std::vector<Eigen::Vector3d>& points,
   std::vector<int> occurrences(hull.vertices.size(), 0);
   for (int g = 0; g < num_groups; ++g) {
     std::vector<int>& polygon = hull.faces[g];
+    polygon.reserve(std::count_if(loops.begin() + loop_start[g], loops.begin() + loop_start[g + 1],
+                                  [&](int v) { return new_index[v] >= 0; }));
     for (int j = loop_start[g]; j < loop_start[g + 1]; ++j) {
       if (new_index[loops[j]] < 0) continue;
       polygon.push_back(new_index[loops[j]]);
@@ -449,6 +480,11 @@ ConvexHull ComputeConvexHull(const std::vector<Eigen::Vector3d>& points,
   for (std::size_t v = 0; v < hull.vertices.size(); ++v) {
     std::sort(hull.vertex_neighbors[v].begin(), hull.vertex_neighbors[v].end());
     ECPSIM_DEMAND(hull.vertex_faces[v].size() >= 3);
+  }
+  if (stage_times != nullptr) {
+    stage_times->exact_hull = hull_done - hull_start;
+    stage_times->arrays = arrays_done - hull_done;
+    stage_times->merge = ThreadCpuSeconds() - arrays_done;
   }
   return hull;
 }

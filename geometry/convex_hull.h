@@ -29,14 +29,24 @@ struct ConvexHull {
 /// inside it; exactly coplanar input keeps exact planes.
 inline constexpr double kCoplanarTolerance = 1e-6;  // dimensionless, × bounding-box diagonal
 
+/// CPU times of ComputeConvexHull's stages (the calling thread's), s: a diagnostic for benchmarks
+/// (issue 11's comparison with qhull), filled only when asked for.
+struct ConvexHullStageTimes {
+  double exact_hull = 0;  // CGAL's convex_hull_3 alone (into its Surface_mesh)
+  double arrays = 0;      // that mesh as plain arrays in canonical order
+  double merge = 0;       // coplanar merge, corners, normals, offsets, adjacency
+};
+
 /// Convex hull of `points` with exact predicates. Triangles whose planes agree within
 /// kCoplanarTolerance × (bounding-box diagonal) are merged into one polygonal face, so a cube read
 /// from a file with float noise has exactly 6 faces. Offsets are taken as max_v n_i · v over the
 /// hull vertices, so every input point satisfies every inequality up to round-off.
 /// @throws InputError naming `source` for fewer than 4 points, non-finite coordinates, or a
 ///         degenerate (collinear or coplanar, zero-volume) point set.
+/// `stage_times`, when given, receives the durations of the stages of this call.
 ConvexHull ComputeConvexHull(const std::vector<Eigen::Vector3d>& points,
-                             const std::string& source = "point set");
+                             const std::string& source = "point set",
+                             ConvexHullStageTimes* stage_times = nullptr);
 
 /// The hull shifted by `offset` (e.g. −centre of mass, to move it into the body frame).
 ConvexHull TranslateHull(const ConvexHull& hull, const Eigen::Vector3d& offset);

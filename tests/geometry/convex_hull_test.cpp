@@ -261,6 +261,28 @@ TEST(ConvexHullTest, RandomCloudContainsAllPointsAndUsesOnlyInputVertices) {
   }
 }
 
+// Four points take CGAL's tetrahedron shortcut, whose indexed triangles face inwards: the hull
+// still has outward normals and contains its points (with or without a duplicate point)
+TEST(ConvexHullTest, FourPointsGiveAnOutwardTetrahedron) {
+  std::vector<Eigen::Vector3d> points = {
+      {0.0, 0.0, 0.0}, {1.0, 0.0, 0.0}, {0.0, 1.0, 0.0}, {0.0, 0.0, 1.0}};
+  for (int duplicates = 0; duplicates < 2; ++duplicates) {
+    const ConvexHull hull = ComputeConvexHull(points, "tetrahedron");
+    ASSERT_EQ(hull.faces.size(), 4u);
+    EXPECT_EQ(hull.vertices.size(), 4u);
+    ExpectValidHull(hull, points);
+    // the slanted face's plane x + y + z = 1, outward
+    int slanted = 0;
+    for (std::size_t i = 0; i < hull.faces.size(); ++i) {
+      if ((hull.normals[i] - Eigen::Vector3d::Ones().normalized()).norm() > kRoundOff) continue;
+      ++slanted;
+      EXPECT_NEAR(hull.offsets[i], 1 / std::sqrt(3.0), kRoundOff);
+    }
+    EXPECT_EQ(slanted, 1);
+    points.push_back(points[1]);
+  }
+}
+
 // Points on a sphere are all corners; the faces are triangles, except where four random points
 // happen to be coplanar within the merge tolerance (a handful for 2000 points). Euler's formula
 // gives Σ_f (corners_f − 2) = 2V − 4 for any polytope.
