@@ -219,7 +219,10 @@ std::vector<int> GrowCoplanarGroups(const TriangulatedHull& hull,
       const int t = queue.back();
       queue.pop_back();
       for (int u : hull.across[t]) {
-        if (group_of[u] >= 0 || n.dot(area_normals[u]) <= 0) continue;
+        // a neighbour facing the other way is no part of this face; one whose area vector
+        // evaluates to exactly zero (collinear in doubles) joins it if its vertices are on the
+        // plane, else it stayed a face of its own without a normal
+        if (group_of[u] >= 0 || n.dot(area_normals[u]) < 0) continue;
         const bool coplanar = std::all_of(
             hull.triangles[u].begin(), hull.triangles[u].end(),
             [&](int v) { return std::abs(n.dot(hull.points[v]) - d) <= tolerance; });

@@ -403,6 +403,37 @@ TEST(ConvexHullTest, TriangulateHullIsClosedAndOutward) {
   EXPECT_NEAR(volume, 0.6 * 0.4 * 0.2, 1e-12);
 }
 
+// Two UV spheres of 200 stacks × 400 slices, one inside the other's pole caps (the second
+// stretched to 1.1 × 0.5 × 2): the exact hull has triangles whose area vector evaluates to
+// exactly zero in doubles, which once stayed faces of their own without a normal (an internal
+// error, exit code 4). Every face must come out with a unit normal and three corners or more, and
+// the points inside.
+TEST(ConvexHullTest, TrianglesOfZeroComputedAreaJoinANeighbouringFace) {
+  constexpr int kStacks = 200;
+  std::vector<Eigen::Vector3d> points;
+  for (int i = 0; i <= kStacks; ++i) {
+    for (int j = 0; j < 2 * kStacks; ++j) {
+      const double t = M_PI * i / kStacks, p = M_PI * j / kStacks;
+      points.emplace_back(std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t));
+      points.emplace_back(1.1 * std::sin(t) * std::cos(p), 0.5 * std::sin(t) * std::sin(p),
+                          2 * std::cos(t));
+    }
+  }
+  const ConvexHull hull = ComputeConvexHull(points, "two UV spheres");
+  // m: the merge tolerance over this set's bounding-box diagonal (≈ 4.98), with round-off room
+  const double tolerance = 2 * kCoplanarTolerance * 5.0;
+  ASSERT_FALSE(hull.faces.empty());
+  for (size_t f = 0; f < hull.faces.size(); ++f) {
+    EXPECT_NEAR(hull.normals[f].norm(), 1, 1e-12) << "face " << f;
+    EXPECT_GE(hull.faces[f].size(), 3u) << "face " << f;
+  }
+  // every 97th point (97 is prime to the 400 points of a ring, so the sample walks all slices)
+  // against every face: the whole set would take seconds
+  for (size_t i = 0; i < points.size(); i += 97)
+    for (size_t f = 0; f < hull.faces.size(); ++f)
+      ASSERT_LE(hull.normals[f].dot(points[i]) - hull.offsets[f], tolerance) << "face " << f;
+}
+
 TEST(ConvexHull2DTest, SquareWithInteriorAndEdgePointsGivesItsCornersCounterClockwise) {
   const std::vector<Eigen::Vector2d> points = {{0, 0},   {1, 0}, {0.5, 0}, {1, 1},
                                                {0.3, 0.4}, {0, 1}, {0, 0.5}, {1, 1}};
