@@ -105,8 +105,9 @@ void FillRows(int rows, const std::vector<int>& row_of, std::vector<int>& start,
   for (int i = 0; i < static_cast<int>(row_of.size()); ++i) values[cursor[row_of[i]]++] = i;
 }
 
-// CGAL's convex_hull_3 shuffles its input with a process-wide random generator, so the labels of
-// the same hull differ from call to call (and a body's trajectory with the process's history).
+// CGAL's convex_hull_3 orders part of its work by vertex handles (a std::map keyed on them, that
+// is on heap addresses), so the labels of the same hull can differ from call to call (and a
+// body's trajectory with the process's history).
 // Relabels vertices in lexicographic order of their coordinates (hull vertices are distinct),
 // starts each triangle at its smallest label (keeping its winding) and sorts the triangles, so
 // the hull of a point set is the same arrays in every run.
