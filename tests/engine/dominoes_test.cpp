@@ -68,34 +68,57 @@ double TotalEnergy(const Scene& scene, const State& state) {
   return energy;
 }
 
+// Steps the blocks, asserting each step converged and gained no more than kMaxStepEnergyGain,
+// and keeps the deepest overlap seen: with the ground and, through each contact's gap s,
+// between blocks
+class CheckedRun {
+ public:
+  explicit CheckedRun(const Scene& scene)
+      : scene_(scene), state_(InitialState(scene)), probe_(scene),
+        energy_(TotalEnergy(scene, state_)) {}
+  // false (with a failure recorded) if the step did not converge; Step throws SolverFailure
+  // where no guess solves it
+  bool Step() {
+    const StepReport report = engine::Step(scene_, state_);
+    EXPECT_TRUE(report.converged) << "t = " << state_.t;
+    if (!report.converged) return false;
+    deepest_ = std::max(deepest_, probe_.MaxDepth(scene_, state_));
+    for (const ContactState& c : state_.contacts)
+      if (const auto* warm = std::get_if<HullWarmStart>(&c.warm_start))
+        deepest_ = std::max(deepest_, -warm->s);
+    const double next_energy = TotalEnergy(scene_, state_);
+    EXPECT_LE(next_energy, energy_ + kMaxStepEnergyGain) << "t = " << state_.t;
+    energy_ = next_energy;
+    return true;
+  }
+  const State& state() const { return state_; }
+  double energy() const { return energy_; }
+  double deepest() const { return deepest_; }
+
+ private:
+  const Scene& scene_;
+  State state_;
+  const PenetrationProbe probe_;
+  double energy_;
+  double deepest_ = 0;
+};
+
 TEST(DominoesTest, BlocksFallInOrderWithoutPenetrationAndLoseEnergy) {
   const Scene scene = LoadScene(ScenePath());
   ASSERT_EQ(scene.bodies.size(), 9u);
-  State state = InitialState(scene);
-  const PenetrationProbe probe(scene);
+  CheckedRun run(scene);
+  const State& state = run.state();
   std::vector<double> tipping_time(scene.bodies.size(), INFINITY);
-  const double initial_energy = TotalEnergy(scene, state);
-  double energy = initial_energy;
-  double deepest = 0;
+  const double initial_energy = run.energy();
   const int steps = static_cast<int>(std::lround(kDuration / scene.h));
   for (int k = 0; k < steps; ++k) {
-    // no solver failure: Step throws SolverFailure
-    const StepReport report = Step(scene, state);
-    ASSERT_TRUE(report.converged) << "t = " << state.t;
-    // overlap with the ground and, through each contact's gap s, between blocks
-    deepest = std::max(deepest, probe.MaxDepth(scene, state));
-    for (const ContactState& c : state.contacts)
-      if (const auto* warm = std::get_if<HullWarmStart>(&c.warm_start))
-        deepest = std::max(deepest, -warm->s);
-    const double next_energy = TotalEnergy(scene, state);
-    EXPECT_LE(next_energy, energy + kMaxStepEnergyGain) << "t = " << state.t;
-    energy = next_energy;
+    ASSERT_TRUE(run.Step());
     for (size_t b = 0; b < scene.bodies.size(); ++b)
       if (tipping_time[b] == INFINITY && Tilt(state.bodies[b]) > kTippingAngle)
         tipping_time[b] = state.t;
   }
-  EXPECT_LE(deepest, kMaxPenetration);
-  EXPECT_LT(energy, initial_energy);
+  EXPECT_LE(run.deepest(), kMaxPenetration);
+  EXPECT_LT(run.energy(), initial_energy);
   // the first kFallen blocks fall, each starting after the one before; the rest still stand
   for (int b = 0; b < kFallen; ++b) {
     EXPECT_GT(Tilt(state.bodies[b]), kFallingAngle) << scene.bodies[b].name;
@@ -123,26 +146,14 @@ TEST(DominoesTest, PileOfFiveSettlesOnTheBlockThatLandsFlat) {
   for (int b = kPile; b < 9; ++b)
     overrides.push_back(fmt::format("bodies.{}.position=[{}, 0, 0.05]", b, 10.0 + b));
   const Scene scene = LoadScene(ScenePath(), overrides);
-  State state = InitialState(scene);
-  const PenetrationProbe probe(scene);
+  CheckedRun run(scene);
   // m/s: a body held by friction creeps at most at the creep velocity, kStickCreepFraction of
   // its velocity scale, g h for bodies at rest (hull_model.h)
   const double creep = kStickCreepFraction * scene.gravity.norm() * scene.h;
-  double energy = TotalEnergy(scene, state);
-  double deepest = 0;
   const int steps = static_cast<int>(std::lround(kSettled / scene.h));
-  for (int k = 0; k < steps; ++k) {
-    const StepReport report = Step(scene, state);
-    ASSERT_TRUE(report.converged) << "t = " << state.t;
-    deepest = std::max(deepest, probe.MaxDepth(scene, state));
-    for (const ContactState& c : state.contacts)
-      if (const auto* warm = std::get_if<HullWarmStart>(&c.warm_start))
-        deepest = std::max(deepest, -warm->s);
-    const double next_energy = TotalEnergy(scene, state);
-    EXPECT_LE(next_energy, energy + kMaxStepEnergyGain) << "t = " << state.t;
-    energy = next_energy;
-  }
-  EXPECT_LE(deepest, kMaxPenetration);
+  for (int k = 0; k < steps; ++k) ASSERT_TRUE(run.Step());
+  EXPECT_LE(run.deepest(), kMaxPenetration);
+  const State& state = run.state();
   const BodyState& last = state.bodies[kPile - 1];
   EXPECT_NEAR(Tilt(last), M_PI / 2, kMaxPenetration / kFlatHeight);
   EXPECT_NEAR(last.p_WB.z(), kFlatHeight, kMaxPenetration);
