@@ -189,10 +189,8 @@ class IslandStepper {
     };
     static constexpr Pass kPasses[] = {
         {false, false, ""}, {true, false, " (projected)"}, {false, true, " (minimum-norm)"}};
-    const bool minimum_norm_affordable =
-        MakeIslandLayout(problem).size <= kMaxMinimumNormUnknowns;
     for (const Pass& pass : kPasses) {
-      if (pass.minimum_norm && !minimum_norm_affordable) continue;
+      if (pass.minimum_norm && MakeIslandLayout(problem).size > kMaxMinimumNormUnknowns) continue;
       options.project_nonnegative = pass.project;
       options.minimum_norm_steps = pass.minimum_norm;
       for (Guess guess : ladder) {
