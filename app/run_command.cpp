@@ -84,6 +84,8 @@ RunSummary RunWithFrames(const engine::Scene& scene, const std::string& out_dir,
   setup.progress = isatty(fileno(stderr)) == 1;
   if (!outputs.frames && !outputs.video) return RunSimulation(scene, out_dir, setup);
   FrameRecorder recorder(scene, out_dir, outputs, setup.resume ? &setup.resume->state : nullptr);
+  // a resumed run's checkpoint stays until the frames and the video are finished
+  setup.keep_checkpoint = true;
   setup.observer = [&](const engine::State& state, const engine::StepReport& report) {
     recorder.Observe(state, report);
   };
@@ -99,6 +101,7 @@ RunSummary RunWithFrames(const engine::Scene& scene, const std::string& out_dir,
     throw;
   }
   recorder.Finish();
+  if (summary.interrupt_signal == 0) RemoveCheckpoint(out_dir);
   std::printf("%d frames in %s\n", recorder.frames(), FramePlaces(outputs, out_dir).c_str());
   return summary;
 }

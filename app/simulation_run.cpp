@@ -91,6 +91,11 @@ void WriteSummary(const engine::Scene& scene, const RunSummary& s, const std::st
 
 }  // namespace
 
+void RemoveCheckpoint(const std::string& out_dir) {
+  std::error_code error;  // none there is the usual case
+  fs::remove(fs::path(out_dir) / "checkpoint.json", error);
+}
+
 RunSummary RunSimulation(const engine::Scene& scene, const std::string& out_dir,
                          const RunSetup& setup) {
   std::error_code error;
@@ -193,9 +198,9 @@ RunSummary RunSimulation(const engine::Scene& scene, const std::string& out_dir,
   if (stopped_early) {
     const Checkpoint checkpoint{setup.origin, rows_on_cadence, totals, state};
     WriteCheckpoint(checkpoint_path, checkpoint);
-  } else if (!failure) {
+  } else if (!failure && !setup.keep_checkpoint) {
     // the run is complete: nothing is left to resume
-    fs::remove(checkpoint_path, error);
+    RemoveCheckpoint(out_dir);
   }
 
   summary.steps = totals.steps;

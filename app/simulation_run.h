@@ -54,7 +54,14 @@ struct RunSetup {
   /// first `resume->rows` rows and grows from there, the totals go on, the observer sees only
   /// the new states. The result is the same, bit for bit, as a run that never stopped.
   const Checkpoint* resume = nullptr;
+  /// A run that reaches the end leaves a resumed run's checkpoint.json in place, for the caller
+  /// to remove (RemoveCheckpoint) once its own outputs are finished: frames and video are joined
+  /// after the steps, and a run killed meanwhile must stay resumable.
+  bool keep_checkpoint = false;
 };
+
+/// Removes DIR/checkpoint.json if there is one (nothing is left to resume).
+void RemoveCheckpoint(const std::string& out_dir);
 
 /// Steps `scene` from engine::InitialState until `scene.duration` (ceil(duration / h) steps of h)
 /// and writes, in `out_dir` (created if missing); memory does not grow with the number of steps:
@@ -66,7 +73,7 @@ struct RunSetup {
 /// Both replace only regular files (common/atomic_file.h).
 /// A run that stops early (interrupt, or an exception from engine::Step) also writes
 /// checkpoint.json (app/checkpoint.h): the exact state after its last step, for a resume; a run
-/// that reaches the end removes the folder's checkpoint.json.
+/// that reaches the end removes the folder's checkpoint.json (unless setup.keep_checkpoint).
 /// Under an InterruptGuard (app/interrupt.h), a SIGINT or SIGTERM stops the run after the step in
 /// progress: the trajectory then ends with the row of that step (whatever output.every says, as
 /// after a solver failure), summary.json has `"interrupted": true`, `"signal"` and the steps

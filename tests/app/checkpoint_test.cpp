@@ -119,6 +119,35 @@ TEST_F(CheckpointTest, AResumedRunIsBitIdenticalToOneThatNeverStopped) {
   EXPECT_THAT(Leftovers(parts), ::testing::IsEmpty());
 }
 
+// the video of a resumed run is joined after its last step; a run whose join fails (here an
+// ffmpeg that refuses the concat demuxer) — or that is killed during it — keeps the checkpoint
+// and the earlier video, so the next resume still makes the whole video
+TEST_F(CheckpointTest, AResumeWhoseVideoCannotBeJoinedStaysResumable) {
+  const fs::path parts = dir_ / "parts", fake = dir_ / "fake_bin";
+  std::vector<std::string> alone = kTbarRun;
+  alone.erase(std::find(alone.begin(), alone.end(), "--frames"));
+  ASSERT_EQ(InterruptAfterRows(With(alone, parts), parts, kTbarRows / 2, {SIGINT}).exit_code, 130)
+      << log_;
+  const size_t earlier = testing::DecodeVideo((parts / "video.mp4").string(), 64, 48).size();
+  fs::create_directories(fake);
+  std::ofstream(fake / "ffmpeg") << "#!/bin/sh\n"
+                                    "for a in \"$@\"; do [ \"$a\" = concat ] && exit 1; done\n"
+                                    "exec /usr/bin/ffmpeg \"$@\"\n";
+  fs::permissions(fake / "ffmpeg", fs::perms::owner_all);
+  const testing::CliResult failed = Run(fmt::format("run --resume '{}'", parts.string()),
+                                        fmt::format("PATH='{}':/usr/bin", fake.string()));
+  EXPECT_NE(failed.exit_code, 0) << failed.output;
+  EXPECT_TRUE(fs::exists(parts / "checkpoint.json"));
+  EXPECT_EQ(testing::DecodeVideo((parts / "video.mp4").string(), 64, 48).size(), earlier);
+  // the trajectory is complete; the resume redoes the second half and joins the video
+  const testing::CliResult resumed = Run(fmt::format("run --resume '{}'", parts.string()));
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+  EXPECT_EQ(testing::DecodeVideo((parts / "video.mp4").string(), 64, 48).size(),
+            static_cast<size_t>(kTbarFrames));
+  EXPECT_FALSE(fs::exists(parts / "checkpoint.json"));
+  EXPECT_THAT(Leftovers(parts), ::testing::IsEmpty());
+}
+
 // a video alone has no PNG frames to encode again: each part of the run adds its frames as a
 // segment of the video, and the resumed video holds every frame of the run once, in order
 TEST_F(CheckpointTest, AVideoAloneStoppedTwiceHoldsEveryFrameOnceInOrder) {
