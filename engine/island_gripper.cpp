@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include "common/errors.h"
+#include "engine/island_mncp.h"
 #include "engine/rotation.h"
 
 namespace ecpsim::engine {
@@ -24,9 +25,9 @@ struct Rows {
 
 Rows MakeRows(const IslandGripper& g, const std::vector<BodyProblem>& bodies) {
   Rows r;
-  r.force0 = 6 * g.jaws[0];
+  r.force0 = IslandLayout::Velocity(g.jaws[0]);
   r.moment0 = r.force0 + 3;
-  r.force1 = 6 * g.jaws[1];
+  r.force1 = IslandLayout::Velocity(g.jaws[1]);
   r.moment1 = r.force1 + 3;
   r.along = g.axis * g.axis.transpose();
   r.across = Matrix3d::Identity() - r.along;

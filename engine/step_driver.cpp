@@ -104,12 +104,13 @@ std::vector<Box> StepBoxes(const Scene& scene, const State& state) {
     }
     const Eigen::Matrix<double, 6, 1> applied =
         AppliedImpulse(scene.loads, scene.impulses, static_cast<int>(b), state.t, h, R);
-    speed[b] = s.v_WB.norm() + s.w_WB.norm() * radius + applied.head<3>().norm() / body.mass +
-               h * scene.gravity.norm();
     if (body.IsJaw()) {
       const JawReach reach = JawReachOf(scene, static_cast<int>(b), state, radius, applied);
       speed[b] = reach.speed;
       closing[b] = reach.closing;
+    } else {
+      speed[b] = s.v_WB.norm() + s.w_WB.norm() * radius + applied.head<3>().norm() / body.mass +
+                 h * scene.gravity.norm();
     }
     // a body struck by a jaw can get its closing speed in any direction
     fastest = std::max(fastest, speed[b] + closing[b].norm());

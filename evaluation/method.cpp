@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include "engine/contact_wrench.h"
 #include "engine/time_step.h"
 #include "common/errors.h"
 
@@ -23,18 +24,19 @@ class EcpsimStepper final : public Stepper {
   const engine::State& state() const override { return state_; }
   int iterations() const override { return iterations_; }
   Eigen::Vector3d ContactForce(int body, int other) const override {
-    // each pair's impulse acts on its F side (`body`), its opposite on G
-    Eigen::Vector3d impulse = Eigen::Vector3d::Zero();
+    // each pair's force on its G side, the opposite on its F side
+    Eigen::Vector3d force = Eigen::Vector3d::Zero();
     for (size_t k = 0; k < scene_.contacts.size(); ++k) {
       const engine::ContactPair& pair = scene_.contacts[k];
       if (!pair.WithBody()) continue;
-      const double sign = pair.body == body && pair.other_body == other   ? 1
-                          : pair.body == other && pair.other_body == body ? -1
+      const double sign = pair.other_body == body && pair.body == other   ? 1
+                          : pair.other_body == other && pair.body == body ? -1
                                                                           : 0;
-      const engine::ContactState& c = state_.contacts[k];
-      if (sign != 0) impulse += sign * (c.n * c.p_n + c.t * c.p_t + c.o * c.p_o);
+      if (sign != 0) {
+        force += sign * engine::WrenchOnOther(scene_, state_, static_cast<int>(k), scene_.h).force;
+      }
     }
-    return impulse / scene_.h;
+    return force;
   }
 
  private:
