@@ -9,8 +9,9 @@
 
 namespace ecpsim::engine {
 
-AdvanceResult AutoModel::Advance(const Island& island, double t, double h,
-                                 IslandState& state) const {
+template <typename HullStep>
+AdvanceResult AutoModel::PlanarElse(const Island& island, double t, double h, IslandState& state,
+                                    const HullStep& hull_step) const {
   if (island.bodies.size() == 1) {
     // the acceptance test (engine/README.md, "model: auto"): one body on one fixed plane,
     // moving in it and turning about its normal, the normal a principal axis, the support face
@@ -26,11 +27,22 @@ AdvanceResult AutoModel::Advance(const Island& island, double t, double h,
                                                    Eigen::VectorXd::Ones(1), {}};
       return step.result;
     }
-    AdvanceResult result = hull_.Advance(island, t, h, state);
+    AdvanceResult result = hull_step();
     result.iterations += step.result.iterations;
     return result;
   }
-  return hull_.Advance(island, t, h, state);
+  return hull_step();
+}
+
+AdvanceResult AutoModel::Advance(const Island& island, double t, double h,
+                                 IslandState& state) const {
+  return PlanarElse(island, t, h, state, [&] { return hull_.Advance(island, t, h, state); });
+}
+
+std::optional<AdvanceResult> AutoModel::AdvanceAsLastResort(const Island& island, double t,
+                                                            double h, IslandState& state) const {
+  return PlanarElse(island, t, h, state,
+                    [&] { return *hull_.AdvanceAsLastResort(island, t, h, state); });
 }
 
 }  // namespace ecpsim::engine

@@ -3,6 +3,7 @@
 // closed-form free flight, the planar sliding model where its solution provably solves the hull
 // MNCP, else the hull MNCP (engine/README.md, "model: auto").
 
+#include <optional>
 #include <string>
 
 #include "engine/contact_model.h"
@@ -20,8 +21,16 @@ class AutoModel final : public ContactModelStepper {
   /// hull model's step (which takes free flight in closed form by itself).
   AdvanceResult Advance(const Island& island, double t, double h,
                         IslandState& state) const override;
+  /// The same with the hull model's last resort where the planar step is not taken.
+  std::optional<AdvanceResult> AdvanceAsLastResort(const Island& island, double t, double h,
+                                                   IslandState& state) const override;
 
  private:
+  // the planar step where it is taken, else `hull_step` (the hull model's step or last resort)
+  template <typename HullStep>
+  AdvanceResult PlanarElse(const Island& island, double t, double h, IslandState& state,
+                           const HullStep& hull_step) const;
+
   const Scene& scene_;
   HullModel hull_;
 };

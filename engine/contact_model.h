@@ -5,6 +5,7 @@
 // and commits; a model only solves.
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -48,6 +49,14 @@ class ContactModelStepper {
   /// @throws ModelInvalid where the model does not apply.
   virtual AdvanceResult Advance(const Island& island, double t, double h,
                                 IslandState& state) const = 0;
+  /// A dearer attempt that the driver makes only where Advance failed at h and at every
+  /// sub-step length, so that every step Advance solves is solved as without it; the same
+  /// contract as Advance. Empty for a model that has none (the default).
+  virtual std::optional<AdvanceResult> AdvanceAsLastResort(const Island& /*island*/,
+                                                           double /*t*/, double /*h*/,
+                                                           IslandState& /*state*/) const {
+    return std::nullopt;
+  }
 };
 
 /// For a model that solves one body with its contacts at a time: `Stepper(scene, body,

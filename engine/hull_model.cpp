@@ -47,6 +47,13 @@ constexpr double kJacobianSmoothing = 0.1;
 // Levenberg–Marquardt steps out of an impact's near-singular Newton matrix, the stability map's
 // 10 m/s case at h = 2e-4 s) went 30 iterations without halving before they converged
 constexpr int kStallIterations = 45;
+// the last pass of the ladder (minimum-norm steps, plain Newton) gets this many times the
+// solver's iteration budget per guess: on a set of solutions that ends at a degenerate pair (a
+// contact touching with zero force, as the table's under the T-bar at a finger's first touch)
+// Newton converges linearly, and the T-bar push's first touch at h = 1e-5 … 4e-5 s needed
+// up to 3 × the default 60 iterations in one solve (2 × failed one of them); only steps whose
+// other passes all failed pay for it
+constexpr int kPlainNewtonBudgetFactor = 4;
 // a hull face whose multiplier exceeds this fraction of the contact's largest one counts as
 // active when looking for a degenerate vertex (SolveAtDegenerateVertex): far above round-off,
 // far below the multipliers of faces that carry the contact (measured down to 1.9e-6 of it on
@@ -101,8 +108,10 @@ class IslandStepper {
  public:
   IslandStepper(const Scene& scene, const Island& island) : scene_(scene), island_(island) {}
 
-  // one step of length h from `state`; not solved if every guess failed
-  AdvanceResult Advance(double t, double h, IslandState& state) const {
+  // one step of length h from `state`; not solved if every guess failed. As the last resort
+  // (HullModel::AdvanceAsLastResort), the ladder's guesses with minimum-norm steps on the plain
+  // Newton iteration instead of its three passes
+  AdvanceResult Advance(double t, double h, IslandState& state, bool last_resort) const {
     AdvanceResult result;
     IslandProblem problem = MakeProblem(t, h, state);
     IslandScales scales;
@@ -174,26 +183,35 @@ class IslandStepper {
 
     McpOptions options;
     options.tolerance = scene_.solver.tolerance;
-    options.max_iterations = scene_.solver.max_iterations;
     options.jacobian_smoothing = kJacobianSmoothing;
-    options.levenberg_marquardt_rescue = true;
-    options.stall_iterations = kStallIterations;
 
     // the ladder as it is first; only when every guess fails, again with iterates kept in the
     // orthant of the complementarity unknowns (engine/README.md, "Impacts": the merit function
     // has stationary points with σ < 0 — friction pushing along the slip — that capture Newton
     // at hard impacts); and only when that fails too, with minimum-norm Newton steps, for
-    // solutions that are not isolated (engine/README.md, "Non-isolated solutions")
+    // solutions that are not isolated (engine/README.md, "Non-isolated solutions"). The last
+    // resort takes minimum-norm steps on the plain iteration with a larger budget: where such a
+    // set ends at a degenerate pair Newton converges only linearly, which the stall test takes
+    // for a stall, and the Levenberg–Marquardt comparison steps along the set
     struct Pass {
-      bool project, minimum_norm;
+      bool project, minimum_norm, plain_newton;
       const char* name;
     };
-    static constexpr Pass kPasses[] = {
-        {false, false, ""}, {true, false, " (projected)"}, {false, true, " (minimum-norm)"}};
-    for (const Pass& pass : kPasses) {
+    static constexpr Pass kPasses[] = {{false, false, false, ""},
+                                       {true, false, false, " (projected)"},
+                                       {false, true, false, " (minimum-norm)"},
+                                       {false, true, true, " (minimum-norm, plain Newton)"}};
+    constexpr int kLastResortPass = 3, kPassCount = static_cast<int>(std::size(kPasses));
+    for (int p = last_resort ? kLastResortPass : 0; p < (last_resort ? kPassCount : kLastResortPass);
+         ++p) {
+      const Pass& pass = kPasses[p];
       if (pass.minimum_norm && MakeIslandLayout(problem).size > kMaxMinimumNormUnknowns) continue;
       options.project_nonnegative = pass.project;
       options.minimum_norm_steps = pass.minimum_norm;
+      options.levenberg_marquardt_rescue = !pass.plain_newton;
+      options.stall_iterations = pass.plain_newton ? 0 : kStallIterations;
+      options.max_iterations =
+          scene_.solver.max_iterations * (pass.plain_newton ? kPlainNewtonBudgetFactor : 1);
       for (Guess guess : ladder) {
         // bodies at rest under unchanged loads: the last step's solution usually solves this one
         // too (a stack, a box on the table), and is verified on the residual alone
@@ -975,7 +993,12 @@ class IslandStepper {
 
 AdvanceResult HullModel::Advance(const Island& island, double t, double h,
                                  IslandState& state) const {
-  return IslandStepper(scene_, island).Advance(t, h, state);
+  return IslandStepper(scene_, island).Advance(t, h, state, /*last_resort=*/false);
+}
+
+std::optional<AdvanceResult> HullModel::AdvanceAsLastResort(const Island& island, double t,
+                                                            double h, IslandState& state) const {
+  return IslandStepper(scene_, island).Advance(t, h, state, /*last_resort=*/true);
 }
 
 }  // namespace ecpsim::engine

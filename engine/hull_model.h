@@ -25,10 +25,16 @@ class HullModel final : public ContactModelStepper {
   explicit HullModel(const Scene& scene) : scene_(scene) {}
   std::string MessagePrefix() const override { return ""; }
   /// Free flight in closed form when no hull can reach its obstacle within the step; else the
-  /// warm start and the restart ladder (plain, then with projected iterates), each with the hull
-  /// window grown until the solution holds for the whole hull.
+  /// warm start and the restart ladder (plain, then with projected iterates, then with
+  /// minimum-norm Newton steps), each with the hull window grown until the solution holds for
+  /// the whole hull.
   AdvanceResult Advance(const Island& island, double t, double h,
                         IslandState& state) const override;
+  /// The ladder's guesses once more with minimum-norm Newton steps on the plain iteration and
+  /// four times the iteration budget (engine/README.md, "Non-isolated
+  /// solutions"): for the steps whose solutions form a set ending at a degenerate pair.
+  std::optional<AdvanceResult> AdvanceAsLastResort(const Island& island, double t, double h,
+                                                   IslandState& state) const override;
 
  private:
   const Scene& scene_;

@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <numeric>
+#include <optional>
 #include <string>
 #include <variant>
 
@@ -16,6 +18,7 @@ namespace {
 // the sub-step ladder: the step at h, then in 2, 4 and 16 equal parts (engine/README.md: hard
 // impacts and bodies far smaller than g h² need the last rung)
 constexpr int kSubsteps[] = {1, 2, 4, 16};
+constexpr int kLadderLength = static_cast<int>(std::size(kSubsteps));
 
 IslandState Gather(const Island& island, const State& state) {
   IslandState local;
@@ -216,7 +219,12 @@ StepReport StepIslands(const Scene& scene, State& state, const ContactModelStepp
     std::string tried;
     double residual = 0;
     bool solved = false;
-    for (int substeps : kSubsteps) {
+    // the sub-step ladder with the model's Advance; only where that fails at every length,
+    // again with its last resort (if it has one), so that what Advance solves stays as it was
+    bool has_last_resort = true;
+    for (int attempt = 0; attempt < 2 * kLadderLength && !solved && has_last_resort; ++attempt) {
+      const bool last_resort = attempt >= kLadderLength;
+      const int substeps = kSubsteps[attempt % kLadderLength];
       IslandState local = Gather(island, state);
       const double h = scene.h / substeps;
       double island_residual = 0;
@@ -225,7 +233,14 @@ StepReport StepIslands(const Scene& scene, State& state, const ContactModelStepp
       // a contact's impulses are the whole step's: the sub-steps' sum
       std::vector<Eigen::Vector4d> impulse(island.contacts.size(), Eigen::Vector4d::Zero());
       for (int i = 0; i < substeps && ok; ++i) {
-        AdvanceResult result = model.Advance(island, state.t + i * h, h, local);
+        std::optional<AdvanceResult> attempted =
+            last_resort ? model.AdvanceAsLastResort(island, state.t + i * h, h, local)
+                        : model.Advance(island, state.t + i * h, h, local);
+        if (!attempted) {  // the model has none
+          has_last_resort = ok = false;
+          break;
+        }
+        AdvanceResult& result = *attempted;
         for (size_t k = 0; k < island.contacts.size(); ++k) {
           const ContactState& c = local.contacts[k];
           impulse[k] += Eigen::Vector4d(c.p_n, c.p_t, c.p_o, c.p_r);

@@ -178,7 +178,9 @@ Scene HeldBox(KinematicMotion motion, double force) {
   AddBodyPairs(scene);
   // the pads' friction on the box: the pair rule keeps equal bodies' values
   for (const ContactPair& pair : scene.contacts)
-    if (pair.WithBody()) EXPECT_DOUBLE_EQ(pair.friction.mu, kMuPad);
+    if (pair.WithBody()) {
+      EXPECT_DOUBLE_EQ(pair.friction.mu, kMuPad);
+    }
   AddHand(scene, std::move(motion), TimeFunction(force), 1, 2);
   scene.duration = 2;
   ValidateScene(scene);

@@ -81,6 +81,44 @@ TEST(TbarPushSceneTest, TheFingerPushesAndTurnsTheTFlatOnTheTableAndOnlyEverPush
   EXPECT_GT(yaw, 0);
 }
 
+// The finger's first touch, at steps fine enough for a converged reference: the T lies on its
+// face and the finger's side meets its back face, two contacts that carry the same moment, so
+// the step's solutions are not isolated (engine/README.md, "Non-isolated solutions"). At these
+// steps every pass of the ladder but the last — minimum-norm steps on the plain Newton
+// iteration — stalled, and the run stopped at t = 0.2857 s (exit code 3).
+class TbarPushFineStepTest : public ::testing::TestWithParam<double> {};
+
+TEST_P(TbarPushFineStepTest, TheFingersFirstTouchIsSolvedAndTheTFollowsTheFinger) {
+  constexpr double kEnd = 0.3;  // s: the finger touches at ≈ 0.2857 s (1.4 cm at 5 cm/s)
+  // pushed, the T's point under the finger moves with the finger along the face's normal: the
+  // gap is 0 at the end of consecutive steps, so their normal velocities differ only by the
+  // face's turn within a step (|ω| h ≈ 4e-6 here); 1e-4 of the finger's speed bounds that
+  constexpr double kFollowRel = 1e-4;
+  Scene scene = LoadScene(ScenePath("tbar_push.yaml"));
+  scene.h = GetParam();
+  const int tbar = BodyIndex(scene, "tbar"), finger = BodyIndex(scene, "finger");
+  const int push = ContactIndex(scene, tbar, finger);
+  const PenetrationProbe probe(scene);
+  State state = InitialState(scene);
+  const double z0 = state.bodies[tbar].p_WB.z();
+  const long steps = std::lround(kEnd / scene.h);
+  for (long k = 0; k < steps; ++k) {
+    ASSERT_TRUE(Step(scene, state).converged) << "t = " << state.t;
+    ASSERT_LE(probe.MaxDepth(scene, state), kPenetration) << "t = " << state.t;
+    ASSERT_NEAR(state.bodies[tbar].p_WB.z(), z0, kPenetration) << "t = " << state.t;
+    ASSERT_GE(state.contacts[push].p_n, 0) << "t = " << state.t;
+  }
+  const ContactState& c = state.contacts[push];
+  const BodyState& T = state.bodies[tbar];
+  const Eigen::Vector3d finger_velocity = state.bodies[finger].v_WB;
+  ASSERT_GT(c.p_n, 0);
+  const Eigen::Vector3d at_finger = T.v_WB + T.w_WB.cross(c.a1 - T.p_WB);
+  EXPECT_NEAR(at_finger.dot(c.n), finger_velocity.dot(c.n), kFollowRel * finger_velocity.norm());
+  EXPECT_GT(T.v_WB.x(), 0);
+}
+
+INSTANTIATE_TEST_SUITE_P(Steps, TbarPushFineStepTest, ::testing::Values(2.5e-5, 1.25e-5));
+
 TEST(GripperSceneTest, TheBoxEndsDraggedAndTurnedAQuarterWhereTheFrameTookIt) {
   const Scene scene = LoadScene(ScenePath("gripper.yaml"));
   const int box = BodyIndex(scene, "box");
