@@ -1,5 +1,6 @@
 #include "engine/step_driver.h"
 
+#include <optional>
 #include <string>
 
 #include <gmock/gmock.h>
@@ -101,6 +102,48 @@ TEST(StepIslandsTest, AnIslandThatNeverSolvesNamesTimeBodyAndWhatWasTriedAndLeav
   EXPECT_EQ(state.steps, 0);
   for (size_t b = 0; b < state.bodies.size(); ++b)
     EXPECT_EQ(state.bodies[b].p_WB, before.bodies[b].p_WB);
+}
+
+// The SubstepModel whose Advance never solves the stubborn body, with a last resort that solves
+// it at sub-steps of at most `last_resort_h`.
+class LastResortModel final : public ContactModelStepper {
+ public:
+  LastResortModel(const Scene& scene, double last_resort_h)
+      : advance_(scene, 0), last_resort_(scene, last_resort_h) {}
+  std::string MessagePrefix() const override { return "test model: "; }
+  AdvanceResult Advance(const Island& island, double t, double h,
+                        IslandState& state) const override {
+    EXPECT_EQ(last_resort_.calls, 0) << "Advance after the last resort";
+    return advance_.Advance(island, t, h, state);
+  }
+  std::optional<AdvanceResult> AdvanceAsLastResort(const Island& island, double t, double h,
+                                                   IslandState& state) const override {
+    return last_resort_.Advance(island, t, h, state);
+  }
+  SubstepModel advance_, last_resort_;
+};
+
+TEST(StepIslandsTest, TheLastResortRunsOnlyWhereEverySubstepLengthFailed) {
+  const Scene scene = TwoBoxes();
+  State state = InitialState(scene);
+  // the last resort solves at h/2: for the stubborn body the ladder fails at h, h/2, h/4 and
+  // h/16 first (each length stops at its first failure), then the last resort fails at h and
+  // solves both halves; the easy body is solved by Advance at h
+  const LastResortModel model(scene, scene.h / 2);
+  const StepReport report = StepIslands(scene, state, model);
+  EXPECT_EQ(model.advance_.calls, 1 + 4);
+  EXPECT_EQ(model.last_resort_.calls, 1 + 2);
+  EXPECT_EQ(report.substeps, 2);
+  EXPECT_NEAR(state.bodies[1].p_WB.x(), 1 + scene.h, 2 * 2.3e-16);  // two roundings of x + h/2
+  EXPECT_EQ(state.steps, 1);
+}
+
+TEST(StepIslandsTest, AModelWithoutALastResortFailsAfterTheLadder) {
+  const Scene scene = TwoBoxes();
+  State state = InitialState(scene);
+  const SubstepModel model(scene, scene.h / 100);
+  EXPECT_THROW(StepIslands(scene, state, model), SolverFailure);
+  EXPECT_EQ(model.calls, 1 + 4);  // the easy body, then h, h/2, h/4, h/16 for the stubborn one
 }
 
 TEST(StepIslandsTest, TheHullModelThroughTheDriverIsTheStep) {
