@@ -399,13 +399,28 @@ class IslandStepper {
   // each with the ECPs moved along the edge to kEdgeStarts places over the hull's extent along
   // it, nearest first; a root is accepted only as every solve is (converged, no energy gained,
   // the window check).
+  // As SolveAtDegenerateVertex, every contact of a body alone is tried, and in an island of
+  // several bodies the stalled one.
   bool SolveAlongCarryingEdge(const IslandProblem& problem, const IslandLayout& layout,
                               const VectorXd& z, McpOptions& options, const IslandScales& scales,
                               double ejection_energy, IslandState& state,
                               AdvanceResult& result) const {
     if (!z.allFinite()) return false;
-    const int stalled = layout.num_bodies > 1 ? StalledContact(problem, layout, z, scales) : 0;
-    if (stalled >= static_cast<int>(problem.contacts.size())) return false;
+    const int stalled = layout.num_bodies > 1 ? StalledContact(problem, layout, z, scales) : -1;
+    for (size_t k = 0; k < problem.contacts.size(); ++k) {
+      if (stalled >= 0 && static_cast<int>(k) != stalled) continue;
+      if (SolveAlongEdgeOf(static_cast<int>(k), problem, layout, z, options, scales,
+                           ejection_energy, state, result)) {
+        return true;
+      }
+    }
+    return false;
+  }
+
+  // SolveAlongCarryingEdge for contact `stalled`
+  bool SolveAlongEdgeOf(int stalled, const IslandProblem& problem, const IslandLayout& layout,
+                        const VectorXd& z, McpOptions& options, const IslandScales& scales,
+                        double ejection_energy, IslandState& state, AdvanceResult& result) const {
     const IslandContact& cp = problem.contacts[stalled];
     const MncpLayout::Contact& L = layout.contacts[stalled];
     const std::vector<int> carrying = Carrying(z, L.l, L.l_count);  // window positions
