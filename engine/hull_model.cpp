@@ -47,8 +47,8 @@ constexpr double kJacobianSmoothing = 0.1;
 // Levenberg–Marquardt steps out of an impact's near-singular Newton matrix, the stability map's
 // 10 m/s case at h = 2e-4 s) went 30 iterations without halving before they converged
 constexpr int kStallIterations = 45;
-// the last pass of the ladder (minimum-norm steps, plain Newton) gets this many times the
-// solver's iteration budget per guess: on a set of solutions that ends at a degenerate pair (a
+// the last resort (HullModel::AdvanceAsLastResort: minimum-norm steps, plain Newton) gets this
+// many times the solver's iteration budget per guess: on a set of solutions that ends at a degenerate pair (a
 // contact touching with zero force, as the table's under the T-bar at a finger's first touch)
 // Newton converges linearly, and the T-bar push's first touch at h = 1e-5 … 4e-5 s needed
 // up to 3 × the default 60 iterations in one solve (2 × failed one of them); only steps whose
@@ -398,9 +398,8 @@ class IslandStepper {
   // 19 m crease, a 4.7 m edge). Starts: the stalled iterate and each carrying face's own solution,
   // each with the ECPs moved along the edge to kEdgeStarts places over the hull's extent along
   // it, nearest first; a root is accepted only as every solve is (converged, no energy gained,
-  // the window check).
-  // As SolveAtDegenerateVertex, every contact of a body alone is tried, and in an island of
-  // several bodies the stalled one.
+  // the window check). As in SolveAtDegenerateVertex, every contact of a body alone is tried,
+  // and in an island of several bodies the stalled one.
   bool SolveAlongCarryingEdge(const IslandProblem& problem, const IslandLayout& layout,
                               const VectorXd& z, McpOptions& options, const IslandScales& scales,
                               double ejection_energy, IslandState& state,
@@ -417,7 +416,7 @@ class IslandStepper {
     return false;
   }
 
-  // SolveAlongCarryingEdge for contact `stalled`
+  // SolveAlongCarryingEdge on contact `stalled` alone
   bool SolveAlongEdgeOf(int stalled, const IslandProblem& problem, const IslandLayout& layout,
                         const VectorXd& z, McpOptions& options, const IslandScales& scales,
                         double ejection_energy, IslandState& state, AdvanceResult& result) const {

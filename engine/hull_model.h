@@ -31,8 +31,8 @@ class HullModel final : public ContactModelStepper {
   AdvanceResult Advance(const Island& island, double t, double h,
                         IslandState& state) const override;
   /// The ladder's guesses once more with minimum-norm Newton steps on the plain iteration and
-  /// four times the iteration budget (engine/README.md, "Non-isolated
-  /// solutions"): for the steps whose solutions form a set ending at a degenerate pair.
+  /// four times the iteration budget, for steps whose solutions form a set that ends at a
+  /// degenerate pair (engine/README.md, "Non-isolated solutions").
   std::optional<AdvanceResult> AdvanceAsLastResort(const Island& island, double t, double h,
                                                    IslandState& state) const override;
 
