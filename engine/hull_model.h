@@ -15,9 +15,10 @@ namespace ecpsim::engine {
 // a resting body (0.098 m/s at h = 0.01 s), 1e-5 m in 10 s, and the friction it makes unique is
 // resolved to the solver's tolerance over it, 1e-7 of e² μ p_n. Stiffer creeps condition Newton
 // worse, and it stalls 100–1000 × above the tolerance: examples/push_sweep.py's 1,000 runs (seed
-// 1) failed 61 times at 1e-7, 20 at 1e-6, once here, while the 939 runs every one completed ended
-// as close to each other at 1e-5 as at 1e-6 (median 0.4 mm, 90 % within 5 mm of the 1e-7 poses
-// after 1 s: the point push's own sensitivity, not the creep's ≤ 3 µm of slip) (engine/README.md)
+// 1) failed 61 times at 1e-7, 20 at 1e-6, once here (none since the last resort), while the 939
+// runs every one completed ended as close to each other at 1e-5 as at 1e-6 (median 0.4 mm, 90 %
+// within 5 mm of the 1e-7 poses after 1 s: the point push's own sensitivity, not the creep's
+// ≤ 3 µm of slip) (engine/README.md)
 inline constexpr double kStickCreepFraction = 1e-5;
 
 class HullModel final : public ContactModelStepper {
