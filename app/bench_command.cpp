@@ -10,6 +10,7 @@
 #include <vector>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "common/atomic_file.h"
 #include "app/bench_report.h"
@@ -259,9 +260,10 @@ void AddBenchCommand(CLI::App& app) {
   bench->add_flag("--quick", o->quick,
                   "steps 0.01 and 0.002 s only, converged scenes cut to 0.5 s, 3 drops per "
                   "mesh kind and 10 collection files (for CI)");
+  // listed from the scenarios themselves, so that the help names every one
   bench->add_option("--scenarios", o->scenarios,
-                    "work-precision scenarios (default all): slide, spin, push_slide, rest, "
-                    "desk, tbar, dumbbell, stack, push_box")
+                    fmt::format("work-precision scenarios (default all): {}",
+                                fmt::join(evaluation::WorkPrecisionScenarioNames(), ", ")))
       ->delimiter(',');
   bench->add_option("--methods", o->methods,
                     "methods (default all available): hull, hull-tol1e-08, hull-tol1e-05, "
