@@ -242,13 +242,16 @@ std::string ResultsMarkdown(const std::vector<WorkPrecisionRow>& wp,
   if (!wp.empty()) {
     md += "## Work–precision\n\nState error max |Δp| + L·|Δθ| (m) against the reference; CPU s "
           "per simulated s; at the coarsest and finest step of the sweep; `fail` = failed runs "
-          "of the sweep. For converged references, `vs hull` is the state error of the finest "
-          "run against the hull model's converged solution (cross-model agreement).\n\n";
+          "of the sweep. `ref ±` estimates the reference's own error: 0 for a "
+          "closed form; for a converged reference the state error between it and the same "
+          "method at twice its step, below which an error is not resolved. For converged "
+          "references, `vs hull` is the state error of the finest run against the hull model's "
+          "converged solution (cross-model agreement).\n\n";
     for (const std::string& scenario :
          InOrder(wp, ScenarioOf, evaluation::WorkPrecisionScenarioNames())) {
       md += fmt::format("### {}\n\n| method | h coarse | error | CPU s/s | h fine | error | CPU "
-                        "s/s | max penetration (m) | wrong mode | vs hull | fail |\n"
-                        "|---|---|---|---|---|---|---|---|---|---|---|\n",
+                        "s/s | ref ± | max penetration (m) | wrong mode | vs hull | fail |\n"
+                        "|---|---|---|---|---|---|---|---|---|---|---|---|\n",
                         scenario);
       for (const std::string& method :
            InOrder(wp, MethodOf<WorkPrecisionRow>, MethodOrder())) {
@@ -264,12 +267,12 @@ std::string ResultsMarkdown(const std::vector<WorkPrecisionRow>& wp,
           wrong = std::max(wrong, r.wrong_mode);
         }
         if (!coarse) continue;
-        md += fmt::format("| {} | {:g} | {} | {} | {:g} | {} | {} | {} | {:.0f} % | {} | {} |\n",
-                          method, coarse->h, coarse->failed ? "failed" : Sci(coarse->error_state),
-                          Sci(coarse->cpu_per_sim_s), fine->h,
-                          fine->failed ? "failed" : Sci(fine->error_state),
-                          Sci(fine->cpu_per_sim_s), Sci(penetration), 100 * wrong,
-                          Sci(fine->error_vs_hull), failures);
+        md += fmt::format(
+            "| {} | {:g} | {} | {} | {:g} | {} | {} | {} | {} | {:.0f} % | {} | {} |\n", method,
+            coarse->h, coarse->failed ? "failed" : Sci(coarse->error_state),
+            Sci(coarse->cpu_per_sim_s), fine->h, fine->failed ? "failed" : Sci(fine->error_state),
+            Sci(fine->cpu_per_sim_s), Sci(fine->reference_uncertainty), Sci(penetration),
+            100 * wrong, Sci(fine->error_vs_hull), failures);
       }
       md += "\n" + PushForceTable(wp, scenario);
     }
