@@ -331,6 +331,56 @@ TEST(ConvexHullTest, SamePointsGiveTheSameArraysOnEveryCall) {
                              }));
 }
 
+// Issue 11: where input points are exactly coplanar, CGAL may triangulate a face in many ways
+// (and keep a point on a face or edge as a vertex or not), depending on the input order and on
+// heap addresses; every output must still be a function of the point set alone. An octahedron
+// |x| + |y| + |z| ≤ 6 through all its lattice points (slanted faces of 28 points each, eighths
+// of a metre: exact) and a box with grids on its faces, edges and inside, each hulled in
+// several orders, must give bit-identical arrays, and the box's normals exact axes.
+TEST(ConvexHullTest, ExactlyCoplanarPointsGiveTheSameHullInEveryOrder) {
+  std::vector<Eigen::Vector3d> octahedron;
+  for (int x = -6; x <= 6; ++x) {
+    for (int y = -6; y <= 6; ++y) {
+      for (int z = -6; z <= 6; ++z) {
+        if (std::abs(x) + std::abs(y) + std::abs(z) <= 6) {
+          octahedron.emplace_back(0.125 * x - 0.3, 0.125 * y + 0.1, 0.125 * z + 2.0);
+        }
+      }
+    }
+  }
+  std::vector<Eigen::Vector3d> box;
+  for (int i = 0; i <= 6; ++i) {
+    for (int j = 0; j <= 4; ++j) {
+      for (int k = 0; k <= 3; ++k) {
+        box.emplace_back(0.1 + 0.3 * i / 6, -0.2 + 0.7 * j / 4, 0.05 + 0.11 * k / 3);
+      }
+    }
+  }
+  for (const auto* points : {&octahedron, &box}) {
+    const ConvexHull first = ComputeConvexHull(*points, "lattice");
+    ExpectValidHull(first, *points);
+    ASSERT_EQ(first.faces.size(), points == &box ? 6u : 8u);
+    EXPECT_EQ(first.vertices.size(), 6u + 2 * (points == &box));
+    std::mt19937 rng(3);
+    std::vector<Eigen::Vector3d> shuffled = *points;
+    for (int order = 0; order < 6; ++order) {
+      std::shuffle(shuffled.begin(), shuffled.end(), rng);
+      const ConvexHull again = ComputeConvexHull(shuffled, "lattice");
+      EXPECT_EQ(again.vertices, first.vertices) << "order " << order;
+      EXPECT_EQ(again.faces, first.faces) << "order " << order;
+      EXPECT_EQ(again.normals, first.normals) << "order " << order;
+      EXPECT_EQ(again.offsets, first.offsets) << "order " << order;
+      EXPECT_EQ(again.vertex_faces, first.vertex_faces) << "order " << order;
+      EXPECT_EQ(again.vertex_neighbors, first.vertex_neighbors) << "order " << order;
+    }
+  }
+  const ConvexHull hull = ComputeConvexHull(box, "box lattice");
+  for (const Eigen::Vector3d& n : hull.normals) {
+    EXPECT_EQ(n.cwiseAbs().maxCoeff(), 1.0) << n.transpose();
+    EXPECT_EQ(n.cwiseAbs().sum(), 1.0) << n.transpose();
+  }
+}
+
 TEST(ConvexHullTest, DegenerateInputsThrowNamingTheSource) {
   const std::vector<Eigen::Vector3d> three = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
   EXPECT_THAT([&] { ComputeConvexHull(three, "meshes/tri.obj"); },
