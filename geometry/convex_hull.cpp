@@ -82,12 +82,14 @@ void CheckFullDimensional(const std::vector<Point3>& points, const std::string& 
       source, tolerance, diagonal));
 }
 
-// The exact hull as plain arrays: triangles (outward), the triangle across each edge (k, k + 1),
-// and per vertex the triangles around it and the vertices joined to it (compressed rows).
+// The exact hull as plain arrays: triangles (outward), the triangle across each edge (k, k + 1)
+// and its vertex off that edge (its apex), and per vertex the triangles around it and the
+// vertices joined to it (compressed rows).
 struct TriangulatedHull {
   std::vector<Eigen::Vector3d> points;
   std::vector<std::array<int, 3>> triangles;
   std::vector<std::array<int, 3>> across;
+  std::vector<std::array<int, 3>> apex;
   std::vector<int> fan_start;
   std::vector<int> fan;
   std::vector<int> ring_start;
@@ -171,6 +173,7 @@ TriangulatedHull ToTriangulatedHull(const std::vector<Point3>& points,
   hull.ring_start = hull.fan_start;
   hull.fan.resize(3 * hull.triangles.size());
   hull.ring.resize(3 * hull.triangles.size());
+  std::vector<int> third(3 * hull.triangles.size());
   std::vector<int> cursor(hull.fan_start.begin(), hull.fan_start.end() - 1);
   for (int t = 0; t < num_triangles; ++t) {
     const std::array<int, 3>& tri = hull.triangles[t];
@@ -178,10 +181,12 @@ TriangulatedHull ToTriangulatedHull(const std::vector<Point3>& points,
       const int j = cursor[tri[k]]++;
       hull.fan[j] = t;
       hull.ring[j] = tri[(k + 1) % 3];
+      third[j] = tri[(k + 2) % 3];
     }
   }
   // the triangle across edge (a, b) is the one holding the reverse edge (b, a)
   hull.across.resize(num_triangles);
+  hull.apex.resize(num_triangles);
   for (int t = 0; t < num_triangles; ++t) {
     for (int k = 0; k < 3; ++k) {
       const int a = hull.triangles[t][k];
@@ -190,6 +195,7 @@ TriangulatedHull ToTriangulatedHull(const std::vector<Point3>& points,
       while (j < hull.ring_start[b + 1] && hull.ring[j] != a) ++j;
       ECPSIM_DEMAND(j < hull.ring_start[b + 1]);
       hull.across[t][k] = hull.fan[j];
+      hull.apex[t][k] = third[j];
     }
   }
   return hull;
@@ -238,7 +244,9 @@ bool AppendBoundaryLoop(const TriangulatedHull& hull, const std::vector<int>& gr
 // Far below the merge tolerance and far above the round-off of n · v (a few 1e-16 of the largest
 // coordinate): a merged face's outermost vertex is searched for among the vertices this close to
 // the best one found by climbing, so that near-ties in double precision cannot make the offset
-// depend on the path the climb took.
+// depend on the path the climb took; and a quick test that rejects a neighbour by one point
+// allows this much beyond the merge tolerance, so that round-off cannot make it stricter than the
+// full test.
 constexpr double kSupportSlack = 1e-12;  // dimensionless, × largest |coordinate|
 
 // The exact hull's faces: its triangles joined across every edge whose two triangles are exactly
@@ -315,11 +323,8 @@ ExactFaces FindExactFaces(const TriangulatedHull& hull,
       // neighbours more than 90° apart cannot be coplanar; the others (and a triangle whose
       // area vector evaluates to zero) take the exact test
       if (u < t || area_normals[t].dot(area_normals[u]) < 0) continue;
-      const std::array<int, 3>& other = hull.triangles[u];
-      const int apex = other[0] != tri[k] && other[0] != tri[(k + 1) % 3]   ? other[0]
-                       : other[1] != tri[k] && other[1] != tri[(k + 1) % 3] ? other[1]
-                                                                            : other[2];
-      if (CGAL::orientation(point(tri[0]), point(tri[1]), point(tri[2]), point(apex)) !=
+      if (CGAL::orientation(point(tri[0]), point(tri[1]), point(tri[2]),
+                            point(hull.apex[t][k])) !=
           CGAL::COPLANAR) {
         continue;
       }
@@ -375,32 +380,55 @@ ExactFaces FindExactFaces(const TriangulatedHull& hull,
 // accurate): a neighbour joins when all its corners lie within `tolerance` of the seed's plane,
 // so a group is a union of whole exact faces. Testing distances to the group's plane, not
 // normals of neighbours pairwise, keeps a finely tessellated curved surface from drifting into
-// one face. Returns the group of each exact face.
+// one face. Returns the group of each exact face; `seed_rank` receives the place in `order` of
+// each group's seed (its largest exact face).
 std::vector<int> GrowCoplanarGroups(const TriangulatedHull& hull, const ExactFaces& faces,
                                     const std::vector<int>& order, double tolerance,
-                                    int& num_groups) {
+                                    double slack, std::vector<int>& seed_rank) {
+  // each exact face's plane, in memory order (the seeds come scattered, in order of area); a
+  // zero normal for a face whose area vector evaluates to zero
+  struct Plane {
+    Eigen::Vector3d n;
+    double d;
+  };
+  std::vector<Plane> planes(faces.size());
+  for (int f = 0; f < faces.size(); ++f) {
+    const double norm = faces.area[f].norm();
+    if (norm == 0) {
+      planes[f] = {Eigen::Vector3d::Zero(), 0.0};
+      continue;
+    }
+    const Eigen::Vector3d n = faces.area[f] / norm;
+    planes[f] = {n, n.dot(hull.points[faces.corners[faces.corner_start[f]]])};
+  }
   std::vector<int> group_of(faces.size(), -1);
-  num_groups = 0;
+  seed_rank.clear();
   std::vector<int> queue;
-  for (int seed : order) {
+  for (int rank = 0; rank < faces.size(); ++rank) {
+    const int seed = order[rank];
     if (group_of[seed] >= 0) continue;
-    const int group = num_groups++;
+    const int group = static_cast<int>(seed_rank.size());
+    seed_rank.push_back(rank);
     group_of[seed] = group;
-    const double norm = faces.area[seed].norm();
+    const Eigen::Vector3d& n = planes[seed].n;
+    const double d = planes[seed].d;
     // a zero-area seed cannot define a plane: it stays a group of its own
-    if (norm == 0) continue;
-    const Eigen::Vector3d n = faces.area[seed] / norm;
-    const double d = n.dot(hull.points[faces.corners[faces.corner_start[seed]]]);
+    if (n.isZero()) continue;
     queue.assign(1, seed);
     while (!queue.empty()) {
       const int f = queue.back();
       queue.pop_back();
       for (int j = faces.triangle_start[f]; j < faces.triangle_start[f + 1]; ++j) {
-        for (int u : hull.across[faces.triangles[j]]) {
+        const int t = faces.triangles[j];
+        for (int k = 0; k < 3; ++k) {
+          // most neighbours are rejected by their apex alone (one point to read): it lies in
+          // the neighbour's exact face, within `tolerance` of the plane (up to round-off, far
+          // below `slack`) if all that face's corners are
+          if (std::abs(n.dot(hull.points[hull.apex[t][k]]) - d) > tolerance + slack) continue;
           // a neighbour facing the other way is no part of this face; one whose area vector
           // evaluates to exactly zero (collinear in doubles) joins it if its corners are on the
           // plane, else it stayed a face of its own without a normal
-          const int g = faces.face_of[u];
+          const int g = faces.face_of[hull.across[t][k]];
           if (group_of[g] >= 0 || n.dot(faces.area[g]) < 0) continue;
           const bool coplanar = std::all_of(
               faces.corners.begin() + faces.corner_start[g],
@@ -547,12 +575,28 @@ ConvexHull ComputeConvexHull(const std::vector<Eigen::Vector3d>& points,
   // Where the tolerance merged a sliver between two nearly parallel faces that check fails: the
   // offending groups and their neighbours fall back to single exact faces until it holds, which
   // it does at the latest for the exact faces themselves.
-  int num_groups = 0;
+  std::vector<int> seed_rank;
   const std::vector<int> face_group =
-      GrowCoplanarGroups(exact, faces, order, tolerance, num_groups);
+      GrowCoplanarGroups(exact, faces, order, tolerance, slack, seed_rank);
   order = {};
+  // the groups renumbered in the order of their first triangles, so that the passes below read
+  // the arrays almost in order; `key` keeps each group's place in the output (the rank of its
+  // largest exact face)
+  int num_groups = 0;
+  std::vector<int> renumbered(seed_rank.size(), -1);
+  std::vector<int> key;
+  key.reserve(seed_rank.size());
   std::vector<int> group_of(num_triangles);
-  for (int t = 0; t < num_triangles; ++t) group_of[t] = face_group[faces.face_of[t]];
+  for (int t = 0; t < num_triangles; ++t) {
+    const int g = face_group[faces.face_of[t]];
+    if (renumbered[g] < 0) {
+      renumbered[g] = num_groups++;
+      key.push_back(seed_rank[g]);
+    }
+    group_of[t] = renumbered[g];
+  }
+  renumbered = {};
+  seed_rank = {};
   std::vector<int> group_start;
   std::vector<int> group_triangles;
   std::vector<int> loop_start;
@@ -593,8 +637,7 @@ ConvexHull ComputeConvexHull(const std::vector<Eigen::Vector3d>& points,
     if (to_split.empty()) break;
     std::sort(to_split.begin(), to_split.end());
     to_split.erase(std::unique(to_split.begin(), to_split.end()), to_split.end());
-    // each exact face of a split group becomes a group of its own, numbered in seed order (the
-    // seed keeps the group's number), so that the numbers stay canonical
+    // each exact face of a split group becomes a group of its own (the largest keeps the group)
     for (int g : to_split) {
       split_faces.clear();
       for (int k = group_start[g]; k < group_start[g + 1]; ++k) {
@@ -606,6 +649,7 @@ ConvexHull ComputeConvexHull(const std::vector<Eigen::Vector3d>& points,
       for (std::size_t k = 1; k < split_faces.size(); ++k) {
         const int f = split_faces[k];
         const int fresh = num_groups++;
+        key.push_back(rank[f]);
         for (int j = faces.triangle_start[f]; j < faces.triangle_start[f + 1]; ++j) {
           group_of[faces.triangles[j]] = fresh;
         }
@@ -621,8 +665,18 @@ ConvexHull ComputeConvexHull(const std::vector<Eigen::Vector3d>& points,
     hull.vertices.push_back(exact.points[v]);
   }
 
-  // per face (in group order: by seed, largest first): corner polygon from its smallest corner,
-  // normal from that polygon, offset the largest n · v over the extreme points
+  // each group's place among the faces: in order of their largest exact faces
+  std::vector<int> place(num_groups);
+  {
+    std::vector<int> group_by_key(num_faces, -1);
+    for (int g = 0; g < num_groups; ++g) group_by_key[key[g]] = g;
+    int next = 0;
+    for (int g : group_by_key) {
+      if (g >= 0) place[g] = next++;
+    }
+  }
+
+  // per face: corner polygon from its smallest corner, normal from that polygon, offset the largest n · v over the extreme points
   // (canonical, unlike CGAL's extra vertices on faces and edges): over the group's boundary for
   // a single exact face, whose plane supports the hull; searched over the hull for a merged face,
   // whose corners may lie inside its plane
@@ -632,20 +686,27 @@ ConvexHull ComputeConvexHull(const std::vector<Eigen::Vector3d>& points,
   std::vector<int> occurrences(hull.vertices.size(), 0);
   std::vector<int> visited(num_points, -1);
   std::vector<int> queue;
+  std::vector<int> corners;
   for (int g = 0; g < num_groups; ++g) {
-    std::vector<int>& polygon = hull.faces[g];
+    // gathered first, so that each face allocates once
+    corners.clear();
     for (int j = loop_start[g]; j < loop_start[g + 1]; ++j) {
-      if (corner[loops[j]]) polygon.push_back(new_index[loops[j]]);
+      if (corner[loops[j]]) corners.push_back(new_index[loops[j]]);
     }
-    ECPSIM_DEMAND(polygon.size() >= 3);
-    std::rotate(polygon.begin(), std::min_element(polygon.begin(), polygon.end()), polygon.end());
+    ECPSIM_DEMAND(corners.size() >= 3);
+    const int f = place[g];
+    std::vector<int>& polygon = hull.faces[f];
+    const auto smallest = std::min_element(corners.begin(), corners.end());
+    polygon.reserve(corners.size());
+    polygon.insert(polygon.end(), smallest, corners.end());
+    polygon.insert(polygon.end(), corners.begin(), smallest);
     for (int v : polygon) ++occurrences[v];
     const Eigen::Vector3d area =
         FanAreaVector(hull.vertices, polygon.data(), static_cast<int>(polygon.size()));
     const double norm = area.norm();
     ECPSIM_DEMAND(norm > 0);
     const Eigen::Vector3d n = area / norm;
-    hull.normals[g] = n;
+    hull.normals[f] = n;
     double offset = -std::numeric_limits<double>::infinity();
     int start = -1;
     for (int j = loop_start[g]; j < loop_start[g + 1]; ++j) {
@@ -657,20 +718,21 @@ ConvexHull ComputeConvexHull(const std::vector<Eigen::Vector3d>& points,
     const int first_face = faces.face_of[group_triangles[group_start[g]]];
     const bool single = faces.triangle_start[first_face + 1] - faces.triangle_start[first_face] ==
                         group_start[g + 1] - group_start[g];
-    hull.offsets[g] = single ? offset
+    hull.offsets[f] = single ? offset
                              : MaxOverExtremePoints(exact, faces.extreme, n, start, slack,
                                                     visited, g, queue);
   }
 
-  // adjacency from the polygons: each hull edge is walked once in each direction, so the
-  // outgoing edges list every neighbour once; faces arrive in increasing order
+  // adjacency from the polygons (in memory order, then sorted): each hull edge is walked once in
+  // each direction, so the outgoing edges list every neighbour once
   hull.vertex_faces.resize(hull.vertices.size());
   hull.vertex_neighbors.resize(hull.vertices.size());
   for (std::size_t v = 0; v < hull.vertices.size(); ++v) {
     hull.vertex_faces[v].reserve(occurrences[v]);
     hull.vertex_neighbors[v].reserve(occurrences[v]);
   }
-  for (int f = 0; f < num_groups; ++f) {
+  for (int g = 0; g < num_groups; ++g) {
+    const int f = place[g];
     const std::vector<int>& polygon = hull.faces[f];
     for (std::size_t k = 0; k < polygon.size(); ++k) {
       hull.vertex_faces[polygon[k]].push_back(f);
@@ -678,6 +740,7 @@ ConvexHull ComputeConvexHull(const std::vector<Eigen::Vector3d>& points,
     }
   }
   for (std::size_t v = 0; v < hull.vertices.size(); ++v) {
+    std::sort(hull.vertex_faces[v].begin(), hull.vertex_faces[v].end());
     std::sort(hull.vertex_neighbors[v].begin(), hull.vertex_neighbors[v].end());
     ECPSIM_DEMAND(hull.vertex_faces[v].size() >= 3);
   }
