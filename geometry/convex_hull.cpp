@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <ctime>
 #include <limits>
 #include <numeric>
@@ -11,6 +12,7 @@
 #include <utility>
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <boost/sort/spreadsort/float_sort.hpp>
 #include <CGAL/convex_hull_2.h>
 #include <CGAL/convex_hull_3.h>
 #include <Eigen/Geometry>
@@ -376,6 +378,10 @@ ExactFaces FindExactFaces(const TriangulatedHull& hull,
   return faces;
 }
 
+// how many seeds ahead the coplanar merge starts fetching a seed's data: enough to cover a few
+// memory latencies at a seed's few ns of arithmetic, few enough to stay in the L1 cache
+constexpr int kSeedsAhead = 16;
+
 // Grows planar groups of exact faces from the largest first (their normals are the most
 // accurate): a neighbour joins when all its corners lie within `tolerance` of the seed's plane,
 // so a group is a union of whole exact faces. Testing distances to the group's plane, not
@@ -385,40 +391,61 @@ ExactFaces FindExactFaces(const TriangulatedHull& hull,
 std::vector<int> GrowCoplanarGroups(const TriangulatedHull& hull, const ExactFaces& faces,
                                     const std::vector<int>& order, double tolerance,
                                     double slack, std::vector<int>& seed_rank) {
-  // each exact face's plane, in memory order (the seeds come scattered, in order of area); a
-  // zero normal for a face whose area vector evaluates to zero
-  struct Plane {
+  // what a seed needs in one record, filled in memory order (the seeds come scattered, in order
+  // of area): its plane (a zero normal for a face whose area vector evaluates to zero) and its
+  // triangles (the range in faces.triangles, the first of them)
+  struct Seed {
     Eigen::Vector3d n;
     double d;
+    int begin;
+    int end;
+    int first;
   };
-  std::vector<Plane> planes(faces.size());
+  std::vector<Seed> seeds(faces.size());
   for (int f = 0; f < faces.size(); ++f) {
+    Seed& seed = seeds[f];
+    seed.begin = faces.triangle_start[f];
+    seed.end = faces.triangle_start[f + 1];
+    seed.first = faces.triangles[seed.begin];
     const double norm = faces.area[f].norm();
-    if (norm == 0) {
-      planes[f] = {Eigen::Vector3d::Zero(), 0.0};
-      continue;
-    }
-    const Eigen::Vector3d n = faces.area[f] / norm;
-    planes[f] = {n, n.dot(hull.points[faces.corners[faces.corner_start[f]]])};
+    seed.n = norm == 0 ? Eigen::Vector3d::Zero() : Eigen::Vector3d(faces.area[f] / norm);
+    seed.d = norm == 0 ? 0.0 : seed.n.dot(hull.points[faces.corners[faces.corner_start[f]]]);
   }
   std::vector<int> group_of(faces.size(), -1);
   seed_rank.clear();
   std::vector<int> queue;
-  for (int rank = 0; rank < faces.size(); ++rank) {
+  const int num_faces = faces.size();
+  for (int rank = 0; rank < num_faces; ++rank) {
+    // the seeds' reads are scattered and depend on each other (record, apexes, their points):
+    // fetched in stages ahead of use, they overlap instead of waiting one after the other
+    if (rank + kSeedsAhead < num_faces) {
+      __builtin_prefetch(&seeds[order[rank + kSeedsAhead]]);
+      __builtin_prefetch(&group_of[order[rank + kSeedsAhead]]);
+    }
+    if (rank + kSeedsAhead / 2 < num_faces) {
+      const int t = seeds[order[rank + kSeedsAhead / 2]].first;
+      __builtin_prefetch(&hull.apex[t]);
+      __builtin_prefetch(&hull.across[t]);
+    }
+    if (rank + kSeedsAhead / 4 < num_faces) {
+      const int t = seeds[order[rank + kSeedsAhead / 4]].first;
+      for (int v : hull.apex[t]) __builtin_prefetch(&hull.points[v]);
+      for (int u : hull.across[t]) __builtin_prefetch(&faces.face_of[u]);
+    }
     const int seed = order[rank];
     if (group_of[seed] >= 0) continue;
     const int group = static_cast<int>(seed_rank.size());
     seed_rank.push_back(rank);
     group_of[seed] = group;
-    const Eigen::Vector3d& n = planes[seed].n;
-    const double d = planes[seed].d;
+    const Eigen::Vector3d n = seeds[seed].n;
+    const double d = seeds[seed].d;
     // a zero-area seed cannot define a plane: it stays a group of its own
     if (n.isZero()) continue;
     queue.assign(1, seed);
     while (!queue.empty()) {
       const int f = queue.back();
       queue.pop_back();
-      for (int j = faces.triangle_start[f]; j < faces.triangle_start[f + 1]; ++j) {
+      for (int j = seeds[f].begin; j < seeds[f].end; ++j) {
         const int t = faces.triangles[j];
         for (int k = 0; k < 3; ++k) {
           // most neighbours are rejected by their apex alone (one point to read): it lies in
@@ -454,10 +481,13 @@ double MaxOverExtremePoints(const TriangulatedHull& hull, const std::vector<char
                             std::vector<int>& visited, int stamp, std::vector<int>& queue) {
   int v = start;
   double best = n.dot(hull.points[v]);
+  double runner_up = -std::numeric_limits<double>::infinity();
   for (bool improved = true; improved;) {
     improved = false;
+    runner_up = -std::numeric_limits<double>::infinity();
     for (int k = hull.ring_start[v]; k < hull.ring_start[v + 1]; ++k) {
       const double value = n.dot(hull.points[hull.ring[k]]);
+      runner_up = std::max(runner_up, value);
       if (value > best) {
         best = value;
         v = hull.ring[k];
@@ -466,6 +496,8 @@ double MaxOverExtremePoints(const TriangulatedHull& hull, const std::vector<char
     }
   }
   const double floor = best - slack;
+  // the usual case: no neighbour of the top within the slack, so the cap is the top alone
+  if (runner_up < floor && extreme[v]) return best;
   double max_extreme = -std::numeric_limits<double>::infinity();
   queue.assign(1, v);
   visited[v] = stamp;
@@ -540,16 +572,24 @@ ConvexHull ComputeConvexHull(const std::vector<Eigen::Vector3d>& points,
   const int num_faces = faces.size();
 
   // exact faces largest first; equal areas by their first two corners (a directed hull edge,
-  // so unique; labels order as coordinates do), so the order depends on the points alone
+  // so unique; labels order as coordinates do), so the order depends on the points alone.
+  // Keyed by −(squared area) for boost's radix-based float_sort (several times faster than a
+  // comparison sort on a million keys)
   std::vector<std::pair<double, int>> by_area(num_faces);
-  for (int f = 0; f < num_faces; ++f) by_area[f] = {faces.area[f].squaredNorm(), f};
+  for (int f = 0; f < num_faces; ++f) by_area[f] = {-faces.area[f].squaredNorm(), f};
   const auto first_edge = [&](int f) {
     const int* c = faces.corners.data() + faces.corner_start[f];
     return std::make_pair(c[0], c[1]);
   };
-  std::sort(by_area.begin(), by_area.end(), [&](const auto& a, const auto& b) {
-    return a.first != b.first ? a.first > b.first : first_edge(a.second) < first_edge(b.second);
-  });
+  boost::sort::spreadsort::float_sort(
+      by_area.begin(), by_area.end(),
+      [](const std::pair<double, int>& x, unsigned offset) {
+        return boost::sort::spreadsort::float_mem_cast<double, std::int64_t>(x.first) >> offset;
+      },
+      [&](const std::pair<double, int>& a, const std::pair<double, int>& b) {
+        return a.first != b.first ? a.first < b.first
+                                  : first_edge(a.second) < first_edge(b.second);
+      });
   std::vector<int> order(num_faces);
   std::vector<int> rank(num_faces);
   for (int k = 0; k < num_faces; ++k) {
@@ -687,6 +727,10 @@ ConvexHull ComputeConvexHull(const std::vector<Eigen::Vector3d>& points,
   std::vector<int> visited(num_points, -1);
   std::vector<int> queue;
   std::vector<int> corners;
+  // the polygons once more in memory order, for the adjacency
+  std::vector<int> polygon_start(num_groups + 1, 0);
+  std::vector<int> polygons;
+  polygons.reserve(loops.size());
   for (int g = 0; g < num_groups; ++g) {
     // gathered first, so that each face allocates once
     corners.clear();
@@ -700,6 +744,8 @@ ConvexHull ComputeConvexHull(const std::vector<Eigen::Vector3d>& points,
     polygon.reserve(corners.size());
     polygon.insert(polygon.end(), smallest, corners.end());
     polygon.insert(polygon.end(), corners.begin(), smallest);
+    polygons.insert(polygons.end(), polygon.begin(), polygon.end());
+    polygon_start[g + 1] = static_cast<int>(polygons.size());
     for (int v : polygon) ++occurrences[v];
     const Eigen::Vector3d area =
         FanAreaVector(hull.vertices, polygon.data(), static_cast<int>(polygon.size()));
@@ -732,11 +778,11 @@ ConvexHull ComputeConvexHull(const std::vector<Eigen::Vector3d>& points,
     hull.vertex_neighbors[v].reserve(occurrences[v]);
   }
   for (int g = 0; g < num_groups; ++g) {
-    const int f = place[g];
-    const std::vector<int>& polygon = hull.faces[f];
-    for (std::size_t k = 0; k < polygon.size(); ++k) {
-      hull.vertex_faces[polygon[k]].push_back(f);
-      hull.vertex_neighbors[polygon[k]].push_back(polygon[(k + 1) % polygon.size()]);
+    const int first = polygon_start[g];
+    const int last = polygon_start[g + 1];
+    for (int k = first; k < last; ++k) {
+      hull.vertex_faces[polygons[k]].push_back(place[g]);
+      hull.vertex_neighbors[polygons[k]].push_back(polygons[k + 1 < last ? k + 1 : first]);
     }
   }
   for (std::size_t v = 0; v < hull.vertices.size(); ++v) {
