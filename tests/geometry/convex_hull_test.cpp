@@ -381,6 +381,73 @@ TEST(ConvexHullTest, ExactlyCoplanarPointsGiveTheSameHullInEveryOrder) {
   }
 }
 
+// The hull depends on the extreme points alone: points added on its faces and edges and inside
+// (which CGAL may keep as vertices of its triangles, depending on the order) change no bit.
+TEST(ConvexHullTest, PointsOnFacesEdgesAndInsideChangeNoBit) {
+  std::vector<Eigen::Vector3d> corners;
+  std::vector<Eigen::Vector3d> lattice;
+  for (int x = -4; x <= 4; ++x) {
+    for (int y = -4; y <= 4; ++y) {
+      for (int z = -4; z <= 4; ++z) {
+        if (std::abs(x) + std::abs(y) + std::abs(z) > 4) continue;
+        const Eigen::Vector3d p(0.25 * x + 1.0, 0.25 * y - 0.5, 0.25 * z + 0.75);
+        lattice.push_back(p);
+        // the octahedron's corners (±4, 0, 0), (0, ±4, 0), (0, 0, ±4)
+        if (std::abs(x) == 4 || std::abs(y) == 4 || std::abs(z) == 4) corners.push_back(p);
+      }
+    }
+  }
+  ASSERT_EQ(corners.size(), 6u);
+  const ConvexHull bare = ComputeConvexHull(corners, "octahedron corners");
+  ExpectValidHull(bare, lattice);
+  std::mt19937 rng(9);
+  for (int order = 0; order < 4; ++order) {
+    std::shuffle(lattice.begin(), lattice.end(), rng);
+    const ConvexHull full = ComputeConvexHull(lattice, "octahedron lattice");
+    EXPECT_EQ(full.vertices, bare.vertices) << "order " << order;
+    EXPECT_EQ(full.faces, bare.faces) << "order " << order;
+    EXPECT_EQ(full.normals, bare.normals) << "order " << order;
+    EXPECT_EQ(full.offsets, bare.offsets) << "order " << order;
+    EXPECT_EQ(full.vertex_faces, bare.vertex_faces) << "order " << order;
+    EXPECT_EQ(full.vertex_neighbors, bare.vertex_neighbors) << "order " << order;
+  }
+}
+
+// Faces merged within the tolerance (a rotated cube rounded to float, with grids on its faces:
+// no four points exactly coplanar but by chance) come out the same in every order too, their
+// offsets searched over the hull.
+TEST(ConvexHullTest, MergedFacesGiveTheSameHullInEveryOrder) {
+  const Eigen::Matrix3d R = (Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitX()) *
+                             Eigen::AngleAxisd(-0.9, Eigen::Vector3d::UnitZ()))
+                                .toRotationMatrix();
+  std::vector<Eigen::Vector3d> points;
+  for (int axis = 0; axis < 3; ++axis) {
+    for (double side : {-0.5, 0.5}) {
+      for (int i = 0; i <= 6; ++i) {
+        for (int j = 0; j <= 6; ++j) {
+          Eigen::Vector3d local;
+          local[axis] = side;
+          local[(axis + 1) % 3] = -0.5 + i / 6.0;
+          local[(axis + 2) % 3] = -0.5 + j / 6.0;
+          points.push_back((R * local).cast<float>().cast<double>());
+        }
+      }
+    }
+  }
+  const ConvexHull first = ComputeConvexHull(points, "float cube");
+  ASSERT_EQ(first.faces.size(), 6u);
+  ExpectValidHull(first, points);
+  std::mt19937 rng(4);
+  for (int order = 0; order < 4; ++order) {
+    std::shuffle(points.begin(), points.end(), rng);
+    const ConvexHull again = ComputeConvexHull(points, "float cube");
+    EXPECT_EQ(again.vertices, first.vertices) << "order " << order;
+    EXPECT_EQ(again.faces, first.faces) << "order " << order;
+    EXPECT_EQ(again.normals, first.normals) << "order " << order;
+    EXPECT_EQ(again.offsets, first.offsets) << "order " << order;
+  }
+}
+
 TEST(ConvexHullTest, DegenerateInputsThrowNamingTheSource) {
   const std::vector<Eigen::Vector3d> three = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
   EXPECT_THAT([&] { ComputeConvexHull(three, "meshes/tri.obj"); },
