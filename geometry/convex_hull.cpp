@@ -294,11 +294,11 @@ Eigen::Vector3d FanAreaVector(const std::vector<Eigen::Vector3d>& points, const 
 }
 
 // appends the labels of `loop` that `keep` marks, rotated to start at the smallest of them
-void AppendCornersFromSmallest(const std::vector<int>& loop, std::size_t begin,
-                               const std::vector<char>& keep, std::vector<int>& corners) {
+void AppendCornersFromSmallest(const std::vector<int>& loop, const std::vector<char>& keep,
+                               std::vector<int>& corners) {
   const std::size_t first = corners.size();
-  for (std::size_t j = begin; j < loop.size(); ++j) {
-    if (keep[loop[j]]) corners.push_back(loop[j]);
+  for (int v : loop) {
+    if (keep[v]) corners.push_back(v);
   }
   std::rotate(corners.begin() + first, std::min_element(corners.begin() + first, corners.end()),
               corners.end());
@@ -322,9 +322,9 @@ ExactFaces FindExactFaces(const TriangulatedHull& hull,
     const std::array<int, 3>& tri = hull.triangles[t];
     for (int k = 0; k < 3; ++k) {
       const int u = hull.across[t][k];
-      // neighbours more than 90° apart cannot be coplanar; the others (and a triangle whose
-      // area vector evaluates to zero) take the exact test
-      if (u < t || area_normals[t].dot(area_normals[u]) < 0) continue;
+      // every edge takes the exact test (its static filter decides most at once): a cheaper
+      // test on computed normals could misjudge a sliver whose normal is mostly round-off
+      if (u < t) continue;
       if (CGAL::orientation(point(tri[0]), point(tri[1]), point(tri[2]),
                             point(hull.apex[t][k])) !=
           CGAL::COPLANAR) {
@@ -368,7 +368,7 @@ ExactFaces FindExactFaces(const TriangulatedHull& hull,
     } else {
       loop.clear();
       ECPSIM_DEMAND(AppendBoundaryLoop(hull, faces.face_of, first, last, edges, loop));
-      AppendCornersFromSmallest(loop, 0, faces.extreme, faces.corners);
+      AppendCornersFromSmallest(loop, faces.extreme, faces.corners);
       ECPSIM_DEMAND(faces.corners.size() - begin >= 3);
       faces.area[f] = FanAreaVector(hull.points, faces.corners.data() + begin,
                                     static_cast<int>(faces.corners.size() - begin));
