@@ -77,6 +77,22 @@ void ExpectValidHull(const ConvexHull& hull, const std::vector<Eigen::Vector3d>&
   EXPECT_LE(worst, kRoundOff);
 }
 
+// the hull of `points` shuffled into `orders` orders (seeded), every array bit for bit `expected`
+void ExpectTheSameHullInEveryOrder(std::vector<Eigen::Vector3d> points, const ConvexHull& expected,
+                                   int orders, unsigned seed) {
+  std::mt19937 rng(seed);
+  for (int order = 0; order < orders; ++order) {
+    std::shuffle(points.begin(), points.end(), rng);
+    const ConvexHull again = ComputeConvexHull(points, "shuffled points");
+    EXPECT_EQ(again.vertices, expected.vertices) << "order " << order;
+    EXPECT_EQ(again.faces, expected.faces) << "order " << order;
+    EXPECT_EQ(again.normals, expected.normals) << "order " << order;
+    EXPECT_EQ(again.offsets, expected.offsets) << "order " << order;
+    EXPECT_EQ(again.vertex_faces, expected.vertex_faces) << "order " << order;
+    EXPECT_EQ(again.vertex_neighbors, expected.vertex_neighbors) << "order " << order;
+  }
+}
+
 std::vector<Eigen::Vector3d> BoxCorners(const Eigen::Vector3d& centre, const Eigen::Vector3d& half) {
   std::vector<Eigen::Vector3d> corners;
   for (int k = 0; k < 8; ++k) {
@@ -117,6 +133,28 @@ TEST(ConvexHullTest, BoxHasSixFacesWithExactNormalsAndOffsets) {
   }
 }
 
+// the unit cube rotated by R about its centre, moved to `centre`, sampled on a grid of
+// cells × cells squares per face and rounded to float
+std::vector<Eigen::Vector3d> FloatRoundedCubeGrid(const Eigen::Matrix3d& R,
+                                                  const Eigen::Vector3d& centre, int cells) {
+  std::vector<Eigen::Vector3d> points;
+  for (int axis = 0; axis < 3; ++axis) {
+    for (double side : {-0.5, 0.5}) {
+      for (int i = 0; i <= cells; ++i) {
+        for (int j = 0; j <= cells; ++j) {
+          Eigen::Vector3d local;
+          local[axis] = side;
+          local[(axis + 1) % 3] = -0.5 + static_cast<double>(i) / cells;
+          local[(axis + 2) % 3] = -0.5 + static_cast<double>(j) / cells;
+          const Eigen::Vector3d exact = R * local + centre;
+          points.push_back(exact.cast<float>().cast<double>());
+        }
+      }
+    }
+  }
+  return points;
+}
+
 // A rotated cube sampled on a 5 × 5 grid per face and rounded to float, as a modelling tool's
 // export would be: the face points are no longer exactly coplanar, yet the hull has 6 faces.
 TEST(ConvexHullTest, FloatRoundedCubeStillHasSixFaces) {
@@ -124,21 +162,8 @@ TEST(ConvexHullTest, FloatRoundedCubeStillHasSixFaces) {
                              Eigen::AngleAxisd(0.7, Eigen::Vector3d::UnitX()) *
                              Eigen::AngleAxisd(-0.2, Eigen::Vector3d::UnitY()))
                                 .toRotationMatrix();
-  std::vector<Eigen::Vector3d> points;
-  for (int axis = 0; axis < 3; ++axis) {
-    for (double side : {-0.5, 0.5}) {
-      for (int i = 0; i <= 4; ++i) {
-        for (int j = 0; j <= 4; ++j) {
-          Eigen::Vector3d local;
-          local[axis] = side;
-          local[(axis + 1) % 3] = -0.5 + 0.25 * i;
-          local[(axis + 2) % 3] = -0.5 + 0.25 * j;
-          const Eigen::Vector3d exact = R * local + Eigen::Vector3d(2.0, -1.0, 0.5);
-          points.push_back(exact.cast<float>().cast<double>());
-        }
-      }
-    }
-  }
+  const std::vector<Eigen::Vector3d> points =
+      FloatRoundedCubeGrid(R, Eigen::Vector3d(2.0, -1.0, 0.5), 4);
   // the rounding really moves points off their planes (by up to ~1e-7 m here)
   double largest_offset = 0;
   for (const Eigen::Vector3d& p : points) {
@@ -361,18 +386,7 @@ TEST(ConvexHullTest, ExactlyCoplanarPointsGiveTheSameHullInEveryOrder) {
     ExpectValidHull(first, *points);
     ASSERT_EQ(first.faces.size(), points == &box ? 6u : 8u);
     EXPECT_EQ(first.vertices.size(), 6u + 2 * (points == &box));
-    std::mt19937 rng(3);
-    std::vector<Eigen::Vector3d> shuffled = *points;
-    for (int order = 0; order < 6; ++order) {
-      std::shuffle(shuffled.begin(), shuffled.end(), rng);
-      const ConvexHull again = ComputeConvexHull(shuffled, "lattice");
-      EXPECT_EQ(again.vertices, first.vertices) << "order " << order;
-      EXPECT_EQ(again.faces, first.faces) << "order " << order;
-      EXPECT_EQ(again.normals, first.normals) << "order " << order;
-      EXPECT_EQ(again.offsets, first.offsets) << "order " << order;
-      EXPECT_EQ(again.vertex_faces, first.vertex_faces) << "order " << order;
-      EXPECT_EQ(again.vertex_neighbors, first.vertex_neighbors) << "order " << order;
-    }
+    ExpectTheSameHullInEveryOrder(*points, first, 6, 3);
   }
   const ConvexHull hull = ComputeConvexHull(box, "box lattice");
   for (const Eigen::Vector3d& n : hull.normals) {
@@ -400,17 +414,7 @@ TEST(ConvexHullTest, PointsOnFacesEdgesAndInsideChangeNoBit) {
   ASSERT_EQ(corners.size(), 6u);
   const ConvexHull bare = ComputeConvexHull(corners, "octahedron corners");
   ExpectValidHull(bare, lattice);
-  std::mt19937 rng(9);
-  for (int order = 0; order < 4; ++order) {
-    std::shuffle(lattice.begin(), lattice.end(), rng);
-    const ConvexHull full = ComputeConvexHull(lattice, "octahedron lattice");
-    EXPECT_EQ(full.vertices, bare.vertices) << "order " << order;
-    EXPECT_EQ(full.faces, bare.faces) << "order " << order;
-    EXPECT_EQ(full.normals, bare.normals) << "order " << order;
-    EXPECT_EQ(full.offsets, bare.offsets) << "order " << order;
-    EXPECT_EQ(full.vertex_faces, bare.vertex_faces) << "order " << order;
-    EXPECT_EQ(full.vertex_neighbors, bare.vertex_neighbors) << "order " << order;
-  }
+  ExpectTheSameHullInEveryOrder(lattice, bare, 4, 9);
 }
 
 // Faces merged within the tolerance (a rotated cube rounded to float, with grids on its faces:
@@ -420,32 +424,12 @@ TEST(ConvexHullTest, MergedFacesGiveTheSameHullInEveryOrder) {
   const Eigen::Matrix3d R = (Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitX()) *
                              Eigen::AngleAxisd(-0.9, Eigen::Vector3d::UnitZ()))
                                 .toRotationMatrix();
-  std::vector<Eigen::Vector3d> points;
-  for (int axis = 0; axis < 3; ++axis) {
-    for (double side : {-0.5, 0.5}) {
-      for (int i = 0; i <= 6; ++i) {
-        for (int j = 0; j <= 6; ++j) {
-          Eigen::Vector3d local;
-          local[axis] = side;
-          local[(axis + 1) % 3] = -0.5 + i / 6.0;
-          local[(axis + 2) % 3] = -0.5 + j / 6.0;
-          points.push_back((R * local).cast<float>().cast<double>());
-        }
-      }
-    }
-  }
+  const std::vector<Eigen::Vector3d> points =
+      FloatRoundedCubeGrid(R, Eigen::Vector3d::Zero(), 6);
   const ConvexHull first = ComputeConvexHull(points, "float cube");
   ASSERT_EQ(first.faces.size(), 6u);
   ExpectValidHull(first, points);
-  std::mt19937 rng(4);
-  for (int order = 0; order < 4; ++order) {
-    std::shuffle(points.begin(), points.end(), rng);
-    const ConvexHull again = ComputeConvexHull(points, "float cube");
-    EXPECT_EQ(again.vertices, first.vertices) << "order " << order;
-    EXPECT_EQ(again.faces, first.faces) << "order " << order;
-    EXPECT_EQ(again.normals, first.normals) << "order " << order;
-    EXPECT_EQ(again.offsets, first.offsets) << "order " << order;
-  }
+  ExpectTheSameHullInEveryOrder(points, first, 4, 4);
 }
 
 TEST(ConvexHullTest, DegenerateInputsThrowNamingTheSource) {
