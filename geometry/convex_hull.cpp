@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <ctime>
 #include <limits>
 #include <numeric>
@@ -11,6 +12,7 @@
 #include <utility>
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <boost/sort/spreadsort/float_sort.hpp>
 #include <CGAL/convex_hull_2.h>
 #include <CGAL/convex_hull_3.h>
 #include <Eigen/Geometry>
@@ -82,12 +84,14 @@ void CheckFullDimensional(const std::vector<Point3>& points, const std::string& 
       source, tolerance, diagonal));
 }
 
-// The exact hull as plain arrays: triangles (outward), the triangle across each edge (k, k + 1),
-// and per vertex the triangles around it and the vertices joined to it (compressed rows).
+// The exact hull as plain arrays: triangles (outward), the triangle across each edge (k, k + 1)
+// and its vertex off that edge (its apex), and per vertex the triangles around it and the
+// vertices joined to it (compressed rows).
 struct TriangulatedHull {
   std::vector<Eigen::Vector3d> points;
   std::vector<std::array<int, 3>> triangles;
   std::vector<std::array<int, 3>> across;
+  std::vector<std::array<int, 3>> apex;
   std::vector<int> fan_start;
   std::vector<int> fan;
   std::vector<int> ring_start;
@@ -171,6 +175,7 @@ TriangulatedHull ToTriangulatedHull(const std::vector<Point3>& points,
   hull.ring_start = hull.fan_start;
   hull.fan.resize(3 * hull.triangles.size());
   hull.ring.resize(3 * hull.triangles.size());
+  std::vector<int> third(3 * hull.triangles.size());
   std::vector<int> cursor(hull.fan_start.begin(), hull.fan_start.end() - 1);
   for (int t = 0; t < num_triangles; ++t) {
     const std::array<int, 3>& tri = hull.triangles[t];
@@ -178,10 +183,12 @@ TriangulatedHull ToTriangulatedHull(const std::vector<Point3>& points,
       const int j = cursor[tri[k]]++;
       hull.fan[j] = t;
       hull.ring[j] = tri[(k + 1) % 3];
+      third[j] = tri[(k + 2) % 3];
     }
   }
   // the triangle across edge (a, b) is the one holding the reverse edge (b, a)
   hull.across.resize(num_triangles);
+  hull.apex.resize(num_triangles);
   for (int t = 0; t < num_triangles; ++t) {
     for (int k = 0; k < 3; ++k) {
       const int a = hull.triangles[t][k];
@@ -190,50 +197,10 @@ TriangulatedHull ToTriangulatedHull(const std::vector<Point3>& points,
       while (j < hull.ring_start[b + 1] && hull.ring[j] != a) ++j;
       ECPSIM_DEMAND(j < hull.ring_start[b + 1]);
       hull.across[t][k] = hull.fan[j];
+      hull.apex[t][k] = third[j];
     }
   }
   return hull;
-}
-
-// Grows planar groups from the largest triangles first (their normals are the most accurate):
-// a neighbour joins when all its vertices lie within `tolerance` of the seed's plane. Testing
-// distances to the group's plane, not normals of neighbours pairwise, keeps a finely tessellated
-// curved surface from drifting into one face. Returns the group of each triangle.
-std::vector<int> GrowCoplanarGroups(const TriangulatedHull& hull,
-                                    const std::vector<Eigen::Vector3d>& area_normals,
-                                    const std::vector<int>& order, double tolerance,
-                                    int& num_groups) {
-  std::vector<int> group_of(hull.triangles.size(), -1);
-  num_groups = 0;
-  std::vector<int> queue;
-  for (int seed : order) {
-    if (group_of[seed] >= 0) continue;
-    const int group = num_groups++;
-    group_of[seed] = group;
-    const double norm = area_normals[seed].norm();
-    // a zero-area seed cannot define a plane: it stays a group of its own
-    if (norm == 0) continue;
-    const Eigen::Vector3d n = area_normals[seed] / norm;
-    const double d = n.dot(hull.points[hull.triangles[seed][0]]);
-    queue.assign(1, seed);
-    while (!queue.empty()) {
-      const int t = queue.back();
-      queue.pop_back();
-      for (int u : hull.across[t]) {
-        // a neighbour facing the other way is no part of this face; one whose area vector
-        // evaluates to exactly zero (collinear in doubles) joins it if its vertices are on the
-        // plane, else it stayed a face of its own without a normal
-        if (group_of[u] >= 0 || n.dot(area_normals[u]) < 0) continue;
-        const bool coplanar = std::all_of(
-            hull.triangles[u].begin(), hull.triangles[u].end(),
-            [&](int v) { return std::abs(n.dot(hull.points[v]) - d) <= tolerance; });
-        if (!coplanar) continue;
-        group_of[u] = group;
-        queue.push_back(u);
-      }
-    }
-  }
-  return group_of;
 }
 
 // The boundary of a group of triangles as one loop, counter-clockwise seen from outside, appended
@@ -276,15 +243,251 @@ bool AppendBoundaryLoop(const TriangulatedHull& hull, const std::vector<int>& gr
   return true;
 }
 
-// Largest n · v over the hull's vertices by climbing the (exactly convex) triangulated hull from
-// `start`: on a convex polytope a local maximum of a linear function is the global one.
-double MaxAlong(const TriangulatedHull& hull, const Eigen::Vector3d& n, int start) {
+// Far below the merge tolerance and far above the round-off of n · v (a few 1e-16 of the largest
+// coordinate): a merged face's outermost vertex is searched for among the vertices this close to
+// the best one found by climbing, so that near-ties in double precision cannot make the offset
+// depend on the path the climb took; and a quick test that rejects a neighbour by one point
+// allows this much beyond the merge tolerance, so that round-off cannot make it stricter than the
+// full test.
+constexpr double kSupportSlack = 1e-12;  // dimensionless, × largest |coordinate|
+
+// The exact hull's faces: its triangles joined across every edge whose two triangles are exactly
+// coplanar (exact predicate), i.e. the true faces of the polytope of the input points, whatever
+// way CGAL triangulated them. Their corners (vertices on three exact faces or more: the extreme
+// points) and planes depend on the point set alone.
+struct ExactFaces {
+  std::vector<int> face_of;           // exact face of each triangle
+  std::vector<int> triangle_start;    // the triangles of each exact face (compressed rows)
+  std::vector<int> triangles;
+  std::vector<int> corner_start;      // the corners of each exact face, counter-clockwise seen
+  std::vector<int> corners;           // from outside, starting at its smallest label
+  std::vector<Eigen::Vector3d> area;  // fan over the corners from the first: 2 × area × normal
+  std::vector<char> extreme;          // per vertex: on three exact faces or more
+  int size() const { return static_cast<int>(area.size()); }
+};
+
+// how many distinct values (at most 3, the count stops there) `label` takes on the triangles
+// around vertex v
+int DistinctAround(const TriangulatedHull& hull, const std::vector<int>& label, int v) {
+  std::array<int, 3> seen{};
+  int distinct = 0;
+  for (int k = hull.fan_start[v]; k < hull.fan_start[v + 1] && distinct < 3; ++k) {
+    const int value = label[hull.fan[k]];
+    if (std::find(seen.begin(), seen.begin() + distinct, value) == seen.begin() + distinct) {
+      seen[distinct++] = value;
+    }
+  }
+  return distinct;
+}
+
+// Σ (p_k − p_0) × (p_{k+1} − p_0) over a convex polygon given as `count` labels: twice its area
+// times its normal. Differences to the first corner keep a face in a coordinate plane exactly
+// normal to its axis (its in-plane differences have an exact zero component).
+Eigen::Vector3d FanAreaVector(const std::vector<Eigen::Vector3d>& points, const int* polygon,
+                              int count) {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  const Eigen::Vector3d& origin = points[polygon[0]];
+  for (int k = 1; k + 1 < count; ++k) {
+    sum += (points[polygon[k]] - origin).cross(points[polygon[k + 1]] - origin);
+  }
+  return sum;
+}
+
+// appends the labels of `loop` that `keep` marks, rotated to start at the smallest of them
+void AppendCornersFromSmallest(const std::vector<int>& loop, const std::vector<char>& keep,
+                               std::vector<int>& corners) {
+  const std::size_t first = corners.size();
+  for (int v : loop) {
+    if (keep[v]) corners.push_back(v);
+  }
+  std::rotate(corners.begin() + first, std::min_element(corners.begin() + first, corners.end()),
+              corners.end());
+}
+
+ExactFaces FindExactFaces(const TriangulatedHull& hull,
+                          const std::vector<Eigen::Vector3d>& area_normals) {
+  const int num_triangles = static_cast<int>(hull.triangles.size());
+  const int num_points = static_cast<int>(hull.points.size());
+  const auto point = [&](int v) {
+    return Point3(hull.points[v].x(), hull.points[v].y(), hull.points[v].z());
+  };
+  // union–find over the exactly flat edges; each edge is tested once, from its lower triangle
+  std::vector<int> parent(num_triangles);
+  std::iota(parent.begin(), parent.end(), 0);
+  const auto root = [&](int t) {
+    while (parent[t] != t) t = parent[t] = parent[parent[t]];
+    return t;
+  };
+  for (int t = 0; t < num_triangles; ++t) {
+    const std::array<int, 3>& tri = hull.triangles[t];
+    for (int k = 0; k < 3; ++k) {
+      const int u = hull.across[t][k];
+      // every edge takes the exact test (its static filter decides most at once): a cheaper
+      // test on computed normals could misjudge a sliver whose normal is mostly round-off
+      if (u < t) continue;
+      if (CGAL::orientation(point(tri[0]), point(tri[1]), point(tri[2]),
+                            point(hull.apex[t][k])) !=
+          CGAL::COPLANAR) {
+        continue;
+      }
+      const int a = root(t);
+      const int b = root(u);
+      parent[std::max(a, b)] = std::min(a, b);
+    }
+  }
+  // faces numbered in the order of their first triangles
+  ExactFaces faces;
+  faces.face_of.resize(num_triangles);
+  int num_faces = 0;
+  for (int t = 0; t < num_triangles; ++t) {
+    const int r = root(t);
+    faces.face_of[t] = r == t ? num_faces++ : faces.face_of[r];
+  }
+  FillRows(num_faces, faces.face_of, faces.triangle_start, faces.triangles);
+  faces.extreme.resize(num_points);
+  for (int v = 0; v < num_points; ++v) {
+    faces.extreme[v] = DistinctAround(hull, faces.face_of, v) >= 3;
+  }
+  // corners: a lone triangle's are its vertices (a vertex on fewer than three exact faces would
+  // make it degenerate), starting at the smallest already; a larger face's are the extreme points
+  // on its boundary
+  faces.corner_start.reserve(num_faces + 1);
+  faces.corner_start.push_back(0);
+  faces.corners.reserve(3 * num_faces);
+  faces.area.resize(num_faces);
+  std::vector<std::pair<int, int>> edges;
+  std::vector<int> loop;
+  for (int f = 0; f < num_faces; ++f) {
+    const int* first = faces.triangles.data() + faces.triangle_start[f];
+    const int* last = faces.triangles.data() + faces.triangle_start[f + 1];
+    const std::size_t begin = faces.corners.size();
+    if (last - first == 1) {
+      const std::array<int, 3>& tri = hull.triangles[*first];
+      faces.corners.insert(faces.corners.end(), tri.begin(), tri.end());
+      faces.area[f] = area_normals[*first];
+    } else {
+      loop.clear();
+      ECPSIM_DEMAND(AppendBoundaryLoop(hull, faces.face_of, first, last, edges, loop));
+      AppendCornersFromSmallest(loop, faces.extreme, faces.corners);
+      ECPSIM_DEMAND(faces.corners.size() - begin >= 3);
+      faces.area[f] = FanAreaVector(hull.points, faces.corners.data() + begin,
+                                    static_cast<int>(faces.corners.size() - begin));
+    }
+    faces.corner_start.push_back(static_cast<int>(faces.corners.size()));
+  }
+  return faces;
+}
+
+// how many seeds ahead the coplanar merge starts fetching a seed's data: enough to cover a few
+// memory latencies at a seed's few ns of arithmetic, few enough to stay in the L1 cache
+constexpr int kSeedsAhead = 16;
+
+// Grows planar groups of exact faces from the largest first (their normals are the most
+// accurate): a neighbour joins when all its corners lie within `tolerance` of the seed's plane,
+// so a group is a union of whole exact faces. Testing distances to the group's plane, not
+// normals of neighbours pairwise, keeps a finely tessellated curved surface from drifting into
+// one face. Returns the group of each exact face; `seed_rank` receives the place in `order` of
+// each group's seed (its largest exact face).
+std::vector<int> GrowCoplanarGroups(const TriangulatedHull& hull, const ExactFaces& faces,
+                                    const std::vector<int>& order, double tolerance,
+                                    double slack, std::vector<int>& seed_rank) {
+  // what a seed needs in one record, filled in memory order (the seeds come scattered, in order
+  // of area): its plane (a zero normal for a face whose area vector evaluates to zero) and its
+  // triangles (the range in faces.triangles, the first of them)
+  struct Seed {
+    Eigen::Vector3d n;
+    double d;
+    int begin;
+    int end;
+    int first;
+  };
+  std::vector<Seed> seeds(faces.size());
+  for (int f = 0; f < faces.size(); ++f) {
+    Seed& seed = seeds[f];
+    seed.begin = faces.triangle_start[f];
+    seed.end = faces.triangle_start[f + 1];
+    seed.first = faces.triangles[seed.begin];
+    const double norm = faces.area[f].norm();
+    seed.n = norm == 0 ? Eigen::Vector3d::Zero() : Eigen::Vector3d(faces.area[f] / norm);
+    seed.d = norm == 0 ? 0.0 : seed.n.dot(hull.points[faces.corners[faces.corner_start[f]]]);
+  }
+  std::vector<int> group_of(faces.size(), -1);
+  seed_rank.clear();
+  std::vector<int> queue;
+  const int num_faces = faces.size();
+  for (int rank = 0; rank < num_faces; ++rank) {
+    // the seeds' reads are scattered and depend on each other (record, apexes, their points):
+    // fetched in stages ahead of use, they overlap instead of waiting one after the other
+    if (rank + kSeedsAhead < num_faces) {
+      __builtin_prefetch(&seeds[order[rank + kSeedsAhead]]);
+      __builtin_prefetch(&group_of[order[rank + kSeedsAhead]]);
+    }
+    if (rank + kSeedsAhead / 2 < num_faces) {
+      const int t = seeds[order[rank + kSeedsAhead / 2]].first;
+      __builtin_prefetch(&hull.apex[t]);
+      __builtin_prefetch(&hull.across[t]);
+    }
+    if (rank + kSeedsAhead / 4 < num_faces) {
+      const int t = seeds[order[rank + kSeedsAhead / 4]].first;
+      for (int v : hull.apex[t]) __builtin_prefetch(&hull.points[v]);
+      for (int u : hull.across[t]) __builtin_prefetch(&faces.face_of[u]);
+    }
+    const int seed = order[rank];
+    if (group_of[seed] >= 0) continue;
+    const int group = static_cast<int>(seed_rank.size());
+    seed_rank.push_back(rank);
+    group_of[seed] = group;
+    const Eigen::Vector3d n = seeds[seed].n;
+    const double d = seeds[seed].d;
+    // a zero-area seed cannot define a plane: it stays a group of its own
+    if (n.isZero()) continue;
+    queue.assign(1, seed);
+    while (!queue.empty()) {
+      const int f = queue.back();
+      queue.pop_back();
+      for (int j = seeds[f].begin; j < seeds[f].end; ++j) {
+        const int t = faces.triangles[j];
+        for (int k = 0; k < 3; ++k) {
+          // most neighbours are rejected by their apex alone (one point to read): it lies in
+          // the neighbour's exact face, within `tolerance` of the plane (up to round-off, far
+          // below `slack`) if all that face's corners are
+          if (std::abs(n.dot(hull.points[hull.apex[t][k]]) - d) > tolerance + slack) continue;
+          // a neighbour facing the other way is no part of this face; one whose area vector
+          // evaluates to exactly zero (collinear in doubles) joins it if its corners are on the
+          // plane, else it stayed a face of its own without a normal
+          const int g = faces.face_of[hull.across[t][k]];
+          if (group_of[g] >= 0 || n.dot(faces.area[g]) < 0) continue;
+          const bool coplanar = std::all_of(
+              faces.corners.begin() + faces.corner_start[g],
+              faces.corners.begin() + faces.corner_start[g + 1],
+              [&](int v) { return std::abs(n.dot(hull.points[v]) - d) <= tolerance; });
+          if (!coplanar) continue;
+          group_of[g] = group;
+          queue.push_back(g);
+        }
+      }
+    }
+  }
+  return group_of;
+}
+
+// Largest n · v over the extreme points of the hull: climbing the (exactly convex) triangulated
+// hull from `start` finds the largest n · v up to round-off (on a convex polytope a local maximum
+// of a linear function is the global one); the extreme points within kSupportSlack of it are then
+// visited (a cap of a convex polytope is connected), so the result does not depend on the path.
+// `visited` (one entry per vertex, never equal to `stamp` before) marks the cap's vertices.
+double MaxOverExtremePoints(const TriangulatedHull& hull, const std::vector<char>& extreme,
+                            const Eigen::Vector3d& n, int start, double slack,
+                            std::vector<int>& visited, int stamp, std::vector<int>& queue) {
   int v = start;
   double best = n.dot(hull.points[v]);
+  double runner_up = -std::numeric_limits<double>::infinity();
   for (bool improved = true; improved;) {
     improved = false;
+    runner_up = -std::numeric_limits<double>::infinity();
     for (int k = hull.ring_start[v]; k < hull.ring_start[v + 1]; ++k) {
       const double value = n.dot(hull.points[hull.ring[k]]);
+      runner_up = std::max(runner_up, value);
       if (value > best) {
         best = value;
         v = hull.ring[k];
@@ -292,7 +495,25 @@ double MaxAlong(const TriangulatedHull& hull, const Eigen::Vector3d& n, int star
       }
     }
   }
-  return best;
+  const double floor = best - slack;
+  // the usual case: no neighbour of the top within the slack, so the cap is the top alone
+  if (runner_up < floor && extreme[v]) return best;
+  double max_extreme = -std::numeric_limits<double>::infinity();
+  queue.assign(1, v);
+  visited[v] = stamp;
+  while (!queue.empty()) {
+    const int w = queue.back();
+    queue.pop_back();
+    if (extreme[w]) max_extreme = std::max(max_extreme, n.dot(hull.points[w]));
+    for (int k = hull.ring_start[w]; k < hull.ring_start[w + 1]; ++k) {
+      const int x = hull.ring[k];
+      if (visited[x] == stamp || n.dot(hull.points[x]) < floor) continue;
+      visited[x] = stamp;
+      queue.push_back(x);
+    }
+  }
+  ECPSIM_DEMAND(max_extreme > -std::numeric_limits<double>::infinity());
+  return max_extreme;
 }
 
 }  // namespace
@@ -323,6 +544,8 @@ ConvexHull ComputeConvexHull(const std::vector<Eigen::Vector3d>& points,
   CheckFullDimensional(cgal_points, source);
   const double diagonal = (upper - lower).norm();
   const double tolerance = kCoplanarTolerance * diagonal;
+  const double slack = kSupportSlack * std::max(lower.cwiseAbs().maxCoeff(),
+                                                upper.cwiseAbs().maxCoeff());
 
   // exact-predicate hull as outward triangles; the stages are timed only when asked
   const auto clock = [stage_times] { return stage_times != nullptr ? ThreadCpuSeconds() : 0.0; };
@@ -337,26 +560,47 @@ ConvexHull ComputeConvexHull(const std::vector<Eigen::Vector3d>& points,
   const int num_triangles = static_cast<int>(exact.triangles.size());
   const int num_points = static_cast<int>(exact.points.size());
 
-  // triangle area vectors, largest first
+  // triangle area vectors (each from its smallest label), then the exact faces they make up
   std::vector<Eigen::Vector3d> area_normals(num_triangles);
   for (int t = 0; t < num_triangles; ++t) {
     const std::array<int, 3>& tri = exact.triangles[t];
     area_normals[t] = (exact.points[tri[1]] - exact.points[tri[0]])
                           .cross(exact.points[tri[2]] - exact.points[tri[0]]);
   }
-  // (squared area, triangle) keys sort without reaching back into the triangles
-  std::vector<std::pair<double, int>> by_area(num_triangles);
-  for (int t = 0; t < num_triangles; ++t) by_area[t] = {area_normals[t].squaredNorm(), t};
-  std::sort(by_area.begin(), by_area.end(), [](const auto& a, const auto& b) {
-    return a.first != b.first ? a.first > b.first : a.second < b.second;
-  });
-  std::vector<int> order(num_triangles);
-  for (int k = 0; k < num_triangles; ++k) order[k] = by_area[k].second;
+  const ExactFaces faces = FindExactFaces(exact, area_normals);
+  area_normals = {};
+  const int num_faces = faces.size();
+
+  // exact faces largest first; equal areas by their first two corners (a directed hull edge,
+  // so unique; labels order as coordinates do), so the order depends on the points alone.
+  // Keyed by −(squared area) for boost's radix-based float_sort (several times faster than a
+  // comparison sort on a million keys)
+  std::vector<std::pair<double, int>> by_area(num_faces);
+  for (int f = 0; f < num_faces; ++f) by_area[f] = {-faces.area[f].squaredNorm(), f};
+  const auto first_edge = [&](int f) {
+    const int* c = faces.corners.data() + faces.corner_start[f];
+    return std::make_pair(c[0], c[1]);
+  };
+  boost::sort::spreadsort::float_sort(
+      by_area.begin(), by_area.end(),
+      [](const std::pair<double, int>& x, unsigned offset) {
+        return boost::sort::spreadsort::float_mem_cast<double, std::int64_t>(x.first) >> offset;
+      },
+      [&](const std::pair<double, int>& a, const std::pair<double, int>& b) {
+        return a.first != b.first ? a.first < b.first
+                                  : first_edge(a.second) < first_edge(b.second);
+      });
+  std::vector<int> order(num_faces);
+  std::vector<int> rank(num_faces);
+  for (int k = 0; k < num_faces; ++k) {
+    order[k] = by_area[k].second;
+    rank[order[k]] = k;
+  }
   by_area = {};
 
-  // a set flat within the tolerance has its largest triangles on the flat sides
-  for (int k = 0; k < std::min<int>(kFlatnessProbes, num_triangles); ++k) {
-    const Eigen::Vector3d n = area_normals[order[k]].normalized();
+  // a set flat within the tolerance has its largest faces on the flat sides
+  for (int k = 0; k < std::min<int>(kFlatnessProbes, num_faces); ++k) {
+    const Eigen::Vector3d n = faces.area[order[k]].normalized();
     double lowest = std::numeric_limits<double>::infinity();
     double highest = -lowest;
     for (const Eigen::Vector3d& p : exact.points) {
@@ -366,24 +610,47 @@ ConvexHull ComputeConvexHull(const std::vector<Eigen::Vector3d>& points,
     if (highest - lowest <= tolerance) ThrowFlatWithinTolerance(source, tolerance, diagonal);
   }
 
-  // Merge coplanar triangles, then check that every merged face keeps three corners (vertices
+  // Merge coplanar exact faces, then check that every merged face keeps three corners (vertices
   // on three or more faces; the others sit inside a face or on a straight edge between two).
   // Where the tolerance merged a sliver between two nearly parallel faces that check fails: the
-  // offending groups and their neighbours fall back to single triangles until it holds, which
-  // it does at the latest for the plain triangulation.
+  // offending groups and their neighbours fall back to single exact faces until it holds, which
+  // it does at the latest for the exact faces themselves.
+  std::vector<int> seed_rank;
+  const std::vector<int> face_group =
+      GrowCoplanarGroups(exact, faces, order, tolerance, slack, seed_rank);
+  order = {};
+  // the groups renumbered in the order of their first triangles, so that the passes below read
+  // the arrays almost in order; `key` keeps each group's place in the output (the rank of its
+  // largest exact face)
   int num_groups = 0;
-  std::vector<int> group_of = GrowCoplanarGroups(exact, area_normals, order, tolerance, num_groups);
+  std::vector<int> renumbered(seed_rank.size(), -1);
+  std::vector<int> key;
+  key.reserve(seed_rank.size());
+  std::vector<int> group_of(num_triangles);
+  for (int t = 0; t < num_triangles; ++t) {
+    const int g = face_group[faces.face_of[t]];
+    if (renumbered[g] < 0) {
+      renumbered[g] = num_groups++;
+      key.push_back(seed_rank[g]);
+    }
+    group_of[t] = renumbered[g];
+  }
+  renumbered = {};
+  seed_rank = {};
   std::vector<int> group_start;
   std::vector<int> group_triangles;
   std::vector<int> loop_start;
   std::vector<int> loops;
   std::vector<char> corner(num_points, 0);
   std::vector<std::pair<int, int>> edges;
+  std::vector<int> to_split;
+  std::vector<int> split_faces;
   for (;;) {
     FillRows(num_groups, group_of, group_start, group_triangles);
-    std::vector<int> to_split;
+    to_split.clear();
     loop_start.assign(1, 0);
     loops.clear();
+    loops.reserve(3 * static_cast<std::size_t>(num_groups));
     for (int g = 0; g < num_groups; ++g) {
       const int* first = group_triangles.data() + group_start[g];
       const int* last = group_triangles.data() + group_start[g + 1];
@@ -392,17 +659,7 @@ ConvexHull ComputeConvexHull(const std::vector<Eigen::Vector3d>& points,
     }
     if (to_split.empty()) {
       // a corner has three distinct groups around it
-      for (int v = 0; v < num_points; ++v) {
-        std::array<int, 3> seen{};
-        int distinct = 0;
-        for (int k = exact.fan_start[v]; k < exact.fan_start[v + 1] && distinct < 3; ++k) {
-          const int g = group_of[exact.fan[k]];
-          if (std::find(seen.begin(), seen.begin() + distinct, g) == seen.begin() + distinct) {
-            seen[distinct++] = g;
-          }
-        }
-        corner[v] = distinct >= 3;
-      }
+      for (int v = 0; v < num_points; ++v) corner[v] = DistinctAround(exact, group_of, v) >= 3;
       for (int g = 0; g < num_groups; ++g) {
         const auto corners = std::count_if(loops.begin() + loop_start[g],
                                            loops.begin() + loop_start[g + 1],
@@ -420,12 +677,26 @@ ConvexHull ComputeConvexHull(const std::vector<Eigen::Vector3d>& points,
     if (to_split.empty()) break;
     std::sort(to_split.begin(), to_split.end());
     to_split.erase(std::unique(to_split.begin(), to_split.end()), to_split.end());
+    // each exact face of a split group becomes a group of its own (the largest keeps the group)
     for (int g : to_split) {
-      for (int k = group_start[g] + 1; k < group_start[g + 1]; ++k) {
-        group_of[group_triangles[k]] = num_groups++;
+      split_faces.clear();
+      for (int k = group_start[g]; k < group_start[g + 1]; ++k) {
+        split_faces.push_back(faces.face_of[group_triangles[k]]);
+      }
+      std::sort(split_faces.begin(), split_faces.end(),
+                [&](int a, int b) { return rank[a] < rank[b]; });
+      split_faces.erase(std::unique(split_faces.begin(), split_faces.end()), split_faces.end());
+      for (std::size_t k = 1; k < split_faces.size(); ++k) {
+        const int f = split_faces[k];
+        const int fresh = num_groups++;
+        key.push_back(rank[f]);
+        for (int j = faces.triangle_start[f]; j < faces.triangle_start[f + 1]; ++j) {
+          group_of[faces.triangles[j]] = fresh;
+        }
       }
     }
   }
+  // output labels: the corners in label order, that is in lexicographic order of coordinates
   std::vector<int> new_index(num_points, -1);
   ConvexHull hull;
   for (int v = 0; v < num_points; ++v) {
@@ -434,55 +705,88 @@ ConvexHull ComputeConvexHull(const std::vector<Eigen::Vector3d>& points,
     hull.vertices.push_back(exact.points[v]);
   }
 
-  // per face: corner polygon, area-weighted normal, offset over every hull vertex
+  // each group's place among the faces: in order of their largest exact faces
+  std::vector<int> place(num_groups);
+  {
+    std::vector<int> group_by_key(num_faces, -1);
+    for (int g = 0; g < num_groups; ++g) group_by_key[key[g]] = g;
+    int next = 0;
+    for (int g : group_by_key) {
+      if (g >= 0) place[g] = next++;
+    }
+  }
+
+  // per face: corner polygon from its smallest corner, normal from that polygon, offset the largest n · v over the extreme points
+  // (canonical, unlike CGAL's extra vertices on faces and edges): over the group's boundary for
+  // a single exact face, whose plane supports the hull; searched over the hull for a merged face,
+  // whose corners may lie inside its plane
   hull.faces.resize(num_groups);
   hull.normals.resize(num_groups);
   hull.offsets.resize(num_groups);
   std::vector<int> occurrences(hull.vertices.size(), 0);
+  std::vector<int> visited(num_points, -1);
+  std::vector<int> queue;
+  std::vector<int> corners;
+  // the polygons once more in memory order, for the adjacency
+  std::vector<int> polygon_start(num_groups + 1, 0);
+  std::vector<int> polygons;
+  polygons.reserve(loops.size());
   for (int g = 0; g < num_groups; ++g) {
-    std::vector<int>& polygon = hull.faces[g];
-    polygon.reserve(std::count_if(loops.begin() + loop_start[g], loops.begin() + loop_start[g + 1],
-                                  [&](int v) { return new_index[v] >= 0; }));
+    // gathered first, so that each face allocates once
+    corners.clear();
     for (int j = loop_start[g]; j < loop_start[g + 1]; ++j) {
-      if (new_index[loops[j]] < 0) continue;
-      polygon.push_back(new_index[loops[j]]);
-      ++occurrences[polygon.back()];
+      if (corner[loops[j]]) corners.push_back(new_index[loops[j]]);
     }
-    ECPSIM_DEMAND(polygon.size() >= 3);
-    Eigen::Vector3d area_normal = Eigen::Vector3d::Zero();
-    for (int k = group_start[g]; k < group_start[g + 1]; ++k) {
-      area_normal += area_normals[group_triangles[k]];
-    }
-    const double norm = area_normal.norm();
+    ECPSIM_DEMAND(corners.size() >= 3);
+    const int f = place[g];
+    std::vector<int>& polygon = hull.faces[f];
+    const auto smallest = std::min_element(corners.begin(), corners.end());
+    polygon.reserve(corners.size());
+    polygon.insert(polygon.end(), smallest, corners.end());
+    polygon.insert(polygon.end(), corners.begin(), smallest);
+    polygons.insert(polygons.end(), polygon.begin(), polygon.end());
+    polygon_start[g + 1] = static_cast<int>(polygons.size());
+    for (int v : polygon) ++occurrences[v];
+    const Eigen::Vector3d area =
+        FanAreaVector(hull.vertices, polygon.data(), static_cast<int>(polygon.size()));
+    const double norm = area.norm();
     ECPSIM_DEMAND(norm > 0);
-    const Eigen::Vector3d n = area_normal / norm;
-    int start = loops[loop_start[g]];
+    const Eigen::Vector3d n = area / norm;
+    hull.normals[f] = n;
+    double offset = -std::numeric_limits<double>::infinity();
+    int start = -1;
     for (int j = loop_start[g]; j < loop_start[g + 1]; ++j) {
-      if (n.dot(exact.points[loops[j]]) > n.dot(exact.points[start])) start = loops[j];
+      const int v = loops[j];
+      if (!faces.extreme[v] || n.dot(exact.points[v]) <= offset) continue;
+      offset = n.dot(exact.points[v]);
+      start = v;
     }
-    hull.normals[g] = n;
-    // an unmerged triangle's plane supports the exact hull already; a merged face's normal is
-    // an average, so its outermost vertex is searched for
-    const bool single = group_start[g + 1] - group_start[g] == 1;
-    hull.offsets[g] = single ? n.dot(exact.points[start]) : MaxAlong(exact, n, start);
+    const int first_face = faces.face_of[group_triangles[group_start[g]]];
+    const bool single = faces.triangle_start[first_face + 1] - faces.triangle_start[first_face] ==
+                        group_start[g + 1] - group_start[g];
+    hull.offsets[f] = single ? offset
+                             : MaxOverExtremePoints(exact, faces.extreme, n, start, slack,
+                                                    visited, g, queue);
   }
 
-  // adjacency from the polygons: each hull edge is walked once in each direction, so the
-  // outgoing edges list every neighbour once; faces arrive in increasing order
+  // adjacency from the polygons (in memory order, then sorted): each hull edge is walked once in
+  // each direction, so the outgoing edges list every neighbour once
   hull.vertex_faces.resize(hull.vertices.size());
   hull.vertex_neighbors.resize(hull.vertices.size());
   for (std::size_t v = 0; v < hull.vertices.size(); ++v) {
     hull.vertex_faces[v].reserve(occurrences[v]);
     hull.vertex_neighbors[v].reserve(occurrences[v]);
   }
-  for (int f = 0; f < num_groups; ++f) {
-    const std::vector<int>& polygon = hull.faces[f];
-    for (std::size_t k = 0; k < polygon.size(); ++k) {
-      hull.vertex_faces[polygon[k]].push_back(f);
-      hull.vertex_neighbors[polygon[k]].push_back(polygon[(k + 1) % polygon.size()]);
+  for (int g = 0; g < num_groups; ++g) {
+    const int first = polygon_start[g];
+    const int last = polygon_start[g + 1];
+    for (int k = first; k < last; ++k) {
+      hull.vertex_faces[polygons[k]].push_back(place[g]);
+      hull.vertex_neighbors[polygons[k]].push_back(polygons[k + 1 < last ? k + 1 : first]);
     }
   }
   for (std::size_t v = 0; v < hull.vertices.size(); ++v) {
+    std::sort(hull.vertex_faces[v].begin(), hull.vertex_faces[v].end());
     std::sort(hull.vertex_neighbors[v].begin(), hull.vertex_neighbors[v].end());
     ECPSIM_DEMAND(hull.vertex_faces[v].size() >= 3);
   }

@@ -24,9 +24,9 @@ struct ConvexHull {
 /// Relative tolerance for merging coplanar hull triangles, as a fraction of the bounding-box
 /// diagonal: float-exported meshes carry ~6e-8 relative rounding per coordinate (up to ~2e-7 in a
 /// vertex's distance to a plane through others), so 1e-6 merges that noise with margin while
-/// staying far below any modelled feature (1 µm on a 1 m body). A merged face's plane is its
-/// area-weighted normal at the outermost vertex, so its corners may lie up to a few tolerances
-/// inside it; exactly coplanar input keeps exact planes.
+/// staying far below any modelled feature (1 µm on a 1 m body). A merged face's plane is the
+/// normal of its corner polygon at the outermost extreme point, so its corners may lie up to a
+/// few tolerances inside it; exactly coplanar input keeps exact planes.
 inline constexpr double kCoplanarTolerance = 1e-6;  // dimensionless, × bounding-box diagonal
 
 /// CPU times of ComputeConvexHull's stages (the calling thread's), s: a diagnostic for benchmarks
@@ -41,6 +41,11 @@ struct ConvexHullStageTimes {
 /// kCoplanarTolerance × (bounding-box diagonal) are merged into one polygonal face, so a cube read
 /// from a file with float noise has exactly 6 faces. Offsets are taken as max_v n_i · v over the
 /// hull vertices, so every input point satisfies every inequality up to round-off.
+/// Every output is a function of the set of points alone, bit for bit, whatever their order and
+/// whatever CGAL's triangulation of exactly coplanar points: vertices in lexicographic order of
+/// their coordinates; each face from its smallest vertex; faces in order of the area of the
+/// largest exact face they hold; normals from the corner polygons (Σ (v_k − v_0) × (v_{k+1} −
+/// v_0), exact for a face in a coordinate plane); offsets over the extreme points.
 /// @throws InputError naming `source` for fewer than 4 points, non-finite coordinates, or a
 ///         degenerate (collinear or coplanar, zero-volume) point set.
 /// `stage_times`, when given, receives the durations of the stages of this call.

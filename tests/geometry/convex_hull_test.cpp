@@ -77,6 +77,22 @@ void ExpectValidHull(const ConvexHull& hull, const std::vector<Eigen::Vector3d>&
   EXPECT_LE(worst, kRoundOff);
 }
 
+// the hull of `points` shuffled into `orders` orders (seeded), every array bit for bit `expected`
+void ExpectTheSameHullInEveryOrder(std::vector<Eigen::Vector3d> points, const ConvexHull& expected,
+                                   int orders, unsigned seed) {
+  std::mt19937 rng(seed);
+  for (int order = 0; order < orders; ++order) {
+    std::shuffle(points.begin(), points.end(), rng);
+    const ConvexHull again = ComputeConvexHull(points, "shuffled points");
+    EXPECT_EQ(again.vertices, expected.vertices) << "order " << order;
+    EXPECT_EQ(again.faces, expected.faces) << "order " << order;
+    EXPECT_EQ(again.normals, expected.normals) << "order " << order;
+    EXPECT_EQ(again.offsets, expected.offsets) << "order " << order;
+    EXPECT_EQ(again.vertex_faces, expected.vertex_faces) << "order " << order;
+    EXPECT_EQ(again.vertex_neighbors, expected.vertex_neighbors) << "order " << order;
+  }
+}
+
 std::vector<Eigen::Vector3d> BoxCorners(const Eigen::Vector3d& centre, const Eigen::Vector3d& half) {
   std::vector<Eigen::Vector3d> corners;
   for (int k = 0; k < 8; ++k) {
@@ -117,6 +133,28 @@ TEST(ConvexHullTest, BoxHasSixFacesWithExactNormalsAndOffsets) {
   }
 }
 
+// the unit cube rotated by R about its centre, moved to `centre`, sampled on a grid of
+// cells × cells squares per face and rounded to float
+std::vector<Eigen::Vector3d> FloatRoundedCubeGrid(const Eigen::Matrix3d& R,
+                                                  const Eigen::Vector3d& centre, int cells) {
+  std::vector<Eigen::Vector3d> points;
+  for (int axis = 0; axis < 3; ++axis) {
+    for (double side : {-0.5, 0.5}) {
+      for (int i = 0; i <= cells; ++i) {
+        for (int j = 0; j <= cells; ++j) {
+          Eigen::Vector3d local;
+          local[axis] = side;
+          local[(axis + 1) % 3] = -0.5 + static_cast<double>(i) / cells;
+          local[(axis + 2) % 3] = -0.5 + static_cast<double>(j) / cells;
+          const Eigen::Vector3d exact = R * local + centre;
+          points.push_back(exact.cast<float>().cast<double>());
+        }
+      }
+    }
+  }
+  return points;
+}
+
 // A rotated cube sampled on a 5 × 5 grid per face and rounded to float, as a modelling tool's
 // export would be: the face points are no longer exactly coplanar, yet the hull has 6 faces.
 TEST(ConvexHullTest, FloatRoundedCubeStillHasSixFaces) {
@@ -124,21 +162,8 @@ TEST(ConvexHullTest, FloatRoundedCubeStillHasSixFaces) {
                              Eigen::AngleAxisd(0.7, Eigen::Vector3d::UnitX()) *
                              Eigen::AngleAxisd(-0.2, Eigen::Vector3d::UnitY()))
                                 .toRotationMatrix();
-  std::vector<Eigen::Vector3d> points;
-  for (int axis = 0; axis < 3; ++axis) {
-    for (double side : {-0.5, 0.5}) {
-      for (int i = 0; i <= 4; ++i) {
-        for (int j = 0; j <= 4; ++j) {
-          Eigen::Vector3d local;
-          local[axis] = side;
-          local[(axis + 1) % 3] = -0.5 + 0.25 * i;
-          local[(axis + 2) % 3] = -0.5 + 0.25 * j;
-          const Eigen::Vector3d exact = R * local + Eigen::Vector3d(2.0, -1.0, 0.5);
-          points.push_back(exact.cast<float>().cast<double>());
-        }
-      }
-    }
-  }
+  const std::vector<Eigen::Vector3d> points =
+      FloatRoundedCubeGrid(R, Eigen::Vector3d(2.0, -1.0, 0.5), 4);
   // the rounding really moves points off their planes (by up to ~1e-7 m here)
   double largest_offset = 0;
   for (const Eigen::Vector3d& p : points) {
@@ -329,6 +354,82 @@ TEST(ConvexHullTest, SamePointsGiveTheSameArraysOnEveryCall) {
                                return std::tie(a.x(), a.y(), a.z()) <
                                       std::tie(b.x(), b.y(), b.z());
                              }));
+}
+
+// Issue 11: where input points are exactly coplanar, CGAL may triangulate a face in many ways
+// (and keep a point on a face or edge as a vertex or not), depending on the input order and on
+// heap addresses; every output must still be a function of the point set alone. An octahedron
+// |x| + |y| + |z| ≤ 6 through all its lattice points (slanted faces of 28 points each, eighths
+// of a metre: exact) and a box with grids on its faces, edges and inside, each hulled in
+// several orders, must give bit-identical arrays, and the box's normals exact axes.
+TEST(ConvexHullTest, ExactlyCoplanarPointsGiveTheSameHullInEveryOrder) {
+  std::vector<Eigen::Vector3d> octahedron;
+  for (int x = -6; x <= 6; ++x) {
+    for (int y = -6; y <= 6; ++y) {
+      for (int z = -6; z <= 6; ++z) {
+        if (std::abs(x) + std::abs(y) + std::abs(z) <= 6) {
+          octahedron.emplace_back(0.125 * x - 0.3, 0.125 * y + 0.1, 0.125 * z + 2.0);
+        }
+      }
+    }
+  }
+  std::vector<Eigen::Vector3d> box;
+  for (int i = 0; i <= 6; ++i) {
+    for (int j = 0; j <= 4; ++j) {
+      for (int k = 0; k <= 3; ++k) {
+        box.emplace_back(0.1 + 0.3 * i / 6, -0.2 + 0.7 * j / 4, 0.05 + 0.11 * k / 3);
+      }
+    }
+  }
+  for (const auto* points : {&octahedron, &box}) {
+    const ConvexHull first = ComputeConvexHull(*points, "lattice");
+    ExpectValidHull(first, *points);
+    ASSERT_EQ(first.faces.size(), points == &box ? 6u : 8u);
+    EXPECT_EQ(first.vertices.size(), 6u + 2 * (points == &box));
+    ExpectTheSameHullInEveryOrder(*points, first, 6, 3);
+  }
+  const ConvexHull hull = ComputeConvexHull(box, "box lattice");
+  for (const Eigen::Vector3d& n : hull.normals) {
+    EXPECT_EQ(n.cwiseAbs().maxCoeff(), 1.0) << n.transpose();
+    EXPECT_EQ(n.cwiseAbs().sum(), 1.0) << n.transpose();
+  }
+}
+
+// The hull depends on the extreme points alone: points added on its faces and edges and inside
+// (which CGAL may keep as vertices of its triangles, depending on the order) change no bit.
+TEST(ConvexHullTest, PointsOnFacesEdgesAndInsideChangeNoBit) {
+  std::vector<Eigen::Vector3d> corners;
+  std::vector<Eigen::Vector3d> lattice;
+  for (int x = -4; x <= 4; ++x) {
+    for (int y = -4; y <= 4; ++y) {
+      for (int z = -4; z <= 4; ++z) {
+        if (std::abs(x) + std::abs(y) + std::abs(z) > 4) continue;
+        const Eigen::Vector3d p(0.25 * x + 1.0, 0.25 * y - 0.5, 0.25 * z + 0.75);
+        lattice.push_back(p);
+        // the octahedron's corners (±4, 0, 0), (0, ±4, 0), (0, 0, ±4)
+        if (std::abs(x) == 4 || std::abs(y) == 4 || std::abs(z) == 4) corners.push_back(p);
+      }
+    }
+  }
+  ASSERT_EQ(corners.size(), 6u);
+  const ConvexHull bare = ComputeConvexHull(corners, "octahedron corners");
+  ExpectValidHull(bare, lattice);
+  ExpectTheSameHullInEveryOrder(lattice, bare, 4, 9);
+}
+
+// Faces merged within the tolerance (a rotated cube rounded to float, with grids on its faces:
+// no four points exactly coplanar but by chance) come out the same in every order too, their
+// offsets searched over the hull.
+TEST(ConvexHullTest, MergedFacesGiveTheSameHullInEveryOrder) {
+  const Eigen::Matrix3d R = (Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitX()) *
+                             Eigen::AngleAxisd(-0.9, Eigen::Vector3d::UnitZ()))
+                                .toRotationMatrix();
+  const std::vector<Eigen::Vector3d> points =
+      FloatRoundedCubeGrid(R, Eigen::Vector3d::Zero(), 6);
+  const ConvexHull first = ComputeConvexHull(points, "float cube");
+  ASSERT_EQ(first.faces.size(), 6u);
+  ExpectValidHull(first, points);
+  ExpectTheSameHullInEveryOrder(points, first, 4, 4);
 }
 
 TEST(ConvexHullTest, DegenerateInputsThrowNamingTheSource) {
