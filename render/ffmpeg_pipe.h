@@ -66,7 +66,9 @@ class FfmpegPipe {
 
   /// Queues one frame as drawn (render_target.h): the writer thread downsamples it, so that the
   /// caller draws the next frame meanwhile (the downsample is ~1.5 ms of a 1280×720 frame's
-  /// ~8 ms on the render thread). Same contract as Write(Image).
+  /// ~8 ms on the render thread). Same contract as Write(Image). A drawing is 2.25× to 16× the
+  /// image's bytes (8 MB at 1280×720 with 1.5× supersampling); with SpareDrawing at most four
+  /// are alive: one drawn into, two queued, one being sent.
   void Write(Drawing frame);
 
   /// A Drawing already sent, for its buffer to be drawn into again (Renderer::RenderDrawing's
