@@ -28,6 +28,17 @@ void ApplyCamera(const engine::Scene& scene, render::FrameInput& frame) {
   frame.camera.fov_y_deg = scene.output.camera_fov_deg;
 }
 
+namespace {
+
+// a video alone takes the frames in the byte order ffmpeg converts fastest
+render::RenderSettings RecorderSettings(const engine::Scene& scene, FrameOutputs outputs) {
+  render::RenderSettings settings = RenderSettingsFor(scene);
+  if (!outputs.frames) settings.channel_order = render::ChannelOrder::kBgr;
+  return settings;
+}
+
+}  // namespace
+
 int FramesUpTo(const engine::Scene& scene, double t) {
   int frames = 0;
   while (frames / scene.output.fps <= t + scene.h / 2) ++frames;
@@ -38,7 +49,7 @@ FrameRecorder::FrameRecorder(const engine::Scene& scene, const std::string& out_
                              FrameOutputs outputs, const engine::State* resumed_from)
     : scene_(scene),
       builder_(scene),
-      renderer_(RenderSettingsFor(scene)),
+      renderer_(RecorderSettings(scene, outputs)),
       frames_(resumed_from ? FramesUpTo(scene, resumed_from->t) : 0) {
   ECPSIM_DEMAND(outputs.frames || outputs.video);
   if (outputs.frames) {
@@ -63,7 +74,8 @@ FrameRecorder::FrameRecorder(const engine::Scene& scene, const std::string& out_
     }
     video_ = std::make_unique<render::FfmpegPipe>(
         video_path, width, height, scene.output.fps, "ffmpeg",
-        frames_ > 0 ? render::VideoStart::kAppend : render::VideoStart::kReplace);
+        frames_ > 0 ? render::VideoStart::kAppend : render::VideoStart::kReplace,
+        renderer_.settings().channel_order);
     return;
   }
   try {
@@ -88,12 +100,13 @@ void FrameRecorder::Observe(const engine::State& state, const engine::StepReport
   while (frames_ / scene_.output.fps <= state.t + scene_.h / 2) {
     render::FrameInput frame = builder_.Build(state, report.iterations, report.models);
     ApplyCamera(scene_, frame);
-    render::Image image = renderer_.Render(frame);
     if (png_) {
+      render::Image image = renderer_.Render(frame);
       if (video_) video_->Write(image);
       png_->Add(std::move(image));
     } else {
-      video_->Write(std::move(image));
+      // a video alone: ffmpeg's writer thread downsamples while the next frame draws
+      video_->Write(renderer_.RenderDrawing(frame, video_->SpareDrawing()));
     }
     ++frames_;
   }

@@ -32,7 +32,9 @@ struct FrameOutputs {
 /// Renders the state nearest to each frame time k / fps (fps from scene.output, independent of
 /// h) into DIR/frames/frame_NNNNNN.png — PNG encoding on a worker thread while the next frame
 /// renders — and/or into DIR/video.mp4 through the ffmpeg program. A video alone is rendered
-/// straight into ffmpeg: no PNG is encoded and DIR/frames is not made.
+/// straight into ffmpeg, in B, G, R byte order (ffmpeg's cheapest conversion to yuv420p), and
+/// downsampled on the pipe's writer thread while the next frame draws: no PNG is encoded and
+/// DIR/frames is not made.
 class FrameRecorder {
  public:
   /// With `resumed_from` (the state a resumed run continues from, app/checkpoint.h) the frames up

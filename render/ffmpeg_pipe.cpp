@@ -263,8 +263,9 @@ int CountVideoFrames(const std::string& path, const std::string& program) {
 }
 
 FfmpegPipe::FfmpegPipe(const std::string& path, int width, int height, double fps,
-                       const std::string& program, VideoStart start)
-    : path_(path), program_(program), start_(start), width_(width), height_(height) {
+                       const std::string& program, VideoStart start, ChannelOrder order)
+    : path_(path), program_(program), start_(start), order_(order), width_(width),
+      height_(height) {
   if (width <= 0 || height <= 0) {
     throw InputError(fmt::format("video '{}': frame size {}x{}: expected positive sizes", path,
                                  width, height));
@@ -289,7 +290,8 @@ FfmpegPipe::FfmpegPipe(const std::string& path, int width, int height, double fp
 
   const std::vector<std::string> args = {
       program, "-hide_banner", "-loglevel", "error", "-y",
-      "-f", "rawvideo", "-pix_fmt", "rgb24", "-s", fmt::format("{}x{}", width, height),
+      "-f", "rawvideo", "-pix_fmt", order == ChannelOrder::kBgr ? "bgr24" : "rgb24",
+      "-s", fmt::format("{}x{}", width, height),
       "-framerate", fmt::format("{}", fps), "-i", "pipe:0",
       // yuv420p halves the chroma resolution, so both sides must be even
       "-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2",
@@ -337,16 +339,24 @@ FfmpegPipe::~FfmpegPipe() {
 
 void FfmpegPipe::SendFrames() {
   for (;;) {
-    Image frame;
+    std::variant<Image, Drawing> queued;
     {
       std::unique_lock<std::mutex> lock(mutex_);
       frame_ready_.wait(lock, [this] { return closing_ || !queue_.empty(); });
       if (queue_.empty()) return;  // closing, every frame sent
-      frame = std::move(queue_.front());
+      queued = std::move(queue_.front());
       queue_.pop_front();
     }
     space_ready_.notify_all();
-    // raw rgb24 rows top first, as Image holds them
+    Image frame;
+    if (Drawing* drawing = std::get_if<Drawing>(&queued)) {
+      frame = Downsample(*drawing);
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (spares_.size() <= kMaxQueuedFrames) spares_.push_back(std::move(*drawing));
+    } else {
+      frame = std::move(std::get<Image>(queued));
+    }
+    // raw rgb24 or bgr24 rows top first, as Image holds them
     const int error = WriteAll(stdin_fd_, frame.rgb.data(), frame.rgb.size());
     if (error != 0) {
       {
@@ -383,7 +393,26 @@ void FfmpegPipe::Fail(const std::string& what) {
 
 void FfmpegPipe::Write(Image frame) {
   ECPSIM_DEMAND(frame.width == width_ && frame.height == height_);
+  ECPSIM_DEMAND(frame.order == order_);
   ECPSIM_DEMAND(frame.rgb.size() == static_cast<size_t>(width_) * height_ * 3);
+  Queue(std::move(frame));
+}
+
+void FfmpegPipe::Write(Drawing frame) {
+  ECPSIM_DEMAND(frame.width == width_ && frame.height == height_);
+  ECPSIM_DEMAND(frame.order == order_);
+  Queue(std::move(frame));
+}
+
+Drawing FfmpegPipe::SpareDrawing() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (spares_.empty()) return Drawing();
+  Drawing spare = std::move(spares_.back());
+  spares_.pop_back();
+  return spare;
+}
+
+void FfmpegPipe::Queue(std::variant<Image, Drawing> frame) {
   ECPSIM_DEMAND(pid_ > 0);
   int error = 0;
   {

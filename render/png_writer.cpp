@@ -65,6 +65,8 @@ std::string WriteFile(std::FILE* file, const Image& image, int compression) {
 }  // namespace
 
 void WritePng(const std::string& path, const Image& image, int compression) {
+  // PNG holds R, G, B: a frame read back for a video alone is not meant for it
+  ECPSIM_DEMAND(image.order == ChannelOrder::kRgb);
   if (image.width <= 0 || image.height <= 0 ||
       image.rgb.size() != static_cast<size_t>(image.width) * image.height * 3) {
     throw InputError(fmt::format("PNG '{}': image {}x{} with {} bytes: expected a non-empty "

@@ -164,13 +164,52 @@ void DownsampleThreeHalves(const std::uint8_t* bottom_up, int drawing_width, int
   }
 }
 
+// the image (w × h, top row first, 3 bytes a pixel in the drawing's order) of the drawing
+// `bottom_up` (drawing_width × drawing_height, 4 bytes a pixel, bottom row first)
+void DownsampleBy(double supersample, const std::uint8_t* bottom_up, int drawing_width,
+                  int drawing_height, int w, int h, std::uint8_t* rgb) {
+  if (supersample == 1.5) {
+    DownsampleThreeHalves(bottom_up, drawing_width, drawing_height, w, h, rgb);
+  } else if (supersample == 1) {
+    Downsample<1>(bottom_up, w, h, rgb);
+  } else if (supersample == 2) {
+    Downsample<2>(bottom_up, w, h, rgb);
+  } else if (supersample == 3) {
+    Downsample<3>(bottom_up, w, h, rgb);
+  } else {
+    ECPSIM_DEMAND(supersample == 4);
+    Downsample<4>(bottom_up, w, h, rgb);
+  }
+}
+
+Image EmptyImage(int width, int height, ChannelOrder order) {
+  Image image;
+  image.width = width;
+  image.height = height;
+  image.order = order;
+  image.rgb.resize(static_cast<size_t>(width) * height * 3);
+  return image;
+}
+
 }  // namespace
 
-RenderTarget::RenderTarget(int width, int height, int samples, double supersample)
+Image Downsample(const Drawing& drawing) {
+  ECPSIM_DEMAND(drawing.rgba != nullptr);
+  ECPSIM_DEMAND(drawing.drawing_width == DrawingSize(drawing.width, drawing.supersample) &&
+                drawing.drawing_height == DrawingSize(drawing.height, drawing.supersample));
+  Image image = EmptyImage(drawing.width, drawing.height, drawing.order);
+  DownsampleBy(drawing.supersample, drawing.rgba.get(), drawing.drawing_width,
+               drawing.drawing_height, drawing.width, drawing.height, image.rgb.data());
+  return image;
+}
+
+RenderTarget::RenderTarget(int width, int height, int samples, double supersample,
+                           ChannelOrder order)
     : width_(width),
       height_(height),
       samples_(samples),
       supersample_(supersample),
+      order_(order),
       draw_width_(DrawingSize(width, supersample)),
       draw_height_(DrawingSize(height, supersample)) {
   GLint max_size = 0, max_samples = 0;
@@ -269,7 +308,8 @@ void RenderTarget::ClearRect(int x, int y, int w, int h, const std::array<float,
   glDisable(GL_SCISSOR_TEST);
 }
 
-Image RenderTarget::Read() const {
+// resolves the samples and reads the drawing (bottom row first) into `rgba`
+void RenderTarget::ReadInto(std::uint8_t* rgba) const {
   const int W = width(), H = height();
   // resolve the samples; a single-sample buffer is read directly
   if (samples_ > 1) {
@@ -281,31 +321,40 @@ Image RenderTarget::Read() const {
     glBindFramebuffer(GL_READ_FRAMEBUFFER, draw_fbo_);
   }
   // RGBA matches the buffer's format, so Mesa copies it without a per-pixel conversion path
-  // (measured 0.5 ms against 3.6 ms for GL_RGB at 1280×720)
+  // (measured 0.5 ms against 3.6 ms for GL_RGB at 1280×720); BGRA swaps red and blue on the way
+  // (0.83 against 0.65 ms for 1920×1080 drawing pixels), and the downsample keeps the order of
+  // the bytes it is given
   glPixelStorei(GL_PACK_ALIGNMENT, 4);
-  readback_.resize(static_cast<size_t>(W) * H * 4);
-  glReadPixels(0, 0, W, H, GL_RGBA, GL_UNSIGNED_BYTE, readback_.data());
-  const std::uint8_t* bottom_up = readback_.data();
+  glReadPixels(0, 0, W, H, order_ == ChannelOrder::kBgr ? GL_BGRA : GL_RGBA, GL_UNSIGNED_BYTE,
+               rgba);
   Bind();
+}
 
-  // glReadPixels returns the bottom row first; Image rows run top to bottom, RGB
-  Image image;
-  image.width = width_;
-  image.height = height_;
-  image.rgb.resize(static_cast<size_t>(width_) * height_ * 3);
-  if (supersample_ == 1.5) {
-    DownsampleThreeHalves(bottom_up, W, H, width_, height_, image.rgb.data());
-  } else if (supersample_ == 1) {
-    Downsample<1>(bottom_up, width_, height_, image.rgb.data());
-  } else if (supersample_ == 2) {
-    Downsample<2>(bottom_up, width_, height_, image.rgb.data());
-  } else if (supersample_ == 3) {
-    Downsample<3>(bottom_up, width_, height_, image.rgb.data());
-  } else {
-    ECPSIM_DEMAND(supersample_ == 4);
-    Downsample<4>(bottom_up, width_, height_, image.rgb.data());
-  }
+Image RenderTarget::Read() const {
+  readback_.resize(static_cast<size_t>(width()) * height() * 4);
+  ReadInto(readback_.data());
+  Image image = EmptyImage(width_, height_, order_);
+  DownsampleBy(supersample_, readback_.data(), width(), height(), width_, height_,
+               image.rgb.data());
   return image;
+}
+
+Drawing RenderTarget::ReadDrawing(Drawing spare) const {
+  Drawing drawing;
+  if (spare.drawing_width == width() && spare.drawing_height == height()) {
+    drawing.rgba = std::move(spare.rgba);
+  }
+  drawing.width = width_;
+  drawing.height = height_;
+  drawing.drawing_width = width();
+  drawing.drawing_height = height();
+  drawing.supersample = supersample_;
+  drawing.order = order_;
+  if (!drawing.rgba) {
+    drawing.rgba.reset(new std::uint8_t[static_cast<size_t>(width()) * height() * 4]);
+  }
+  ReadInto(drawing.rgba.get());
+  return drawing;
 }
 
 }  // namespace ecpsim::render

@@ -3,11 +3,28 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "render/image.h"
 
 namespace ecpsim::render {
+
+/// A frame as read back, before its supersamples are averaged: drawing_width × drawing_height
+/// pixels of 4 bytes (R, G, B, A; B, G, R, A with ChannelOrder::kBgr), bottom row first.
+/// Downsample() turns it into the Image; it needs no OpenGL context, so another thread can do it
+/// while the next frame draws.
+struct Drawing {
+  int width = 0, height = 0;                  // of the image it makes, pixels
+  int drawing_width = 0, drawing_height = 0;  // pixels
+  double supersample = 1;
+  ChannelOrder order = ChannelOrder::kRgb;
+  std::unique_ptr<std::uint8_t[]> rgba;  // left uninitialized before the read: zeroing costs
+};
+
+/// The image of `drawing` (top row first, channels in its order): each pixel the mean of its
+/// footprint's drawing pixels, as RenderTarget describes.
+Image Downsample(const Drawing& drawing);
 
 /// RGBA8 colour + 24-bit depth + 8-bit stencil for an image of `width` × `height` pixels, with
 /// two kinds of anti-aliasing:
@@ -24,7 +41,9 @@ class RenderTarget {
   /// @throws std::runtime_error if the size or sample count is not supported by the context
   ///         (the message gives both and the limits).
   /// @throws std::runtime_error also for a `supersample` other than 1, 1.5, 2, 3 or 4.
-  RenderTarget(int width, int height, int samples, double supersample = 1);
+  /// Read() returns images in `order` (ChannelOrder::kBgr: read back as BGRA, same cost).
+  RenderTarget(int width, int height, int samples, double supersample = 1,
+               ChannelOrder order = ChannelOrder::kRgb);
   ~RenderTarget();
   RenderTarget(const RenderTarget&) = delete;
   RenderTarget& operator=(const RenderTarget&) = delete;
@@ -51,13 +70,22 @@ class RenderTarget {
   /// at the top, as in Image) with `rgba`, and clears its depth and stencil.
   void ClearRect(int x, int y, int w, int h, const std::array<float, 4>& rgba) const;
 
-  /// Resolves the samples, reads the pixels back and averages the supersamples; top row first.
+  /// Resolves the samples, reads the pixels back and averages the supersamples; top row first,
+  /// channels in the order given at construction.
   Image Read() const;
+
+  /// Resolves the samples and reads the pixels back, leaving the average to Downsample (on any
+  /// thread): Downsample(ReadDrawing()) equals Read(). The bytes go into `spare`'s buffer if it
+  /// has one of this size: a fresh 8 MB buffer per frame costs ~2 ms of page faults.
+  Drawing ReadDrawing(Drawing spare = {}) const;
 
  private:
   int width_, height_, samples_;
   double supersample_;
+  ChannelOrder order_;
   int draw_width_, draw_height_;
+  void ReadInto(std::uint8_t* rgba) const;
+
   mutable std::vector<std::uint8_t> readback_;  // reused: zeroing 15 MB per frame costs ~2 ms
   unsigned draw_fbo_ = 0, draw_color_ = 0, draw_depth_ = 0;
   unsigned resolve_fbo_ = 0, resolve_color_ = 0;

@@ -111,7 +111,8 @@ std::vector<double> BackgroundKey(const Camera& camera, double pixel_scale,
 struct Renderer::Impl {
   explicit Impl(const RenderSettings& s)
       : settings(Checked(s)),
-        target(settings.width, settings.height, settings.samples, settings.supersample),
+        target(settings.width, settings.height, settings.samples, settings.supersample,
+               settings.channel_order),
         mesh_program(MakeMeshProgram()),
         vertex_lit_program(MakeVertexLitProgram()),
         ground_program(MakeGroundProgram()),
@@ -163,6 +164,16 @@ Camera Renderer::FrameCamera(const FrameInput& frame) {
 }
 
 Image Renderer::Render(const FrameInput& frame) {
+  Draw(frame);
+  return impl_->target.Read();
+}
+
+Drawing Renderer::RenderDrawing(const FrameInput& frame, Drawing spare) {
+  Draw(frame);
+  return impl_->target.ReadDrawing(std::move(spare));
+}
+
+void Renderer::Draw(const FrameInput& frame) {
   Impl& impl = *impl_;
   // the same view in drawing pixels (supersampled)
   Camera camera = FrameCamera(frame);
@@ -197,7 +208,6 @@ Image Renderer::Render(const FrameInput& frame) {
   DrawContactInset(frame, context);
   DrawTextOverlay(frame, context);
   impl.meshes.EndFrame();
-  return impl.target.Read();
 }
 
 }  // namespace ecpsim::render

@@ -9,6 +9,7 @@
 #include "render/font_atlas.h"
 #include "render/frame_input.h"
 #include "render/image.h"
+#include "render/render_target.h"
 
 namespace ecpsim::render {
 
@@ -20,6 +21,9 @@ struct RenderSettings {
   // llvmpipe it costs ~0.6× the fill of 2 and keeps edges smooth (see docs/rendering.md)
   double supersample = 1.5;
   int samples = 1;      // MSAA samples per drawing pixel (1 = off; slow on llvmpipe)
+  // the byte order of the rendered images: kBgr for frames that go only into a video (ffmpeg
+  // converts bgr24 to yuv420p ~3× faster than rgb24); the pixels are the same either way
+  ChannelOrder channel_order = ChannelOrder::kRgb;
   std::string font_path = kDefaultFontPath;
 };
 
@@ -40,6 +44,13 @@ class Renderer {
   /// @throws InputError for non-finite poses, points or camera values in `frame`.
   Image Render(const FrameInput& frame);
 
+  /// Draws one frame and reads it back without averaging the supersamples: Downsample() of the
+  /// result equals Render(frame) and can run on another thread (no OpenGL) while the next frame
+  /// draws (FfmpegPipe does, for a video alone). `spare`: an earlier frame's Drawing whose
+  /// buffer is reused (RenderTarget::ReadDrawing).
+  /// @throws InputError as Render.
+  Drawing RenderDrawing(const FrameInput& frame, Drawing spare = {});
+
   /// The camera Render would use for `frame`, in image pixels (e.g. to find where a world point
   /// lands in the image).
   Camera FrameCamera(const FrameInput& frame);
@@ -55,6 +66,8 @@ class Renderer {
   bool LastBackgroundCached() const;
 
  private:
+  void Draw(const FrameInput& frame);
+
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

@@ -5,12 +5,16 @@
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include "common/errors.h"
 #include "render/ffmpeg_pipe.h"
+#include "render/gl_context.h"
+#include "render/render_target.h"
 #include "tests/render/decode_video.h"
 
 namespace ecpsim::render {
@@ -145,6 +149,61 @@ TEST(FfmpegPipe, AppendedFramesFollowTheEarlierOnesLosslessly) {
   for (int k = 0; k < 10; ++k) EXPECT_EQ(testing::NearestImage(after[k], sources), k);
   // nothing but the video left: no segment, no concat list, no temporary name
   EXPECT_EQ(FilesIn(dir), 1);
+}
+
+// `image` with its red and blue bytes swapped, marked as holding `order`
+Image SwapRedBlue(Image image, ChannelOrder order) {
+  for (size_t i = 0; i < image.rgb.size(); i += 3) std::swap(image.rgb[i], image.rgb[i + 2]);
+  image.order = order;
+  return image;
+}
+
+// B, G, R frames (what a video alone sends) show the colours of their R, G, B originals
+TEST(FfmpegPipe, BgrFramesShowTheirOwnColours) {
+  const std::string path = TempDir("bgr") + "/video.mp4";
+  {
+    FfmpegPipe pipe(path, 64, 48, 20, "ffmpeg", VideoStart::kReplace, ChannelOrder::kBgr);
+    for (int k = 0; k < 6; ++k) pipe.Write(SwapRedBlue(Bar(64, 48, k), ChannelOrder::kBgr));
+    pipe.Finish();
+  }
+  const std::vector<Image> decoded = testing::DecodeVideo(path, 64, 48);
+  ASSERT_EQ(decoded.size(), 6u);
+  std::vector<Image> red_bars, blue_bars;
+  for (int k = 0; k < 6; ++k) {
+    red_bars.push_back(Bar(64, 48, k));
+    blue_bars.push_back(SwapRedBlue(Bar(64, 48, k), ChannelOrder::kRgb));
+  }
+  for (int k = 0; k < 6; ++k) {
+    // its own frame, and red (as drawn), not blue (bytes taken in the wrong order)
+    EXPECT_EQ(testing::NearestImage(decoded[k], red_bars), k);
+    EXPECT_EQ(testing::NearestImage(decoded[k], {red_bars[k], blue_bars[k]}), 0) << k;
+  }
+}
+
+// frames handed over as drawings, downsampled on the writer thread, make the video that the
+// images read on the caller's thread make (same bytes into a deterministic encoder)
+TEST(FfmpegPipe, DrawingsMakeTheVideoOfTheirImages) {
+  const std::string dir = TempDir("drawings");
+  GlContext context;
+  RenderTarget target(64, 48, 1, 1.5);
+  FfmpegPipe from_drawings(dir + "/drawings.mp4", 64, 48, 20);
+  FfmpegPipe from_images(dir + "/images.mp4", 64, 48, 20);
+  for (int k = 0; k < 8; ++k) {
+    target.Clear({0.1f, 0.1f, 0.1f, 1});
+    // a bar 6 drawing pixels (4 image pixels) wide at x = 4k image pixels
+    target.ClearRect(6 * k, 0, 6, target.height(), {0.9f, 0.3f, 0.1f, 1});
+    from_drawings.Write(target.ReadDrawing(from_drawings.SpareDrawing()));
+    from_images.Write(target.Read());
+  }
+  from_drawings.Finish();
+  from_images.Finish();
+  // the drawings' buffers come back for reuse
+  EXPECT_NE(from_drawings.SpareDrawing().rgba, nullptr);
+  const std::vector<Image> a = testing::DecodeVideo(dir + "/drawings.mp4", 64, 48);
+  const std::vector<Image> b = testing::DecodeVideo(dir + "/images.mp4", 64, 48);
+  ASSERT_EQ(a.size(), 8u);
+  ASSERT_EQ(b.size(), 8u);
+  for (size_t k = 0; k < a.size(); ++k) EXPECT_TRUE(a[k].rgb == b[k].rgb) << "frame " << k;
 }
 
 TEST(FfmpegPipe, AppendingNoFrameLeavesTheVideoAsItWas) {

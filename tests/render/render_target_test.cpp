@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <stdexcept>
 #include <utility>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -167,6 +168,73 @@ TEST(RenderTarget, ThreeHalvesEqualsTheAreaWeightedMeanEverywhere) {
     }
     EXPECT_EQ(mismatches, 0) << "width " << width;
   }
+}
+
+// the same pseudo-random rectangles (1 to 4 drawing pixels wide) in every target given
+void FillWithRectangles(const std::vector<RenderTarget*>& targets) {
+  unsigned state = 777;
+  const auto next = [&state](unsigned range) {
+    state = state * 1103515245u + 12345u;
+    return (state >> 16) % range;
+  };
+  for (RenderTarget* t : targets) t->Clear({0.9f, 0.5f, 0.1f, 1});
+  const int width = targets.front()->width(), height = targets.front()->height();
+  for (int i = 0; i < 100; ++i) {
+    const int x = static_cast<int>(next(width)), y = static_cast<int>(next(height));
+    const int w = 1 + static_cast<int>(next(4)), h = 1 + static_cast<int>(next(4));
+    const std::array<float, 4> colour = {next(256) / 255.0f, next(256) / 255.0f,
+                                         next(256) / 255.0f, 1};
+    for (RenderTarget* t : targets) {
+      t->ClearRect(x, y, std::min(w, width - x), std::min(h, height - y), colour);
+    }
+  }
+}
+
+// a drawing downsampled later (on another thread, by FfmpegPipe) is the image Read() gives, for
+// every supersampling factor and an odd size; a spare drawing's buffer is reused
+TEST(RenderTarget, DownsampledDrawingEqualsTheReadImage) {
+  GlContext context;
+  for (const double factor : {1.0, 1.5, 2.0, 3.0, 4.0}) {
+    RenderTarget target(37, 21, 1, factor);
+    FillWithRectangles({&target});
+    const Image read = target.Read();
+    Drawing drawing = target.ReadDrawing();
+    EXPECT_EQ(drawing.drawing_width, target.width());
+    EXPECT_EQ(drawing.drawing_height, target.height());
+    const Image later = Downsample(drawing);
+    EXPECT_EQ(later.width, read.width);
+    EXPECT_EQ(later.height, read.height);
+    EXPECT_TRUE(later.rgb == read.rgb) << "supersample " << factor;
+    const std::uint8_t* buffer = drawing.rgba.get();
+    const Drawing again = target.ReadDrawing(std::move(drawing));
+    EXPECT_EQ(again.rgba.get(), buffer);
+    EXPECT_TRUE(Downsample(again).rgb == read.rgb) << "supersample " << factor;
+  }
+}
+
+// frames for a video alone come in B, G, R order: the same pixels as R, G, B, bytes swapped
+TEST(RenderTarget, BgrOrderHoldsTheSamePixelsWithRedAndBlueSwapped) {
+  GlContext context;
+  RenderTarget rgb(37, 21, 1, 1.5);
+  RenderTarget bgr(37, 21, 1, 1.5, ChannelOrder::kBgr);
+  FillWithRectangles({&rgb, &bgr});
+  const Image a = rgb.Read();
+  for (const Image& b : {bgr.Read(), Downsample(bgr.ReadDrawing())}) {
+    EXPECT_EQ(a.order, ChannelOrder::kRgb);
+    ASSERT_EQ(b.order, ChannelOrder::kBgr);
+    ASSERT_EQ(b.rgb.size(), a.rgb.size());
+    int mismatches = 0;
+    for (size_t i = 0; i < a.rgb.size(); i += 3) {
+      mismatches += a.rgb[i] != b.rgb[i + 2] || a.rgb[i + 1] != b.rgb[i + 1] ||
+                    a.rgb[i + 2] != b.rgb[i];
+    }
+    EXPECT_EQ(mismatches, 0);
+  }
+  // red differs from blue almost everywhere (the clear colour is 0.9, 0.5, 0.1), so a missing
+  // swap cannot pass
+  int red_is_blue = 0;
+  for (size_t i = 0; i < a.rgb.size(); i += 3) red_is_blue += a.rgb[i] == a.rgb[i + 2];
+  EXPECT_LT(red_is_blue, static_cast<int>(a.rgb.size() / 3 / 10));
 }
 
 TEST(RenderTarget, UnsupportedSupersampleIsRejected) {
