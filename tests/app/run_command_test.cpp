@@ -108,7 +108,9 @@ TEST_F(RunCommandTest, SlideWritesTheTrajectoryAndSummary) {
     EXPECT_NEAR(fn, pn / 0.01, kForceRoundOff * kWeight) << "t = " << t;
     EXPECT_NEAR(ft, pt / 0.01, kForceRoundOff * kWeight) << "t = " << t;
     EXPECT_NEAR(fn, kWeight, kForceTolerance * kWeight) << "t = " << t;
-    if (t < 0.23) EXPECT_NEAR(std::abs(ft), 0.22 * kWeight, kForceTolerance * kWeight) << t;
+    if (t < 0.23) {
+      EXPECT_NEAR(std::abs(ft), 0.22 * kWeight, kForceTolerance * kWeight) << t;
+    }
   }
 
   const nlohmann::json summary = ReadJson(out / "summary.json");

@@ -37,7 +37,9 @@ TEST(StabilityMapAutoTest, AutoReachesTheHullModelsOutcomeAndTrajectoryOnEveryMa
                                   std::to_string(h);
         EXPECT_EQ(c.auto_failed_at, c.hull_failed_at) << where;
         EXPECT_LE(c.difference, kAgreement) << where;
-        if (!coupled && c.hull_failed_at < 0) EXPECT_EQ(c.steps, steps) << where;
+        if (!coupled && c.hull_failed_at < 0) {
+          EXPECT_EQ(c.steps, steps) << where;
+        }
       }
     }
   }
