@@ -201,10 +201,13 @@ class IslandStepper {
                                        {true, false, false, " (projected)"},
                                        {false, true, false, " (minimum-norm)"},
                                        {false, true, true, " (minimum-norm, plain Newton)"}};
+    // the ladder's passes, or the last resort's
     constexpr int kLastResortPass = 3, kPassCount = static_cast<int>(std::size(kPasses));
-    for (int p = last_resort ? kLastResortPass : 0; p < (last_resort ? kPassCount : kLastResortPass);
-         ++p) {
+    const int first_pass = last_resort ? kLastResortPass : 0;
+    const int end_pass = last_resort ? kPassCount : kLastResortPass;
+    for (int p = first_pass; p < end_pass; ++p) {
       const Pass& pass = kPasses[p];
+      // (the layout's size only on the failure path: most steps end in the first pass)
       if (pass.minimum_norm && MakeIslandLayout(problem).size > kMaxMinimumNormUnknowns) continue;
       options.project_nonnegative = pass.project;
       options.minimum_norm_steps = pass.minimum_norm;
