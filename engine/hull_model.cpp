@@ -83,6 +83,12 @@ constexpr double kNegligibleDepthRel = 1e-9;
 // factor of the tolerance: Newton stalls 10–100 × above it between the planes of a degenerate
 // vertex (engine/README.md, "Degenerate vertices"), 10⁴ leaves margin
 constexpr double kMaxDegenerateStall = 1e4;
+// a body alone is re-solved so within this factor of the tolerance: its stalls on an edge were
+// measured up to 2e5 × above it (the knot mesh's 19 m crease at 2e-7, engine/README.md, "Stalls
+// on an edge"); a warm start that stalls where the body lands on a face after a tilt (the T-bar,
+// the dumbbell: 4e-3 … 2e-2, 10⁹ × and more) is no solution's neighbour, and the re-solves cost
+// 100 … 260 iterations there before the ladder's next guess converged in 8 … 23
+constexpr double kMaxOneBodyStall = 1e7;
 // growing the window this many times (each by the faces around the constraints the solution
 // violated) before the guess counts as failed: a step never falls back to every hull face, whose
 // dense Newton matrix costs in proportion to the hull (11,000 unknowns for a fine UV sphere); one
@@ -334,15 +340,15 @@ class IslandStepper {
     return attempt;
   }
 
-  // Whether a stalled attempt may be a degenerate vertex's or weakly active faces' stall, for
-  // the re-solves on fewer faces: always in an island of one body (as before islands), else only
-  // when it stalled within kMaxDegenerateStall of the tolerance. Far above it the iterate is no
-  // solution's neighbour, its multipliers are arbitrary, and the re-solves (each a whole island
-  // solve) only multiply the cost: a stack under 10²⁰ m/s² gravity stalled at residual 1.5 and
-  // ran twenty re-solves per guess and step.
+  // Whether a stalled attempt may be a degenerate vertex's, weakly active faces' or an edge's
+  // stall, for the re-solves on fewer faces and along the edge: when it stalled within
+  // kMaxOneBodyStall of the tolerance in an island of one body, within kMaxDegenerateStall in
+  // one of several. Far above it the iterate is no solution's neighbour, its multipliers are
+  // arbitrary, and the re-solves (each a whole island solve) only multiply the cost: a stack
+  // under 10²⁰ m/s² gravity stalled at residual 1.5 and ran twenty re-solves per guess and step.
   bool IsNearSolutionStall(const IslandLayout& layout, const Attempt& attempt) const {
-    return layout.num_bodies == 1 ||
-           attempt.residual <= kMaxDegenerateStall * scene_.solver.tolerance;
+    const double factor = layout.num_bodies == 1 ? kMaxOneBodyStall : kMaxDegenerateStall;
+    return attempt.residual <= factor * scene_.solver.tolerance;
   }
 
   // Where four or more hull faces meet at the ECP, their multipliers are not unique and their
