@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <optional>
 #include <string>
 #include <variant>
 
@@ -83,10 +84,11 @@ constexpr double kNegligibleDepthRel = 1e-9;
 // factor of the tolerance: Newton stalls 10–100 × above it between the planes of a degenerate
 // vertex (engine/README.md, "Degenerate vertices"), 10⁴ leaves margin
 constexpr double kMaxDegenerateStall = 1e4;
-// a body alone is re-solved so within this factor of the tolerance: its stalls on an edge were
-// measured up to 2e5 × above it (the knot mesh's 19 m crease at 2e-7, engine/README.md, "Stalls
-// on an edge"); a warm start that stalls where the body lands on a face after a tilt (the T-bar,
-// the dumbbell: 4e-3 … 2e-2, 10⁹ × and more) is no solution's neighbour, and the re-solves cost
+// a body alone is re-solved at once within this factor of the tolerance (farther, only its
+// warm start's stall, after the first pass's other guesses): its stalls on an edge were measured
+// up to 2e5 × above it (the knot mesh's 19 m crease at 2e-7, engine/README.md, "Stalls on an
+// edge"); a warm start that stalls where the body lands on a face after a tilt (the T-bar, the
+// dumbbell: 4e-3 … 2e-2, 10⁹ × and more) is no solution's neighbour, and the re-solves cost
 // 100 … 260 iterations there before the ladder's next guess converged in 8 … 23
 constexpr double kMaxOneBodyStall = 1e7;
 // growing the window this many times (each by the faces around the constraints the solution
@@ -221,6 +223,12 @@ class IslandStepper {
       options.stall_iterations = pass.plain_newton ? 0 : kStallIterations;
       options.max_iterations =
           scene_.solver.max_iterations * (pass.plain_newton ? kPlainNewtonBudgetFactor : 1);
+      // a body alone whose warm start stalled far from a solution in the first pass is
+      // re-solved from that stall only once every other guess has failed too: where it lands on
+      // a face after a tilt the next guess converges, at a finger's first touch only a start
+      // along an edge from the warm start's stall did (engine/README.md, "Which stalls are
+      // re-solved")
+      std::optional<std::pair<IslandProblem, VectorXd>> far_stall;
       for (Guess guess : ladder) {
         // bodies at rest under unchanged loads: the last step's solution usually solves this one
         // too (a stack, a box on the table), and is verified on the residual alone
@@ -235,18 +243,16 @@ class IslandStepper {
           VectorXd z = MakeGuess(guess, problem, layout, state, scales);
           Attempt attempt = Solve(problem, layout, z, options, scales, ejection_energy, result);
           result.residual = attempt.residual;
-          // Newton stalls just above the tolerance where faces are weakly active at the
-          // solution, or where four or more hull faces meet at the ECP (a quad mesh's vertex):
-          // the faces that carry the contact alone, or one face left out, solve it
-          if (attempt.outcome == Outcome::kUnconverged && IsNearSolutionStall(layout, attempt) &&
-              (SolveOnCarryingFaces(problem, layout, z, options, scales, ejection_energy, state,
-                                    result) ||
-               SolveAtDegenerateVertex(problem, layout, z, options, scales, ejection_energy,
-                                       state, result) ||
-               SolveAlongCarryingEdge(problem, layout, z, options, scales, ejection_energy, state,
-                                      result))) {
-            result.solved = true;
-            return result;
+          if (attempt.outcome == Outcome::kUnconverged) {
+            if (IsNearSolutionStall(layout, attempt)) {
+              if (ReSolveStall(problem, layout, z, options, scales, ejection_energy, state,
+                               result)) {
+                result.solved = true;
+                return result;
+              }
+            } else if (layout.num_bodies == 1 && p == 0 && guess == Guess::kWarm) {
+              far_stall.emplace(problem, z);
+            }
           }
           if (attempt.outcome != Outcome::kSolved) {
             note(attempt.Describe());
@@ -264,6 +270,12 @@ class IslandStepper {
           result.solved = true;
           return result;
         }
+      }
+      if (far_stall && ReSolveStall(far_stall->first, MakeIslandLayout(far_stall->first),
+                                    far_stall->second, options, scales, ejection_energy, state,
+                                    result)) {
+        result.solved = true;
+        return result;
       }
     }
     return result;
@@ -338,6 +350,21 @@ class IslandStepper {
       attempt.outcome = Outcome::kSolved;
     }
     return attempt;
+  }
+
+  // The re-solves of an attempt that stalled at `z`: Newton stalls just above the tolerance
+  // where faces are weakly active at the solution, where four or more hull faces meet at the ECP
+  // (a quad mesh's vertex), or on the fold of an edge's moment balance: the faces that carry
+  // the contact alone, one face left out, or starts along the edge solve it
+  bool ReSolveStall(const IslandProblem& problem, const IslandLayout& layout, const VectorXd& z,
+                    McpOptions& options, const IslandScales& scales, double ejection_energy,
+                    IslandState& state, AdvanceResult& result) const {
+    return SolveOnCarryingFaces(problem, layout, z, options, scales, ejection_energy, state,
+                                result) ||
+           SolveAtDegenerateVertex(problem, layout, z, options, scales, ejection_energy, state,
+                                   result) ||
+           SolveAlongCarryingEdge(problem, layout, z, options, scales, ejection_energy, state,
+                                  result);
   }
 
   // Whether a stalled attempt may be a degenerate vertex's, weakly active faces' or an edge's

@@ -2,6 +2,7 @@
 // state: scenes/tbar_push.yaml pushes and turns the T-bar flat on the table; scenes/gripper.yaml
 // drags a box 15 cm, turns it a quarter turn and lets go.
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -86,6 +87,24 @@ TEST(TbarPushSceneTest, TheFingerPushesAndTurnsTheTFlatOnTheTableAndOnlyEverPush
 // the step's solutions are not isolated (engine/README.md, "Non-isolated solutions"). At these
 // steps every pass of the ladder but the last — minimum-norm steps on the plain Newton
 // iteration — stalled, and the run stopped at t = 0.2857 s (exit code 3).
+// At h = 0.01 s the finger's first touch (t = 0.29 s) stalls every guess of the ladder; only
+// a re-solve of the warm start's stall — a start along the edge — converges (engine/README.md,
+// "Which stalls are re-solved"). It must run in the ladder's first pass: the four guesses cost at
+// most 4 × 60 iterations per pass (max_iterations), and a step that reached the third pass (the
+// minimum-norm one, as when that stall was never re-solved: 638 iterations) exceeds two passes'
+constexpr int kGuessesPerPass = 4;
+
+TEST(TbarPushSceneTest, TheFingersFirstTouchIsReSolvedFromTheWarmStartsStallInTheFirstPass) {
+  for (ContactModel model : {ContactModel::kHull, ContactModel::kAuto}) {
+    Scene scene = LoadScene(ScenePath("tbar_push.yaml"));
+    scene.model = model;
+    State state = InitialState(scene);
+    int most = 0;
+    while (state.t < 0.35) most = std::max(most, Step(scene, state).iterations);
+    EXPECT_LT(most, 2 * kGuessesPerPass * scene.solver.max_iterations);
+  }
+}
+
 class TbarPushFineStepTest : public ::testing::TestWithParam<double> {};
 
 TEST_P(TbarPushFineStepTest, TheFingersFirstTouchIsSolvedAndTheTFollowsTheFinger) {
