@@ -32,7 +32,7 @@ int Compare(const CompareOptions& options) {
   const render::Image actual = render::ReadPng(options.actual);
   const render::ImageComparison comparison =
       render::CompareImages(expected, actual, options.tolerance);
-  if (!options.diff.empty() && !comparison.diff.rgb.empty()) {
+  if (!options.diff.empty() && !comparison.diff.pixels.empty()) {
     render::WritePng(options.diff, comparison.diff);
   }
   const std::string summary =
@@ -41,7 +41,7 @@ int Compare(const CompareOptions& options) {
           : fmt::format("sizes differ: {} is {}x{}, {} is {}x{}", options.expected, expected.width,
                         expected.height, options.actual, actual.width, actual.height);
   std::printf("%s: %s\n", comparison.match ? "same" : "different", summary.c_str());
-  if (!options.diff.empty() && !comparison.diff.rgb.empty()) {
+  if (!options.diff.empty() && !comparison.diff.pixels.empty()) {
     std::printf("diff image: %s\n", options.diff.c_str());
   }
   return comparison.match ? 0 : kDifferent;

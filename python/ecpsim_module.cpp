@@ -470,7 +470,7 @@ py::array_t<std::uint8_t> Render(PySimulation& self, int width, int height,
     image = cache.renderer->Render(frame);
   }
   py::array_t<std::uint8_t> out({image.height, image.width, 3});
-  std::memcpy(out.mutable_data(), image.rgb.data(), image.rgb.size());
+  std::memcpy(out.mutable_data(), image.pixels.data(), image.pixels.size());
   return out;
 }
 

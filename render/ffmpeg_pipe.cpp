@@ -357,7 +357,7 @@ void FfmpegPipe::SendFrames() {
       frame = std::move(std::get<Image>(queued));
     }
     // raw rgb24 or bgr24 rows top first, as Image holds them
-    const int error = WriteAll(stdin_fd_, frame.rgb.data(), frame.rgb.size());
+    const int error = WriteAll(stdin_fd_, frame.pixels.data(), frame.pixels.size());
     if (error != 0) {
       {
         std::lock_guard<std::mutex> lock(mutex_);
@@ -394,7 +394,7 @@ void FfmpegPipe::Fail(const std::string& what) {
 void FfmpegPipe::Write(Image frame) {
   ECPSIM_DEMAND(frame.width == width_ && frame.height == height_);
   ECPSIM_DEMAND(frame.order == order_);
-  ECPSIM_DEMAND(frame.rgb.size() == static_cast<size_t>(width_) * height_ * 3);
+  ECPSIM_DEMAND(frame.pixels.size() == static_cast<size_t>(width_) * height_ * 3);
   Queue(std::move(frame));
 }
 

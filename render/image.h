@@ -18,11 +18,11 @@ enum class ChannelOrder { kRgb, kBgr };
 struct Image {
   int width = 0;
   int height = 0;
-  std::vector<std::uint8_t> rgb;  // width * height * 3 bytes, in `order`
+  std::vector<std::uint8_t> pixels;  // width * height * 3 bytes, in `order`
   ChannelOrder order = ChannelOrder::kRgb;
 
-  const std::uint8_t* Pixel(int x, int y) const { return rgb.data() + 3 * (y * width + x); }
-  std::uint8_t* Pixel(int x, int y) { return rgb.data() + 3 * (y * width + x); }
+  const std::uint8_t* Pixel(int x, int y) const { return pixels.data() + 3 * (y * width + x); }
+  std::uint8_t* Pixel(int x, int y) { return pixels.data() + 3 * (y * width + x); }
 };
 
 }  // namespace ecpsim::render

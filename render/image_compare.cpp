@@ -13,9 +13,9 @@ namespace {
 
 void CheckBuffer(const Image& image, const char* which) {
   if (image.width < 0 || image.height < 0 ||
-      image.rgb.size() != static_cast<size_t>(image.width) * image.height * 3) {
+      image.pixels.size() != static_cast<size_t>(image.width) * image.height * 3) {
     throw InputError(fmt::format("{} image {}x{} holds {} bytes: expected width × height × 3",
-                                 which, image.width, image.height, image.rgb.size()));
+                                 which, image.width, image.height, image.pixels.size()));
   }
 }
 
@@ -50,14 +50,14 @@ ImageComparison CompareImages(const Image& expected, const Image& actual,
   result.total_pixels = static_cast<long>(expected.width) * expected.height;
   result.diff = expected;
   for (long i = 0; i < result.total_pixels; ++i) {
-    const std::uint8_t* e = expected.rgb.data() + 3 * i;
-    const std::uint8_t* a = actual.rgb.data() + 3 * i;
+    const std::uint8_t* e = expected.pixels.data() + 3 * i;
+    const std::uint8_t* a = actual.pixels.data() + 3 * i;
     int difference = 0;
     for (int k = 0; k < 3; ++k) difference = std::max(difference, std::abs(int(e[k]) - int(a[k])));
     result.max_channel_difference = std::max(result.max_channel_difference, difference);
 
     // faded grey context, so the marked pixels stand out
-    std::uint8_t* d = result.diff.rgb.data() + 3 * i;
+    std::uint8_t* d = result.diff.pixels.data() + 3 * i;
     const int grey = 160 + (int(e[0]) + int(e[1]) + int(e[2])) / 9;
     d[0] = d[1] = d[2] = static_cast<std::uint8_t>(std::min(grey, 255));
     if (difference > tolerance.channel_threshold) {

@@ -55,7 +55,7 @@ std::string WriteFile(std::FILE* file, const Image& image, int compression) {
                PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
   png_write_info(png, info);
   for (int y = 0; y < image.height; ++y) {
-    png_write_row(png, image.rgb.data() + static_cast<size_t>(y) * image.width * 3);
+    png_write_row(png, image.pixels.data() + static_cast<size_t>(y) * image.width * 3);
   }
   png_write_end(png, nullptr);
   png_destroy_write_struct(&png, &info);
@@ -68,10 +68,10 @@ void WritePng(const std::string& path, const Image& image, int compression) {
   // PNG holds R, G, B: a frame read back for a video alone is not meant for it
   ECPSIM_DEMAND(image.order == ChannelOrder::kRgb);
   if (image.width <= 0 || image.height <= 0 ||
-      image.rgb.size() != static_cast<size_t>(image.width) * image.height * 3) {
+      image.pixels.size() != static_cast<size_t>(image.width) * image.height * 3) {
     throw InputError(fmt::format("PNG '{}': image {}x{} with {} bytes: expected a non-empty "
                                  "image of width × height × 3 bytes",
-                                 path, image.width, image.height, image.rgb.size()));
+                                 path, image.width, image.height, image.pixels.size()));
   }
   if (compression < 0 || compression > 9) {
     throw InputError(fmt::format("PNG '{}': compression = {}: expected a zlib level 0 to 9", path,
@@ -109,8 +109,8 @@ Image ReadPng(const std::string& path) {
   Image image;
   image.width = static_cast<int>(png.width);
   image.height = static_cast<int>(png.height);
-  image.rgb.resize(PNG_IMAGE_SIZE(png));
-  if (!png_image_finish_read(&png, nullptr, image.rgb.data(), 0, nullptr)) {
+  image.pixels.resize(PNG_IMAGE_SIZE(png));
+  if (!png_image_finish_read(&png, nullptr, image.pixels.data(), 0, nullptr)) {
     const std::string reason = png.message;
     png_image_free(&png);
     throw InputError(fmt::format("cannot read PNG '{}': {}", path, reason));

@@ -40,12 +40,12 @@ void CheckComplete(const char* which, int width, int height, int samples) {
   }
 }
 
-// Each image pixel (w × h, RGB, top row first) is the rounded mean of its S × S drawing pixels
-// in `bottom_up` (RGBA, bottom row first). S is a template parameter so the loops unroll and
-// vectorize, and the division by S² becomes a multiply (an integer division per byte would cost
-// ~20 ms per 1280×720 frame).
+// Each image pixel (w × h, 3 bytes in the drawing's order, top row first) is the rounded mean
+// of its S × S drawing pixels in `bottom_up` (4 bytes, bottom row first). S is a template
+// parameter so the loops unroll and vectorize, and the division by S² becomes a multiply (an
+// integer division per byte would cost ~20 ms per 1280×720 frame).
 template <int S>
-void Downsample(const std::uint8_t* bottom_up, int w, int h, std::uint8_t* rgb) {
+void Downsample(const std::uint8_t* bottom_up, int w, int h, std::uint8_t* pixels) {
   constexpr int kCount = S * S;
   const size_t row_bytes = static_cast<size_t>(w) * S * 4;
   const int drawing_rows = h * S;
@@ -54,7 +54,7 @@ void Downsample(const std::uint8_t* bottom_up, int w, int h, std::uint8_t* rgb) 
     for (int y = 0; y < h; ++y) {
       const std::uint8_t* a = bottom_up + (drawing_rows - 1 - 2 * y) * row_bytes;
       const std::uint8_t* b = a - row_bytes;
-      std::uint8_t* dst = rgb + static_cast<size_t>(y) * w * 3;
+      std::uint8_t* dst = pixels + static_cast<size_t>(y) * w * 3;
       for (int x = 0; x < w; ++x) {
         for (int c = 0; c < 3; ++c) {
           dst[3 * x + c] = static_cast<std::uint8_t>(
@@ -79,7 +79,7 @@ void Downsample(const std::uint8_t* bottom_up, int w, int h, std::uint8_t* rgb) 
         }
       }
     }
-    std::uint8_t* dst = rgb + static_cast<size_t>(y) * w * 3;
+    std::uint8_t* dst = pixels + static_cast<size_t>(y) * w * 3;
     for (int i = 0; i < 3 * w; ++i) dst[i] = static_cast<std::uint8_t>(sum[i] / kCount);
   }
 }
@@ -117,7 +117,7 @@ inline std::uint8_t DivideByNine(std::uint16_t x) {
 // per-pixel loop it replaced (~3 → ~1.5 ms per 1280×720 frame); the result is the same to the
 // bit (RenderTarget.ThreeHalves* compare it with the area-weighted mean).
 void DownsampleThreeHalves(const std::uint8_t* bottom_up, int drawing_width, int drawing_height,
-                           int w, int h, std::uint8_t* rgb) {
+                           int w, int h, std::uint8_t* pixels) {
   const size_t row_bytes = static_cast<size_t>(drawing_width) * 4;
   // weighted sums of ≤ 9 bytes fit 16 bits (9 × 255 = 2295)
   std::vector<std::uint16_t> column_sums(row_bytes);
@@ -141,7 +141,7 @@ void DownsampleThreeHalves(const std::uint8_t* bottom_up, int drawing_width, int
       l[i] = DivideByNine(static_cast<std::uint16_t>(2 * v[i] + v[i + 4] + 4));
       r[i] = DivideByNine(static_cast<std::uint16_t>(v[i] + 2 * v[i + 4] + 4));
     }
-    std::uint8_t* dst = rgb + static_cast<size_t>(y) * w * 3;
+    std::uint8_t* dst = pixels + static_cast<size_t>(y) * w * 3;
     // all but the last pair with 4-byte copies (the 4th byte lands on the next pixel's first)
     for (int k = 0; k + 1 < pairs; ++k) {
       std::memcpy(dst + 6 * k, l + 12 * k, 4);
@@ -167,18 +167,18 @@ void DownsampleThreeHalves(const std::uint8_t* bottom_up, int drawing_width, int
 // the image (w × h, top row first, 3 bytes a pixel in the drawing's order) of the drawing
 // `bottom_up` (drawing_width × drawing_height, 4 bytes a pixel, bottom row first)
 void DownsampleBy(double supersample, const std::uint8_t* bottom_up, int drawing_width,
-                  int drawing_height, int w, int h, std::uint8_t* rgb) {
+                  int drawing_height, int w, int h, std::uint8_t* pixels) {
   if (supersample == 1.5) {
-    DownsampleThreeHalves(bottom_up, drawing_width, drawing_height, w, h, rgb);
+    DownsampleThreeHalves(bottom_up, drawing_width, drawing_height, w, h, pixels);
   } else if (supersample == 1) {
-    Downsample<1>(bottom_up, w, h, rgb);
+    Downsample<1>(bottom_up, w, h, pixels);
   } else if (supersample == 2) {
-    Downsample<2>(bottom_up, w, h, rgb);
+    Downsample<2>(bottom_up, w, h, pixels);
   } else if (supersample == 3) {
-    Downsample<3>(bottom_up, w, h, rgb);
+    Downsample<3>(bottom_up, w, h, pixels);
   } else {
     ECPSIM_DEMAND(supersample == 4);
-    Downsample<4>(bottom_up, w, h, rgb);
+    Downsample<4>(bottom_up, w, h, pixels);
   }
 }
 
@@ -187,7 +187,7 @@ Image EmptyImage(int width, int height, ChannelOrder order) {
   image.width = width;
   image.height = height;
   image.order = order;
-  image.rgb.resize(static_cast<size_t>(width) * height * 3);
+  image.pixels.resize(static_cast<size_t>(width) * height * 3);
   return image;
 }
 
@@ -199,7 +199,7 @@ Image Downsample(const Drawing& drawing) {
                 drawing.drawing_height == DrawingSize(drawing.height, drawing.supersample));
   Image image = EmptyImage(drawing.width, drawing.height, drawing.order);
   DownsampleBy(drawing.supersample, drawing.rgba.get(), drawing.drawing_width,
-               drawing.drawing_height, drawing.width, drawing.height, image.rgb.data());
+               drawing.drawing_height, drawing.width, drawing.height, image.pixels.data());
   return image;
 }
 
@@ -335,7 +335,7 @@ Image RenderTarget::Read() const {
   ReadInto(readback_.data());
   Image image = EmptyImage(width_, height_, order_);
   DownsampleBy(supersample_, readback_.data(), width(), height(), width_, height_,
-               image.rgb.data());
+               image.pixels.data());
   return image;
 }
 

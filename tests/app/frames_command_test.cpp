@@ -218,8 +218,8 @@ TEST_F(FramesCommandTest, RenderIsDeterministic) {
   ASSERT_EQ(Run(fmt::format("{} -o '{}'", args, a.string())), 0) << log_;
   ASSERT_EQ(Run(fmt::format("{} -o '{}'", args, b.string())), 0) << log_;
   const Image first = ReadPng(a.string()), second = ReadPng(b.string());
-  ASSERT_EQ(first.rgb.size(), second.rgb.size());
-  EXPECT_TRUE(first.rgb == second.rgb);
+  ASSERT_EQ(first.pixels.size(), second.pixels.size());
+  EXPECT_TRUE(first.pixels == second.pixels);
   EXPECT_EQ(Run(fmt::format("compare '{}' '{}'", a.string(), b.string())), 0) << log_;
 }
 

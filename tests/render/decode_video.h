@@ -32,7 +32,7 @@ inline std::vector<render::Image> DecodeVideo(const std::string& path, int width
   for (size_t k = 0; k < frames.size(); ++k) {
     frames[k].width = width;
     frames[k].height = height;
-    frames[k].rgb.assign(bytes.begin() + k * frame_bytes, bytes.begin() + (k + 1) * frame_bytes);
+    frames[k].pixels.assign(bytes.begin() + k * frame_bytes, bytes.begin() + (k + 1) * frame_bytes);
   }
   return frames;
 }
@@ -40,8 +40,8 @@ inline std::vector<render::Image> DecodeVideo(const std::string& path, int width
 /// Mean absolute difference of two images of one size, levels per channel (0 to 255).
 inline double MeanLevelDifference(const render::Image& a, const render::Image& b) {
   double sum = 0;
-  for (size_t i = 0; i < a.rgb.size(); ++i) sum += std::abs(int{a.rgb[i]} - int{b.rgb[i]});
-  return sum / static_cast<double>(a.rgb.size());
+  for (size_t i = 0; i < a.pixels.size(); ++i) sum += std::abs(int{a.pixels[i]} - int{b.pixels[i]});
+  return sum / static_cast<double>(a.pixels.size());
 }
 
 /// The index of the image in `candidates` nearest to `frame` (MeanLevelDifference).

@@ -34,8 +34,8 @@ Image Frame(int width, int height, int k) {
   Image image;
   image.width = width;
   image.height = height;
-  image.rgb.resize(static_cast<size_t>(width) * height * 3);
-  for (size_t i = 0; i < image.rgb.size(); ++i) image.rgb[i] = static_cast<std::uint8_t>(i * 7 + k);
+  image.pixels.resize(static_cast<size_t>(width) * height * 3);
+  for (size_t i = 0; i < image.pixels.size(); ++i) image.pixels[i] = static_cast<std::uint8_t>(i * 7 + k);
   return image;
 }
 
@@ -44,7 +44,7 @@ Image Bar(int width, int height, int k) {
   Image image;
   image.width = width;
   image.height = height;
-  image.rgb.assign(static_cast<size_t>(width) * height * 3, 20);
+  image.pixels.assign(static_cast<size_t>(width) * height * 3, 20);
   for (int y = 0; y < height; ++y) {
     for (int x = 4 * k; x < 4 * k + 4 && x < width; ++x) image.Pixel(x, y)[0] = 240;
   }
@@ -142,7 +142,7 @@ TEST(FfmpegPipe, AppendedFramesFollowTheEarlierOnesLosslessly) {
   ASSERT_EQ(after.size(), 10u);
   EXPECT_EQ(CountVideoFrames(path), 10);
   // the earlier frames keep their bits (joined, not encoded again)
-  for (size_t k = 0; k < before.size(); ++k) EXPECT_TRUE(after[k].rgb == before[k].rgb) << k;
+  for (size_t k = 0; k < before.size(); ++k) EXPECT_TRUE(after[k].pixels == before[k].pixels) << k;
   // every frame once, in order: each decoded frame is nearest to its own source
   std::vector<Image> sources;
   for (int k = 0; k < 10; ++k) sources.push_back(Bar(64, 48, k));
@@ -153,7 +153,7 @@ TEST(FfmpegPipe, AppendedFramesFollowTheEarlierOnesLosslessly) {
 
 // `image` with its red and blue bytes swapped, marked as holding `order`
 Image SwapRedBlue(Image image, ChannelOrder order) {
-  for (size_t i = 0; i < image.rgb.size(); i += 3) std::swap(image.rgb[i], image.rgb[i + 2]);
+  for (size_t i = 0; i < image.pixels.size(); i += 3) std::swap(image.pixels[i], image.pixels[i + 2]);
   image.order = order;
   return image;
 }
@@ -203,7 +203,7 @@ TEST(FfmpegPipe, DrawingsMakeTheVideoOfTheirImages) {
   const std::vector<Image> b = testing::DecodeVideo(dir + "/images.mp4", 64, 48);
   ASSERT_EQ(a.size(), 8u);
   ASSERT_EQ(b.size(), 8u);
-  for (size_t k = 0; k < a.size(); ++k) EXPECT_TRUE(a[k].rgb == b[k].rgb) << "frame " << k;
+  for (size_t k = 0; k < a.size(); ++k) EXPECT_TRUE(a[k].pixels == b[k].pixels) << "frame " << k;
 }
 
 TEST(FfmpegPipe, AppendingNoFrameLeavesTheVideoAsItWas) {

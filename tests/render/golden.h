@@ -53,7 +53,7 @@ inline ::testing::AssertionResult MatchesGolden(const Image& actual, const std::
     return ::testing::AssertionSuccess() << comparison.Summary(tolerance);
   }
   WritePng(actual_path, actual);
-  if (comparison.diff.rgb.empty()) {
+  if (comparison.diff.pixels.empty()) {
     diff_path = "(none: sizes differ)";
   } else {
     WritePng(diff_path, comparison.diff);

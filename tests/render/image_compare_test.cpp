@@ -16,7 +16,7 @@ Image Flat(int width, int height, std::uint8_t value) {
   Image image;
   image.width = width;
   image.height = height;
-  image.rgb.assign(static_cast<size_t>(width) * height * 3, value);
+  image.pixels.assign(static_cast<size_t>(width) * height * 3, value);
   return image;
 }
 
@@ -63,7 +63,7 @@ TEST(CompareImages, DifferentSizesDoNotMatch) {
   const ImageComparison c = CompareImages(Flat(4, 4, 0), Flat(4, 5, 0));
   EXPECT_FALSE(c.same_size);
   EXPECT_FALSE(c.match);
-  EXPECT_TRUE(c.diff.rgb.empty());
+  EXPECT_TRUE(c.diff.pixels.empty());
   EXPECT_EQ(c.Summary({}), "the images differ in size");
 }
 

@@ -30,7 +30,7 @@ Image Numbered(int k) {
   Image image;
   image.width = 7;
   image.height = 5;
-  image.rgb.assign(7 * 5 * 3, static_cast<std::uint8_t>(k));
+  image.pixels.assign(7 * 5 * 3, static_cast<std::uint8_t>(k));
   return image;
 }
 
@@ -51,7 +51,7 @@ TEST(PngSequenceWriter, WritesEveryFrameIntactInOrder) {
   }
   EXPECT_EQ(files, 12);
   for (int k = 0; k < 12; ++k) {
-    EXPECT_EQ(ReadPng(fmt::format("{}/frame_{:06d}.png", dir, k)).rgb, Numbered(k).rgb) << k;
+    EXPECT_EQ(ReadPng(fmt::format("{}/frame_{:06d}.png", dir, k)).pixels, Numbered(k).pixels) << k;
   }
 }
 

@@ -32,9 +32,9 @@ Image Gradient() {
   image.height = 3;
   for (int y = 0; y < 3; ++y) {
     for (int x = 0; x < 5; ++x) {
-      image.rgb.push_back(static_cast<std::uint8_t>(10 * y + x));
-      image.rgb.push_back(static_cast<std::uint8_t>(100 + 10 * y + x));
-      image.rgb.push_back(static_cast<std::uint8_t>(200 + 10 * y + x));
+      image.pixels.push_back(static_cast<std::uint8_t>(10 * y + x));
+      image.pixels.push_back(static_cast<std::uint8_t>(100 + 10 * y + x));
+      image.pixels.push_back(static_cast<std::uint8_t>(200 + 10 * y + x));
     }
   }
   return image;
@@ -48,7 +48,7 @@ TEST(PngWriter, RoundTripIsByteExactAtEveryLevel) {
     const Image back = ReadPng(path);
     EXPECT_EQ(back.width, 5);
     EXPECT_EQ(back.height, 3);
-    EXPECT_EQ(back.rgb, Gradient().rgb) << "level " << level;
+    EXPECT_EQ(back.pixels, Gradient().pixels) << "level " << level;
   }
 }
 
@@ -101,7 +101,7 @@ TEST(PngWriter, MissingDirectoryIsAnInputError) {
 
 TEST(PngWriter, MismatchedBufferIsAnInputError) {
   Image image = Gradient();
-  image.rgb.pop_back();
+  image.pixels.pop_back();
   const std::string path = TempDir("mismatch") + "/bad.png";
   EXPECT_THAT([&] { WritePng(path, image); },
               ThrowsMessage<InputError>(HasSubstr("image 5x3 with 44 bytes")));

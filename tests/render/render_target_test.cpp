@@ -204,11 +204,11 @@ TEST(RenderTarget, DownsampledDrawingEqualsTheReadImage) {
     const Image later = Downsample(drawing);
     EXPECT_EQ(later.width, read.width);
     EXPECT_EQ(later.height, read.height);
-    EXPECT_TRUE(later.rgb == read.rgb) << "supersample " << factor;
+    EXPECT_TRUE(later.pixels == read.pixels) << "supersample " << factor;
     const std::uint8_t* buffer = drawing.rgba.get();
     const Drawing again = target.ReadDrawing(std::move(drawing));
     EXPECT_EQ(again.rgba.get(), buffer);
-    EXPECT_TRUE(Downsample(again).rgb == read.rgb) << "supersample " << factor;
+    EXPECT_TRUE(Downsample(again).pixels == read.pixels) << "supersample " << factor;
   }
 }
 
@@ -222,19 +222,19 @@ TEST(RenderTarget, BgrOrderHoldsTheSamePixelsWithRedAndBlueSwapped) {
   for (const Image& b : {bgr.Read(), Downsample(bgr.ReadDrawing())}) {
     EXPECT_EQ(a.order, ChannelOrder::kRgb);
     ASSERT_EQ(b.order, ChannelOrder::kBgr);
-    ASSERT_EQ(b.rgb.size(), a.rgb.size());
+    ASSERT_EQ(b.pixels.size(), a.pixels.size());
     int mismatches = 0;
-    for (size_t i = 0; i < a.rgb.size(); i += 3) {
-      mismatches += a.rgb[i] != b.rgb[i + 2] || a.rgb[i + 1] != b.rgb[i + 1] ||
-                    a.rgb[i + 2] != b.rgb[i];
+    for (size_t i = 0; i < a.pixels.size(); i += 3) {
+      mismatches += a.pixels[i] != b.pixels[i + 2] || a.pixels[i + 1] != b.pixels[i + 1] ||
+                    a.pixels[i + 2] != b.pixels[i];
     }
     EXPECT_EQ(mismatches, 0);
   }
   // red differs from blue almost everywhere (the clear colour is 0.9, 0.5, 0.1), so a missing
   // swap cannot pass
   int red_is_blue = 0;
-  for (size_t i = 0; i < a.rgb.size(); i += 3) red_is_blue += a.rgb[i] == a.rgb[i + 2];
-  EXPECT_LT(red_is_blue, static_cast<int>(a.rgb.size() / 3 / 10));
+  for (size_t i = 0; i < a.pixels.size(); i += 3) red_is_blue += a.pixels[i] == a.pixels[i + 2];
+  EXPECT_LT(red_is_blue, static_cast<int>(a.pixels.size() / 3 / 10));
 }
 
 TEST(RenderTarget, UnsupportedSupersampleIsRejected) {

@@ -79,11 +79,11 @@ TEST_F(RendererTest, EmptyFrameIsBackgroundEverywhere) {
   const Image image = renderer_->Render(frame);
   ASSERT_EQ(image.width, 320);
   ASSERT_EQ(image.height, 240);
-  ASSERT_EQ(image.rgb.size(), 320u * 240u * 3u);
-  for (size_t i = 0; i < image.rgb.size(); i += 3) {
-    ASSERT_EQ(image.rgb[i], 242);
-    ASSERT_EQ(image.rgb[i + 1], 245);
-    ASSERT_EQ(image.rgb[i + 2], 247);
+  ASSERT_EQ(image.pixels.size(), 320u * 240u * 3u);
+  for (size_t i = 0; i < image.pixels.size(); i += 3) {
+    ASSERT_EQ(image.pixels[i], 242);
+    ASSERT_EQ(image.pixels[i + 1], 245);
+    ASSERT_EQ(image.pixels[i + 2], 247);
   }
 }
 
