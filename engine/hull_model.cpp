@@ -491,7 +491,7 @@ class IslandStepper {
       for (const VectorXd& base : bases) {
         VectorXd start = base;
         start.segment<3>(L.a1) += shift * e_world;
-        start.segment<3>(L.a2) += shift * e_world;
+        if (!L.on_plane()) start.segment<3>(L.a2) += shift * e_world;
         const Attempt attempt = Solve(problem, layout, start, options, scales, ejection_energy, result);
         if (AcceptReduced(problem, layout, start, attempt, scales, state, result)) return true;
       }
@@ -598,8 +598,11 @@ class IslandStepper {
     for (size_t k = 0; k < to.contacts.size(); ++k) {
       const MncpLayout::Contact& A = from_layout.contacts[k];
       const MncpLayout::Contact& B = to_layout.contacts[k];
-      out.segment<10>(B.a1) = z.segment<10>(A.a1);
-      CarryByFace(from.contacts[k].other_window, z, A.l_g, to.contacts[k].other_window, out, B.l_g);
+      // the free block (a1 … p_r: 10 unknowns, 6 on a plane) and G's multipliers (none on a plane)
+      out.segment(B.a1, B.p_r + 1 - B.a1) = z.segment(A.a1, A.p_r + 1 - A.a1);
+      if (B.l_g_count > 0)
+        CarryByFace(from.contacts[k].other_window, z, A.l_g, to.contacts[k].other_window, out,
+                    B.l_g);
       out[B.p_n] = z[A.p_n];
       out[B.sigma] = z[A.sigma];
       CarryByFace(from.contacts[k].window, z, A.l, to.contacts[k].window, out, B.l);
@@ -855,14 +858,18 @@ class IslandStepper {
       const auto* warm = std::get_if<HullWarmStart>(&previous.warm_start);
       if (guess == Guess::kWarm && warm != nullptr) {
         z.segment<3>(L.a1) = previous.a1;
-        z.segment<3>(L.a2) = previous.a2;
-        z[L.s] = warm->s;
+        if (!L.on_plane()) {
+          z.segment<3>(L.a2) = previous.a2;
+          z[L.s] = warm->s;
+        }
         z[L.p_t] = previous.p_t;
         z[L.p_o] = previous.p_o;
         z[L.p_r] = previous.p_r;
         z[L.p_n] = previous.p_n;
         z[L.sigma] = previous.sigma;
-        if (cp.other_kind == Other::kFixed) {
+        if (L.on_plane()) {
+          // (l_G = 1: not an unknown)
+        } else if (cp.other_kind == Other::kFixed) {
           z.segment(L.l_g, L.l_g_count) = warm->l_g;
         } else {
           CarryByFace(warm->other_window, warm->l_g, 0, cp.other_window, z, L.l_g);
@@ -890,7 +897,7 @@ class IslandStepper {
       if (cp.other_kind == Other::kFixed) {
         const auto [projection, active_g] = ProjectOntoObstacle(*cp.other_shape, a1);
         a2 = projection;
-        z[L.l_g + active_g] = 1;
+        if (!L.on_plane()) z[L.l_g + active_g] = 1;
         N = cp.other_shape->Gradient(active_g, a2);
       } else {
         // G's support point in +n at its end pose, and a1 on its support plane when touching
@@ -912,8 +919,10 @@ class IslandStepper {
         }
       }
       z.segment<3>(L.a1) = a1;
-      z.segment<3>(L.a2) = a2;
-      z[L.s] = separated ? std::max(0.0, (a1 - a2).dot(N) / N.squaredNorm()) : 0;
+      if (!L.on_plane()) {
+        z.segment<3>(L.a2) = a2;
+        z[L.s] = separated ? std::max(0.0, (a1 - a2).dot(N) / N.squaredNorm()) : 0;
+      }
       // the window face whose world normal is most opposed to N carries the cone
       const Vector3d y = pose.R.transpose() * (a1 - pose.c);
       const int best = MostOpposedWindowConstraint(*cp.hull, cp.window, pose.R, y, N);
@@ -1013,8 +1022,9 @@ class IslandStepper {
       const MncpLayout::Contact& L = layout.contacts[k];
       const IslandContact& cp = problem.contacts[k];
       ContactState& c = state.contacts[k];
+      const ContactGap gap = ContactGapAt(L, cp.other_shape, z);
       c.a1 = z.segment<3>(L.a1);
-      c.a2 = z.segment<3>(L.a2);
+      c.a2 = gap.a2;
       c.p_t = z[L.p_t];
       c.p_o = z[L.p_o];
       c.p_r = z[L.p_r];
@@ -1028,8 +1038,11 @@ class IslandStepper {
       c.n = frame.n;
       c.t = frame.t;
       c.o = frame.o;
-      HullWarmStart warm{z[L.s], z.segment(L.l_g, L.l_g_count), cp.window,
-                         z.segment(L.l, L.l_count), {}};
+      // on a plane l_G = 1 (its one constraint)
+      HullWarmStart warm{gap.s,
+                         L.on_plane() ? VectorXd(VectorXd::Ones(1))
+                                      : VectorXd(z.segment(L.l_g, L.l_g_count)),
+                         cp.window, z.segment(L.l, L.l_count), {}};
       if (cp.other_kind != Other::kFixed) warm.other_window = cp.other_window;
       c.warm_start = std::move(warm);
     }

@@ -105,17 +105,14 @@ CreepRoundOff CreepFrictionRoundOff(const IslandProblem& problem, const IslandLa
 }
 
 // A contact's rows evaluated on a compact block of the unknowns it touches: F's ν⁺ (6), a
-// dynamic G's ν⁺ (6), then its free block (a1, a2, s, p_t, p_o, p_r) and its complementarity
-// block (l, l_G, p_n, σ), each contiguous in the island's layout too
+// dynamic G's ν⁺ (6), then its free block (a1, a2, s, p_t, p_o, p_r; on a plane a1, p_t, p_o,
+// p_r) and its complementarity block (l, l_G, p_n, σ), each contiguous in the island's layout too
 struct LocalContact {
   std::vector<int> global;    // local index → index in the island's z
   MncpLayout::Contact L;      // the contact's layout in local indices
   int other_column = -1;      // local column of a dynamic G's ν⁺
   int num_body_rows = 6;      // the Newton–Euler rows first: 6, or 12 with a dynamic G
 };
-
-// free block: a1 (3), a2 (3), s, p_t, p_o, p_r
-constexpr int kContactFreeSize = 10;
 
 LocalContact MakeLocalContact(const IslandContact& cp, const MncpLayout::Contact& L) {
   LocalContact local;
@@ -126,15 +123,15 @@ LocalContact MakeLocalContact(const IslandContact& cp, const MncpLayout::Contact
     for (int i = 0; i < 6; ++i) local.global.push_back(IslandLayout::Velocity(cp.other) + i);
   }
   const int free = static_cast<int>(local.global.size());
-  for (int i = 0; i < kContactFreeSize; ++i) local.global.push_back(L.a1 + i);
+  for (int i = L.a1; i <= L.p_r; ++i) local.global.push_back(i);
   const int complementarity = static_cast<int>(local.global.size());
   const int count = L.l_count + L.l_g_count + 2;
   for (int i = 0; i < count; ++i) local.global.push_back(L.l + i);
   local.L = L;
   const int shift_free = free - L.a1, shift_complementarity = complementarity - L.l;
-  for (int* index : {&local.L.a1, &local.L.a2, &local.L.s, &local.L.p_t, &local.L.p_o,
-                     &local.L.p_r})
-    *index += shift_free;
+  for (int* index : {&local.L.a1, &local.L.p_t, &local.L.p_o, &local.L.p_r}) *index += shift_free;
+  if (!L.on_plane())
+    for (int* index : {&local.L.a2, &local.L.s}) *index += shift_free;
   for (int* index : {&local.L.l, &local.L.l_g, &local.L.p_n, &local.L.sigma})
     *index += shift_complementarity;
   return local;
@@ -164,8 +161,10 @@ IslandLayout MakeIslandLayout(const IslandProblem& problem) {
       ECPSIM_DEMAND(cp.other >= 0 && cp.other < num_bodies && cp.other != cp.body);
     for (int i : cp.window) ECPSIM_DEMAND(i >= 0 && i < cp.hull->NumConstraints());
     for (int j : cp.other_window) ECPSIM_DEMAND(j >= 0 && j < cp.other_shape->NumConstraints());
-    counts.push_back(
-        {static_cast<int>(cp.window.size()), static_cast<int>(cp.other_window.size())});
+    // a fixed half-space's contact in the plane form (MncpLayout), without a2, s and l_G
+    const bool plane = cp.other_kind == Other::kFixed && IsPlane(*cp.other_shape);
+    counts.push_back({static_cast<int>(cp.window.size()),
+                      plane ? 0 : static_cast<int>(cp.other_window.size())});
   }
   // each jaw of at most one gripper (checked only where there are grippers: this runs every solve)
   if (!problem.grippers.empty()) {

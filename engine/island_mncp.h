@@ -78,7 +78,8 @@ struct IslandProblem {
 /// Where each unknown of the island's MNCP lives in z: first ν⁺ = (v⁺, ω⁺) of every body (6
 /// each, body b at Velocity(b)), then per contact (a1, a2, s, p_t, p_o, p_r), then per contact
 /// the complementarity unknowns (l over F's window, l_G over G's window, p_n, σ). Row i of the
-/// residual is paired with unknown i. For one body this is MncpLayout's order.
+/// residual is paired with unknown i. For one body this is MncpLayout's order, but a contact on
+/// a fixed half-space is laid out in the plane form (MncpLayout: no a2, s, l_G).
 ///
 /// The Jacobian is block-sparse: body b's Newton–Euler rows touch only ν_b⁺ and the contact
 /// blocks of b's contacts, and a contact's rows only its own block and the ν⁺ of its one or two

@@ -54,7 +54,8 @@ void SetVelocityScales(int index, const Scales& s, Eigen::VectorXd& scale) {
 
 void SetContactVariableScales(const MncpLayout::Contact& L, const Friction& friction,
                               const Scales& s, Eigen::VectorXd& scale) {
-  scale.segment<7>(L.a1).setConstant(s.length);  // a1, a2, s
+  scale.segment<3>(L.a1).setConstant(s.length);
+  if (!L.on_plane()) scale.segment<4>(L.a2).setConstant(s.length);  // a2, s
   scale[L.p_t] = scale[L.p_o] = scale[L.p_n] = s.impulse;
   scale[L.p_r] = s.impulse * friction.e_r;
   scale[L.sigma] = s.velocity;
@@ -68,7 +69,8 @@ void SetNewtonEulerRowScales(int index, const Scales& s, Eigen::VectorXd& scale)
 void SetContactRowScales(const MncpLayout::Contact& L, const Friction& friction, const Scales& s,
                          Eigen::VectorXd& scale) {
   const double e_r = friction.e_r;
-  scale.segment<3>(L.a1).setConstant(1 / s.length);  // a1 − a2 − s N
+  // a1 − a2 − s N (the cone rows, a2's or on a plane a1's, and Σ l_G = 1 are dimensionless)
+  scale.segment<3>(L.a1).setConstant(L.on_plane() ? 1 : 1 / s.length);
   scale[L.p_t] = scale[L.p_o] = 1 / (s.impulse * s.velocity);
   scale[L.p_r] = 1 / (s.impulse * s.velocity * e_r);
   scale.segment(L.l, L.l_count).setConstant(1 / s.length);

@@ -8,6 +8,7 @@
 #include <Eigen/Cholesky>
 #include <fmt/format.h>
 
+#include "common/errors.h"
 #include "engine/loads.h"
 #include "engine/rotation.h"
 
@@ -93,14 +94,18 @@ MncpLayout LayOutContacts(int first, const std::vector<std::array<int, 2>>& coun
   MncpLayout layout;
   int next = first;
   layout.contacts.resize(counts.size());
-  for (auto& c : layout.contacts) {
+  for (size_t k = 0; k < counts.size(); ++k) {
+    auto& c = layout.contacts[k];
+    const bool plane = counts[k][1] == 0;
     c.a1 = next;
-    c.a2 = next + 3;
-    c.s = next + 6;
-    c.p_t = next + 7;
-    c.p_o = next + 8;
-    c.p_r = next + 9;
-    next += 10;
+    next += 3;
+    c.a2 = plane ? -1 : next;
+    c.s = plane ? -1 : next + 3;
+    if (!plane) next += 4;
+    c.p_t = next;
+    c.p_o = next + 1;
+    c.p_r = next + 2;
+    next += 3;
   }
   layout.num_free = next;
   for (size_t k = 0; k < counts.size(); ++k) {
@@ -108,8 +113,8 @@ MncpLayout LayOutContacts(int first, const std::vector<std::array<int, 2>>& coun
     c.l = next;
     c.l_count = counts[k][0];
     next += c.l_count;
-    c.l_g = next;
     c.l_g_count = counts[k][1];
+    c.l_g = next;  // (an empty range on a plane)
     next += c.l_g_count;
     c.p_n = next++;
     c.sigma = next++;
@@ -179,6 +184,20 @@ ContactFrame MakeContactFrame(const Vector3d& N, const Vector3d& tangent_referen
   return frame;
 }
 
+bool IsPlane(const geometry::ConvexShape& shape) {
+  return shape.NumConstraints() == 1 && shape.IsLinear(0);
+}
+
+ContactGap ContactGapAt(const MncpLayout::Contact& L, const geometry::ConvexShape* plane,
+                        const Eigen::VectorXd& z) {
+  if (!L.on_plane()) return {z.segment<3>(L.a2), z[L.s]};
+  ECPSIM_DEMAND(plane != nullptr);
+  const Vector3d a1 = z.segment<3>(L.a1);
+  const Vector3d N = plane->Gradient(0, a1);
+  const double s = plane->Value(0, a1) / N.squaredNorm();
+  return {a1 - s * N, s};
+}
+
 ScaledRowResidual::ScaledRowResidual(int num_free, const Eigen::VectorXd& z,
                                      const Eigen::VectorXd& F, const Eigen::VectorXd& row_scale,
                                      const Eigen::VectorXd& var_scale)
@@ -191,13 +210,19 @@ void ScaledRowResidual::AddRow(int i, double divisor) {
 }
 
 void ScaledRowResidual::AddContact(const MncpLayout::Contact& L, double factor) {
-  // rows in metres (row_scale 1/L), moments and slips: floored by the round-off length
-  for (int i = 0; i < 3; ++i) {
-    AddRow(L.a1 + i, factor);
-    AddRow(L.a2 + i, 1);
+  // rows in metres (row_scale 1/L), moments and slips: floored by the round-off length; the
+  // cone rows (a2's, or a1's on a plane) and the normalization are dimensionless
+  if (L.on_plane()) {
+    for (int i = 0; i < 3; ++i) AddRow(L.a1 + i, 1);
+  } else {
+    for (int i = 0; i < 3; ++i) {
+      AddRow(L.a1 + i, factor);
+      AddRow(L.a2 + i, 1);
+    }
+    AddRow(L.s, 1);
   }
   for (int i : {L.p_t, L.p_o}) AddRow(i, factor);
-  for (int i : {L.s, L.p_r, L.sigma}) AddRow(i, 1);
+  for (int i : {L.p_r, L.sigma}) AddRow(i, 1);
   for (int i = 0; i < L.l_count; ++i) AddRow(L.l + i, factor);
   for (int i = 0; i < L.l_g_count; ++i) AddRow(L.l_g + i, factor);
   AddRow(L.p_n, factor);
@@ -205,9 +230,10 @@ void ScaledRowResidual::AddContact(const MncpLayout::Contact& L, double factor) 
 
 double ContactRoundOffLength(const MncpLayout::Contact& L, const Eigen::VectorXd& z,
                              double coordinates, double tolerance) {
-  const double magnitude =
-      std::max({z.segment<3>(L.a1).cwiseAbs().maxCoeff(),
-                z.segment<3>(L.a2).cwiseAbs().maxCoeff(), std::abs(z[L.s]), coordinates});
+  // (on a plane a2 and s are a1's projection and distance: |a1| bounds them)
+  double magnitude = std::max(z.segment<3>(L.a1).cwiseAbs().maxCoeff(), coordinates);
+  if (!L.on_plane())
+    magnitude = std::max({magnitude, z.segment<3>(L.a2).cwiseAbs().maxCoeff(), std::abs(z[L.s])});
   return kCoordinateRoundOffUlps * DBL_EPSILON * magnitude / tolerance;
 }
 
@@ -241,6 +267,13 @@ class OtherSide {
   OtherSide(const ContactSides& sides, const MncpLayout::Contact& L, const Eigen::VectorXd& z,
             const StepMotion* motion, double h, bool with_derivatives)
       : sides_(sides), motion_(motion) {
+    if (L.on_plane()) {
+      // a fixed half-space: l_G = 1, N its constant gradient, no derivatives
+      y_ = z.segment<3>(L.a1);
+      N_ = Gradient(0);
+      l_g_sum_ = 1;
+      return;
+    }
     const Vector3d a2 = z.segment<3>(L.a2);
     y_ = motion ? Vector3d(motion->end.R.transpose() * (a2 - motion->end.c)) : a2;
     const bool dynamic = motion && motion->column >= 0 && with_derivatives;
@@ -334,6 +367,9 @@ void AddContactRows(const ContactSides& sides, const MncpLayout::Contact& L,
                     const StepMotion& body, const StepMotion* other, double h,
                     const Eigen::VectorXd& z, Eigen::VectorXd& F, Eigen::MatrixXd* J_out) {
   const bool with_jacobian = J_out != nullptr;
+  // on a plane a2, s and l_G are left out (MncpLayout): a2 and s follow from a1, N is constant
+  const bool plane = L.on_plane();
+  ECPSIM_DEMAND(!plane || other == nullptr);
   const OtherSide G(sides, L, z, other, h, with_jacobian);
   const int col = body.column;
   const Vector3d& v = body.v;
@@ -341,8 +377,7 @@ void AddContactRows(const ContactSides& sides, const MncpLayout::Contact& L,
   const EndPose& end = body.end;
   const Matrix3d& R_end = end.R;
   const Vector3d a1 = z.segment<3>(L.a1);
-  const Vector3d a2 = z.segment<3>(L.a2);
-  const double s = z[L.s];
+  const auto [a2, s] = ContactGapAt(L, sides.other, z);
   const double p_t = z[L.p_t], p_o = z[L.p_o], p_r = z[L.p_r];
   const double p_n = z[L.p_n], sigma = z[L.sigma];
   const Friction& fr = sides.friction;
@@ -376,9 +411,14 @@ void AddContactRows(const ContactSides& sides, const MncpLayout::Contact& L,
     cone += z[L.l + i] * grad_world;
     F[L.l + i] = -sides.hull->Value(face, y);
   }
-  F.segment<3>(L.a1) = a1 - a2 - s * N;
-  F.segment<3>(L.a2) = cone;
-  F[L.s] = G.l_g_sum() - 1;
+  // the normal-cone rows: a2's, or a1's on a plane (where a1 − a2 − s N = 0 holds by a2's
+  // definition and Σ l_G = 1 by l_G's)
+  const int cone_row = plane ? L.a1 : L.a2;
+  F.segment<3>(cone_row) = cone;
+  if (!plane) {
+    F.segment<3>(L.a1) = a1 - a2 - s * N;
+    F[L.s] = G.l_g_sum() - 1;
+  }
   for (int j = 0; j < L.l_g_count; ++j) F[L.l_g + j] = -G.Value(j);
   // gap: a1 = a2 + s N with N in G's normal cone, so s has the sign of max_j g_j(a1)
   F[L.p_n] = s;
@@ -401,10 +441,14 @@ void AddContactRows(const ContactSides& sides, const MncpLayout::Contact& L,
 
   // --- analytic Jacobian ---
   Eigen::MatrixXd& J = *J_out;
-  const FrameDerivatives d = ContactFrameDerivatives(N, frame, sides.tangent_reference);
+  // (a plane's N is constant: nothing goes through it)
+  const FrameDerivatives d =
+      plane ? FrameDerivatives{Matrix3d::Zero(), Matrix3d::Zero(), Matrix3d::Zero()}
+            : ContactFrameDerivatives(N, frame, sides.tangent_reference);
   // X_N (1×3 or 3×3): the derivative of some rows with respect to N, chained to (a2, l_G) and
   // to a dynamic G's ν⁺
   auto add_through_N = [&](int row, const auto& X_N) {
+    if (plane) return;  // N constant
     constexpr int kRows = std::decay_t<decltype(X_N)>::RowsAtCompileTime;
     J.block<kRows, 3>(row, L.a2) += X_N * G.dN_da2();
     for (int j = 0; j < L.l_g_count; ++j) J.block<kRows, 1>(row, L.l_g + j) += X_N * G.Gradient(j);
@@ -462,7 +506,7 @@ void AddContactRows(const ContactSides& sides, const MncpLayout::Contact& L,
     J.block<1, 3>(L.l + i, col) = h * df_dy * dy_da1;
     J.block<1, 3>(L.l + i, col + 3) = -df_dy * dy_dw;
     // the normal-cone row: ∂(l R⁺ ∇f(y))
-    J.block<3, 1>(L.a2, L.l + i) = grad_world;
+    J.block<3, 1>(cone_row, L.l + i) = grad_world;
     dcone_dw += l * (-h * Skew(grad_world) * body.Jl_plus);
     if (!sides.hull->IsLinear(face)) {
       const Matrix3d H_world = R_end * sides.hull->Hessian(face, y);
@@ -470,18 +514,23 @@ void AddContactRows(const ContactSides& sides, const MncpLayout::Contact& L,
       dcone_dw += l * H_world * dy_dw;
     }
   }
-  J.block<3, 3>(L.a2, L.a1) += dcone_da1;
-  J.block<3, 3>(L.a2, col) += -h * dcone_da1;
-  J.block<3, 3>(L.a2, col + 3) += dcone_dw;
-  add_through_N(L.a2, Matrix3d(Matrix3d::Identity()));
+  J.block<3, 3>(cone_row, L.a1) += dcone_da1;
+  J.block<3, 3>(cone_row, col) += -h * dcone_da1;
+  J.block<3, 3>(cone_row, col + 3) += dcone_dw;
+  if (plane) {
+    // the gap s = g(a1)/|N|² = N·a1/|N|² + const
+    J.block<1, 3>(L.p_n, L.a1) = N.transpose() / N.squaredNorm();
+  } else {
+    add_through_N(L.a2, Matrix3d(Matrix3d::Identity()));
+    // a1 − a2 − s N
+    J.block<3, 3>(L.a1, L.a1) += Matrix3d::Identity();
+    J.block<3, 3>(L.a1, L.a2) -= Matrix3d::Identity();
+    J.block<3, 1>(L.a1, L.s) = -N;
+    add_through_N(L.a1, Matrix3d(-s * Matrix3d::Identity()));
+    J(L.p_n, L.s) = 1;
+  }
 
-  // a1 − a2 − s N
-  J.block<3, 3>(L.a1, L.a1) += Matrix3d::Identity();
-  J.block<3, 3>(L.a1, L.a2) -= Matrix3d::Identity();
-  J.block<3, 1>(L.a1, L.s) = -N;
-  add_through_N(L.a1, Matrix3d(-s * Matrix3d::Identity()));
-
-  // Σ l_G = 1, G's complementarity rows −g_j(y_G), and the gap s
+  // Σ l_G = 1, G's complementarity rows −g_j(y_G)
   for (int j = 0; j < L.l_g_count; ++j) {
     J(L.s, L.l_g + j) = 1;
     const RowVector3d dg_da2 = G.Gradient(j).transpose();
@@ -491,7 +540,6 @@ void AddContactRows(const ContactSides& sides, const MncpLayout::Contact& L,
       J.block<1, 3>(L.l_g + j, other->column + 3) = -G.FrameGradient(j).transpose() * G.dy_dw();
     }
   }
-  J(L.p_n, L.s) = 1;
 
   // friction rows: v_c = v + ω × r − (v_G + ω_G × r_G), v_t = t·v_c, v_o = o·v_c,
   // v_r = n·(ω − ω_G)

@@ -3,7 +3,7 @@
 // non-zeros keep one pattern from iteration to iteration and step to step (the contact layout
 // sets it), so the elimination's schedule — pivot rows, fill, which entries update which — is
 // worked out once per pattern and replayed on the non-zeros alone (≈ 1,200 multiply-adds for the
-// desk's 25 × 25 matrix instead of a dense sweep).
+// desk's 20 × 20 matrix instead of a dense sweep).
 
 #include <cstdint>
 #include <vector>

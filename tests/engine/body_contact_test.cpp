@@ -230,7 +230,9 @@ TEST(PushTest, Issue13_AFingerBeforeTheBoxDoesNotKickItBeforeTheyTouch) {
     // at rest on the ground to round-off: nothing has touched it
     EXPECT_LT(state.bodies[0].v_WB.norm(), kSolvedRel * kG * scene.h) << "t = " << state.t;
     EXPECT_LT(state.bodies[0].w_WB.norm(), kSolvedRel * kG * scene.h / 0.1) << "t = " << state.t;
-    EXPECT_EQ(state.contacts[1].p_n, 0) << "t = " << state.t;
+    // (the separated contact's p_n is 0 to the solver's tolerance, min(p_n, s) = 0 in the
+    // scales: round-off of 1e-19 N·s is a solution)
+    EXPECT_LT(state.contacts[1].p_n, kSolvedRel * kG * scene.h) << "t = " << state.t;
   }
   // and once touched, pushed forward (+x), not kicked sideways: the box's speed stays below the
   // finger's

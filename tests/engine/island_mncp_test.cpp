@@ -1,7 +1,9 @@
 #include "engine/island_mncp.h"
 
+#include <algorithm>
 #include <cfloat>
 #include <cmath>
+#include <numeric>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -67,7 +69,12 @@ int FirstDifference(const A& x, const A& y) {
   return -1;
 }
 
-TEST(IslandReductionTest, OneBodyWithFixedContactsIsTodaysMncpToTheBit) {
+// The island of one body against fixed obstacles is EvaluateMncp's MNCP: to the bit where no
+// obstacle is a plane; a contact on a plane (a half-space) is the general form with a2, s and l_G
+// eliminated (MncpLayout): at a z whose a2, s and l_G are a1's projection, gap and 1, every row
+// the plane form keeps is the general form's to the bit (its cone rows are a2's there), and so is
+// its Jacobian in the unknowns it keeps, but for the gap row, which depends on a1 through s
+TEST(IslandReductionTest, OneBodyWithFixedContactsIsTodaysMncpWithPlanesEliminated) {
   const Shapes shapes;
   const std::vector<const geometry::ConvexShape*> hulls = {shapes.box.get(), shapes.cylinder.get(),
                                                            shapes.mesh.get()};
@@ -78,63 +85,114 @@ TEST(IslandReductionTest, OneBodyWithFixedContactsIsTodaysMncpToTheBit) {
       {shapes.tilted.get(), shapes.sphere.get()}};
   constexpr double kTolerance = 1e-12;
   std::mt19937 rng(2024);
-  int compared = 0;
+  int compared = 0, planes = 0;
   for (const geometry::ConvexShape* hull : hulls) {
     for (const auto& obstacles : obstacle_sets) {
       for (int trial = 0; trial < 16; ++trial) {
         const bool far = trial % 4 == 3;
-        const testing::RandomBodyCase c = testing::MakeRandomBodyCase(*hull, obstacles, far, rng);
+        testing::RandomBodyCase c = testing::MakeRandomBodyCase(*hull, obstacles, far, rng);
         const IslandProblem island = testing::OneBodyIsland(c.problem);
         SCOPED_TRACE(::testing::Message() << "hull " << hull->NumConstraints() << " constraints, "
                                           << obstacles.size() << " obstacles, trial " << trial);
 
         const IslandLayout layout = MakeIslandLayout(island);
-        ASSERT_EQ(layout.num_free, c.layout.num_free);
-        ASSERT_EQ(layout.size, c.layout.size);
         ASSERT_EQ(layout.contacts.size(), c.layout.contacts.size());
+        // the island's unknowns and rows in the body layout: unknown j is the body's
+        // column[j], row i the body's row[i] (the cone rows a2's where the island's are a1's)
+        std::vector<int> column(6), row(6);
+        std::iota(column.begin(), column.end(), 0);
+        std::iota(row.begin(), row.end(), 0);
+        column.resize(layout.size, -1);
+        row.resize(layout.size, -1);
+        bool any_plane = false;
         for (size_t k = 0; k < layout.contacts.size(); ++k) {
           const MncpLayout::Contact& a = layout.contacts[k];
           const MncpLayout::Contact& b = c.layout.contacts[k];
-          EXPECT_EQ(std::vector<int>({a.a1, a.a2, a.s, a.p_t, a.p_o, a.p_r, a.l, a.l_count, a.l_g,
-                                      a.l_g_count, a.p_n, a.sigma}),
-                    std::vector<int>({b.a1, b.a2, b.s, b.p_t, b.p_o, b.p_r, b.l, b.l_count, b.l_g,
-                                      b.l_g_count, b.p_n, b.sigma}));
+          const bool plane = IsPlane(*obstacles[k]);
+          ASSERT_EQ(a.on_plane(), plane);
+          ASSERT_EQ(a.l_count, b.l_count);
+          ASSERT_EQ(a.l_g_count, plane ? 0 : b.l_g_count);
+          for (int i = 0; i < 3; ++i) {
+            column[a.a1 + i] = b.a1 + i;
+            row[a.a1 + i] = plane ? b.a2 + i : b.a1 + i;
+            if (plane) continue;
+            column[a.a2 + i] = row[a.a2 + i] = b.a2 + i;
+          }
+          if (!plane) column[a.s] = row[a.s] = b.s;
+          for (int j = 0; j < a.l_g_count; ++j) column[a.l_g + j] = row[a.l_g + j] = b.l_g + j;
+          for (int i = 0; i < a.l_count; ++i) column[a.l + i] = row[a.l + i] = b.l + i;
+          for (auto [x, y] : {std::pair{a.p_t, b.p_t}, std::pair{a.p_o, b.p_o},
+                              std::pair{a.p_r, b.p_r}, std::pair{a.p_n, b.p_n},
+                              std::pair{a.sigma, b.sigma}})
+            column[x] = row[x] = y;
+          if (!plane) continue;
+          any_plane = true;
+          // the body's a2, s and l_G where the plane form has them
+          const auto [a2, gap] = ContactGapAt(a, obstacles[k], VectorXd(c.z(column)));
+          c.z.segment<3>(b.a2) = a2;
+          c.z[b.s] = gap;
+          c.z[b.l_g] = 1;
         }
+        ASSERT_EQ(std::count(column.begin(), column.end(), -1), 0);
+        ASSERT_EQ(layout.num_free, std::count_if(column.begin(), column.end(),
+                                                 [&](int j) { return j < c.layout.num_free; }));
+        if (!any_plane) ASSERT_EQ(layout.size, c.layout.size);
+        const VectorXd z = c.z(column);
 
         VectorXd F_body, F_island, F_only;
         Eigen::MatrixXd J_body, J_island;
         EvaluateMncp(c.problem, c.layout, c.z, &F_body, &J_body);
-        EvaluateIslandMncp(island, layout, c.z, &F_island, &J_island);
-        EvaluateIslandMncp(island, layout, c.z, &F_only, nullptr);
+        EvaluateIslandMncp(island, layout, z, &F_island, &J_island);
+        EvaluateIslandMncp(island, layout, z, &F_only, nullptr);
         ASSERT_TRUE(F_body.allFinite() && J_body.allFinite());
-        EXPECT_EQ(FirstDifference(F_island, F_body), -1);
-        EXPECT_EQ(FirstDifference(F_only, F_body), -1);
-        EXPECT_EQ(FirstDifference(J_island, J_body), -1);
+        const VectorXd F_mapped = F_body(row);
+        Eigen::MatrixXd J_mapped = J_body(row, column);
+        for (size_t k = 0; k < layout.contacts.size(); ++k) {
+          const MncpLayout::Contact& a = layout.contacts[k];
+          if (!a.on_plane()) continue;
+          // the gap row: s = g(a1)/|N|², whose gradient in a1 is N/|N|²
+          const Vector3d N = obstacles[k]->Gradient(0, z.segment<3>(a.a1));
+          J_mapped.block<1, 3>(a.p_n, a.a1) = N.transpose() / N.squaredNorm();
+        }
+        EXPECT_EQ(FirstDifference(F_island, F_mapped), -1);
+        EXPECT_EQ(FirstDifference(F_only, F_mapped), -1);
+        EXPECT_EQ(FirstDifference(J_island, J_mapped), -1);
         // and so is the Jacobian added into a zero matrix the caller keeps (the hull model's
         // solves, complementarity_solver.h)
         Eigen::MatrixXd J_kept = Eigen::MatrixXd::Zero(layout.size, layout.size);
-        EvaluateIslandMncp(island, layout, c.z, &F_only, &J_kept, /*jacobian_is_zero=*/true);
-        EXPECT_EQ(FirstDifference(J_kept, J_body), -1);
+        EvaluateIslandMncp(island, layout, z, &F_only, &J_kept, /*jacobian_is_zero=*/true);
+        EXPECT_EQ(FirstDifference(J_kept, J_mapped), -1);
 
         const IslandScales scales{{c.scales}};
         const VectorXd row_scale = RowScales(c.problem, c.layout, c.scales);
         const VectorXd var_scale = VariableScales(c.problem, c.layout, c.scales);
-        EXPECT_EQ(FirstDifference(IslandRowScales(island, layout, scales), row_scale), -1);
-        EXPECT_EQ(FirstDifference(IslandVariableScales(island, layout, scales), var_scale), -1);
+        const VectorXd island_row_scale = IslandRowScales(island, layout, scales);
+        const VectorXd island_var_scale = IslandVariableScales(island, layout, scales);
+        EXPECT_EQ(FirstDifference(island_row_scale, VectorXd(row_scale(row))), -1);
+        EXPECT_EQ(FirstDifference(island_var_scale, VectorXd(var_scale(column))), -1);
         const double measure = MncpResidual(
             c.layout, c.z, F_body, row_scale, var_scale,
             {c.scales.length, kTolerance, c.problem.c.cwiseAbs().maxCoeff()});
-        EXPECT_EQ(IslandMncpResidual(island, layout, c.z, F_body, row_scale, var_scale,
-                                     MakeIslandResidualUnits(island, scales, kTolerance)),
-                  measure);
-        EXPECT_EQ(IslandStepEnergyGain(island, layout, c.z),
+        const double island_measure =
+            IslandMncpResidual(island, layout, z, F_island, island_row_scale, island_var_scale,
+                               MakeIslandResidualUnits(island, scales, kTolerance));
+        if (any_plane) {
+          // the rows eliminated hold at this z, but only to round-off, and a2, s no longer
+          // enter the round-off length: the same measure to a few ulps, or less
+          EXPECT_LE(island_measure, measure * (1 + 1e-14));
+        } else {
+          EXPECT_EQ(island_measure, measure);
+        }
+        EXPECT_EQ(IslandStepEnergyGain(island, layout, z),
                   StepEnergyGain(c.problem, c.z.head<3>(), c.z.segment<3>(3)));
         EXPECT_EQ(IslandEnergyScale(island, scales), EnergyScale(c.problem, c.scales));
         ++compared;
+        planes += any_plane;
       }
     }
   }
   EXPECT_EQ(compared, 3 * 4 * 16);
+  EXPECT_EQ(planes, 3 * 3 * 16);
 }
 
 // --- islands of two or more moving bodies ---
@@ -208,8 +266,10 @@ struct IslandCase {
       const MncpLayout::Contact& L = layout.contacts[k];
       const double impulse = scene.bodies[problem.contacts[k].body].mass * kG * problem.h;
       z.segment<3>(L.a1) = near[k] + vector(0.02);
-      z.segment<3>(L.a2) = near[k] + vector(0.02);
-      z[L.s] = 0.01 * u(rng);
+      if (!L.on_plane()) {
+        z.segment<3>(L.a2) = near[k] + vector(0.02);
+        z[L.s] = 0.01 * u(rng);
+      }
       z[L.p_t] = 0.3 * impulse * u(rng);
       z[L.p_o] = 0.3 * impulse * u(rng);
       z[L.p_r] = 0.03 * impulse * u(rng);
@@ -518,12 +578,14 @@ void SetContact(IslandCase& c, int k, const Vector3d& ecp, int face, int g_face,
                 double p_t, double p_o, double p_r, double sigma) {
   const MncpLayout::Contact& L = c.layout.contacts[k];
   c.z.segment<3>(L.a1) = ecp;
-  c.z.segment<3>(L.a2) = ecp;
-  c.z[L.s] = 0;
   c.z.segment(L.l, L.l_count).setZero();
   c.z[L.l + face] = 1;
-  c.z.segment(L.l_g, L.l_g_count).setZero();
-  c.z[L.l_g + g_face] = 1;
+  if (!L.on_plane()) {  // (on a plane a2 = a1, s = 0 and l_G = 1 are no unknowns)
+    c.z.segment<3>(L.a2) = ecp;
+    c.z[L.s] = 0;
+    c.z.segment(L.l_g, L.l_g_count).setZero();
+    c.z[L.l_g + g_face] = 1;
+  }
   c.z[L.p_n] = p_n;
   c.z[L.p_t] = p_t;
   c.z[L.p_o] = p_o;

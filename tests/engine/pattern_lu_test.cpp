@@ -36,7 +36,7 @@ Eigen::MatrixXd NewtonMatrixPattern() {
   const auto box = geometry::MakeBox(Eigen::Vector3d(0.2, 0.15, 0.1));
   const auto ground = geometry::MakeHalfSpace(Eigen::Vector3d::UnitZ(), 0);
   std::mt19937 rng(2);
-  // a case whose window is the whole box: 25 unknowns, as the desk's
+  // a case whose window is the whole box: 20 unknowns, as the desk's (the plane form)
   testing::RandomBodyCase c = testing::MakeRandomBodyCase(*box, {ground.get()}, false, rng);
   while (c.problem.contacts[0].window.size() != 6)
     c = testing::MakeRandomBodyCase(*box, {ground.get()}, false, rng);
