@@ -41,9 +41,9 @@ constexpr double kMaxStepRotation = M_PI;
 // gained 1.6e-2 to 0.94 of it
 constexpr double kMaxEnergyGainRel = 1e-3;
 // the solver's Jacobian smoothing per unit of ‖Φ‖ (McpOptions): measured on the drop sweep's
-// failures, 0.1 solved 4 of the 6 steps left without it (0.01 and 1 fewer). Not for the first
-// pass's warm start against fixed obstacles: there it only slowed Newton's convergence
-// (engine/README.md, "The first pass's warm start")
+// failures, 0.1 solved 4 of the 6 steps left without it (0.01 and 1 fewer). (Left out for the
+// first pass's warm start, it sped up good starts, but failed a step: engine/README.md, "The
+// first pass's warm start")
 constexpr double kJacobianSmoothing = 0.1;
 // a solve whose residual has not halved in this many iterations gives up for the next guess:
 // Newton halves it every iteration near a solution, and the slowest recoveries seen (the adaptive
@@ -198,12 +198,10 @@ class IslandStepper {
                     [](const ContactState& c) { return c.p_n > 0; });
     const std::vector<Guess> ladder = RestartLadder(have_warm_start, was_in_contact, moving);
 
-    const bool all_fixed =
-        std::all_of(problem.contacts.begin(), problem.contacts.end(),
-                    [](const IslandContact& c) { return c.other_kind == Other::kFixed; });
     const size_t num_bodies = problem.bodies.size();
     McpOptions options;
     options.tolerance = scene_.solver.tolerance;
+    options.jacobian_smoothing = kJacobianSmoothing;
 
     // the ladder as it is first; only when every guess fails, again with iterates kept in the
     // orthant of the complementarity unknowns (engine/README.md, "Impacts": the merit function
@@ -244,14 +242,12 @@ class IslandStepper {
         // bodies at rest under unchanged loads: the last step's solution usually solves this one
         // too (a stack, a box on the table), and is verified on the residual alone
         options.verify_start_first = guess == Guess::kWarm && !moving;
-        // the first pass's warm start: Newton without Jacobian smoothing where every contact is
-        // with a fixed obstacle, and for a body alone a shorter stall window (engine/README.md,
-        // "The first pass's warm start"); the other guesses and passes as before
+        // a body alone's warm start in the first pass gives up sooner (engine/README.md, "The
+        // first pass's warm start"); the other guesses and passes as before
         const bool first_warm = p == 0 && guess == Guess::kWarm;
-        options.jacobian_smoothing = first_warm && all_fixed ? 0.0 : kJacobianSmoothing;
         options.stall_iterations = pass.plain_newton ? 0
                                    : first_warm && num_bodies == 1 ? kWarmStartStallIterations
-                                                                      : kStallIterations;
+                                                                   : kStallIterations;
         const auto note = [&](const std::string& what) {
           result.tried += fmt::format("{}{}{} (h = {:g} s): {}", result.tried.empty() ? "" : "; ",
                                       GuessName(guess), pass.name, h, what);

@@ -291,7 +291,7 @@ TEST(PaperScenesTest, DeskSlidesWithoutTippingAndItsEcpStaysInTheSupportSquare) 
 // the last step's ECP on an edge or rim — stalls far from the solution (residual 4e-3 … 2e-2),
 // the first pass gives it up after kWarmStartStallIterations = 15 iterations without halving
 // its residual (one or two halvings before), and its next guess converges in 8 … 23: 38 at
-// most. 45 is that with margin. With the warm start's full stall window (kStallIterations = 45)
+// most (26 on the dumbbell). 45 is that with margin. With the warm start's full stall window (kStallIterations = 45)
 // the landings took 53 … 62; before the near-solution re-solves were kept to stalls near a
 // solution, each such stall ran them too (the faces that carry the contact, faces left out,
 // starts along an edge: 100 … 260 more iterations, 160 … 309 in the step, engine/README.md,
