@@ -882,12 +882,11 @@ class IslandStepper {
         z[L.p_r] = previous.p_r;
         z[L.p_n] = previous.p_n;
         z[L.sigma] = previous.sigma;
-        if (L.on_plane()) {
-          // (l_G = 1: not an unknown)
-        } else if (cp.other_kind == Other::kFixed) {
-          z.segment(L.l_g, L.l_g_count) = warm->l_g;
-        } else {
+        // (on a plane l_G = 1 is no unknown)
+        if (cp.other_kind != Other::kFixed) {
           CarryByFace(warm->other_window, warm->l_g, 0, cp.other_window, z, L.l_g);
+        } else if (!L.on_plane()) {
+          z.segment(L.l_g, L.l_g_count) = warm->l_g;
         }
         // carry hull multipliers over by face index (the window may have moved); windows are
         // sorted (SelectWindow), so a binary search does it without building a map every step

@@ -446,9 +446,10 @@ void AddContactRows(const ContactSides& sides, const MncpLayout::Contact& L,
       plane ? FrameDerivatives{Matrix3d::Zero(), Matrix3d::Zero(), Matrix3d::Zero()}
             : ContactFrameDerivatives(N, frame, sides.tangent_reference);
   // X_N (1×3 or 3×3): the derivative of some rows with respect to N, chained to (a2, l_G) and
-  // to a dynamic G's ν⁺
-  auto add_through_N = [&](int row, const auto& X_N) {
-    if (plane) return;  // N constant
+  // to a dynamic G's ν⁺; given by `make_X_N`, called only where N is not constant (no plane)
+  auto add_through_N = [&](int row, const auto& make_X_N) {
+    if (plane) return;
+    const auto X_N = make_X_N();
     constexpr int kRows = std::decay_t<decltype(X_N)>::RowsAtCompileTime;
     J.block<kRows, 3>(row, L.a2) += X_N * G.dN_da2();
     for (int j = 0; j < L.l_g_count; ++j) J.block<kRows, 1>(row, L.l_g + j) += X_N * G.Gradient(j);
@@ -463,7 +464,7 @@ void AddContactRows(const ContactSides& sides, const MncpLayout::Contact& L,
   J.block<3, 1>(col, L.p_n) -= n;
   J.block<3, 1>(col, L.p_t) -= t;
   J.block<3, 1>(col, L.p_o) -= o;
-  add_through_N(col, Matrix3d(-dforce_dN));
+  add_through_N(col, [&] { return Matrix3d(-dforce_dN); });
 
   // Newton–Euler angular rows: −(r × force + n p_r), r = a1 − c − h v
   J.block<3, 3>(col + 3, L.a1) += Skew(force);
@@ -472,7 +473,7 @@ void AddContactRows(const ContactSides& sides, const MncpLayout::Contact& L,
   J.block<3, 1>(col + 3, L.p_t) -= r.cross(t);
   J.block<3, 1>(col + 3, L.p_o) -= r.cross(o);
   J.block<3, 1>(col + 3, L.p_r) -= n;
-  add_through_N(col + 3, Matrix3d(-(Skew(r) * dforce_dN + p_r * d.dn_dN)));
+  add_through_N(col + 3, [&] { return Matrix3d(-(Skew(r) * dforce_dN + p_r * d.dn_dN)); });
 
   // a dynamic G's Newton–Euler rows: + force and + (r_G × force + n p_r), r_G = a2 − c_G − h v_G
   if (dynamic_other) {
@@ -480,14 +481,15 @@ void AddContactRows(const ContactSides& sides, const MncpLayout::Contact& L,
     J.block<3, 1>(other_col, L.p_n) += n;
     J.block<3, 1>(other_col, L.p_t) += t;
     J.block<3, 1>(other_col, L.p_o) += o;
-    add_through_N(other_col, dforce_dN);
+    add_through_N(other_col, [&] { return dforce_dN; });
     J.block<3, 3>(other_col + 3, L.a2) -= Skew(force);
     J.block<3, 3>(other_col + 3, other_col) += h * Skew(force);
     J.block<3, 1>(other_col + 3, L.p_n) += r_other.cross(n);
     J.block<3, 1>(other_col + 3, L.p_t) += r_other.cross(t);
     J.block<3, 1>(other_col + 3, L.p_o) += r_other.cross(o);
     J.block<3, 1>(other_col + 3, L.p_r) += n;
-    add_through_N(other_col + 3, Matrix3d(Skew(r_other) * dforce_dN + p_r * d.dn_dN));
+    add_through_N(other_col + 3,
+                  [&] { return Matrix3d(Skew(r_other) * dforce_dN + p_r * d.dn_dN); });
   }
 
   // hull constraints at the end pose: y = R⁺ᵀ(a1 − c − h v), R⁺ = Exp(hω) R
@@ -521,12 +523,12 @@ void AddContactRows(const ContactSides& sides, const MncpLayout::Contact& L,
     // the gap s = g(a1)/|N|² = N·a1/|N|² + const
     J.block<1, 3>(L.p_n, L.a1) = N.transpose() / N.squaredNorm();
   } else {
-    add_through_N(L.a2, Matrix3d(Matrix3d::Identity()));
+    add_through_N(L.a2, [] { return Matrix3d(Matrix3d::Identity()); });
     // a1 − a2 − s N
     J.block<3, 3>(L.a1, L.a1) += Matrix3d::Identity();
     J.block<3, 3>(L.a1, L.a2) -= Matrix3d::Identity();
     J.block<3, 1>(L.a1, L.s) = -N;
-    add_through_N(L.a1, Matrix3d(-s * Matrix3d::Identity()));
+    add_through_N(L.a1, [&] { return Matrix3d(-s * Matrix3d::Identity()); });
     J(L.p_n, L.s) = 1;
   }
 
@@ -561,7 +563,9 @@ void AddContactRows(const ContactSides& sides, const MncpLayout::Contact& L,
     J.block<1, 3>(row.index, col) += scale * axis_t * dvc_dv;
     J.block<1, 3>(row.index, col + 3) += scale * axis_t * dvc_dw;
     J.block<1, 3>(row.index, L.a1) += scale * axis_t * dvc_da1;
-    add_through_N(row.index, RowVector3d(scale * v_contact.transpose() * *row.daxis_dN));
+    add_through_N(row.index, [&] {
+      return RowVector3d(scale * v_contact.transpose() * *row.daxis_dN);
+    });
     J(row.index, L.p_n) += row.e2 * fr.mu * row.speed;
     J(row.index, row.index) += slip;  // ∂/∂p_t (or p_o): the row index equals the unknown's
     J(row.index, L.sigma) += row.p;
@@ -575,7 +579,8 @@ void AddContactRows(const ContactSides& sides, const MncpLayout::Contact& L,
   }
   const double scale_r = er2 * fr.mu * p_n;
   J.block<1, 3>(L.p_r, col + 3) += scale_r * n.transpose();
-  add_through_N(L.p_r, RowVector3d(scale_r * w_relative.transpose() * d.dn_dN));
+  add_through_N(L.p_r,
+                [&] { return RowVector3d(scale_r * w_relative.transpose() * d.dn_dN); });
   J(L.p_r, L.p_n) += er2 * fr.mu * v_r;
   J(L.p_r, L.p_r) += slip;
   J(L.p_r, L.sigma) += p_r;
