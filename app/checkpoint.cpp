@@ -18,7 +18,7 @@ namespace {
 using nlohmann::json;
 
 // the format's version: a reader refuses any other (a changed State means a new version)
-constexpr int kFormat = 2;  // 2: warm starts typed by model
+constexpr int kFormat = 3;  // 2: warm starts typed by model; 3: a hull warm start's trend
 
 // exact doubles: C99 hexadecimal floats ("0x1.999999999999ap-4") read back to the same bits,
 // infinities and NaN included
@@ -73,6 +73,25 @@ engine::BodyState ReadBody(const json& node, const std::string& key) {
   return b;
 }
 
+json TrendJson(const engine::SolutionTrend& trend) {
+  return {{"h", Exact(trend.h)},
+          {"steps", trend.steps},
+          {"first", Exact(Eigen::VectorXd(trend.first))},
+          {"second", Exact(Eigen::VectorXd(trend.second))}};
+}
+
+engine::SolutionTrend ReadTrend(const json& node, const std::string& key) {
+  engine::SolutionTrend trend;
+  trend.h = ReadExact(node.at("h"), key + ".h");
+  trend.steps = node.at("steps").get<int>();
+  if (trend.steps < 0 || trend.steps > 2) {
+    throw InputError(fmt::format("{}.steps = {}: expected 0, 1 or 2", key, trend.steps));
+  }
+  trend.first = ReadExactVector(node.at("first"), key + ".first", engine::SolutionTrend::kSize);
+  trend.second = ReadExactVector(node.at("second"), key + ".second", engine::SolutionTrend::kSize);
+  return trend;
+}
+
 // {"model": "hull", ...} with the model's unknowns, or null for no warm start
 json WarmStartJson(const engine::WarmStart& warm) {
   if (const auto* hull = std::get_if<engine::HullWarmStart>(&warm)) {
@@ -81,7 +100,8 @@ json WarmStartJson(const engine::WarmStart& warm) {
             {"l_g", Exact(hull->l_g)},
             {"window", hull->window},
             {"l", Exact(hull->l)},
-            {"other_window", hull->other_window}};
+            {"other_window", hull->other_window},
+            {"trend", TrendJson(hull->trend)}};
   }
   if (const auto* multipatch = std::get_if<engine::MultiPatchWarmStart>(&warm)) {
     json parts = json::array();
@@ -102,6 +122,7 @@ engine::WarmStart ReadWarmStart(const json& node, const std::string& key) {
     hull.l = ReadExactVector(node.at("l"), key + ".l", static_cast<Eigen::Index>(hull.window.size()));
     // a moving G's window, by which l_G is carried to the next step's (empty: a fixed G)
     hull.other_window = node.at("other_window").get<std::vector<int>>();
+    hull.trend = ReadTrend(node.at("trend"), key + ".trend");
     return hull;
   }
   if (model == "multipatch") {

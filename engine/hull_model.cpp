@@ -17,6 +17,7 @@
 #include "engine/mncp_system.h"
 #include "engine/obstacle_queries.h"
 #include "engine/rotation.h"
+#include "engine/solution_trend.h"
 #include "geometry/convex_separation.h"
 #include "common/errors.h"
 
@@ -57,6 +58,20 @@ constexpr int kStallIterations = 45;
 // start that lands a tilted body on a face stalls for good (engine/README.md, "The first pass's
 // warm start")
 constexpr int kWarmStartStallIterations = 15;
+// the same for the predicted start (engine/README.md, "The predicted start"), which the warm
+// start follows when it stalls: the predicted starts that converged took 2–4 iterations, those
+// that stalled 6–14, at events the trend could not foresee
+constexpr int kPredictedStallIterations = 5;
+// the predicted start is tried only along a trend whose second difference of the body's velocity
+// (|Δ²v| + |Δ²ω| L) is below this fraction of its first: where an event (a landing, the
+// support moving to another edge) lies within the trend's steps its second difference is as
+// large as its first (measured on the T-bar: 1.2–1.6 at its landings and tip-overs, whose
+// predicted starts stalled; 0.01–0.12 along its smooth rocking)
+constexpr double kMaxTrendBend = 0.5;
+// ... or below this fraction of the velocity scale, however it compares with the first: the
+// dumbbell rolling almost uniformly bends its trend by more than its first difference, and its
+// predicted starts converge (gated by the ratio alone it took 2.9 iterations a step instead of 2.4)
+constexpr double kNegligibleBend = 1e-3;
 // the last resort (HullModel::AdvanceAsLastResort: minimum-norm steps, plain Newton) gets this
 // many times the solver's iteration budget per guess: on a set of solutions that ends at a degenerate pair (a
 // contact touching with zero force, as the table's under the T-bar at a finger's first touch)
@@ -196,7 +211,11 @@ class IslandStepper {
     const bool was_in_contact =
         std::any_of(state.contacts.begin(), state.contacts.end(),
                     [](const ContactState& c) { return c.p_n > 0; });
-    const std::vector<Guess> ladder = RestartLadder(have_warm_start, was_in_contact, moving);
+    std::vector<Guess> ladder = RestartLadder(have_warm_start, was_in_contact, moving);
+    // a body alone, moving in contact along a trend of steps of this length: the warm start
+    // extrapolated along it first (engine/README.md, "The predicted start")
+    if (ladder.front() == Guess::kWarm && moving && Predictable(problem, state, scales))
+      ladder.insert(ladder.begin(), Guess::kPredicted);
 
     const size_t num_bodies = problem.bodies.size();
     McpOptions options;
@@ -245,9 +264,10 @@ class IslandStepper {
         // a body alone's warm start in the first pass gives up sooner (engine/README.md, "The
         // first pass's warm start"); the other guesses and passes as before
         const bool first_warm = p == 0 && guess == Guess::kWarm;
-        options.stall_iterations = pass.plain_newton ? 0
-                                   : first_warm && num_bodies == 1 ? kWarmStartStallIterations
-                                                                   : kStallIterations;
+        options.stall_iterations = pass.plain_newton                 ? 0
+                                   : guess == Guess::kPredicted        ? kPredictedStallIterations
+                                   : first_warm && num_bodies == 1     ? kWarmStartStallIterations
+                                                                       : kStallIterations;
         const auto note = [&](const std::string& what) {
           result.tried += fmt::format("{}{}{} (h = {:g} s): {}", result.tried.empty() ? "" : "; ",
                                       GuessName(guess), pass.name, h, what);
@@ -849,15 +869,68 @@ class IslandStepper {
     return {pose(body.c, body.R), pose(g.c, g.R)};
   }
 
+  // contact k's point extrapolated along its trend to the end of this step, if it has one for
+  // steps of this length
+  static std::optional<SolutionTrend::Point> PredictedPoint(const IslandProblem& problem,
+                                                            const IslandState& state, int k) {
+    const auto* warm = std::get_if<HullWarmStart>(&state.contacts[k].warm_start);
+    if (warm == nullptr) return std::nullopt;
+    const BodyState& body = state.bodies[problem.contacts[k].body];
+    return PredictPoint(warm->trend, TrendPoint(body, state.contacts[k], warm->s), problem.h);
+  }
+
+  // whether the predicted start applies: one body against fixed obstacles, every contact with a
+  // trend for this step that bends its velocity less than kMaxTrendBend
+  static bool Predictable(const IslandProblem& problem, const IslandState& state,
+                          const IslandScales& scales) {
+    if (problem.bodies.size() != 1 || problem.contacts.empty()) return false;
+    const double L = scales.bodies[0].length;
+    for (size_t k = 0; k < problem.contacts.size(); ++k) {
+      if (problem.contacts[k].other_kind != Other::kFixed) return false;
+      if (!PredictedPoint(problem, state, static_cast<int>(k))) return false;
+      const SolutionTrend& trend = std::get<HullWarmStart>(state.contacts[k].warm_start).trend;
+      const auto speed = [L](const SolutionTrend::Point& d) {
+        return d.head<3>().norm() + d.segment<3>(3).norm() * L;
+      };
+      const double bend = speed(trend.second);
+      if (!(bend <= kMaxTrendBend * speed(trend.first) ||
+            bend <= kNegligibleBend * scales.bodies[0].velocity))
+        return false;
+    }
+    return true;
+  }
+
+  // the predicted start's unknowns of contact k over its warm start's, with its body's velocity
+  // (every contact of the body carries the same trend of it); the complementarity unknowns kept
+  // ≥ 0, the multipliers l and l_G the warm start's (a face's multiplier follows no trend)
+  static void SetPredicted(const IslandProblem& problem, const IslandLayout& layout,
+                           const IslandState& state, int k, VectorXd& z) {
+    const std::optional<SolutionTrend::Point> point = PredictedPoint(problem, state, k);
+    if (!point) return;
+    const MncpLayout::Contact& L = layout.contacts[k];
+    z.segment<6>(IslandLayout::Velocity(problem.contacts[k].body)) = point->head<6>();
+    z.segment<3>(L.a1) = point->segment<3>(6);
+    if (!L.on_plane()) {
+      z.segment<3>(L.a2) = point->segment<3>(9);
+      z[L.s] = std::max((*point)[12], 0.0);
+    }
+    z[L.p_n] = std::max((*point)[13], 0.0);
+    z[L.p_t] = (*point)[14];
+    z[L.p_o] = (*point)[15];
+    z[L.p_r] = (*point)[16];
+    z[L.sigma] = std::max((*point)[17], 0.0);
+  }
+
   VectorXd MakeGuess(Guess guess, IslandProblem& problem, const IslandLayout& layout,
                      const IslandState& state, const IslandScales& scales) const {
     VectorXd z = VectorXd::Zero(layout.size);
     // free-flight velocities as the starting point of a fresh guess; the last ones for warm starts
+    const bool from_last = guess == Guess::kWarm || guess == Guess::kPredicted;
     for (int b = 0; b < layout.num_bodies; ++b) {
       const int col = IslandLayout::Velocity(b);
       const auto& [v_free, w_free] = problem.bodies[b].free;
-      z.segment<3>(col) = guess == Guess::kWarm ? state.bodies[b].v_WB : v_free;
-      z.segment<3>(col + 3) = guess == Guess::kWarm ? state.bodies[b].w_WB : w_free;
+      z.segment<3>(col) = from_last ? state.bodies[b].v_WB : v_free;
+      z.segment<3>(col + 3) = from_last ? state.bodies[b].w_WB : w_free;
     }
 
     for (size_t k = 0; k < problem.contacts.size(); ++k) {
@@ -871,7 +944,7 @@ class IslandStepper {
       const double sigma0 = kInitialSigmaFraction * scales.bodies[cp.body].velocity;
 
       const auto* warm = std::get_if<HullWarmStart>(&previous.warm_start);
-      if (guess == Guess::kWarm && warm != nullptr) {
+      if (from_last && warm != nullptr) {
         z.segment<3>(L.a1) = previous.a1;
         if (!L.on_plane()) {
           z.segment<3>(L.a2) = previous.a2;
@@ -882,6 +955,7 @@ class IslandStepper {
         z[L.p_r] = previous.p_r;
         z[L.p_n] = previous.p_n;
         z[L.sigma] = previous.sigma;
+        if (guess == Guess::kPredicted) SetPredicted(problem, layout, state, static_cast<int>(k), z);
         // (on a plane l_G = 1 is no unknown)
         if (cp.other_kind != Other::kFixed) {
           CarryByFace(warm->other_window, warm->l_g, 0, cp.other_window, z, L.l_g);
@@ -1022,20 +1096,14 @@ class IslandStepper {
   void Commit(const IslandProblem& problem, const IslandLayout& layout, const VectorXd& z,
               IslandState& state) const {
     const double h = problem.h;
-    for (int b = 0; b < layout.num_bodies; ++b) {
-      const int col = IslandLayout::Velocity(b);
-      const Vector3d v = z.segment<3>(col);
-      const Vector3d w = z.segment<3>(col + 3);
-      BodyState& body = state.bodies[b];
-      body.p_WB += h * v;
-      body.Q_WB = IntegrateOrientation(body.Q_WB, w, h);
-      body.v_WB = v;
-      body.w_WB = w;
-    }
+    // the contacts first: their trends start from the bodies' velocities before the step
     for (size_t k = 0; k < problem.contacts.size(); ++k) {
       const MncpLayout::Contact& L = layout.contacts[k];
       const IslandContact& cp = problem.contacts[k];
       ContactState& c = state.contacts[k];
+      const auto* last = std::get_if<HullWarmStart>(&c.warm_start);
+      const SolutionTrend::Point before =
+          TrendPoint(state.bodies[cp.body], c, last != nullptr ? last->s : 0.0);
       const ContactGap gap = ContactGapAt(L, cp.other_shape, z);
       c.a1 = z.segment<3>(L.a1);
       c.a2 = gap.a2;
@@ -1056,9 +1124,24 @@ class IslandStepper {
       HullWarmStart warm{gap.s,
                          L.on_plane() ? VectorXd(VectorXd::Ones(1))
                                       : VectorXd(z.segment(L.l_g, L.l_g_count)),
-                         cp.window, z.segment(L.l, L.l_count), {}};
+                         cp.window, z.segment(L.l, L.l_count), {}, {}};
       if (cp.other_kind != Other::kFixed) warm.other_window = cp.other_window;
+      BodyState after;
+      after.v_WB = z.segment<3>(IslandLayout::Velocity(cp.body));
+      after.w_WB = z.segment<3>(IslandLayout::Velocity(cp.body) + 3);
+      warm.trend =
+          NextTrend(last != nullptr ? &last->trend : nullptr, before, TrendPoint(after, c, gap.s), h);
       c.warm_start = std::move(warm);
+    }
+    for (int b = 0; b < layout.num_bodies; ++b) {
+      const int col = IslandLayout::Velocity(b);
+      const Vector3d v = z.segment<3>(col);
+      const Vector3d w = z.segment<3>(col + 3);
+      BodyState& body = state.bodies[b];
+      body.p_WB += h * v;
+      body.Q_WB = IntegrateOrientation(body.Q_WB, w, h);
+      body.v_WB = v;
+      body.w_WB = w;
     }
   }
 

@@ -98,6 +98,8 @@ const char* GuessName(Guess guess) {
       return "resting guess";
     case Guess::kSliding:
       return "sliding guess";
+    case Guess::kPredicted:
+      return "predicted start";
   }
   return "guess";
 }

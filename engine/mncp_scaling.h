@@ -53,8 +53,9 @@ void SetContactRowScales(const MncpLayout::Contact& L, const Friction& friction,
 /// starts from the sliding guess then, else from the resting one).
 bool IsMoving(const BodyState& state, const Scales& scales);
 
-/// Which initial guess a solve starts from (FORMULATION.md, the restart ladder).
-enum class Guess { kWarm, kSeparated, kResting, kSliding };
+/// Which initial guess a solve starts from (FORMULATION.md, the restart ladder; the predicted
+/// start: the warm start extrapolated along its trend, engine/README.md).
+enum class Guess { kWarm, kSeparated, kResting, kSliding, kPredicted };
 const char* GuessName(Guess guess);
 
 /// The order to try them in: the warm start first when the body was in contact, else after the

@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 
 #include "engine/scene.h"
+#include "engine/solution_trend.h"
 
 namespace ecpsim::engine {
 
@@ -22,13 +23,14 @@ struct BodyState {
 /// The hull model's unknowns of one contact that ContactState's own fields do not hold: the gap s,
 /// G's multipliers l_G (over `other_window`, G's constraints in the MNCP: empty for a fixed
 /// obstacle, whose every constraint enters in order) and the hull multipliers l of F's window
-/// (sorted face indices).
+/// (sorted face indices); and how the contact's solution has been changing (the predicted start).
 struct HullWarmStart {
   double s = 0;
   Eigen::VectorXd l_g;
   std::vector<int> window;
   Eigen::VectorXd l;
   std::vector<int> other_window;
+  SolutionTrend trend;
 };
 
 /// The multi-patch model's unknowns of one contact: per convex part of the body its block

@@ -18,7 +18,7 @@ using Eigen::Vector3d;
 constexpr const char* kTag = "ecpsim.State";
 // the layout below; a change of it (say, a new field of State) takes the next number, so an
 // old pickle is refused by name rather than read wrongly
-constexpr int kVersion = 1;
+constexpr int kVersion = 2;  // 2: a hull warm start's trend
 constexpr size_t kBodyNumbers = 13;     // p (3), q (w, x, y, z), v (3), w (3)
 constexpr size_t kContactNumbers = 20;  // a1 (3), a2 (3), p_n p_t p_o p_r sigma, n t o (3 each)
 
@@ -46,8 +46,11 @@ std::vector<double> Numbers(const py::handle& value, size_t count, const std::st
 
 py::object WarmStartTuple(const engine::WarmStart& warm) {
   if (const auto* hull = std::get_if<engine::HullWarmStart>(&warm)) {
+    const engine::SolutionTrend& trend = hull->trend;
     return py::make_tuple("hull", hull->s, ToStd(hull->l_g), hull->window, ToStd(hull->l),
-                          hull->other_window);
+                          hull->other_window,
+                          py::make_tuple(trend.h, trend.steps, ToStd(trend.first),
+                                         ToStd(trend.second)));
   }
   if (const auto* patches = std::get_if<engine::MultiPatchWarmStart>(&warm)) {
     std::vector<std::vector<double>> parts;
@@ -57,17 +60,41 @@ py::object WarmStartTuple(const engine::WarmStart& warm) {
   return py::none();
 }
 
+// a hull warm start's trend (h, steps, first, second), or an error naming the contact
+engine::SolutionTrend TrendFromTuple(const py::handle& value, size_t contact) {
+  const auto t = value.cast<py::tuple>();
+  const std::string what = fmt::format("contacts[{}] warm start trend", contact);
+  engine::SolutionTrend trend;
+  if (t.size() != 4) {
+    throw InputError(fmt::format("State pickle: {}: {} entries: expected (h, steps, first, second)",
+                                 what, t.size()));
+  }
+  trend.h = t[0].cast<double>();
+  trend.steps = t[1].cast<int>();
+  if (trend.steps < 0 || trend.steps > 2) {
+    throw InputError(fmt::format("State pickle: {}: steps = {}: expected 0, 1 or 2", what,
+                                 trend.steps));
+  }
+  const size_t size = engine::SolutionTrend::kSize;
+  const std::vector<double> first = Numbers(t[2], size, what + " first");
+  const std::vector<double> second = Numbers(t[3], size, what + " second");
+  trend.first = Eigen::Map<const engine::SolutionTrend::Point>(first.data());
+  trend.second = Eigen::Map<const engine::SolutionTrend::Point>(second.data());
+  return trend;
+}
+
 engine::WarmStart WarmStartFromTuple(const py::handle& value, size_t contact) {
   if (value.is_none()) return std::monostate();
   const auto t = value.cast<py::tuple>();
   const std::string kind = t.empty() ? "" : t[0].cast<std::string>();
-  if (kind == "hull" && t.size() == 6) {
+  if (kind == "hull" && t.size() == 7) {
     engine::HullWarmStart hull;
     hull.s = t[1].cast<double>();
     hull.l_g = ToEigen(t[2].cast<std::vector<double>>());
     hull.window = t[3].cast<std::vector<int>>();
     hull.l = ToEigen(t[4].cast<std::vector<double>>());
     hull.other_window = t[5].cast<std::vector<int>>();
+    hull.trend = TrendFromTuple(t[6], contact);
     return hull;
   }
   if (kind == "multipatch" && t.size() == 2) {
@@ -78,7 +105,7 @@ engine::WarmStart WarmStartFromTuple(const py::handle& value, size_t contact) {
     return patches;
   }
   throw InputError(fmt::format("State pickle: contacts[{}] warm start: expected None, ('hull', "
-                               "s, l_g, window, l, other_window) or ('multipatch', parts)",
+                               "s, l_g, window, l, other_window, trend) or ('multipatch', parts)",
                                contact));
 }
 

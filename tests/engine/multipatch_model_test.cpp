@@ -178,9 +178,12 @@ TEST(MultiPatchModelTest, NewtonConvergesOnTheDeskAsOnTheHullModel) {
   // face and how the four feet share the load are not determined); with the proximal terms
   // (engine/README.md, "Non-isolated solutions") Newton takes the hull model's number of
   // iterations from the warm start, as at an isolated solution (without them: 16.7 per step on
-  // average against the hull model's 3.0, one step 1,623)
-  constexpr double kMeanRatio = 1.25;  // one more iteration in one step of four
-  constexpr int kMaxExtra = 2;         // iterations beyond the hull model's slowest step
+  // average against the hull model's 3.0, one step 1,623). The hull model starts the desk's
+  // steps from its predicted start instead, one iteration a step fewer (3.005 → 2.0125,
+  // engine/README.md, "The predicted start"), which the multi-patch model does not have
+  constexpr double kMeanRatio = 1.25;        // one more iteration in one step of four
+  constexpr int kPredictedStartSaving = 1;   // iterations a step, of the hull model's
+  constexpr int kMaxExtra = 2;               // iterations beyond the hull model's slowest step
   const Scene hull_scene = PaperDesk(ContactModel::kHull);
   const Scene patch_scene = PaperDesk(ContactModel::kMultiPatch);
   State hull = InitialState(hull_scene), patch = InitialState(patch_scene);
@@ -197,7 +200,7 @@ TEST(MultiPatchModelTest, NewtonConvergesOnTheDeskAsOnTheHullModel) {
   }
   std::printf("desk, Newton iterations per step: multipatch mean %.3f max %d, hull mean %.3f max %d\n",
               patch_sum / 400.0, patch_max, hull_sum / 400.0, hull_max);
-  EXPECT_LE(patch_sum, kMeanRatio * hull_sum);
+  EXPECT_LE(patch_sum, kMeanRatio * (hull_sum + kPredictedStartSaving * 400));
   EXPECT_LE(patch_max, hull_max + kMaxExtra);
 }
 

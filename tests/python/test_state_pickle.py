@@ -81,7 +81,7 @@ def test_a_pickle_of_another_form_is_an_input_error(scenes):
     tag, version, t, steps, bodies, contacts = sim.get_state().__getstate__()
     blank = ecpsim.State.__new__(ecpsim.State)
     with pytest.raises(ecpsim.InputError, match=r"State pickle 'ecpsim.State': expected "
-                                                r"\('ecpsim.State', 1, t, steps"):
+                                                r"\('ecpsim.State', 2, t, steps"):
         blank.__setstate__((tag, version + 1, t, steps, bodies, contacts))
     with pytest.raises(ecpsim.InputError, match=r"bodies\[1\]: 12 numbers: expected 13"):
         blank.__setstate__((tag, version, t, steps, [bodies[0], bodies[1][:12]], contacts))
@@ -94,11 +94,12 @@ def test_a_warm_start_of_other_sizes_is_refused_by_set_state(scenes):
     sim = ecpsim.Simulation(ecpsim.load_scene(str(scenes / "push_box.yaml")))
     sim.step(SAVE_AT)
     tag, version, t, steps, bodies, contacts = sim.get_state().__getstate__()
-    numbers, (kind, s, l_g, window, l, other_window) = contacts[0]
+    numbers, (kind, s, l_g, window, l, other_window, trend) = contacts[0]
     # one face multiplier short: the engine would read past the end of l
     state = ecpsim.State.__new__(ecpsim.State)
     state.__setstate__((tag, version, t, steps, bodies,
-                        [(numbers, (kind, s, l_g, window, l[:-1], other_window)), contacts[1]]))
+                        [(numbers, (kind, s, l_g, window, l[:-1], other_window, trend)),
+                         contacts[1]]))
     with pytest.raises(ecpsim.InputError, match=r"set_state: contact 0 \(box.ground\): a hull "
                                                 r"warm start of \d+ multipliers for \d+ hull"):
         sim.set_state(state)
