@@ -30,10 +30,18 @@ AdvanceResult AutoModel::PlanarElse(const Island& island, double t, double h, Is
     if (step.invalid.empty() && step.result.solved) {
       // the hull model's unknowns at this solution, for when it takes over: a1 = a2 (s = 0), the
       // support face's multiplier 1 (its normal is −N), the plane's 1; and the trend on
-      const SolutionTrend trend = NextTrend(last != nullptr ? &last->trend : nullptr, before,
-                                            TrendPoint(state.bodies[0], state.contacts[0], 0.0), h);
-      state.contacts[0].warm_start = HullWarmStart{
-          0.0, Eigen::VectorXd::Ones(1), {step.face}, Eigen::VectorXd::Ones(1), {}, trend};
+      // (written over the last step's, whose storage it reuses)
+      ContactState& c = state.contacts[0];
+      const SolutionTrend trend =
+          NextTrend(last != nullptr ? &last->trend : nullptr, before, TrendPoint(state.bodies[0], c, 0.0), h);
+      auto* warm = std::get_if<HullWarmStart>(&c.warm_start);
+      if (warm == nullptr) warm = &c.warm_start.emplace<HullWarmStart>();
+      warm->s = 0;
+      warm->l_g.setOnes(1);
+      warm->window.assign(1, step.face);
+      warm->l.setOnes(1);
+      warm->other_window.clear();
+      warm->trend = trend;
       return step.result;
     }
     AdvanceResult result = hull_step();

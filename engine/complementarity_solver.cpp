@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -334,14 +335,15 @@ struct Workspace {
 template <typename Algebra>
 class WorkspaceLease {
  public:
-  explicit WorkspaceLease(int n)
-      : shared_was_taken_(shared_taken_), own_used_(shared_taken_ || n > kMaxSharedSize) {
-    if (!own_used_) shared_taken_ = true;
+  explicit WorkspaceLease(int n) : shared_was_taken_(shared_taken_) {
+    // (built only when used: its thirty-odd members are not free to build and destroy per solve)
+    if (shared_taken_ || n > kMaxSharedSize) own_.emplace();
+    else shared_taken_ = true;
   }
   ~WorkspaceLease() { shared_taken_ = shared_was_taken_; }
   WorkspaceLease(const WorkspaceLease&) = delete;
   WorkspaceLease& operator=(const WorkspaceLease&) = delete;
-  Workspace<Algebra>& Get() { return own_used_ ? own_ : shared_; }
+  Workspace<Algebra>& Get() { return own_ ? *own_ : shared_; }
 
  private:
   // unknowns: the kept matrices are then at most a few hundred kB
@@ -349,8 +351,7 @@ class WorkspaceLease {
   static thread_local Workspace<Algebra> shared_;
   static thread_local bool shared_taken_;
   bool shared_was_taken_;
-  bool own_used_;
-  Workspace<Algebra> own_;
+  std::optional<Workspace<Algebra>> own_;
 };
 template <typename Algebra>
 thread_local Workspace<Algebra> WorkspaceLease<Algebra>::shared_;

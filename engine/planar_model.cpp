@@ -6,7 +6,6 @@
 #include <fmt/format.h>
 
 #include "engine/complementarity_solver.h"
-#include "engine/contact_window.h"
 #include "engine/mncp_scaling.h"
 #include "engine/mncp_system.h"
 #include "engine/obstacle_queries.h"
@@ -36,6 +35,15 @@ int MostAlignedFace(const geometry::PolyhedralShape& hull, const std::vector<int
   return best;
 }
 
+// whether y_B (body frame) is within `tolerance` inside every face around `face`'s vertices: on
+// the face, up to its boundary (WindowViolations of the window {face}, without building lists)
+bool OnFace(const geometry::PolyhedralShape& hull, int face, const Vector3d& y_B, double tolerance) {
+  const geometry::ConvexHull& h = hull.hull();
+  for (int vertex : h.faces[face])
+    for (int other : h.vertex_faces[vertex])
+      if (other != face && h.normals[other].dot(y_B) - h.offsets[other] > tolerance) return false;
+  return true;
+}
 
 // The plane's frame (t, o, N): world vectors to it and back. The ground's frame is the identity,
 // and its vectors go through untouched (no −0 from 0 · x), so a run on the ground is the same to
@@ -112,7 +120,8 @@ PlanarStep SolvePlanarStep(const Scene& scene, const Island& island, double t, d
   // the face most aligned with −N among those at the support vertex in −N: a face flat on the
   // plane is one of them, and the search costs the vertex's degree, not the hull's size
   const Vector3d down_B = R.transpose() * -N;
-  const int face = MostAlignedFace(*hull, SelectWindow(*hull, down_B, 0, true), down_B);
+  const int support_vertex = hull->SupportVertex(down_B);
+  const int face = MostAlignedFace(*hull, hull->hull().vertex_faces[support_vertex], down_B);
   // the angle between −N and the face's normal through its sine: a cosine cannot resolve
   // angles below 1e-8 rad (cos 1e-9 rounds to 1)
   const Vector3d support_normal = R * hull->hull().normals[face];
@@ -121,7 +130,7 @@ PlanarStep SolvePlanarStep(const Scene& scene, const Island& island, double t, d
     return step;
   }
   // CM height above the plane, constant in this model
-  const Vector3d lowest = b.p_WB + R * hull->Support(down_B);
+  const Vector3d lowest = b.p_WB + R * hull->hull().vertices[support_vertex];
   const double height = plane.Value(0, b.p_WB) - plane.Value(0, lowest);
   if (std::abs(plane.Value(0, lowest)) > support_tolerance) {
     step.invalid = fmt::format("its lowest point is {:.3g} m off the plane", plane.Value(0, lowest));
@@ -166,7 +175,7 @@ PlanarStep SolvePlanarStep(const Scene& scene, const Island& island, double t, d
   };
   const double A = fr.e_t * fr.e_t * fr.mu * p_n, B = fr.e_o * fr.e_o * fr.mu * p_n,
                C = fr.e_r * fr.e_r * fr.mu * p_n;
-  const McpFunction f = [&](const VectorXd& z, VectorXd* F, Eigen::MatrixXd* J) {
+  const auto residual = [&](const VectorXd& z, VectorXd* F, Eigen::MatrixXd* J) {
     const Kinematics k = kinematics(z);
     const double sigma = z[3];
     const double p_hat = std::sqrt(z[0] * z[0] / (fr.e_t * fr.e_t) +
@@ -198,18 +207,21 @@ PlanarStep SolvePlanarStep(const Scene& scene, const Island& island, double t, d
       (*J)(3, 2) = -z[2] / (fr.e_r * fr.e_r * p_hat);
     }
   };
+  // (one reference captured: std::function keeps it in place instead of allocating)
+  const McpFunction f = [&residual](const VectorXd& z, VectorXd* F, Eigen::MatrixXd* J) {
+    residual(z, F, J);
+  };
 
-  // warm start from the last step, else the sliding guess
+  // warm start from the last step, else the sliding guess (the vectors the thread's, kept from
+  // step to step: the step then allocates nothing for them)
   const ContactState& previous = state.contacts[0];
-  VectorXd z(4);
+  thread_local VectorXd z(4), var_scale(4), row_scale(4);
   z << previous.p_t, previous.p_o, previous.p_r, previous.sigma;
   Eigen::Matrix<double, 6, 1> p_ext = p_app;
   p_ext.head<3>() += h * m * scene.gravity;
   const double speed = BodyScales(body, b, p_ext, h).velocity;
-  const VectorXd var_scale = (VectorXd(4) << p_n, p_n, p_n * fr.e_r, speed).finished();
-  const VectorXd row_scale =
-      (VectorXd(4) << 1 / (p_n * speed), 1 / (p_n * speed), 1 / (p_n * speed * fr.e_r), 1 / p_n)
-          .finished();
+  var_scale << p_n, p_n, p_n * fr.e_r, speed;
+  row_scale << 1 / (p_n * speed), 1 / (p_n * speed), 1 / (p_n * speed * fr.e_r), 1 / p_n;
   McpOptions options;
   options.tolerance = scene.solver.tolerance;
   options.max_iterations = scene.solver.max_iterations;
@@ -248,7 +260,7 @@ PlanarStep SolvePlanarStep(const Scene& scene, const Island& island, double t, d
   ContactState& c = state.contacts[0];
   const Vector3d a1 = next.p_WB + frame.ToWorld(Vector3d(kin.rx, kin.ry, -height));
   const Vector3d y = next.Q_WB.toRotationMatrix().transpose() * (a1 - next.p_WB);
-  if (!WindowViolations(*hull, {face}, face, y, support_tolerance).empty()) {
+  if (!OnFace(*hull, face, y, support_tolerance)) {
     step.invalid = fmt::format("the ECP ({:.4g}, {:.4g}, {:.4g}) m left the support face (it "
                                "would tip)", a1.x(), a1.y(), a1.z());
     state.bodies[0] = b;

@@ -20,11 +20,30 @@ namespace {
 constexpr int kSubsteps[] = {1, 2, 4, 16};
 constexpr int kLadderLength = static_cast<int>(std::size(kSubsteps));
 
-IslandState Gather(const Island& island, const State& state) {
-  IslandState local;
-  for (int b : island.bodies) local.bodies.push_back(state.bodies[b]);
-  for (int k : island.contacts) local.contacts.push_back(state.contacts[k]);
-  return local;
+// The step's working storage, kept on the thread from step to step: a step in a steady state then
+// allocates nothing of its own (vectors keep their capacity, and a contact copied over the last
+// step's copy reuses its warm start's buffers)
+struct StepScratch {
+  // FormIslands: the union–find's roots, each contact's presence in the step, each root's island
+  std::vector<int> root, island_of;
+  std::vector<char> in_step;
+  std::vector<Island> islands;
+  // StepIslands: per island its state at the step's end, its contacts' impulses summed over the
+  // sub-steps; the bodies at the step's end; the contacts in an island
+  std::vector<IslandState> solved;
+  std::vector<Eigen::Vector4d> impulse;
+  std::vector<BodyState> next_bodies;
+  std::vector<char> in_island;
+};
+thread_local StepScratch scratch;
+
+// the island's part of `state` copied into `local` (over its last contents, reusing them)
+void Gather(const Island& island, const State& state, IslandState& local) {
+  local.bodies.resize(island.bodies.size());
+  local.contacts.resize(island.contacts.size());
+  for (size_t i = 0; i < island.bodies.size(); ++i) local.bodies[i] = state.bodies[island.bodies[i]];
+  for (size_t i = 0; i < island.contacts.size(); ++i)
+    local.contacts[i] = state.contacts[island.contacts[i]];
 }
 
 // an axis-aligned box (world) that holds everything of a body that can be touched within the step
@@ -156,16 +175,21 @@ std::string BodyNames(const Scene& scene, const Island& island) {
 
 }  // namespace
 
-std::vector<Island> FormIslands(const Scene& scene, const State& state) {
+namespace {
+
+// FormIslands into `islands`, over their last contents
+void FormIslandsInto(const Scene& scene, const State& state, std::vector<Island>& islands) {
   const int n = static_cast<int>(scene.bodies.size());
   // union–find over the dynamic bodies joined by a contact in the step
-  std::vector<int> root(n);
+  std::vector<int>& root = scratch.root;
+  root.resize(n);
   std::iota(root.begin(), root.end(), 0);
   const auto find = [&](int b) {
     while (root[b] != b) b = root[b] = root[root[b]];
     return b;
   };
-  std::vector<bool> in_step(scene.contacts.size(), true);
+  std::vector<char>& in_step = scratch.in_step;
+  in_step.assign(scene.contacts.size(), true);
   std::vector<Box> boxes;
   for (size_t k = 0; k < scene.contacts.size(); ++k) {
     const ContactPair& pair = scene.contacts[k];
@@ -177,17 +201,22 @@ std::vector<Island> FormIslands(const Scene& scene, const State& state) {
   }
   // a gripper's jaws move as one (island_gripper.h)
   for (const Gripper& gripper : scene.grippers) root[find(gripper.jaws[0])] = find(gripper.jaws[1]);
-  std::vector<Island> islands;
-  std::vector<int> island_of(n, -1);
+  std::vector<int>& island_of = scratch.island_of;
+  island_of.assign(n, -1);
+  size_t count = 0;
   for (int b = 0; b < n; ++b) {
     if (scene.bodies[b].IsKinematic()) continue;
     const int r = find(b);
     if (island_of[r] < 0) {
-      island_of[r] = static_cast<int>(islands.size());
-      islands.emplace_back();
+      island_of[r] = static_cast<int>(count);
+      if (count == islands.size()) islands.emplace_back();
+      islands[count].bodies.clear();
+      islands[count].contacts.clear();
+      ++count;
     }
     islands[island_of[r]].bodies.push_back(b);
   }
+  islands.resize(count);
   // an obstacle out of reach of a body of a coupled island leaves its MNCP: there every contact
   // is a block of the coupled Newton system (the stack's upper boxes over the ground, a gripper's
   // jaws over the table), while a body alone takes far obstacles in closed form (free flight)
@@ -199,6 +228,13 @@ std::vector<Island> FormIslands(const Scene& scene, const State& state) {
   }
   for (size_t k = 0; k < scene.contacts.size(); ++k)
     if (in_step[k]) islands[island_of[find(scene.contacts[k].body)]].contacts.push_back(static_cast<int>(k));
+}
+
+}  // namespace
+
+std::vector<Island> FormIslands(const Scene& scene, const State& state) {
+  std::vector<Island> islands;
+  FormIslandsInto(scene, state, islands);
   return islands;
 }
 
@@ -209,13 +245,14 @@ StepReport StepIslands(const Scene& scene, State& state, const ContactModelStepp
   // the step's results, written into `state` only once every island is solved (a failure leaves
   // it as it was); the contacts' states are not copied as a whole: with every pair of bodies a
   // potential contact they outnumber the bodies by far (2,016 pairs for 64 boxes)
-  std::vector<BodyState> next_bodies = state.bodies;
-  std::vector<int> next_contact_ids;
-  std::vector<ContactState> next_contacts;
+  std::vector<Island>& islands = scratch.islands;
+  FormIslandsInto(scene, state, islands);
+  std::vector<IslandState>& solved = scratch.solved;
+  solved.resize(islands.size());
 
-  const std::vector<Island> islands = FormIslands(scene, state);
-
-  for (const Island& island : islands) {
+  for (size_t island_index = 0; island_index < islands.size(); ++island_index) {
+    const Island& island = islands[island_index];
+    IslandState& local = solved[island_index];
     std::string tried;
     double residual = 0;
     bool solved = false;
@@ -225,13 +262,14 @@ StepReport StepIslands(const Scene& scene, State& state, const ContactModelStepp
     for (int attempt = 0; attempt < 2 * kLadderLength && !solved && has_last_resort; ++attempt) {
       const bool last_resort = attempt >= kLadderLength;
       const int substeps = kSubsteps[attempt % kLadderLength];
-      IslandState local = Gather(island, state);
+      Gather(island, state, local);
       const double h = scene.h / substeps;
       double island_residual = 0;
       StepModel island_model = StepModel::kFree;
       bool ok = true;
       // a contact's impulses are the whole step's: the sub-steps' sum
-      std::vector<Eigen::Vector4d> impulse(island.contacts.size(), Eigen::Vector4d::Zero());
+      std::vector<Eigen::Vector4d>& impulse = scratch.impulse;
+      impulse.assign(island.contacts.size(), Eigen::Vector4d::Zero());
       for (int i = 0; i < substeps && ok; ++i) {
         std::optional<AdvanceResult> attempted =
             last_resort ? model.AdvanceAsLastResort(island, state.t + i * h, h, local)
@@ -263,13 +301,9 @@ StepReport StepIslands(const Scene& scene, State& state, const ContactModelStepp
         }
       }
       if (!ok) continue;
-      for (size_t i = 0; i < island.bodies.size(); ++i) {
-        next_bodies[island.bodies[i]] = local.bodies[i];
-        report.models[island.bodies[i]] = island_model;
-      }
+      for (int b : island.bodies) report.models[b] = island_model;
       for (size_t i = 0; i < island.contacts.size(); ++i) {
-        next_contact_ids.push_back(island.contacts[i]);
-        ContactState& c = next_contacts.emplace_back(std::move(local.contacts[i]));
+        ContactState& c = local.contacts[i];
         c.p_n = impulse[i][0];
         c.p_t = impulse[i][1];
         c.p_o = impulse[i][2];
@@ -290,7 +324,9 @@ StepReport StepIslands(const Scene& scene, State& state, const ContactModelStepp
   }
 
   // kinematic bodies: the prescribed pose at the step's end (never a sum of c + h v, which
-  // drifts) and the step's twist
+  // drifts) and the step's twist (a motion that throws leaves `state` as it was)
+  std::vector<BodyState>& next_bodies = scratch.next_bodies;
+  next_bodies = state.bodies;
   for (size_t b = 0; b < scene.bodies.size(); ++b) {
     const Body& body = scene.bodies[b];
     if (!body.IsKinematic()) continue;
@@ -300,19 +336,25 @@ StepReport StepIslands(const Scene& scene, State& state, const ContactModelStepp
     next_bodies[b] = {end.p, end.q, twist.v, twist.w};
   }
 
-  state.bodies = std::move(next_bodies);
+  // every island solved: the step is committed (copied over the state's own storage)
+  state.bodies.swap(next_bodies);
+  std::vector<char>& in_island = scratch.in_island;
+  in_island.assign(scene.contacts.size(), false);
+  for (size_t i = 0; i < islands.size(); ++i) {
+    const Island& island = islands[i];
+    for (size_t j = 0; j < island.bodies.size(); ++j) state.bodies[island.bodies[j]] = solved[i].bodies[j];
+    for (size_t j = 0; j < island.contacts.size(); ++j) {
+      state.contacts[island.contacts[j]] = solved[i].contacts[j];
+      in_island[island.contacts[j]] = true;
+    }
+  }
   // contacts in no island: their bodies are apart for the whole step
-  std::vector<bool> in_island(scene.contacts.size(), false);
-  for (const Island& island : islands)
-    for (int k : island.contacts) in_island[k] = true;
   for (size_t k = 0; k < scene.contacts.size(); ++k) {
     if (in_island[k]) continue;
     ContactState& c = state.contacts[k];
     c.p_n = c.p_t = c.p_o = c.p_r = c.sigma = 0;
     c.warm_start = std::monostate();
   }
-  for (size_t i = 0; i < next_contact_ids.size(); ++i)
-    state.contacts[next_contact_ids[i]] = std::move(next_contacts[i]);
   AdvanceTime(scene.h, state);
   return report;
 }
