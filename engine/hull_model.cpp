@@ -186,8 +186,9 @@ class IslandStepper {
     // then p = 0 with ν⁺ = ν + M⁻¹ p_ext *is* the MNCP's solution (p_n = 0 ⊥ s > 0; a1, a2 the
     // closest points), so it is taken in closed form — the reduced system of trap 2, exact, and
     // free of the degenerate σ and of round-off in far-apart coordinates
+    // (the problem's layout: rebuilt only where a window grows)
+    IslandLayout layout = MakeIslandLayout(problem);
     {
-      const IslandLayout layout = MakeIslandLayout(problem);
       const VectorXd z = MakeGuess(Guess::kSeparated, problem, layout, state, scales);
       if (AllContactsApart(problem, layout, z, state)) {
         Commit(problem, layout, z, state);
@@ -245,7 +246,7 @@ class IslandStepper {
     for (int p = first_pass; p < end_pass; ++p) {
       const Pass& pass = kPasses[p];
       // (the layout's size only on the failure path: most steps end in the first pass)
-      if (pass.minimum_norm && MakeIslandLayout(problem).size > kMaxMinimumNormUnknowns) continue;
+      if (pass.minimum_norm && layout.size > kMaxMinimumNormUnknowns) continue;
       options.project_nonnegative = pass.project;
       options.minimum_norm_steps = pass.minimum_norm;
       options.levenberg_marquardt_rescue = !pass.plain_newton;
@@ -274,7 +275,6 @@ class IslandStepper {
           ++result.retries;
         };
         for (int growth = 0; growth <= kMaxWindowGrowth; ++growth) {
-          const IslandLayout layout = MakeIslandLayout(problem);
           VectorXd z = MakeGuess(guess, problem, layout, state, scales);
           Attempt attempt = Solve(problem, layout, z, options, scales, ejection_energy, result);
           result.residual = attempt.residual;
@@ -296,6 +296,7 @@ class IslandStepper {
           // a converged windowed solution must also solve the full-hull problem: else the
           // window grows around the constraints it violates, and the step is solved again
           if (GrowViolatedWindows(problem, layout, z, scales)) {
+            layout = MakeIslandLayout(problem);
             if (growth < kMaxWindowGrowth) continue;
             note(fmt::format("the hull window still left out violated faces after {} growths",
                              kMaxWindowGrowth));
@@ -1120,18 +1121,29 @@ class IslandStepper {
       c.n = frame.n;
       c.t = frame.t;
       c.o = frame.o;
-      // on a plane l_G = 1 (its one constraint)
-      HullWarmStart warm{gap.s,
-                         L.on_plane() ? VectorXd(VectorXd::Ones(1))
-                                      : VectorXd(z.segment(L.l_g, L.l_g_count)),
-                         cp.window, z.segment(L.l, L.l_count), {}, {}};
-      if (cp.other_kind != Other::kFixed) warm.other_window = cp.other_window;
       BodyState after;
       after.v_WB = z.segment<3>(IslandLayout::Velocity(cp.body));
       after.w_WB = z.segment<3>(IslandLayout::Velocity(cp.body) + 3);
-      warm.trend =
+      const SolutionTrend trend =
           NextTrend(last != nullptr ? &last->trend : nullptr, before, TrendPoint(after, c, gap.s), h);
-      c.warm_start = std::move(warm);
+      // written over the last warm start, whose storage it reuses; on a plane l_G = 1 (its one
+      // constraint)
+      HullWarmStart& warm = last != nullptr ? *std::get_if<HullWarmStart>(&c.warm_start)
+                                            : c.warm_start.emplace<HullWarmStart>();
+      warm.s = gap.s;
+      if (L.on_plane()) {
+        warm.l_g.setOnes(1);
+      } else {
+        warm.l_g = z.segment(L.l_g, L.l_g_count);
+      }
+      warm.window = cp.window;
+      warm.l = z.segment(L.l, L.l_count);
+      if (cp.other_kind != Other::kFixed) {
+        warm.other_window = cp.other_window;
+      } else {
+        warm.other_window.clear();
+      }
+      warm.trend = trend;
     }
     for (int b = 0; b < layout.num_bodies; ++b) {
       const int col = IslandLayout::Velocity(b);

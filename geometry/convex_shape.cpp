@@ -382,11 +382,13 @@ std::vector<int> PolyhedralShape::ConstraintsNearSupport(const Eigen::Vector3d& 
                                                          int rings) const {
   ECPSIM_DEMAND(rings >= 0);
   if (hull_.vertices.empty()) return {0};
-  // breadth-first over `rings` vertex rings around the support vertex
-  std::vector<int> ring = {SupportVertex(direction)};
-  std::vector<int> visited = ring;
+  // breadth-first over `rings` vertex rings around the support vertex (in the thread's lists,
+  // kept from call to call: the contact step asks this every step)
+  thread_local std::vector<int> ring, visited, next;
+  ring.assign(1, SupportVertex(direction));
+  visited = ring;
   for (int r = 0; r < rings; ++r) {
-    std::vector<int> next;
+    next.clear();
     for (int v : ring) {
       for (int w : hull_.vertex_neighbors[v]) {
         if (std::find(visited.begin(), visited.end(), w) != visited.end()) continue;
@@ -394,7 +396,7 @@ std::vector<int> PolyhedralShape::ConstraintsNearSupport(const Eigen::Vector3d& 
         next.push_back(w);
       }
     }
-    ring = std::move(next);
+    ring.swap(next);
   }
   std::vector<int> faces;
   for (int v : visited) {
