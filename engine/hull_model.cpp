@@ -173,8 +173,14 @@ class IslandStepper {
     for (size_t k = 0; k < problem.contacts.size(); ++k) {
       IslandContact& cp = problem.contacts[k];
       const Vector3d& n = state.contacts[k].n;
+      // a contact that ended the last step flat on one face takes one ring fewer: the faces at
+      // the support vertex hold that face, and the window check grows the window where the ECP
+      // reaches another (engine/README.md, "Large hulls: the window")
+      const bool flat = problem.bodies.size() == 1 && cp.other_kind == Other::kFixed &&
+                        FlatOnOneFace(state.contacts[k]);
+      const int rings = std::max(scene_.solver.window_rings - (flat ? 1 : 0), 0);
       cp.window = SelectWindow(*cp.hull, PredictedRotation(problem, cp.body).transpose() * -n,
-                               scene_.solver.window_rings, scene_.solver.use_window);
+                               rings, scene_.solver.use_window);
       if (cp.other_kind != Other::kFixed) {
         cp.other_window =
             SelectWindow(*cp.other_shape, PredictedOtherRotation(problem, cp).transpose() * n,
@@ -868,6 +874,16 @@ class IslandStepper {
     }
     const KinematicBody& g = problem.kinematic[cp.other];
     return {pose(body.c, body.R), pose(g.c, g.R)};
+  }
+
+  // whether `c` ended its step pressed onto one hull face alone: a normal impulse, and one face
+  // multiplier above kDegenerateActiveFraction of the largest
+  static bool FlatOnOneFace(const ContactState& c) {
+    const auto* warm = std::get_if<HullWarmStart>(&c.warm_start);
+    if (warm == nullptr || !(c.p_n > 0) || warm->l.size() == 0) return false;
+    const double largest = warm->l.maxCoeff();
+    if (!(largest > 0)) return false;
+    return (warm->l.array() > kDegenerateActiveFraction * largest).count() == 1;
   }
 
   // contact k's point extrapolated along its trend to the end of this step, if it has one for
