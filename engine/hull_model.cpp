@@ -902,13 +902,14 @@ class IslandStepper {
                           const IslandScales& scales) {
     if (problem.bodies.size() != 1 || problem.contacts.empty()) return false;
     const double L = scales.bodies[0].length;
+    const auto speed = [L](const SolutionTrend::Point& d) {
+      return d.head<3>().norm() + d.segment<3>(3).norm() * L;
+    };
     for (size_t k = 0; k < problem.contacts.size(); ++k) {
       if (problem.contacts[k].other_kind != Other::kFixed) return false;
-      if (!PredictedPoint(problem, state, static_cast<int>(k))) return false;
-      const SolutionTrend& trend = std::get<HullWarmStart>(state.contacts[k].warm_start).trend;
-      const auto speed = [L](const SolutionTrend::Point& d) {
-        return d.head<3>().norm() + d.segment<3>(3).norm() * L;
-      };
+      const auto* warm = std::get_if<HullWarmStart>(&state.contacts[k].warm_start);
+      if (warm == nullptr || !Predicts(warm->trend, problem.h)) return false;
+      const SolutionTrend& trend = warm->trend;
       const double bend = speed(trend.second);
       if (!(bend <= kMaxTrendBend * speed(trend.first) ||
             bend <= kNegligibleBend * scales.bodies[0].velocity))

@@ -27,9 +27,11 @@ SolutionTrend NextTrend(const SolutionTrend* last, const SolutionTrend::Point& b
   return trend;
 }
 
+bool Predicts(const SolutionTrend& trend, double h) { return trend.steps >= 2 && trend.h == h; }
+
 std::optional<SolutionTrend::Point> PredictPoint(const SolutionTrend& trend,
                                                  const SolutionTrend::Point& now, double h) {
-  if (trend.steps < 2 || trend.h != h) return std::nullopt;
+  if (!Predicts(trend, h)) return std::nullopt;
   // z(t + h) ≈ z + (z − z₋₁) + (z − 2 z₋₁ + z₋₂)
   return SolutionTrend::Point(now + trend.first + trend.second);
 }

@@ -33,6 +33,9 @@ SolutionTrend::Point TrendPoint(const BodyState& body, const ContactState& conta
 SolutionTrend NextTrend(const SolutionTrend* last, const SolutionTrend::Point& before,
                         const SolutionTrend::Point& after, double h);
 
+/// Whether `trend` knows two differences over steps of length h (PredictPoint then predicts).
+bool Predicts(const SolutionTrend& trend, double h);
+
 /// The point `now` extrapolated over one more step of length h (exact for a point quadratic in
 /// time), or none unless `trend` knows two differences over steps of length h.
 std::optional<SolutionTrend::Point> PredictPoint(const SolutionTrend& trend,
