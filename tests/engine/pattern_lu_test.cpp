@@ -167,5 +167,36 @@ TEST(PatternLuTest, SingularMatrixGivesNonFiniteSolution) {
   }
 }
 
+// the AVX2 and the portable dense elimination do the same operations in the same roundings:
+// bit-identical factors, whatever the processor picks (on the Newton pattern, and on larger
+// random sparse matrices, whose long columns run the wide loop's body and its tail)
+TEST(PatternLuTest, Avx2AndPortableEliminationsAreBitIdentical) {
+  if (!__builtin_cpu_supports("avx2")) GTEST_SKIP() << "no AVX2 on this processor";
+  std::mt19937 rng(12);
+  std::uniform_real_distribution<double> unit(0, 1);
+  std::vector<Eigen::MatrixXd> patterns = {NewtonMatrixPattern()};
+  for (const int n : {37, 82, 127}) {
+    Eigen::MatrixXd random(n, n);
+    for (Eigen::Index j = 0; j < n; ++j)
+      for (Eigen::Index i = 0; i < n; ++i) random(i, j) = unit(rng) < 0.1 ? 1.0 : 0.0;
+    patterns.push_back(random);
+  }
+  for (const Eigen::MatrixXd& pattern : patterns) {
+    for (int trial = 0; trial < 10; ++trial) {
+      const Eigen::MatrixXd A = RandomOnPattern(pattern, rng);
+      const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(A.rows(), -1, 1);
+      PatternLu portable(PatternLu::Kernel::kPortable), wide(PatternLu::Kernel::kAvx2);
+      portable.Compute(A, false);
+      wide.Compute(A, false);
+      Eigen::VectorXd x_portable = b, x_wide = b;
+      portable.SolveInPlace(x_portable);
+      wide.SolveInPlace(x_wide);
+      ASSERT_LE(BackwardError(A, x_wide, b), kBackwardErrorTol * A.rows() / 25);
+      for (Eigen::Index i = 0; i < b.size(); ++i)
+        ASSERT_EQ(x_wide[i], x_portable[i]) << "n = " << A.rows() << ", trial " << trial;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace ecpsim::engine
