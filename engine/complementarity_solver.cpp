@@ -14,6 +14,7 @@
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseLU>
 
+#include "common/errors.h"
 #include "engine/pattern_lu.h"
 
 namespace ecpsim::engine {
@@ -212,22 +213,37 @@ class MinimumNormSolver {
 class DenseNewtonAlgebra {
  public:
   using Matrix = Eigen::MatrixXd;
-  // the dense elimination, or (replay) the pattern's schedule with threshold pivoting, or
-  // (minimum_norm) the complete orthogonal decomposition
-  void Factor(const Matrix& H, bool replay, bool minimum_norm) {
+  // the dense elimination (in `order`, McpOptions::elimination_order, when not empty), or
+  // (replay) the pattern's schedule with threshold pivoting, or (minimum_norm) the complete
+  // orthogonal decomposition
+  void Factor(const Matrix& H, bool replay, bool minimum_norm, const std::vector<int>& order) {
     minimum_norm_ = minimum_norm;
+    order_ = minimum_norm ? nullptr : &order;
     if (minimum_norm) {
       minimum_norm_solver_.Factor(H);
-    } else {
+    } else if (order.empty()) {
       lu_.Compute(H, replay);
+    } else {
+      const Eigen::Index n = H.rows();
+      ECPSIM_DEMAND(static_cast<Eigen::Index>(order.size()) == n);
+      permuted_.resize(n, n);
+      for (Eigen::Index j = 0; j < n; ++j)
+        for (Eigen::Index i = 0; i < n; ++i) permuted_(i, j) = H(order[i], order[j]);
+      lu_.Compute(permuted_, replay);
     }
   }
   // x ← H⁻¹ x (non-finite where H is singular), or the minimum-norm least-squares solution
   void Solve(Eigen::VectorXd& x) {
     if (minimum_norm_) {
       minimum_norm_solver_.Solve(x);
-    } else {
+    } else if (order_->empty()) {
       lu_.SolveInPlace(x);
+    } else {
+      const std::vector<int>& order = *order_;
+      permuted_x_.resize(x.size());
+      for (Eigen::Index i = 0; i < x.size(); ++i) permuted_x_[i] = x[order[i]];
+      lu_.SolveInPlace(permuted_x_);
+      for (Eigen::Index i = 0; i < x.size(); ++i) x[order[i]] = permuted_x_[i];
     }
   }
   // direction = −(HᵀH + μ I)⁻¹ gradient
@@ -242,6 +258,9 @@ class DenseNewtonAlgebra {
   PatternLu lu_;
   MinimumNormSolver minimum_norm_solver_;
   bool minimum_norm_ = false;
+  const std::vector<int>* order_ = nullptr;  // the options' elimination order (the solve's)
+  Eigen::MatrixXd permuted_;                 // H in that order
+  Eigen::VectorXd permuted_x_;
 };
 
 // The same on a sparse H (an island's: bodies' 6 × 6 blocks coupled only through their shared
@@ -252,9 +271,11 @@ class DenseNewtonAlgebra {
 class SparseNewtonAlgebra {
  public:
   using Matrix = SparseMatrix;
-  // (the sparse LU keeps its analysis per pattern anyway: `replay` changes nothing here; the
-  // minimum-norm solve factors H dense: a rescue's cost, not a step's)
-  void Factor(const Matrix& H, bool /*replay*/, bool minimum_norm) {
+  // (the sparse LU keeps its analysis per pattern anyway: `replay` changes nothing here, and its
+  // COLAMD ordering is the fill-reducing one; the minimum-norm solve factors H dense: a rescue's
+  // cost, not a step's)
+  void Factor(const Matrix& H, bool /*replay*/, bool minimum_norm,
+              const std::vector<int>& /*order*/) {
     // a non-finite entry would reach the LU's pivot search, whose comparisons it defeats
     factored_ = AllFinite(H);
     minimum_norm_ = minimum_norm;
@@ -445,7 +466,8 @@ McpResult SolveMcpWith(
 
     // semismooth Newton direction, else Levenberg–Marquardt with μ = ‖Φ‖² (Yamashita–Fukushima:
     // fast local convergence even where solutions are not isolated), else steepest descent
-    algebra.Factor(current.H, options.replay_pivots, options.minimum_norm_steps);
+    algebra.Factor(current.H, options.replay_pivots, options.minimum_norm_steps,
+                   options.elimination_order);
     direction = -current.phi;
     algebra.Solve(direction);
     bool newton_ok = AllFinite(direction);

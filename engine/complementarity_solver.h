@@ -5,6 +5,7 @@
 // small islands) or a sparse one (large islands, whose cost then grows with their size).
 
 #include <functional>
+#include <vector>
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
@@ -51,6 +52,13 @@ struct McpOptions {
   // cheaper from a few dozen unknowns (the multi-patch model's), the same solution to round-off
   // but other round-off, so iterates differ in their last bits (dense Jacobians only)
   bool replay_pivots = false;
+  // the order in which the dense LU eliminates the unknowns (a symmetric permutation of the
+  // Newton matrix, its rows and columns alike; partial pivoting as ever), empty: as they come.
+  // Where many contacts share one body's velocities, eliminating the contacts' own unknowns
+  // first and the velocities last keeps the contacts' blocks from filling each other (the
+  // multi-patch desk's 62 × 62 matrix: 10 thousand multiply-adds instead of 38 thousand). Other
+  // round-off than the natural order, the same solution to it (dense Jacobians only)
+  std::vector<int> elimination_order;
   // stop, unconverged, when the measure has not halved for this many iterations (0: never):
   // for callers with other guesses to try, a stalled solve's remaining iterations are wasted
   int stall_iterations = 0;

@@ -1,6 +1,7 @@
 #include "engine/multipatch_model.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <memory>
 #include <numeric>
@@ -70,26 +71,36 @@ Vector3d SupportFeatureCentroid(const geometry::ConvexShape& part, const Vector3
   return count > 0 ? Vector3d(sum / count) : support;
 }
 
-// the number of unknowns of one block in the layout (its slice of a warm start)
-int BlockSize(const MncpLayout::Contact& L) { return 10 + L.l_count + L.l_g_count + 2; }
+// a block's unknowns, each part contiguous in the layout: the free ones [a1, p_t, p_o, p_r] (on a
+// plane; in the general form [a1, a2, s, p_t, p_o, p_r]) and the complementarity ones
+// [l…, l_G…, p_n, σ]
+int FreeSize(const MncpLayout::Contact& L) { return L.p_r + 1 - L.a1; }
+int ComplementaritySize(const MncpLayout::Contact& L) { return L.sigma + 1 - L.l; }
+int BlockSize(const MncpLayout::Contact& L) { return FreeSize(L) + ComplementaritySize(L); }
 
-// a block's unknowns in the order [a1, a2, s, p_t, p_o, p_r, l…, l_G…, p_n, σ]
+// a block's unknowns in the order [free…, complementarity…] (its slice of a warm start)
 VectorXd PackBlock(const MncpLayout::Contact& L, const VectorXd& z) {
   VectorXd block(BlockSize(L));
-  block.head<10>() = z.segment<10>(L.a1);
-  block.segment(10, L.l_count) = z.segment(L.l, L.l_count);
-  block.segment(10 + L.l_count, L.l_g_count) = z.segment(L.l_g, L.l_g_count);
-  block[10 + L.l_count + L.l_g_count] = z[L.p_n];
-  block[11 + L.l_count + L.l_g_count] = z[L.sigma];
+  block << z.segment(L.a1, FreeSize(L)), z.segment(L.l, ComplementaritySize(L));
   return block;
 }
 
 void UnpackBlock(const MncpLayout::Contact& L, const VectorXd& block, VectorXd& z) {
-  z.segment<10>(L.a1) = block.head<10>();
-  z.segment(L.l, L.l_count) = block.segment(10, L.l_count);
-  z.segment(L.l_g, L.l_g_count) = block.segment(10 + L.l_count, L.l_g_count);
-  z[L.p_n] = block[10 + L.l_count + L.l_g_count];
-  z[L.sigma] = block[11 + L.l_count + L.l_g_count];
+  z.segment(L.a1, FreeSize(L)) = block.head(FreeSize(L));
+  z.segment(L.l, ComplementaritySize(L)) = block.tail(ComplementaritySize(L));
+}
+
+// the dense LU's elimination order (McpOptions::elimination_order): the parts' complementarity
+// unknowns, then their free ones, then the body's velocities, which every part's rows share;
+// eliminated first they would fill the parts' blocks into one dense matrix (the desk's 62 × 62:
+// 10 thousand multiply-adds a factorization in this order, 38 thousand in the layout's)
+std::vector<int> PartsFirstOrder(const MncpLayout& layout) {
+  const int complementarity = layout.size - layout.num_free;
+  std::vector<int> order(layout.size);
+  std::iota(order.begin(), order.begin() + complementarity, layout.num_free);
+  std::iota(order.begin() + complementarity, order.end() - 6, 6);
+  std::iota(order.end() - 6, order.end(), 0);
+  return order;
 }
 
 // the contact frame of a half-space obstacle: n its unit normal, t the tangent reference projected
@@ -134,7 +145,7 @@ class MultiPatchStepper {
     const BodyProblem start = StartOfStep(scene_, body_index_, body, t, h);
     const Scales scales = BodyScales(model, body, start.p_ext, h);
     const MultiPatchProblem problem = MakeProblem(start, scales);
-    const MncpLayout layout = MakeLayout(problem.body);
+    const MncpLayout layout = MakeMultiPatchLayout(problem.body);
     if (!FreeFlightIsFinite(problem.body, result.tried)) {
       result.residual = INFINITY;
       return result;
@@ -166,6 +177,7 @@ class MultiPatchStepper {
     McpOptions options;
     options.tolerance = scene_.solver.tolerance;
     options.max_iterations = scene_.solver.max_iterations;
+    options.elimination_order = PartsFirstOrder(layout);
     // no pivot replay (pattern_lu.h): the replay depends on the patterns recorded by earlier
     // solves, so a run resumed from a saved state (a checkpoint, a pickled State) left the
     // uninterrupted one by an ulp (tests/python/test_state_pickle.py, dumbbell under
@@ -300,10 +312,12 @@ class MultiPatchStepper {
       const ContactFrame frame = PlaneFrame(cp);
       const Vector3d& n = frame.n;
       z.segment<3>(L.a1) = support[i];
-      z.segment<3>(L.a2) = support[i] - gap[i] * n;
-      z[L.l_g] = 1;
       const Vector3d N = cp.obstacle->Gradient(0, support[i]);
-      z[L.s] = separated ? std::max(0.0, gap[i] / N.norm()) : gap[i] / N.norm();
+      if (!L.on_plane()) {
+        z.segment<3>(L.a2) = support[i] - gap[i] * n;
+        z[L.l_g] = 1;
+        z[L.s] = separated ? std::max(0.0, gap[i] / N.norm()) : gap[i] / N.norm();
+      }
       // the part's constraint whose world normal is most opposed to N carries the cone
       const Vector3d y = pose.R.transpose() * (support[i] - pose.c);
       const int best = MostOpposedWindowConstraint(cp, pose.R, y, N);
@@ -374,6 +388,15 @@ class MultiPatchStepper {
 
 }  // namespace
 
+MncpLayout MakeMultiPatchLayout(const BodyProblem& problem) {
+  std::vector<std::array<int, 2>> counts;
+  for (const ContactProblem& cp : problem.contacts) {
+    const int l_g_count = IsPlane(*cp.obstacle) ? 0 : cp.obstacle->NumConstraints();
+    counts.push_back({static_cast<int>(cp.window.size()), l_g_count});
+  }
+  return LayOutContacts(6, counts);  // ν⁺ = (v⁺, ω⁺) first
+}
+
 Vector3d CombinedEcp(const MultiPatchProblem& problem, const MncpLayout& layout, const VectorXd& z,
                      int g, bool which_a2) {
   Vector3d sum = Vector3d::Zero();
@@ -382,7 +405,8 @@ Vector3d CombinedEcp(const MultiPatchProblem& problem, const MncpLayout& layout,
     if (problem.group[i] != g) continue;
     const MncpLayout::Contact& L = layout.contacts[i];
     const double w = std::max(z[L.p_n], 0.0) + problem.weight_floor;
-    sum += w * z.segment<3>(which_a2 ? L.a2 : L.a1);
+    sum += w * (which_a2 ? ContactGapAt(L, problem.body.contacts[i].obstacle, z).a2
+                         : Vector3d(z.segment<3>(L.a1)));
     weight += w;
   }
   return sum / weight;
@@ -515,9 +539,12 @@ void AddProximalTerms(const MultiPatchProblem& problem, const MncpLayout& layout
   for (size_t i = 0; i < problem.body.contacts.size(); ++i) {
     if (parts[problem.group[i]] < 2) continue;
     const MncpLayout::Contact& L = layout.contacts[i];
-    // a1 along the plane: where a flat part's ECP lies on its face is not determined
+    // a1 along the plane: where a flat part's ECP lies on its face is not determined (the cone
+    // rows are a1's on a plane, a2's in the general form)
     const Vector3d n = PlaneFrame(problem.body.contacts[i]).n;
-    J.block<3, 3>(L.a2, L.a1) += problem.ecp_damping * (Matrix3d::Identity() - n * n.transpose());
+    const int cone_rows = L.on_plane() ? L.a1 : L.a2;
+    J.block<3, 3>(cone_rows, L.a1) +=
+        problem.ecp_damping * (Matrix3d::Identity() - n * n.transpose());
     // p_n: how coplanar parts share the normal load is not determined
     J(L.p_n, L.p_n) += problem.load_damping;
   }

@@ -33,8 +33,15 @@ struct MultiPatchProblem {
   double load_damping = 0;
 };
 
+/// The layout of `problem`'s multi-patch MNCP: ν⁺, then one block per part, in the plane form
+/// (LayOutContacts: a1 free on the plane, no a2, s or l_G unknowns) where the obstacle is a
+/// plane, as every multi-patch obstacle is: 5 unknowns a part fewer than MakeLayout's general
+/// form (the desk's four feet: 62 unknowns instead of 82). EvaluateMultiPatch takes either.
+MncpLayout MakeMultiPatchLayout(const BodyProblem& problem);
+
 /// The combined ECP of group `g`: a1 = Σ w_i a1_i / Σ w_i over the group's blocks, w_i =
-/// max(p_n_i, 0) + weight_floor (world frame, m). With `which_a2` the same mean of the a2_i.
+/// max(p_n_i, 0) + weight_floor (world frame, m). With `which_a2` the same mean of the a2_i (on
+/// a plane, a1_i's projections onto it).
 Eigen::Vector3d CombinedEcp(const MultiPatchProblem& problem, const MncpLayout& layout,
                             const Eigen::VectorXd& z, int g, bool which_a2 = false);
 

@@ -116,43 +116,75 @@ bool PatternLu::Replay(const Schedule& s) {
 
 namespace {
 
+// the partial pivot of column `col` from row k on: the first row of the largest magnitude, NaNs
+// never larger (k itself if col[k] is NaN). The largest in four independent running maxima
+// first, then the first row that has it: one running maximum is a chain of dependent compares
+// that took a quarter of the multi-patch desk's elimination
+[[gnu::always_inline]] inline Eigen::Index FirstOfLargest(const double* col, Eigen::Index k,
+                                                          Eigen::Index n) {
+  const double first = std::abs(col[k]);
+  if (std::isnan(first)) return k;
+  double largest[4] = {first, first, first, first};
+  Eigen::Index i = k + 1;
+  for (; i + 4 <= n; i += 4)
+    for (int lane = 0; lane < 4; ++lane) {
+      const double magnitude = std::abs(col[i + lane]);
+      largest[lane] = magnitude > largest[lane] ? magnitude : largest[lane];
+    }
+  for (; i < n; ++i) {
+    const double magnitude = std::abs(col[i]);
+    largest[0] = magnitude > largest[0] ? magnitude : largest[0];
+  }
+  double overall = largest[0];
+  for (int lane = 1; lane < 4; ++lane) overall = largest[lane] > overall ? largest[lane] : overall;
+  Eigen::Index row = k;
+  while (std::abs(col[row]) != overall) ++row;
+  return row;
+}
+
 // LU with partial pivoting, unblocked (right-looking), on the column-major n × n matrix `a`,
 // its interchanges into `pivots`; the update skips columns whose pivot-row entry is 0 and rows
-// below the last non-zero multiplier (x − l·0 = x for finite l). Inlined into each instruction
+// above the first and below the last non-zero multiplier (x − l·0 = x and x − 0·u = x for
+// finite l, u). Inlined into each instruction
 // set's version below
 [[gnu::always_inline]] inline void EliminateDense(double* const a, const Eigen::Index n,
                                                   Eigen::Index* const pivots) {
   for (Eigen::Index k = 0; k < n; ++k) {
     double* const col_k = a + k * n;
-    // the first of the largest magnitudes (the running largest kept, not reloaded)
-    Eigen::Index pivot = k;
-    double largest = std::abs(col_k[k]);
-    for (Eigen::Index i = k + 1; i < n; ++i) {
-      const double magnitude = std::abs(col_k[i]);
-      if (magnitude > largest) {
-        largest = magnitude;
-        pivot = i;
-      }
-    }
+    const Eigen::Index pivot = FirstOfLargest(col_k, k, n);
     pivots[k] = pivot;
-    if (col_k[pivot] != 0) {
-      // the rows' entries from column k on: L's columns keep the row order of their own
-      // elimination (LINPACK's storage), and SolveInPlace interchanges as it goes
-      if (pivot != k)
-        for (Eigen::Index j = k; j < n; ++j) std::swap(a[j * n + k], a[j * n + pivot]);
-      // divided, not multiplied by the reciprocal, as Eigen does: the multi-patch model's
-      // ill-conditioned systems take other Newton paths on the reciprocal's round-off
-      for (Eigen::Index i = k + 1; i < n; ++i) col_k[i] /= col_k[k];
+    // the rows' entries from column k on: L's columns keep the row order of their own
+    // elimination (LINPACK's storage), and SolveInPlace interchanges as it goes
+    if (col_k[pivot] != 0 && pivot != k)
+      for (Eigen::Index j = k; j < n; ++j) std::swap(a[j * n + k], a[j * n + pivot]);
+    // the multipliers x / p: divided (not multiplied by the reciprocal) as Eigen does, for the
+    // multi-patch model's ill-conditioned systems take other Newton paths on the reciprocal's
+    // round-off; outside the first and the last non-zero entry only zeros, whose quotient ±0
+    // is a product with p's sign (a division costs as much as the update)
+    Eigen::Index begin = k + 1, end = n;
+    const double p = col_k[k];
+    if (p != 0) {
+      while (end > begin && col_k[end - 1] == 0) --end;
+      while (begin < end && col_k[begin] == 0) ++begin;
+      if (std::isnan(p)) {
+        begin = k + 1;
+        end = n;
+      }
+      const double sign = std::copysign(1.0, p);
+      for (Eigen::Index i = k + 1; i < begin; ++i) col_k[i] *= sign;
+      for (Eigen::Index i = begin; i < end; ++i) col_k[i] /= p;
+      for (Eigen::Index i = end; i < n; ++i) col_k[i] *= sign;
     }
-    Eigen::Index end = n;
-    while (end > k + 1 && col_k[end - 1] == 0) --end;
-    if (end == k + 1) continue;  // no multipliers: nothing to update
-    const Eigen::Index count = end - (k + 1);
-    const double* const multipliers = col_k + k + 1;
+    // (a quotient may underflow to 0)
+    while (end > begin && col_k[end - 1] == 0) --end;
+    while (begin < end && col_k[begin] == 0) ++begin;
+    if (begin == end) continue;  // no multipliers: nothing to update
+    const Eigen::Index count = end - begin;
+    const double* const multipliers = col_k + begin;
     for (double* col_j = col_k + n; col_j != a + n * n; col_j += n) {
       const double u = col_j[k];
       if (u == 0) continue;
-      double* const below = col_j + k + 1;
+      double* const below = col_j + begin;
       for (Eigen::Index i = 0; i < count; ++i) below[i] -= multipliers[i] * u;
     }
   }

@@ -1,6 +1,8 @@
 #include "engine/complementarity_solver.h"
 
 #include <cmath>
+#include <numeric>
+#include <vector>
 #include <stdexcept>
 #include <utility>
 
@@ -37,11 +39,13 @@ PlantedMcp MakePlantedMcp(int n, int num_free) {
   return p;
 }
 
-void ExpectSolvesPlanted(int n, int num_free, bool sparse = false, bool replay = false) {
+void ExpectSolvesPlanted(int n, int num_free, bool sparse = false, bool replay = false,
+                         const std::vector<int>& elimination_order = {}) {
   const PlantedMcp p = MakePlantedMcp(n, num_free);
   McpOptions options;
   options.tolerance = 1e-12;
   options.replay_pivots = replay;
+  options.elimination_order = elimination_order;
   Eigen::VectorXd z = Eigen::VectorXd::Constant(n, 0.5);
   const Eigen::VectorXd ones = Eigen::VectorXd::Ones(n);
   McpResult result;
@@ -88,6 +92,21 @@ TEST(ComplementaritySolverTest, SolvesPlantedMixedLcpWithReplayedPivots) {
   for (int pass = 0; pass < 2; ++pass) {
     ExpectSolvesPlanted(25, 16, /*sparse=*/false, /*replay=*/true);
     ExpectSolvesPlanted(82, 40, /*sparse=*/false, /*replay=*/true);
+  }
+}
+
+TEST(ComplementaritySolverTest, SolvesPlantedMixedLcpInAnotherEliminationOrder) {
+  // the dense LU on the Newton matrix permuted symmetrically (the multi-patch model's order:
+  // complementarity unknowns, then free ones, the first six last), and in a reversed order: the
+  // same bounds
+  for (const auto& [n, num_free] : {std::pair{25, 16}, std::pair{62, 30}}) {
+    std::vector<int> parts_first(n), reversed(n);
+    std::iota(parts_first.begin(), parts_first.begin() + (n - num_free), num_free);
+    std::iota(parts_first.begin() + (n - num_free), parts_first.end() - 6, 6);
+    std::iota(parts_first.end() - 6, parts_first.end(), 0);
+    std::iota(reversed.rbegin(), reversed.rend(), 0);
+    ExpectSolvesPlanted(n, num_free, /*sparse=*/false, /*replay=*/false, parts_first);
+    ExpectSolvesPlanted(n, num_free, /*sparse=*/false, /*replay=*/false, reversed);
   }
 }
 

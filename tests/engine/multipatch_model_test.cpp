@@ -59,7 +59,9 @@ struct Fixture {
   VectorXd z;
 };
 
-Fixture MakeFixture(const Eigen::Quaterniond& Q, unsigned seed) {
+// `plane_form`: the model's own layout (MakeMultiPatchLayout, a1 free on the ground), else the
+// general form (MakeLayout: a2, s, l_G unknowns too); EvaluateMultiPatch takes either
+Fixture MakeFixture(const Eigen::Quaterniond& Q, unsigned seed, bool plane_form = false) {
   static const Scene desk_scene = PaperDesk(ContactModel::kMultiPatch);
   static const auto ground = geometry::MakeHalfSpace(Vector3d::UnitZ(), 0);
   const Body& desk = desk_scene.bodies[0];
@@ -84,7 +86,7 @@ Fixture MakeFixture(const Eigen::Quaterniond& Q, unsigned seed) {
   }
   f.problem.num_groups = 1;
   f.problem.weight_floor = 1e-3;  // large, so that its terms show in the differences
-  f.layout = MakeLayout(p);
+  f.layout = plane_form ? MakeMultiPatchLayout(p) : MakeLayout(p);
 
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(-1, 1);
@@ -93,16 +95,16 @@ Fixture MakeFixture(const Eigen::Quaterniond& Q, unsigned seed) {
   for (const MncpLayout::Contact& L : f.layout.contacts) {
     for (int i = 0; i < 3; ++i) {
       f.z[L.a1 + i] = p.c[i] + 0.3 * u(rng);
-      f.z[L.a2 + i] = p.c[i] + 0.3 * u(rng);
+      if (!plane_form) f.z[L.a2 + i] = p.c[i] + 0.3 * u(rng);
     }
-    f.z[L.s] = 0.01 * u(rng);
+    if (!plane_form) f.z[L.s] = 0.01 * u(rng);
     f.z[L.p_t] = 0.1 * u(rng);
     f.z[L.p_o] = 0.1 * u(rng);
     f.z[L.p_r] = 0.01 * u(rng);
     f.z[L.p_n] = 0.4 * (1 + 0.5 * u(rng));
     f.z[L.sigma] = 0.2 + 0.1 * u(rng);
     for (int i = 0; i < L.l_count; ++i) f.z[L.l + i] = 0.5 + 0.5 * u(rng);
-    f.z[L.l_g] = 1.0 + 0.3 * u(rng);
+    if (!plane_form) f.z[L.l_g] = 1.0 + 0.3 * u(rng);
   }
   return f;
 }
@@ -123,6 +125,17 @@ TEST(MultiPatchJacobianTest, FourFeetFlat) {
 TEST(MultiPatchJacobianTest, FourFeetTilted) {
   const Eigen::Quaterniond Q(Eigen::AngleAxisd(0.3, Vector3d(1, 2, 0.5).normalized()));
   EXPECT_LT(JacobianError(MakeFixture(Q, 2)), 1e-7);
+}
+
+TEST(MultiPatchJacobianTest, FourFeetInThePlaneForm) {
+  // the model's layout: 5 unknowns a foot fewer than the general form's, the same Jacobian check
+  const Fixture general = MakeFixture(Eigen::Quaterniond::Identity(), 5);
+  const Eigen::Quaterniond Q(Eigen::AngleAxisd(0.3, Vector3d(1, 2, 0.5).normalized()));
+  for (const Fixture& f : {MakeFixture(Eigen::Quaterniond::Identity(), 5, true),
+                           MakeFixture(Q, 6, true)}) {
+    EXPECT_EQ(f.layout.size, general.layout.size - 5 * 4);
+    EXPECT_LT(JacobianError(f), 1e-7);
+  }
 }
 
 TEST(MultiPatchJacobianTest, FrictionRowsDifferFromTheHullModels) {
@@ -160,6 +173,21 @@ TEST(MultiPatchJacobianTest, ProximalTermsAreTheStatedEntries) {
   const Eigen::Matrix3d along = Eigen::Vector3d(1, 1, 0).asDiagonal();  // the ground's n = z
   for (const MncpLayout::Contact& L : f.layout.contacts) {
     expected.block<3, 3>(L.a2, L.a1) = 0.3 * along;
+    expected(L.p_n, L.p_n) = 0.7;
+  }
+  EXPECT_EQ(J_damped - J, expected);
+
+  // in the plane form the cone rows are a1's
+  const Fixture plane = MakeFixture(Eigen::Quaterniond::Identity(), 4, true);
+  MultiPatchProblem damped = plane.problem;
+  damped.ecp_damping = 0.3;
+  damped.load_damping = 0.7;
+  EvaluateMultiPatch(damped, plane.layout, plane.z, &F, &J);
+  J_damped = J;
+  AddProximalTerms(damped, plane.layout, J_damped);
+  expected.setZero(J.rows(), J.cols());
+  for (const MncpLayout::Contact& L : plane.layout.contacts) {
+    expected.block<3, 3>(L.a1, L.a1) = 0.3 * along;
     expected(L.p_n, L.p_n) = 0.7;
   }
   EXPECT_EQ(J_damped - J, expected);
