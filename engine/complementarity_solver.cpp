@@ -226,9 +226,23 @@ class DenseNewtonAlgebra {
     } else {
       const Eigen::Index n = H.rows();
       ECPSIM_DEMAND(static_cast<Eigen::Index>(order.size()) == n);
+      // the order's maximal runs of consecutive unknowns (a few: the model's blocks), each
+      // column's entries copied run by run
+      runs_.clear();
+      for (Eigen::Index i = 0; i < n; ++i) {
+        if (!runs_.empty() && order[i] == runs_.back().source + runs_.back().length) {
+          ++runs_.back().length;
+        } else {
+          runs_.push_back({i, order[i], 1});
+        }
+      }
       permuted_.resize(n, n);
-      for (Eigen::Index j = 0; j < n; ++j)
-        for (Eigen::Index i = 0; i < n; ++i) permuted_(i, j) = H(order[i], order[j]);
+      for (Eigen::Index j = 0; j < n; ++j) {
+        const double* source = H.col(order[j]).data();
+        double* target = permuted_.col(j).data();
+        for (const Run& run : runs_)
+          std::copy_n(source + run.source, run.length, target + run.target);
+      }
       lu_.Compute(permuted_, replay);
     }
   }
@@ -259,7 +273,11 @@ class DenseNewtonAlgebra {
   MinimumNormSolver minimum_norm_solver_;
   bool minimum_norm_ = false;
   const std::vector<int>* order_ = nullptr;  // the options' elimination order (the solve's)
-  Eigen::MatrixXd permuted_;                 // H in that order
+  struct Run {
+    Eigen::Index target, source, length;
+  };
+  std::vector<Run> runs_;     // that order as runs of consecutive unknowns
+  Eigen::MatrixXd permuted_;  // H in that order
   Eigen::VectorXd permuted_x_;
 };
 

@@ -117,11 +117,26 @@ bool PatternLu::Replay(const Schedule& s) {
 namespace {
 
 // the partial pivot of column `col` from row k on: the first row of the largest magnitude, NaNs
-// never larger (k itself if col[k] is NaN). The largest in four independent running maxima
-// first, then the first row that has it: one running maximum is a chain of dependent compares
-// that took a quarter of the multi-patch desk's elimination
-[[gnu::always_inline]] inline Eigen::Index FirstOfLargest(const double* col, Eigen::Index k,
-                                                          Eigen::Index n) {
+// never larger (k itself if col[k] is NaN), by one running maximum
+[[gnu::always_inline]] inline Eigen::Index FirstOfLargestShort(const double* col, Eigen::Index k,
+                                                               Eigen::Index n) {
+  Eigen::Index pivot = k;
+  double largest = std::abs(col[k]);
+  for (Eigen::Index i = k + 1; i < n; ++i) {
+    const double magnitude = std::abs(col[i]);
+    if (magnitude > largest) {
+      largest = magnitude;
+      pivot = i;
+    }
+  }
+  return pivot;
+}
+
+// the same for long columns: the largest in four independent running maxima first, then the
+// first row that has it (one running maximum is a chain of dependent compares, a quarter of the
+// multi-patch desk's elimination)
+[[gnu::always_inline]] inline Eigen::Index FirstOfLargestLong(const double* col, Eigen::Index k,
+                                                              Eigen::Index n) {
   const double first = std::abs(col[k]);
   if (std::isnan(first)) return k;
   double largest[4] = {first, first, first, first};
@@ -142,33 +157,38 @@ namespace {
   return row;
 }
 
+// matrices from this size on take the elimination for sparse long columns (kSparse below) and,
+// where the processor has it, its AVX2 version; at one contact's 17–25 unknowns the scans cost
+// more than the zeros they skip (callgrind, the hull desk: 2 % more instructions a step)
+constexpr Eigen::Index kMinSparseSize = 32;
+
 // LU with partial pivoting, unblocked (right-looking), on the column-major n × n matrix `a`,
-// its interchanges into `pivots`; the update skips columns whose pivot-row entry is 0 and rows
-// above the first and below the last non-zero multiplier (x − l·0 = x and x − 0·u = x for
-// finite l, u). Inlined into each instruction
-// set's version below
+// its interchanges into `pivots`. The multipliers x / p are divided (not multiplied by the
+// reciprocal) as Eigen does: the multi-patch model's ill-conditioned systems take other Newton
+// paths on the reciprocal's round-off. The update skips columns whose pivot-row entry is 0 and
+// rows below the last non-zero multiplier (x − l·0 = x and x − 0·u = x for finite l, u); with
+// kSparse (large matrices, whose columns are mostly zeros: the multi-patch desk's 62 × 62 is 5 %
+// non-zeros) also the rows above the first, and the zeros outside the two are not divided but
+// multiplied by p's sign (the same ±0; a division costs as much as the update). Inlined into
+// each instruction set's version below
+template <bool kSparse>
 [[gnu::always_inline]] inline void EliminateDense(double* const a, const Eigen::Index n,
                                                   Eigen::Index* const pivots) {
   for (Eigen::Index k = 0; k < n; ++k) {
     double* const col_k = a + k * n;
-    const Eigen::Index pivot = FirstOfLargest(col_k, k, n);
+    const Eigen::Index pivot =
+        kSparse ? FirstOfLargestLong(col_k, k, n) : FirstOfLargestShort(col_k, k, n);
     pivots[k] = pivot;
     // the rows' entries from column k on: L's columns keep the row order of their own
     // elimination (LINPACK's storage), and SolveInPlace interchanges as it goes
     if (col_k[pivot] != 0 && pivot != k)
       for (Eigen::Index j = k; j < n; ++j) std::swap(a[j * n + k], a[j * n + pivot]);
-    // the multipliers x / p: divided (not multiplied by the reciprocal) as Eigen does, for the
-    // multi-patch model's ill-conditioned systems take other Newton paths on the reciprocal's
-    // round-off; outside the first and the last non-zero entry only zeros, whose quotient ±0
-    // is a product with p's sign (a division costs as much as the update)
     Eigen::Index begin = k + 1, end = n;
     const double p = col_k[k];
     if (p != 0) {
-      while (end > begin && col_k[end - 1] == 0) --end;
-      while (begin < end && col_k[begin] == 0) ++begin;
-      if (std::isnan(p)) {
-        begin = k + 1;
-        end = n;
+      if (kSparse && !std::isnan(p)) {
+        while (end > begin && col_k[end - 1] == 0) --end;
+        while (begin < end && col_k[begin] == 0) ++begin;
       }
       const double sign = std::copysign(1.0, p);
       for (Eigen::Index i = k + 1; i < begin; ++i) col_k[i] *= sign;
@@ -177,7 +197,8 @@ namespace {
     }
     // (a quotient may underflow to 0)
     while (end > begin && col_k[end - 1] == 0) --end;
-    while (begin < end && col_k[begin] == 0) ++begin;
+    if (kSparse)
+      while (begin < end && col_k[begin] == 0) ++begin;
     if (begin == end) continue;  // no multipliers: nothing to update
     const Eigen::Index count = end - begin;
     const double* const multipliers = col_k + begin;
@@ -190,15 +211,20 @@ namespace {
   }
 }
 
-void EliminateDensePortable(double* a, Eigen::Index n, Eigen::Index* pivots) {
-  EliminateDense(a, n, pivots);
+void EliminateSmall(double* a, Eigen::Index n, Eigen::Index* pivots) {
+  EliminateDense<false>(a, n, pivots);
+}
+
+void EliminateLargePortable(double* a, Eigen::Index n, Eigen::Index* pivots) {
+  EliminateDense<true>(a, n, pivots);
 }
 
 // the update's column loop four doubles wide. AVX2 alone, not FMA: the product and the
-// difference stay two roundings, so that both versions give the same bits
-__attribute__((target("avx2"))) void EliminateDenseAvx2(double* a, Eigen::Index n,
+// difference stay two roundings, so that both versions give the same bits. For large matrices
+// only: at the hull desk's 17 unknowns the engine benchmark's step was 2–3 % slower with it
+__attribute__((target("avx2"))) void EliminateLargeAvx2(double* a, Eigen::Index n,
                                                         Eigen::Index* pivots) {
-  EliminateDense(a, n, pivots);
+  EliminateDense<true>(a, n, pivots);
 }
 
 }  // namespace
@@ -211,7 +237,13 @@ void PatternLu::FactorDense() {
   mode_ = Mode::kDense;
   const Eigen::Index n = lu_.rows();
   pivots_.resize(n);
-  (wide_ ? EliminateDenseAvx2 : EliminateDensePortable)(lu_.data(), n, pivots_.data());
+  if (n < kMinSparseSize) {
+    EliminateSmall(lu_.data(), n, pivots_.data());
+  } else if (wide_) {
+    EliminateLargeAvx2(lu_.data(), n, pivots_.data());
+  } else {
+    EliminateLargePortable(lu_.data(), n, pivots_.data());
+  }
 }
 
 PatternLu::Schedule PatternLu::MakeSchedule(Eigen::Index n, std::vector<std::uint64_t> pattern,

@@ -31,9 +31,10 @@ namespace ecpsim::engine {
 /// non-finite x the caller rejects, as Eigen's PartialPivLU does.
 class PatternLu {
  public:
-  /// The dense elimination's instruction set: the widest the processor has (AVX2 where there,
-  /// the multi-patch desk's 82-unknown step 106 → 86 µs), or one of them (tests: both give the
-  /// same bits; kAvx2 only where __builtin_cpu_supports("avx2")).
+  /// The dense elimination's instruction set for matrices of 32 unknowns or more: the widest the
+  /// processor has (AVX2 where there: the multi-patch desk's step 106 → 86 µs), or one of them
+  /// (tests: both give the same bits; kAvx2 only where __builtin_cpu_supports("avx2")). Smaller
+  /// ones, one contact's, always take a portable version, which was the faster there.
   enum class Kernel { kFastest, kPortable, kAvx2 };
   explicit PatternLu(Kernel kernel = Kernel::kFastest);
 
@@ -80,7 +81,7 @@ class PatternLu {
   // the schedules kept (a few layouts: a window that grows, an island that splits)
   static constexpr int kMaxSchedules = 4;
 
-  bool wide_;  // the AVX2 version of the dense elimination
+  bool wide_;  // the AVX2 version of the dense elimination (of large matrices)
   Mode mode_ = Mode::kDense;
   // dense: U in position order, each column of L in the row order of its elimination (the
   // interchanges of later columns not applied to it); replayed: the factors in original rows

@@ -167,14 +167,15 @@ TEST(PatternLuTest, SingularMatrixGivesNonFiniteSolution) {
   }
 }
 
-// the AVX2 and the portable dense elimination do the same operations in the same roundings:
-// bit-identical factors, whatever the processor picks (on the Newton pattern, and on larger
-// random sparse matrices, whose long columns run the wide loop's body and its tail)
+// the AVX2 and the portable dense elimination of large matrices (from 32 unknowns; smaller ones
+// always take a portable version) do the same operations in the same roundings: bit-identical
+// factors, whatever the processor picks (random sparse matrices, whose long columns run the wide
+// loop's body and its tail)
 TEST(PatternLuTest, Avx2AndPortableEliminationsAreBitIdentical) {
   if (!__builtin_cpu_supports("avx2")) GTEST_SKIP() << "no AVX2 on this processor";
   std::mt19937 rng(12);
   std::uniform_real_distribution<double> unit(0, 1);
-  std::vector<Eigen::MatrixXd> patterns = {NewtonMatrixPattern()};
+  std::vector<Eigen::MatrixXd> patterns;
   for (const int n : {37, 82, 127}) {
     Eigen::MatrixXd random(n, n);
     for (Eigen::Index j = 0; j < n; ++j)
