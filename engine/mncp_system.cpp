@@ -601,9 +601,13 @@ Vector3d ContactNormalCombination(const ContactSides& sides, const MncpLayout::C
 }
 
 void EvaluateMncp(const BodyProblem& problem, const MncpLayout& layout, const Eigen::VectorXd& z,
-                  Eigen::VectorXd* F_out, Eigen::MatrixXd* J_out) {
+                  Eigen::VectorXd* F_out, Eigen::MatrixXd* J_out, bool jacobian_is_zero) {
   F_out->setZero(layout.size);
-  if (J_out) J_out->setZero(layout.size, layout.size);
+  if (J_out && jacobian_is_zero) {
+    ECPSIM_DEMAND(J_out->rows() == layout.size && J_out->cols() == layout.size);
+  } else if (J_out) {
+    J_out->setZero(layout.size, layout.size);
+  }
   const StepMotion body = AddBodyRows(problem, 0, z, *F_out, J_out);
   for (size_t k = 0; k < problem.contacts.size(); ++k) {
     const ContactProblem& cp = problem.contacts[k];

@@ -201,8 +201,10 @@ double ContactRoundOffLength(const MncpLayout::Contact& L, const Eigen::VectorXd
 /// an error ε in p̂ shows in ζ as ε²; the norm form converges in one step there.
 /// If `J` is not null also the analytic
 /// Jacobian ∂F/∂z, including the dependence of the hull geometry on q⁺ = q + h G(q) ν⁺.
+/// With `jacobian_is_zero` the caller promises J is already layout.size square and zero (as
+/// SolveMcp hands it to its callback), and J is not cleared again.
 void EvaluateMncp(const BodyProblem& problem, const MncpLayout& layout, const Eigen::VectorXd& z,
-                  Eigen::VectorXd* F, Eigen::MatrixXd* J);
+                  Eigen::VectorXd* F, Eigen::MatrixXd* J, bool jacobian_is_zero = false);
 
 // --- the building blocks of EvaluateMncp, shared with the island MNCP (island_mncp.h) ---
 

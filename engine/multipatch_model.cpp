@@ -184,8 +184,9 @@ class MultiPatchStepper {
     // multipatch); it once cost the desk's 82-unknown Newton matrix 3.5 × fewer instructions, but
     // with the proximal terms the desk's median step takes twice as long with it (234 against
     // 114 µs, `options.replay_pivots = true` here)
+    // SolveMcp hands J over zero (complementarity_solver.h)
     const McpFunction f = [&](const VectorXd& zz, VectorXd* F, Eigen::MatrixXd* J) {
-      EvaluateMultiPatch(problem, layout, zz, F, J);
+      EvaluateMultiPatch(problem, layout, zz, F, J, /*jacobian_is_zero=*/true);
       if (J != nullptr) AddProximalTerms(problem, layout, *J);
     };
     const VectorXd row_scale = RowScales(problem.body, layout, scales);
@@ -413,12 +414,13 @@ Vector3d CombinedEcp(const MultiPatchProblem& problem, const MncpLayout& layout,
 }
 
 void EvaluateMultiPatch(const MultiPatchProblem& problem, const MncpLayout& layout,
-                        const VectorXd& z, VectorXd* F_out, Eigen::MatrixXd* J_out) {
+                        const VectorXd& z, VectorXd* F_out, Eigen::MatrixXd* J_out,
+                        bool jacobian_is_zero) {
   ECPSIM_DEMAND(problem.weight_floor > 0);
   ECPSIM_DEMAND(problem.group.size() == problem.body.contacts.size());
   // the geometry, Newton–Euler and the per-block friction rows of the hull model's MNCP; the
   // friction rows are replaced below
-  EvaluateMncp(problem.body, layout, z, F_out, J_out);
+  EvaluateMncp(problem.body, layout, z, F_out, J_out, jacobian_is_zero);
   VectorXd& F = *F_out;
   const bool with_jacobian = J_out != nullptr;
   const double h = problem.body.h;

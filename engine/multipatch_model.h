@@ -53,8 +53,10 @@ Eigen::Vector3d CombinedEcp(const MultiPatchProblem& problem, const MncpLayout& 
 /// p_rE,i = p_r,i + n · ((a1_i − a1) × (t p_t,i + o p_o,i)):
 ///     e_t² μ p_n,i v_t + p_t,i σ_i = 0,  e_o² μ p_n,i v_o + p_o,i σ_i = 0,
 ///     e_r² μ p_n,i v_r + p_rE,i σ_i = 0,  0 ≤ σ_i ⊥ μ p_n,i − ‖(p_t,i/e_t, p_o,i/e_o, p_rE,i/e_r)‖ ≥ 0.
+/// `jacobian_is_zero` as EvaluateMncp's.
 void EvaluateMultiPatch(const MultiPatchProblem& problem, const MncpLayout& layout,
-                        const Eigen::VectorXd& z, Eigen::VectorXd* F, Eigen::MatrixXd* J);
+                        const Eigen::VectorXd& z, Eigen::VectorXd* F, Eigen::MatrixXd* J,
+                        bool jacobian_is_zero = false);
 
 /// Adds the proximal terms to `J` (EvaluateMultiPatch's Jacobian at some z) that make the Newton
 /// matrix nonsingular on the MNCP's non-isolated solutions: ecp_damping × (I − n nᵀ) to the
