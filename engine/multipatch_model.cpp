@@ -184,6 +184,7 @@ class MultiPatchStepper {
     // multipatch); it once cost the desk's 82-unknown Newton matrix 3.5 × fewer instructions, but
     // with the proximal terms the desk's median step takes twice as long with it (234 against
     // 114 µs, `options.replay_pivots = true` here)
+
     // SolveMcp hands J over zero (complementarity_solver.h)
     const McpFunction f = [&](const VectorXd& zz, VectorXd* F, Eigen::MatrixXd* J) {
       EvaluateMultiPatch(problem, layout, zz, F, J, /*jacobian_is_zero=*/true);
