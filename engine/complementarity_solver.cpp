@@ -14,7 +14,6 @@
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseLU>
 
-#include "common/errors.h"
 #include "engine/pattern_lu.h"
 
 namespace ecpsim::engine {
@@ -218,46 +217,18 @@ class DenseNewtonAlgebra {
   // orthogonal decomposition
   void Factor(const Matrix& H, bool replay, bool minimum_norm, const std::vector<int>& order) {
     minimum_norm_ = minimum_norm;
-    order_ = minimum_norm ? nullptr : &order;
     if (minimum_norm) {
       minimum_norm_solver_.Factor(H);
-    } else if (order.empty()) {
-      lu_.Compute(H, replay);
     } else {
-      const Eigen::Index n = H.rows();
-      ECPSIM_DEMAND(static_cast<Eigen::Index>(order.size()) == n);
-      // the order's maximal runs of consecutive unknowns (a few: the model's blocks), each
-      // column's entries copied run by run
-      runs_.clear();
-      for (Eigen::Index i = 0; i < n; ++i) {
-        if (!runs_.empty() && order[i] == runs_.back().source + runs_.back().length) {
-          ++runs_.back().length;
-        } else {
-          runs_.push_back({i, order[i], 1});
-        }
-      }
-      permuted_.resize(n, n);
-      for (Eigen::Index j = 0; j < n; ++j) {
-        const double* source = H.col(order[j]).data();
-        double* target = permuted_.col(j).data();
-        for (const Run& run : runs_)
-          std::copy_n(source + run.source, run.length, target + run.target);
-      }
-      lu_.Compute(permuted_, replay);
+      lu_.Compute(H, replay, order);
     }
   }
   // x ← H⁻¹ x (non-finite where H is singular), or the minimum-norm least-squares solution
   void Solve(Eigen::VectorXd& x) {
     if (minimum_norm_) {
       minimum_norm_solver_.Solve(x);
-    } else if (order_->empty()) {
-      lu_.SolveInPlace(x);
     } else {
-      const std::vector<int>& order = *order_;
-      permuted_x_.resize(x.size());
-      for (Eigen::Index i = 0; i < x.size(); ++i) permuted_x_[i] = x[order[i]];
-      lu_.SolveInPlace(permuted_x_);
-      for (Eigen::Index i = 0; i < x.size(); ++i) x[order[i]] = permuted_x_[i];
+      lu_.SolveInPlace(x);
     }
   }
   // direction = −(HᵀH + μ I)⁻¹ gradient
@@ -272,13 +243,6 @@ class DenseNewtonAlgebra {
   PatternLu lu_;
   MinimumNormSolver minimum_norm_solver_;
   bool minimum_norm_ = false;
-  const std::vector<int>* order_ = nullptr;  // the options' elimination order (the solve's)
-  struct Run {
-    Eigen::Index target, source, length;
-  };
-  std::vector<Run> runs_;     // that order as runs of consecutive unknowns
-  Eigen::MatrixXd permuted_;  // H in that order
-  Eigen::VectorXd permuted_x_;
 };
 
 // The same on a sparse H (an island's: bodies' 6 × 6 blocks coupled only through their shared

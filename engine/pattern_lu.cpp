@@ -22,22 +22,24 @@ void Set(std::uint64_t* column, int row) { column[row / 64] |= std::uint64_t{1} 
 
 }  // namespace
 
-void PatternLu::Compute(const Eigen::MatrixXd& A, bool replay) {
+void PatternLu::Compute(const Eigen::MatrixXd& A, bool replay, const std::vector<int>& order) {
   ECPSIM_DEMAND(A.rows() == A.cols());
+  ECPSIM_DEMAND(order.empty() || static_cast<Eigen::Index>(order.size()) == A.rows());
+  SetOrder(order);
   const Eigen::Index n = A.rows();
+  Load(A);
   if (n > kMaxUnblockedSize) {
     mode_ = Mode::kBlocked;
-    blocked_lu_.compute(A);
+    blocked_lu_.compute(lu_);
     return;
   }
-  lu_ = A;
   // a non-finite entry defeats the pivot comparisons and x − l·0 = x: the dense elimination
   // handles it as it always did
-  if (!replay || !A.allFinite()) {
+  if (!replay || !lu_.allFinite()) {
     FactorDense();
     return;
   }
-  ComputeMask(A);
+  ComputeMask(lu_);
   Schedule* cached = FindSchedule(n);
   if (cached != nullptr && Replay(*cached)) return;
   // a new pattern, or another pivot sequence: eliminate densely and record what it did, on the
@@ -49,9 +51,37 @@ void PatternLu::Compute(const Eigen::MatrixXd& A, bool replay) {
   }
   if (cached != nullptr)
     for (size_t w = 0; w < mask_.size(); ++w) mask_[w] |= cached->pattern[w];
-  lu_ = A;
+  Load(A);
   FactorDense();
   Remember(MakeSchedule(n, mask_, pivots_));
+}
+
+void PatternLu::SetOrder(const std::vector<int>& order) {
+  order_ = order;  // (its capacity kept from call to call)
+  // the order's maximal runs of consecutive positions (a few: a model's blocks)
+  runs_.clear();
+  for (size_t i = 0; i < order.size(); ++i) {
+    if (!runs_.empty() && order[i] == runs_.back().source + runs_.back().length) {
+      ++runs_.back().length;
+    } else {
+      runs_.push_back({static_cast<Eigen::Index>(i), order[i], 1});
+    }
+  }
+}
+
+void PatternLu::Load(const Eigen::MatrixXd& A) {
+  if (order_.empty()) {
+    lu_ = A;
+    return;
+  }
+  // P A Pᵀ, each column copied run by run
+  const Eigen::Index n = A.rows();
+  lu_.resize(n, n);
+  for (Eigen::Index j = 0; j < n; ++j) {
+    const double* source = A.col(order_[j]).data();
+    double* target = lu_.col(j).data();
+    for (const Run& run : runs_) std::copy_n(source + run.source, run.length, target + run.target);
+  }
 }
 
 void PatternLu::ComputeMask(const Eigen::MatrixXd& A) {
@@ -325,6 +355,18 @@ void PatternLu::Remember(Schedule schedule) {
 }
 
 void PatternLu::SolveInPlace(Eigen::VectorXd& x) const {
+  if (!order_.empty()) {
+    // P x, solved with the factors of P A Pᵀ, then back to A's order
+    permuted_x_.resize(x.size());
+    for (Eigen::Index i = 0; i < x.size(); ++i) permuted_x_[i] = x[order_[i]];
+    SolveInOrder(permuted_x_);
+    for (Eigen::Index i = 0; i < x.size(); ++i) x[order_[i]] = permuted_x_[i];
+    return;
+  }
+  SolveInOrder(x);
+}
+
+void PatternLu::SolveInOrder(Eigen::VectorXd& x) const {
   if (mode_ == Mode::kBlocked) {
     x = blocked_lu_.solve(Eigen::VectorXd(x));
     return;

@@ -39,9 +39,11 @@ class PatternLu {
   explicit PatternLu(Kernel kernel = Kernel::kFastest);
 
   /// Factors `A` (square); allocates only when a new pattern or size is seen. With `replay`
-  /// false always by the dense elimination (partial pivoting, no schedule kept or used).
-  void Compute(const Eigen::MatrixXd& A, bool replay = true);
-  /// x ← A⁻¹ x (non-finite where A is singular).
+  /// false always by the dense elimination (partial pivoting, no schedule kept or used). With an
+  /// `order` (a permutation of A's rows, its columns alike) the factors are those of P A Pᵀ, the
+  /// order in which the unknowns are eliminated (McpOptions::elimination_order); empty: A's own.
+  void Compute(const Eigen::MatrixXd& A, bool replay = true, const std::vector<int>& order = {});
+  /// x ← A⁻¹ x (non-finite where A is singular), in A's order whatever the elimination's.
   void SolveInPlace(Eigen::VectorXd& x) const;
   /// Whether the last Compute replayed a cached schedule (false: dense or blocked elimination).
   bool replayed() const { return mode_ == Mode::kReplayed; }
@@ -66,7 +68,18 @@ class PatternLu {
   };
   enum class Mode { kDense, kReplayed, kBlocked };
 
+  // a run of the elimination order: `length` consecutive positions from `target` of P A Pᵀ are
+  // A's from `source`
+  struct Run {
+    Eigen::Index target, source, length;
+  };
+
   static int Words(Eigen::Index n) { return static_cast<int>((n + 63) / 64); }
+  void SetOrder(const std::vector<int>& order);
+  // lu_ ← P A Pᵀ
+  void Load(const Eigen::MatrixXd& A);
+  // x ← (P A Pᵀ)⁻¹ x
+  void SolveInOrder(Eigen::VectorXd& x) const;
   // the non-zero pattern of A into mask_ (n columns × Words(n))
   void ComputeMask(const Eigen::MatrixXd& A);
   // the cached schedule whose pattern holds mask_ (most recently used first), else null
@@ -82,6 +95,9 @@ class PatternLu {
   static constexpr int kMaxSchedules = 4;
 
   bool wide_;  // the AVX2 version of the dense elimination (of large matrices)
+  std::vector<int> order_;  // the elimination order (empty: A's)
+  std::vector<Run> runs_;   // that order as runs of consecutive positions
+  mutable Eigen::VectorXd permuted_x_;
   Mode mode_ = Mode::kDense;
   // dense: U in position order, each column of L in the row order of its elimination (the
   // interchanges of later columns not applied to it); replayed: the factors in original rows

@@ -152,6 +152,38 @@ TEST(PatternLuTest, NewNonZeroOutsideThePatternIsFactoredExactly) {
   EXPECT_LE(BackwardError(A, x, b), kBackwardErrorTol);
 }
 
+// with an elimination order the factors are P A Pᵀ's and the solve is A's: the dense elimination,
+// the replay (its second factorization), and the blocked one above kMaxUnblockedSize, each in a
+// reversed order and in runs (the multi-patch model's: the last unknowns first)
+TEST(PatternLuTest, AnEliminationOrderSolvesTheMatrixInItsOwnOrder) {
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> unit(0, 1);
+  for (const Eigen::Index n : {Eigen::Index{20}, Eigen::Index{62}, PatternLu::kMaxUnblockedSize + 5}) {
+    Eigen::MatrixXd pattern(n, n);
+    for (Eigen::Index j = 0; j < n; ++j)
+      for (Eigen::Index i = 0; i < n; ++i) pattern(i, j) = unit(rng) < 0.2 ? 1.0 : 0.0;
+    const Eigen::MatrixXd A = RandomOnPattern(pattern, rng);
+    const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(n, -1, 2);
+    const Eigen::VectorXd x_eigen = A.partialPivLu().solve(b);
+    std::vector<int> reversed(n), last_first(n);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      reversed[i] = static_cast<int>(n - 1 - i);
+      last_first[i] = static_cast<int>((i + 6) % n);
+    }
+    for (const auto& order : {reversed, last_first}) {
+      for (const bool replay : {false, true}) {
+        PatternLu lu;
+        lu.Compute(A, replay, order);
+        lu.Compute(A, replay, order);
+        Eigen::VectorXd x = b;
+        lu.SolveInPlace(x);
+        EXPECT_LE(BackwardError(A, x, b), kBackwardErrorTol * n / 25) << "n = " << n;
+        EXPECT_LE((x - x_eigen).norm(), kForwardErrorTol * x_eigen.norm()) << "n = " << n;
+      }
+    }
+  }
+}
+
 // an exactly singular matrix (a zero column) gives a non-finite solution, never a finite wrong one
 TEST(PatternLuTest, SingularMatrixGivesNonFiniteSolution) {
   std::mt19937 rng(8);
