@@ -27,12 +27,17 @@ void PatternLu::Compute(const Eigen::MatrixXd& A, bool replay, const std::vector
   ECPSIM_DEMAND(order.empty() || static_cast<Eigen::Index>(order.size()) == A.rows());
   SetOrder(order);
   const Eigen::Index n = A.rows();
-  Load(A);
   if (n > kMaxUnblockedSize) {
     mode_ = Mode::kBlocked;
-    blocked_lu_.compute(lu_);
+    if (order_.empty()) {
+      blocked_lu_.compute(A);
+    } else {
+      Load(A);
+      blocked_lu_.compute(lu_);
+    }
     return;
   }
+  Load(A);
   // a non-finite entry defeats the pivot comparisons and x − l·0 = x: the dense elimination
   // handles it as it always did
   if (!replay || !lu_.allFinite()) {
