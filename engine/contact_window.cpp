@@ -20,23 +20,42 @@ std::vector<int> SelectWindow(const geometry::ConvexShape& hull,
   return polyhedron->ConstraintsNearSupport(direction_B, rings);
 }
 
+namespace {
+
+// calls visit(f) for every face f incident to a vertex of face `face` (itself included, once per
+// vertex it shares) whose half-space y_B violates by more than `tolerance`, until visit returns
+// false; false if it stopped
+template <typename Visit>
+bool ForEachViolatedNeighbour(const geometry::ConvexHull& h, int face, const Eigen::Vector3d& y_B,
+                              double tolerance, Visit visit) {
+  for (int vertex : h.faces[face])
+    for (int other : h.vertex_faces[vertex])
+      if (h.normals[other].dot(y_B) - h.offsets[other] > tolerance && !visit(other)) return false;
+  return true;
+}
+
+}  // namespace
+
 std::vector<int> WindowViolations(const geometry::ConvexShape& hull,
                                   const std::vector<int>& window, int active,
                                   const Eigen::Vector3d& y_B, double tolerance) {
   const auto* polyhedron = hull.AsPolyhedron();
   if (polyhedron == nullptr || static_cast<int>(window.size()) == hull.NumConstraints()) return {};
-  const geometry::ConvexHull& h = polyhedron->hull();
   std::vector<int> violated;
-  for (int vertex : h.faces[active]) {
-    for (int face : h.vertex_faces[vertex]) {
-      // windows are sorted (SelectWindow, GrowWindow)
-      if (std::binary_search(window.begin(), window.end(), face)) continue;
-      if (h.normals[face].dot(y_B) - h.offsets[face] > tolerance) violated.push_back(face);
-    }
-  }
+  ForEachViolatedNeighbour(polyhedron->hull(), active, y_B, tolerance, [&](int face) {
+    // windows are sorted (SelectWindow, GrowWindow)
+    if (!std::binary_search(window.begin(), window.end(), face)) violated.push_back(face);
+    return true;
+  });
   std::sort(violated.begin(), violated.end());
   violated.erase(std::unique(violated.begin(), violated.end()), violated.end());
   return violated;
+}
+
+bool OnFaceFacet(const geometry::PolyhedralShape& hull, int face, const Eigen::Vector3d& y_B,
+                 double tolerance) {
+  return ForEachViolatedNeighbour(hull.hull(), face, y_B, tolerance,
+                                  [face](int other) { return other == face; });
 }
 
 std::vector<int> GrowWindow(const geometry::ConvexShape& hull, const std::vector<int>& window,

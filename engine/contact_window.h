@@ -33,6 +33,12 @@ std::vector<int> WindowViolations(const geometry::ConvexShape& hull,
                                   const std::vector<int>& window, int active,
                                   const Eigen::Vector3d& y_B, double tolerance);
 
+/// Whether y_B (body frame), taken to lie on the plane of face `face`, is on its facet: no face
+/// incident to the facet's vertices but `face` itself is violated by more than `tolerance` (m),
+/// WindowViolations' test for a window of one face. Allocates nothing.
+bool OnFaceFacet(const geometry::PolyhedralShape& hull, int face, const Eigen::Vector3d& y_B,
+                 double tolerance);
+
 /// `window` grown around `violated` (sorted, unique): the violated constraints and every face
 /// incident to their vertices.
 std::vector<int> GrowWindow(const geometry::ConvexShape& hull, const std::vector<int>& window,

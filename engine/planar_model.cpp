@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "engine/complementarity_solver.h"
+#include "engine/contact_window.h"
 #include "engine/mncp_scaling.h"
 #include "engine/mncp_system.h"
 #include "engine/obstacle_queries.h"
@@ -33,16 +34,6 @@ int MostAlignedFace(const geometry::PolyhedralShape& hull, const std::vector<int
     if (hull.hull().normals[i].dot(direction_B) > hull.hull().normals[best].dot(direction_B))
       best = i;
   return best;
-}
-
-// whether y_B (body frame) is within `tolerance` inside every face around `face`'s vertices: on
-// the face, up to its boundary (WindowViolations of the window {face}, without building lists)
-bool OnFace(const geometry::PolyhedralShape& hull, int face, const Vector3d& y_B, double tolerance) {
-  const geometry::ConvexHull& h = hull.hull();
-  for (int vertex : h.faces[face])
-    for (int other : h.vertex_faces[vertex])
-      if (other != face && h.normals[other].dot(y_B) - h.offsets[other] > tolerance) return false;
-  return true;
 }
 
 // The plane's frame (t, o, N): world vectors to it and back. The ground's frame is the identity,
@@ -260,7 +251,7 @@ PlanarStep SolvePlanarStep(const Scene& scene, const Island& island, double t, d
   ContactState& c = state.contacts[0];
   const Vector3d a1 = next.p_WB + frame.ToWorld(Vector3d(kin.rx, kin.ry, -height));
   const Vector3d y = next.Q_WB.toRotationMatrix().transpose() * (a1 - next.p_WB);
-  if (!OnFace(*hull, face, y, support_tolerance)) {
+  if (!OnFaceFacet(*hull, face, y, support_tolerance)) {
     step.invalid = fmt::format("the ECP ({:.4g}, {:.4g}, {:.4g}) m left the support face (it "
                                "would tip)", a1.x(), a1.y(), a1.z());
     state.bodies[0] = b;
