@@ -4,6 +4,7 @@
 // gradient fallbacks (FORMULATION.md, "Solver guidance"), with a dense Jacobian (one body's MNCP,
 // small islands) or a sparse one (large islands, whose cost then grows with their size).
 
+#include <cmath>
 #include <functional>
 #include <vector>
 
@@ -66,6 +67,12 @@ struct McpOptions {
   // loads): F is evaluated alone first and the start accepted if it meets the tolerance, without
   // the Jacobian a first Newton step needs; else the solve goes on as without it (one more F)
   bool verify_start_first = false;
+  // the start itself ends the solve only if its measure is at most this (and the tolerance): a
+  // start made close to the solution by construction (the hull model's balanced predicted start)
+  // is taken on by a Newton step to round-off, where Newton's steps end, instead of being
+  // accepted anywhere under the tolerance (the step's solution, and trajectories with it, would
+  // move by up to the tolerance)
+  double start_tolerance = INFINITY;
   // the Newton direction is the minimum-norm least-squares solution of H d = −Φ, by a complete
   // orthogonal decomposition that takes pivots ≤ kMinimumNormRankTolerance of the largest as
   // zero, instead of the LU's: where the solutions are not isolated (ECPs of two contacts that

@@ -1,0 +1,154 @@
+#include "engine/predicted_start.h"
+
+#include <cmath>
+#include <limits>
+
+#include <Eigen/LU>  // Matrix3d::inverse
+
+#include "engine/mncp_system.h"
+
+namespace ecpsim::engine {
+namespace {
+
+using Eigen::Matrix3d;
+using Eigen::Vector3d;
+using Eigen::VectorXd;
+using Other = IslandContact::Other;
+
+// the window positions of the faces that carry contact L in z (multiplier above
+// `active_fraction` of the largest), at most kMaxCarrying of them; count −1 where more do
+constexpr int kMaxCarrying = 3;
+struct Carrying {
+  int faces[kMaxCarrying] = {};
+  int count = 0;
+};
+Carrying CarryingFaces(const MncpLayout::Contact& L, double active_fraction, const VectorXd& z) {
+  Carrying carrying;
+  const double largest = L.l_count > 0 ? z.segment(L.l, L.l_count).maxCoeff() : 0.0;
+  if (!(largest > 0)) return carrying;
+  for (int i = 0; i < L.l_count; ++i) {
+    if (!(z[L.l + i] > active_fraction * largest)) continue;
+    if (carrying.count == kMaxCarrying) {
+      carrying.count = -1;
+      return carrying;
+    }
+    carrying.faces[carrying.count++] = i;
+  }
+  return carrying;
+}
+
+ContactSides SidesOf(const IslandContact& cp) {
+  return {cp.hull,     &cp.window,          cp.other_shape, &cp.other_window,
+          cp.friction, cp.tangent_reference, cp.stick_creep};
+}
+
+// the world gradient of window face `position` of contact cp at its ECP a1, the body at `end`
+Vector3d FaceNormal(const IslandContact& cp, int position, const EndPose& end, const Vector3d& a1) {
+  const Vector3d y = end.R.transpose() * (a1 - end.c);
+  return end.R * cp.hull->Gradient(cp.window[position], y);
+}
+
+}  // namespace
+
+void FitCarryingMultipliers(const IslandProblem& problem, const IslandLayout& layout,
+                            double active_fraction, VectorXd& z) {
+  if (problem.bodies.size() != 1) return;
+  for (size_t k = 0; k < problem.contacts.size(); ++k) {
+    const IslandContact& cp = problem.contacts[k];
+    const MncpLayout::Contact& L = layout.contacts[k];
+    if (cp.other_kind != Other::kFixed) continue;
+    const Carrying carrying = CarryingFaces(L, active_fraction, z);
+    if (carrying.count < 2) continue;
+    const int col = IslandLayout::Velocity(cp.body);
+    const EndPose end =
+        PoseAfterStep(problem.bodies[cp.body], z.segment<3>(col), z.segment<3>(col + 3));
+    const Vector3d a1 = z.segment<3>(L.a1);
+    const Vector3d N = ContactNormalCombination(SidesOf(cp), L, nullptr, z);
+    Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, kMaxCarrying> G(3, carrying.count);
+    for (int j = 0; j < carrying.count; ++j) G.col(j) = FaceNormal(cp, carrying.faces[j], end, a1);
+    const Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxCarrying, 1> fit =
+        (G.transpose() * G).ldlt().solve(-G.transpose() * N);
+    if (!fit.allFinite() || (fit.array() <= 0).any()) continue;
+    for (int j = 0; j < carrying.count; ++j) z[L.l + carrying.faces[j]] = fit[j];
+  }
+}
+
+bool BalancePredictedStart(const IslandProblem& problem, const IslandLayout& layout,
+                           double active_fraction, VectorXd& z) {
+  if (problem.bodies.size() != 1 || problem.contacts.size() != 1) return false;
+  const IslandContact& cp = problem.contacts[0];
+  const MncpLayout::Contact& L = layout.contacts[0];
+  if (cp.other_kind != Other::kFixed || !L.on_plane() || cp.stick_creep != 0) return false;
+  if (!(z[L.sigma] > 0) || !(z[L.p_n] > 0)) return false;
+  // flat on one face (on an edge or a vertex, rocking, the fitted start of
+  // FitCarryingMultipliers converges as fast: balanced there it took one Newton step more)
+  if (CarryingFaces(L, active_fraction, z).count != 1) return false;
+
+  const BodyProblem& body = problem.bodies[0];
+  const Friction& fr = cp.friction;
+  const int col = IslandLayout::Velocity(0);
+  // on a plane N is its constant normal: one frame for every sweep
+  const ContactFrame frame =
+      MakeContactFrame(ContactNormalCombination(SidesOf(cp), L, nullptr, z), cp.tangent_reference);
+  const Vector3d& n = frame.n;
+  const double et2 = fr.e_t * fr.e_t, eo2 = fr.e_o * fr.e_o, er2 = fr.e_r * fr.e_r;
+  const VectorXd start = z;
+  const auto give_up = [&]() {
+    z = start;
+    return false;
+  };
+
+  Vector3d v = z.segment<3>(col), w = z.segment<3>(col + 3), a1 = z.segment<3>(L.a1);
+  double last_change = std::numeric_limits<double>::infinity();
+  for (int sweep = 0; sweep < kMaxBalanceSweeps; ++sweep) {
+    // friction: maximum dissipation at the slip of the velocities and ECP (the friction rows
+    // e² μ p_n v + p σ = 0 and the cone μ p_n = ‖p̂‖ hold with σ = ‖(e_t v_t, e_o v_o, e_r v_r)‖);
+    // the end of the step's CM is c + h v⁺
+    const Vector3d slip = v + w.cross(a1 - (body.c + body.h * v));
+    const double v_t = frame.t.dot(slip), v_o = frame.o.dot(slip), v_r = n.dot(w);
+    const double slip_norm = std::sqrt(et2 * v_t * v_t + eo2 * v_o * v_o + er2 * v_r * v_r);
+    if (!(slip_norm > 0)) return give_up();
+    const double mu_pn = fr.mu * z[L.p_n];
+    const Vector3d friction(-et2 * mu_pn * v_t / slip_norm, -eo2 * mu_pn * v_o / slip_norm,
+                            -er2 * mu_pn * v_r / slip_norm);
+    const double change =
+        (friction - Vector3d(z[L.p_t], z[L.p_o], z[L.p_r])).norm() / mu_pn;
+    // (the first sweeps settle the trend's own mismatch, which may grow once before it shrinks)
+    if (sweep > 1 && !(change < last_change)) return give_up();  // not contracting
+    last_change = change;
+    z[L.p_t] = friction[0];
+    z[L.p_o] = friction[1];
+    z[L.p_r] = friction[2];
+    z[L.sigma] = slip_norm;
+
+    // the force rows m (v⁺ − v) = p_ext + n p_n + t p_t + o p_o: the tangential velocity from
+    // them, and p_n from their normal component at the predicted normal velocity
+    const Vector3d tangential = frame.t * friction[0] + frame.o * friction[1];
+    const Vector3d free_v = body.v + (body.p_ext.head<3>() + tangential) / body.mass;
+    const double p_n = body.mass * n.dot(v - free_v);
+    if (!(p_n > 0)) return give_up();
+    z[L.p_n] = p_n;
+    v = free_v + n * n.dot(v - free_v);
+
+    // the torque rows G(ω⁺) − τ_ext − (a1 − c⁺) × force − n p_r = 0 (G the gyroscopic
+    // residual): a Newton step on the turn about the face's normal, which leaves it flat, and
+    // the ECP's shift in its plane (the gyroscopic term's curvature, h ω⁺ × I ω⁺, is left to
+    // the next sweeps)
+    const Vector3d force = n * p_n + tangential;
+    const Vector3d residual = GyroscopicResidual(body, w) - body.p_ext.tail<3>() -
+                              (a1 - (body.c + body.h * v)).cross(force) - n * friction[2];
+    Matrix3d A;
+    A << GyroscopicJacobian(body, w) * n, force.cross(frame.t), force.cross(frame.o);
+    const Vector3d step = -(A.inverse() * residual);
+    if (!step.allFinite()) return give_up();
+    w += n * step[0];
+    a1 += frame.t * step[1] + frame.o * step[2];
+    z.segment<3>(col) = v;
+    z.segment<3>(col + 3) = w;
+    z.segment<3>(L.a1) = a1;
+    if (change <= kBalanceTolerance) return true;
+  }
+  return give_up();
+}
+
+}  // namespace ecpsim::engine
