@@ -92,13 +92,12 @@ bool BalancePredictedStart(const IslandProblem& problem, const IslandLayout& lay
       MakeContactFrame(ContactNormalCombination(SidesOf(cp), L, nullptr, z), cp.tangent_reference);
   const Vector3d& n = frame.n;
   const double et2 = fr.e_t * fr.e_t, eo2 = fr.e_o * fr.e_o, er2 = fr.e_r * fr.e_r;
-  const VectorXd start = z;
-  const auto give_up = [&]() {
-    z = start;
-    return false;
-  };
+  const Matrix3d& I = body.inertia_world;
 
+  // the sweeps work on their own copies; z takes them only once they have converged
   Vector3d v = z.segment<3>(col), w = z.segment<3>(col + 3), a1 = z.segment<3>(L.a1);
+  Vector3d friction(z[L.p_t], z[L.p_o], z[L.p_r]);
+  double p_n = z[L.p_n], slip_norm = z[L.sigma];
   double last_change = std::numeric_limits<double>::infinity();
   for (int sweep = 0; sweep < kMaxBalanceSweeps; ++sweep) {
     // friction: maximum dissipation at the slip of the velocities and ECP (the friction rows
@@ -106,49 +105,52 @@ bool BalancePredictedStart(const IslandProblem& problem, const IslandLayout& lay
     // the end of the step's CM is c + h v⁺
     const Vector3d slip = v + w.cross(a1 - (body.c + body.h * v));
     const double v_t = frame.t.dot(slip), v_o = frame.o.dot(slip), v_r = n.dot(w);
-    const double slip_norm = std::sqrt(et2 * v_t * v_t + eo2 * v_o * v_o + er2 * v_r * v_r);
-    if (!(slip_norm > 0)) return give_up();
-    const double mu_pn = fr.mu * z[L.p_n];
-    const Vector3d friction(-et2 * mu_pn * v_t / slip_norm, -eo2 * mu_pn * v_o / slip_norm,
-                            -er2 * mu_pn * v_r / slip_norm);
-    const double change =
-        (friction - Vector3d(z[L.p_t], z[L.p_o], z[L.p_r])).norm() / mu_pn;
+    slip_norm = std::sqrt(et2 * v_t * v_t + eo2 * v_o * v_o + er2 * v_r * v_r);
+    if (!(slip_norm > 0)) return false;
+    const double mu_pn = fr.mu * p_n;
+    const Vector3d next_friction(-et2 * mu_pn * v_t / slip_norm, -eo2 * mu_pn * v_o / slip_norm,
+                                 -er2 * mu_pn * v_r / slip_norm);
+    const double change = (next_friction - friction).norm() / mu_pn;
     // (the first sweeps settle the trend's own mismatch, which may grow once before it shrinks)
-    if (sweep > 1 && !(change < last_change)) return give_up();  // not contracting
+    if (sweep > 1 && !(change < last_change)) return false;  // not contracting
     last_change = change;
-    z[L.p_t] = friction[0];
-    z[L.p_o] = friction[1];
-    z[L.p_r] = friction[2];
-    z[L.sigma] = slip_norm;
+    friction = next_friction;
 
     // the force rows m (v⁺ − v) = p_ext + n p_n + t p_t + o p_o: the tangential velocity from
     // them, and p_n from their normal component at the predicted normal velocity
     const Vector3d tangential = frame.t * friction[0] + frame.o * friction[1];
     const Vector3d free_v = body.v + (body.p_ext.head<3>() + tangential) / body.mass;
-    const double p_n = body.mass * n.dot(v - free_v);
-    if (!(p_n > 0)) return give_up();
-    z[L.p_n] = p_n;
+    p_n = body.mass * n.dot(v - free_v);
+    if (!(p_n > 0)) return false;
     v = free_v + n * n.dot(v - free_v);
 
-    // the torque rows G(ω⁺) − τ_ext − (a1 − c⁺) × force − n p_r = 0 (G the gyroscopic
-    // residual): a Newton step on the turn about the face's normal, which leaves it flat, and
-    // the ECP's shift in its plane (the gyroscopic term's curvature, h ω⁺ × I ω⁺, is left to
-    // the next sweeps)
+    // the torque rows I (ω⁺ − ω) + h ω⁺ × I ω⁺ − τ_ext − (a1 − c⁺) × force − n p_r = 0: a Newton
+    // step on the turn about the face's normal, which leaves it flat, and the ECP's shift in its
+    // plane (the gyroscopic term's curvature is left to the next sweeps)
     const Vector3d force = n * p_n + tangential;
-    const Vector3d residual = GyroscopicResidual(body, w) - body.p_ext.tail<3>() -
+    const Vector3d Iw = I * w;
+    const Vector3d residual = I * (w - body.w) + body.h * w.cross(Iw) - body.p_ext.tail<3>() -
                               (a1 - (body.c + body.h * v)).cross(force) - n * friction[2];
-    Matrix3d A;
-    A << GyroscopicJacobian(body, w) * n, force.cross(frame.t), force.cross(frame.o);
+    const Vector3d In = I * n;
+    Matrix3d A;  // the residual's derivatives along n (of ω⁺), t and o (of a1)
+    A << In + body.h * (w.cross(In) - Iw.cross(n)), force.cross(frame.t), force.cross(frame.o);
     const Vector3d step = -(A.inverse() * residual);
-    if (!step.allFinite()) return give_up();
+    if (!step.allFinite()) return false;
     w += n * step[0];
     a1 += frame.t * step[1] + frame.o * step[2];
-    z.segment<3>(col) = v;
-    z.segment<3>(col + 3) = w;
-    z.segment<3>(L.a1) = a1;
-    if (change <= kBalanceTolerance) return true;
+    if (change <= kBalanceTolerance) {
+      z.segment<3>(col) = v;
+      z.segment<3>(col + 3) = w;
+      z.segment<3>(L.a1) = a1;
+      z[L.p_t] = friction[0];
+      z[L.p_o] = friction[1];
+      z[L.p_r] = friction[2];
+      z[L.p_n] = p_n;
+      z[L.sigma] = slip_norm;
+      return true;
+    }
   }
-  return give_up();
+  return false;
 }
 
 }  // namespace ecpsim::engine
