@@ -77,6 +77,14 @@ constexpr double kPredictedStartAcceptance = 1e-2;
 // large as its first (measured on the T-bar: 1.2–1.6 at its landings and tip-overs, whose
 // predicted starts stalled; 0.01–0.12 along its smooth rocking)
 constexpr double kMaxTrendBend = 0.5;
+// a hull point that the body's last velocities take deeper than its last ECP by this fraction of
+// its length marks a landing on another feature (IslandStepper::Lands), where the sliding guess
+// goes first: the warm start of a tilted body falling flat stalled there (the T-bar at 0.35 s
+// and 1.35 s, points 6.8 % and 2.6 % of its length deeper; 17 and 22 iterations before the
+// sliding guess converged in 7–8), and over scenes/tbar.yaml, dumbbell.yaml and
+// tilted_box.yaml the hull model's Newton iterations were fewest from 0.01 to 0.02 (1215 → 1117,
+// 569 → 543, 95 → 79 at 0.02; 0.005 and 0.05 gave back part of it)
+constexpr double kLandingDip = 0.02;
 // ... or below this fraction of the velocity scale, however it compares with the first: the
 // dumbbell rolling almost uniformly bends its trend by more than its first difference, and its
 // predicted starts converge (gated by the ratio alone it took 2.9 iterations a step instead of 2.4)
@@ -187,7 +195,15 @@ class IslandStepper {
       // reaches another (engine/README.md, "Large hulls: the window")
       const bool flat = problem.bodies.size() == 1 && cp.other_kind == Other::kFixed &&
                         FlatOnOneFace(state.contacts[k]);
-      const int rings = std::max(scene_.solver.window_rings - (flat ? 1 : 0), 0);
+      // ... and a fixed obstacle's contact without a warm start (its first step: a body placed
+      // on the ground, or touching it for the first time) one ring more: nothing tells yet where
+      // on its hull the ECP will go, and a solve that converges in too small a window is solved
+      // again once it has grown (the T-bar's first step, tipping from flat: 25 + 13 Newton
+      // iterations, 13 with the ring more; every shipped scene's trajectory bit-identical)
+      const bool first = cp.other_kind == Other::kFixed &&
+                         !std::holds_alternative<HullWarmStart>(state.contacts[k].warm_start);
+      const int rings =
+          std::max(scene_.solver.window_rings - (flat ? 1 : 0), 0) + (first ? 1 : 0);
       cp.window = SelectWindow(*cp.hull, PredictedRotation(problem, cp.body).transpose() * -n,
                                rings, scene_.solver.use_window);
       if (cp.other_kind != Other::kFixed) {
@@ -228,6 +244,12 @@ class IslandStepper {
         std::any_of(state.contacts.begin(), state.contacts.end(),
                     [](const ContactState& c) { return c.p_n > 0; });
     std::vector<Guess> ladder = RestartLadder(have_warm_start, was_in_contact, moving);
+    // a body landing on another feature of its hull: the sliding guess first (engine/README.md,
+    // "Landings")
+    if (moving && ladder.front() == Guess::kWarm && Lands(problem, state, scales)) {
+      ladder.erase(std::find(ladder.begin(), ladder.end(), Guess::kSliding));
+      ladder.insert(ladder.begin(), Guess::kSliding);
+    }
     // a body alone, moving in contact along a trend of steps of this length: the warm start
     // extrapolated along it first (engine/README.md, "The predicted start")
     if (ladder.front() == Guess::kWarm && moving && Predictable(problem, state, scales))
@@ -898,6 +920,24 @@ class IslandStepper {
     const double largest = warm->l.maxCoeff();
     if (!(largest > 0)) return false;
     return (warm->l.array() > kDegenerateActiveFraction * largest).count() == 1;
+  }
+
+  // Whether a body alone on one fixed obstacle lands in this step on another part of its hull
+  // than the one it touched: at the end pose of its last velocities, a hull point goes deeper
+  // along the contact's normal than the last ECP (carried with the body) by kLandingDip of its
+  // length. Rocking on an edge or a vertex keeps the ECP the deepest point; a tilted body
+  // falling flat turns its face under the ground by its overshoot times the face's width
+  static bool Lands(const IslandProblem& problem, const IslandState& state,
+                    const IslandScales& scales) {
+    if (problem.bodies.size() != 1 || problem.contacts.size() != 1) return false;
+    const IslandContact& cp = problem.contacts[0];
+    const ContactState& last = state.contacts[0];
+    if (cp.other_kind != Other::kFixed || !(last.p_n > 0)) return false;
+    const BodyProblem& body = problem.bodies[0];
+    const EndPose end = PoseAfterStep(body, state.bodies[0].v_WB, state.bodies[0].w_WB);
+    const Vector3d deepest = end.c + end.R * cp.hull->Support(end.R.transpose() * -last.n);
+    const Vector3d ecp = end.c + end.R * (body.R.transpose() * (last.a1 - body.c));
+    return last.n.dot(ecp - deepest) > kLandingDip * scales.bodies[0].length;
   }
 
   // contact k's point extrapolated along its trend to the end of this step, if it has one for
