@@ -421,7 +421,7 @@ McpResult SolveMcpWith(
     problem.Evaluate(x, &F, &current, false);
     result.residual = measure(z, F);
     if (!AllFinite(current.phi)) return result;
-    if (result.residual <= options.tolerance) {
+    if (result.residual <= std::min(options.tolerance, options.start_tolerance)) {
       result.converged = true;
       return result;
     }

@@ -16,7 +16,7 @@
 #include "engine/mncp_scaling.h"
 #include "engine/mncp_system.h"
 #include "engine/obstacle_queries.h"
-#include "engine/predicted_start.h"
+#include "engine/balanced_start.h"
 #include "engine/rotation.h"
 #include "engine/solution_trend.h"
 #include "geometry/convex_separation.h"
@@ -64,13 +64,17 @@ constexpr int kWarmStartStallIterations = 15;
 // that stalled 6–14, at events the trend could not foresee
 constexpr int kPredictedStallIterations = 5;
 // a predicted start ends the step without a Newton step only at this fraction of the tolerance:
-// balanced (predicted_start.h), it met the tolerance in 118 of the desk's 400 steps, at up to
+// balanced (balanced_start.h), it met the tolerance in 118 of the desk's 400 steps, at up to
 // 9.5e-13 against 1e-12, and accepting it there moved the desk's trajectory by 9.5e-11 m/s; one
 // Newton step from it ends at 1e-16 (C r² with C ≈ 26), where the steps from the unbalanced
 // start ended, and the trajectory stays within 1.3e-14 m/s of theirs. A slide's uniform
 // deceleration, which the trend extrapolates exactly, starts at round-off (≤ 1e-14) and still
 // ends there without a Newton step (1e-3 gave it 8 steps more of 24 over its run)
-constexpr double kPredictedStartAcceptance = 1e-2;
+constexpr double kBalancedStartAcceptance = 1e-2;
+// a resting body's contact sticks (balanced_start.h) where its slip multiplier σ is at most this
+// fraction of the velocity scale: Newton leaves a sticking σ at round-off (0 … 1e-18 m/s on the
+// T-bar at rest, whose velocity scale is 0.1 m/s), far below this
+constexpr double kStickingSlipFraction = 1e-12;
 // the predicted start is tried only along a trend whose second difference of the body's velocity
 // (|Δ²v| + |Δ²ω| L) is below this fraction of its first: where an event (a landing, the
 // support moving to another edge) lies within the trend's steps its second difference is as
@@ -299,11 +303,6 @@ class IslandStepper {
         // bodies at rest under unchanged loads: the last step's solution usually solves this one
         // too (a stack, a box on the table), and is verified on the residual alone
         options.verify_start_first = guess == Guess::kWarm && !moving;
-        // a balanced predicted start often meets the tolerance already: one Newton step takes it
-        // to round-off (engine/README.md, "The predicted start")
-        options.start_tolerance = guess == Guess::kPredicted
-                                      ? kPredictedStartAcceptance * options.tolerance
-                                      : INFINITY;
         // a body alone's warm start in the first pass gives up sooner (engine/README.md, "The
         // first pass's warm start"); the other guesses and passes as before
         const bool first_warm = p == 0 && guess == Guess::kWarm;
@@ -318,6 +317,11 @@ class IslandStepper {
         };
         for (int growth = 0; growth <= kMaxWindowGrowth; ++growth) {
           VectorXd z = MakeGuess(guess, problem, layout, state, scales);
+          // a balanced start often meets the tolerance already: one Newton step takes it to
+          // round-off (engine/README.md, "The predicted start")
+          options.start_tolerance = BalanceGuess(guess, moving, problem, layout, scales, z)
+                                        ? kBalancedStartAcceptance * options.tolerance
+                                        : INFINITY;
           Attempt attempt = Solve(problem, layout, z, options, scales, ejection_energy, result);
           result.residual = attempt.residual;
           if (attempt.outcome == Outcome::kUnconverged) {
@@ -1125,11 +1129,21 @@ class IslandStepper {
         SetSlidingFriction(fr, p_n, v_t, v_o, v_r, sigma0, L, z);
       }
     }
-    if (guess == Guess::kPredicted) {
-      BalancePredictedStart(problem, layout, kDegenerateActiveFraction, z);
-      FitCarryingMultipliers(problem, layout, kDegenerateActiveFraction, z);
-    }
     return z;
+  }
+
+  // the guess `z` made consistent with the step's equations where balanced_start.h can: a
+  // predicted start balanced where the body slides flat (its carrying faces' multipliers fitted
+  // where it rocks), a warm start where the body rests; whether it was balanced
+  static bool BalanceGuess(Guess guess, bool moving, const IslandProblem& problem,
+                           const IslandLayout& layout, const IslandScales& scales, VectorXd& z) {
+    if (guess == Guess::kPredicted) {
+      FitCarryingMultipliers(problem, layout, kDegenerateActiveFraction, z);
+      return BalancePredictedStart(problem, layout, kDegenerateActiveFraction, z);
+    }
+    return guess == Guess::kWarm && !moving && !scales.bodies.empty() &&
+           BalanceRestingStart(problem, layout, kDegenerateActiveFraction,
+                               kStickingSlipFraction * scales.bodies[0].velocity, z);
   }
 
   // grows the windows (F's, and a moving polyhedral G's) of every contact whose windowed

@@ -1,8 +1,8 @@
 #pragma once
-// The predicted start of the hull model refined (engine/README.md, "The predicted start"): the
-// trend's extrapolation of a body alone on fixed obstacles made consistent with the step's own
-// equations where the extrapolation leaves them off, by sweeps that cost a few 3 × 3 solves
-// instead of Newton iterations.
+// The hull model's starts made consistent with the step's own equations where they are off (engine/
+// README.md, "The predicted start"): a body alone on fixed obstacles, its predicted start where it
+// slides flat, its warm start where it rests under loads that changed, the multipliers of the faces
+// that carry it where it rocks — at the cost of a few 3 × 3 solves instead of Newton iterations.
 
 #include <Eigen/Core>
 
@@ -25,10 +25,24 @@ void FitCarryingMultipliers(const IslandProblem& problem, const IslandLayout& la
 /// about the plane's normal with the ECP's place on the face to the torque rows, until the
 /// friction impulse changes by at most kBalanceTolerance of μ p_n. Returns whether z was
 /// balanced; z is left as it came where the sweeps do not apply (not one body with one contact
-/// on a plane without creep, flat and sliding with σ > 0) or do not contract (a slip too slow
-/// for its friction: the fixed point of slip and friction diverges there) or would make p_n ≤ 0.
+/// on a plane without creep, flat and sliding with σ > 0), where its friction already agrees
+/// with its slip to kBalanceTolerance (an exact prediction), or where the sweeps do not contract
+/// (a slip too slow for its friction: the fixed point of slip and friction diverges there) or
+/// would make p_n ≤ 0.
 bool BalancePredictedStart(const IslandProblem& problem, const IslandLayout& layout,
                            double active_fraction, Eigen::VectorXd& z);
+
+/// Balances, in z, the warm start of one body at rest flat on one plane (one hull face carries
+/// the contact, σ ≤ `sticking_slip` m/s, the slip's round-off: sticking) to loads that changed
+/// since it was solved: with z's velocities, the contact force (p_n, p_t, p_o) from the
+/// Newton–Euler force rows, and p_r with the ECP's place on the face from the torque rows (a
+/// linear 3 × 3 solve). Returns whether z was balanced; z is left as it came where this does not
+/// apply (not one body with one contact on a plane without creep, flat and sticking with
+/// p_n > 0), where the loads did not change (the balance would move z by its round-off only:
+/// kUnchangedFraction in balanced_start.cpp), or where the balanced friction leaves the friction
+/// ellipsoid (the body starts to slide: the Newton iteration finds how).
+bool BalanceRestingStart(const IslandProblem& problem, const IslandLayout& layout,
+                         double active_fraction, double sticking_slip, Eigen::VectorXd& z);
 
 /// The sweeps stop when the friction impulse changed by at most this fraction of μ p_n. On the
 /// paper's desk (scenes/desk.yaml) the one Newton step from the balanced start then ends at

@@ -1,4 +1,4 @@
-#include "engine/predicted_start.h"
+#include "engine/balanced_start.h"
 
 #include <cmath>
 #include <limits>
@@ -48,6 +48,26 @@ Vector3d FaceNormal(const IslandContact& cp, int position, const EndPose& end, c
   return end.R * cp.hull->Gradient(cp.window[position], y);
 }
 
+// whether z's contact is the one contact of a body alone, on a plane without creep, pressed
+// (p_n > 0) and carried by one hull face: flat (on an edge or a vertex, rocking, the fitted start
+// of FitCarryingMultipliers converges as fast: balanced there it took one Newton step more)
+bool FlatOnOnePlane(const IslandProblem& problem, const IslandLayout& layout,
+                    double active_fraction, const VectorXd& z) {
+  if (problem.bodies.size() != 1 || problem.contacts.size() != 1) return false;
+  const IslandContact& cp = problem.contacts[0];
+  const MncpLayout::Contact& L = layout.contacts[0];
+  if (cp.other_kind != Other::kFixed || !L.on_plane() || cp.stick_creep != 0) return false;
+  return z[L.p_n] > 0 && CarryingFaces(L, active_fraction, z).count == 1;
+}
+
+// the plane's contact frame (N is its constant normal)
+ContactFrame PlaneFrame(const IslandProblem& problem, const IslandLayout& layout,
+                        const VectorXd& z) {
+  const IslandContact& cp = problem.contacts[0];
+  return MakeContactFrame(ContactNormalCombination(SidesOf(cp), layout.contacts[0], nullptr, z),
+                          cp.tangent_reference);
+}
+
 }  // namespace
 
 void FitCarryingMultipliers(const IslandProblem& problem, const IslandLayout& layout,
@@ -75,21 +95,15 @@ void FitCarryingMultipliers(const IslandProblem& problem, const IslandLayout& la
 
 bool BalancePredictedStart(const IslandProblem& problem, const IslandLayout& layout,
                            double active_fraction, VectorXd& z) {
-  if (problem.bodies.size() != 1 || problem.contacts.size() != 1) return false;
+  if (!FlatOnOnePlane(problem, layout, active_fraction, z)) return false;
   const IslandContact& cp = problem.contacts[0];
   const MncpLayout::Contact& L = layout.contacts[0];
-  if (cp.other_kind != Other::kFixed || !L.on_plane() || cp.stick_creep != 0) return false;
-  if (!(z[L.sigma] > 0) || !(z[L.p_n] > 0)) return false;
-  // flat on one face (on an edge or a vertex, rocking, the fitted start of
-  // FitCarryingMultipliers converges as fast: balanced there it took one Newton step more)
-  if (CarryingFaces(L, active_fraction, z).count != 1) return false;
+  if (!(z[L.sigma] > 0)) return false;  // sliding
 
   const BodyProblem& body = problem.bodies[0];
   const Friction& fr = cp.friction;
   const int col = IslandLayout::Velocity(0);
-  // on a plane N is its constant normal: one frame for every sweep
-  const ContactFrame frame =
-      MakeContactFrame(ContactNormalCombination(SidesOf(cp), L, nullptr, z), cp.tangent_reference);
+  const ContactFrame frame = PlaneFrame(problem, layout, z);  // one for every sweep
   const Vector3d& n = frame.n;
   const double et2 = fr.e_t * fr.e_t, eo2 = fr.e_o * fr.e_o, er2 = fr.e_r * fr.e_r;
   const Matrix3d& I = body.inertia_world;
@@ -111,6 +125,10 @@ bool BalancePredictedStart(const IslandProblem& problem, const IslandLayout& lay
     const Vector3d next_friction(-et2 * mu_pn * v_t / slip_norm, -eo2 * mu_pn * v_o / slip_norm,
                                  -er2 * mu_pn * v_r / slip_norm);
     const double change = (next_friction - friction).norm() / mu_pn;
+    // a prediction its friction already agrees with is left as it is: exact where the motion is
+    // (a uniform deceleration, which the trend extrapolates exactly), and the sweeps would only
+    // move it by their own tolerance
+    if (sweep == 0 && change <= kBalanceTolerance) return false;
     // (the first sweeps settle the trend's own mismatch, which may grow once before it shrinks)
     if (sweep > 1 && !(change < last_change)) return false;  // not contracting
     last_change = change;
@@ -151,6 +169,47 @@ bool BalancePredictedStart(const IslandProblem& problem, const IslandLayout& lay
     }
   }
   return false;
+}
+
+bool BalanceRestingStart(const IslandProblem& problem, const IslandLayout& layout,
+                         double active_fraction, double sticking_slip, VectorXd& z) {
+  if (!FlatOnOnePlane(problem, layout, active_fraction, z)) return false;
+  const IslandContact& cp = problem.contacts[0];
+  const MncpLayout::Contact& L = layout.contacts[0];
+  if (!(z[L.sigma] <= sticking_slip)) return false;  // sticking
+  const BodyProblem& body = problem.bodies[0];
+  const Friction& fr = cp.friction;
+  const int col = IslandLayout::Velocity(0);
+  const ContactFrame frame = PlaneFrame(problem, layout, z);
+  const Vector3d& n = frame.n;
+  const Vector3d v = z.segment<3>(col), w = z.segment<3>(col + 3);
+
+  // the force rows m (v⁺ − v) = p_ext + force at z's velocities
+  const Vector3d force = body.mass * (v - body.v) - body.p_ext.head<3>();
+  const double p_n = n.dot(force), p_t = frame.t.dot(force), p_o = frame.o.dot(force);
+  if (!(p_n > 0)) return false;
+  // the torque rows I (ω⁺ − ω) + h ω⁺ × I ω⁺ − τ_ext − (a1 − c⁺) × force − n p_r = 0, linear in
+  // p_r and the ECP's shift in the face's plane
+  const Matrix3d& I = body.inertia_world;
+  Vector3d a1 = z.segment<3>(L.a1);
+  const Vector3d residual = I * (w - body.w) + body.h * w.cross(I * w) - body.p_ext.tail<3>() -
+                            (a1 - (body.c + body.h * v)).cross(force) - n * z[L.p_r];
+  Matrix3d A;  // the residual's derivatives in p_r and along t and o (of a1)
+  A << -n, force.cross(frame.t), force.cross(frame.o);
+  const Vector3d step = -(A.inverse() * residual);
+  if (!step.allFinite()) return false;
+  const double p_r = z[L.p_r] + step[0];
+  a1 += frame.t * step[1] + frame.o * step[2];
+  // sticking holds only inside the friction ellipsoid
+  const double p_hat = std::sqrt(p_t * p_t / (fr.e_t * fr.e_t) + p_o * p_o / (fr.e_o * fr.e_o) +
+                                 p_r * p_r / (fr.e_r * fr.e_r));
+  if (!(p_hat < fr.mu * p_n)) return false;
+  z[L.p_n] = p_n;
+  z[L.p_t] = p_t;
+  z[L.p_o] = p_o;
+  z[L.p_r] = p_r;
+  z.segment<3>(L.a1) = a1;
+  return true;
 }
 
 }  // namespace ecpsim::engine

@@ -1,8 +1,10 @@
-// The hull model's predicted start refined (engine/predicted_start.h): a box sliding and turning
-// flat on the ground, whose step is solved to round-off first, then started off by the errors of
-// a trend's extrapolation and balanced back; and a box rocking on an edge, whose carrying faces'
-// multipliers are refitted to its turned pose.
+// The hull model's starts balanced (engine/balanced_start.h): a box sliding and turning flat on
+// the ground, whose step is solved to round-off first, then started off by the errors of a
+// trend's extrapolation and balanced back; a box resting under loads that changed since its warm
+// start; and a box rocking on an edge, whose carrying faces' multipliers are refitted to its
+// turned pose.
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 
@@ -13,7 +15,7 @@
 #include "engine/island_mncp.h"
 #include "engine/island_scaling.h"
 #include "engine/mncp_system.h"
-#include "engine/predicted_start.h"
+#include "engine/balanced_start.h"
 #include "geometry/convex_shape.h"
 
 namespace ecpsim::engine {
@@ -73,7 +75,8 @@ struct BoxOnGround {
     problem.contacts = {contact};
     layout = MakeIslandLayout(problem);
     const double length = std::sqrt(body.inertia_world.trace() / kMass);
-    const double speed = v.norm() + w.norm() * length;
+    // (BodyScales' rule: the body's own speed, or what gravity adds over the step if larger)
+    const double speed = std::max(v.norm() + w.norm() * length, kG * body.h);
     scales.bodies = {Scales{length, speed, kMass * speed}};
     double lowest = INFINITY;
     for (int i = 0; i < hull->NumConstraints(); ++i) {
@@ -140,7 +143,7 @@ VectorXd Predicted(const BoxOnGround& box, const VectorXd& solution) {
   return z;
 }
 
-TEST(PredictedStartTest, TheBalancedStartOfABoxSlidingFlatIsItsStepsSolution) {
+TEST(BalancedStartTest, TheBalancedStartOfABoxSlidingFlatIsItsStepsSolution) {
   const BoxOnGround box = SlidingBox();
   const VectorXd solution = box.Solve();
   VectorXd z = Predicted(box, solution);
@@ -160,7 +163,7 @@ TEST(PredictedStartTest, TheBalancedStartOfABoxSlidingFlatIsItsStepsSolution) {
   EXPECT_LE((z.head<3>() - solution.head<3>()).norm(), kBalanceTolerance * s.velocity);
 }
 
-TEST(PredictedStartTest, AStickingOrUnflatContactIsLeftAsPredicted) {
+TEST(BalancedStartTest, AStickingOrUnflatContactIsLeftAsPredicted) {
   const BoxOnGround box = SlidingBox();
   const VectorXd solution = box.Solve();
   const MncpLayout::Contact& L = box.L();
@@ -178,7 +181,43 @@ TEST(PredictedStartTest, AStickingOrUnflatContactIsLeftAsPredicted) {
   EXPECT_EQ(edge, edge_before);
 }
 
-TEST(PredictedStartTest, AnEdgesCarryingMultipliersAreFittedToTheTurnedPose) {
+// a box at rest, pushed by `force` (N, below the friction's 0.22 m g = 32 N) and twisted by
+// `torque` (N·m)
+BoxOnGround RestingBox(double force, double torque) {
+  return BoxOnGround(Eigen::AngleAxisd(0.3, Vector3d::UnitZ()).toRotationMatrix(),
+                     Vector3d(0.1, -0.2, 0.1), Vector3d::Zero(), Vector3d::Zero(),
+                     Vector3d(force, 0.5 * force, 0), torque);
+}
+
+TEST(BalancedStartTest, TheWarmStartOfABoxRestingUnderChangedLoadsIsBalancedToItsSolution) {
+  // the warm start: the solution under the last step's loads, 10 % smaller
+  const VectorXd warm = RestingBox(9, 1.8).Solve();
+  const BoxOnGround box = RestingBox(10, 2);
+  const VectorXd solution = box.Solve();
+  const double sticking_slip = 1e-12 * box.scales.bodies[0].velocity;  // the hull model's
+  ASSERT_LE(solution[box.L().sigma], sticking_slip);
+  VectorXd z = warm;
+  const double before = box.Measure(z);
+  ASSERT_TRUE(BalanceRestingStart(box.problem, box.layout, kActiveFraction, sticking_slip, z));
+  const double after = box.Measure(z);
+  std::printf("resting box: warm start %.3g, balanced %.3g\n", before, after);
+  EXPECT_GT(before, 1e-3);
+  // at rest the step's velocities are the warm start's (zero), and the balance is then a linear
+  // solve of the rows that the loads change: exact to the round-off of its O(1) scaled terms
+  constexpr double kRoundOff = 1e-13;
+  EXPECT_LE(after, kRoundOff);
+}
+
+TEST(BalancedStartTest, ARestingBoxPushedBeyondItsFrictionIsLeftToNewton) {
+  const VectorXd warm = RestingBox(9, 1.8).Solve();
+  const BoxOnGround box = RestingBox(40, 2);  // 40 N against 32 N of friction: it slides
+  VectorXd z = warm;
+  EXPECT_FALSE(BalanceRestingStart(box.problem, box.layout, kActiveFraction,
+                                   1e-12 * box.scales.bodies[0].velocity, z));
+  EXPECT_EQ(z, warm);
+}
+
+TEST(BalancedStartTest, AnEdgesCarryingMultipliersAreFittedToTheTurnedPose) {
   // the box on its long bottom edge (along x, at y = −0.15 and z = −0.1 in the body), tilted by
   // 0.3 rad about it and tipping on at 2 rad/s: the bottom face and the side face y = −0.15
   // carry it, and the turn leaves the multipliers of the last pose off in the cone rows
