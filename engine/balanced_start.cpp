@@ -93,7 +93,7 @@ void FitCarryingMultipliers(const IslandProblem& problem, const IslandLayout& la
   }
 }
 
-bool BalancePredictedStart(const IslandProblem& problem, const IslandLayout& layout,
+bool BalanceSlidingStart(const IslandProblem& problem, const IslandLayout& layout,
                            double active_fraction, VectorXd& z) {
   if (!FlatOnOnePlane(problem, layout, active_fraction, z)) return false;
   const IslandContact& cp = problem.contacts[0];
@@ -125,9 +125,9 @@ bool BalancePredictedStart(const IslandProblem& problem, const IslandLayout& lay
     const Vector3d next_friction(-et2 * mu_pn * v_t / slip_norm, -eo2 * mu_pn * v_o / slip_norm,
                                  -er2 * mu_pn * v_r / slip_norm);
     const double change = (next_friction - friction).norm() / mu_pn;
-    // a prediction its friction already agrees with is left as it is: exact where the motion is
-    // (a uniform deceleration, which the trend extrapolates exactly), and the sweeps would only
-    // move it by their own tolerance
+    // a start its friction already agrees with is left as it is: exact where the motion is (a
+    // uniform deceleration, which the trend extrapolates exactly), and the sweeps would only move
+    // it by their own tolerance
     if (sweep == 0 && change <= kBalanceTolerance) return false;
     // (the first sweeps settle the trend's own mismatch, which may grow once before it shrinks)
     if (sweep > 1 && !(change < last_change)) return false;  // not contracting
@@ -135,7 +135,7 @@ bool BalancePredictedStart(const IslandProblem& problem, const IslandLayout& lay
     friction = next_friction;
 
     // the force rows m (v⁺ − v) = p_ext + n p_n + t p_t + o p_o: the tangential velocity from
-    // them, and p_n from their normal component at the predicted normal velocity
+    // them, and p_n from their normal component at the start's normal velocity
     const Vector3d tangential = frame.t * friction[0] + frame.o * friction[1];
     const Vector3d free_v = body.v + (body.p_ext.head<3>() + tangential) / body.mass;
     p_n = body.mass * n.dot(v - free_v);

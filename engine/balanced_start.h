@@ -1,8 +1,9 @@
 #pragma once
-// The hull model's starts made consistent with the step's own equations where they are off (engine/
-// README.md, "The predicted start"): a body alone on fixed obstacles, its predicted start where it
-// slides flat, its warm start where it rests under loads that changed, the multipliers of the faces
-// that carry it where it rocks — at the cost of a few 3 × 3 solves instead of Newton iterations.
+// The hull model's starts made consistent with the step's own equations where they are off
+// (engine/README.md, "Balanced starts"): of a body alone on fixed obstacles, its start where it
+// slides flat (predicted, warm or the sliding guess), its warm start where it rests under loads
+// that changed, the multipliers of the faces that carry it where it rocks — at the cost of a few
+// 3 × 3 solves instead of Newton iterations.
 
 #include <Eigen/Core>
 
@@ -18,7 +19,7 @@ namespace ecpsim::engine {
 void FitCarryingMultipliers(const IslandProblem& problem, const IslandLayout& layout,
                             double active_fraction, Eigen::VectorXd& z);
 
-/// Balances, in z, the predicted start of one body sliding flat on one plane (one hull face
+/// Balances, in z, a start of one body sliding flat on one plane (one hull face
 /// carries the contact: its multiplier alone exceeds `active_fraction` of the largest): sweeps
 /// that set the friction impulses and σ to maximum dissipation at z's slip, the tangential
 /// velocity and p_n to the Newton–Euler force rows (the normal velocity kept), and the turn
@@ -26,10 +27,11 @@ void FitCarryingMultipliers(const IslandProblem& problem, const IslandLayout& la
 /// friction impulse changes by at most kBalanceTolerance of μ p_n. Returns whether z was
 /// balanced; z is left as it came where the sweeps do not apply (not one body with one contact
 /// on a plane without creep, flat and sliding with σ > 0), where its friction already agrees
-/// with its slip to kBalanceTolerance (an exact prediction), or where the sweeps do not contract
+/// with its slip to kBalanceTolerance (an exact start: a prediction of a uniform deceleration),
+/// or where the sweeps do not contract
 /// (a slip too slow for its friction: the fixed point of slip and friction diverges there) or
 /// would make p_n ≤ 0.
-bool BalancePredictedStart(const IslandProblem& problem, const IslandLayout& layout,
+bool BalanceSlidingStart(const IslandProblem& problem, const IslandLayout& layout,
                            double active_fraction, Eigen::VectorXd& z);
 
 /// Balances, in z, the warm start of one body at rest flat on one plane (one hull face carries
@@ -48,7 +50,7 @@ bool BalanceRestingStart(const IslandProblem& problem, const IslandLayout& layou
 /// paper's desk (scenes/desk.yaml) the one Newton step from the balanced start then ends at
 /// 6e-17 … 1.7e-16 (the unbalanced start's two ended at 1e-16 too), after 3–4 sweeps; 1e-5 left
 /// ends at up to 9.5e-15 and the trajectory 5e-14 m/s off, 1e-7 … 1e-10 took up to 5 … 8 sweeps
-/// for the same ends (engine/README.md, "The predicted start").
+/// for the same ends (engine/README.md, "Balanced starts").
 inline constexpr double kBalanceTolerance = 1e-6;
 inline constexpr int kMaxBalanceSweeps = 12;
 

@@ -1132,16 +1132,19 @@ class IslandStepper {
     return z;
   }
 
-  // the guess `z` made consistent with the step's equations where balanced_start.h can: a
-  // predicted start balanced where the body slides flat (its carrying faces' multipliers fitted
-  // where it rocks), a warm start where the body rests; whether it was balanced
+  // the guess `z` made consistent with the step's equations where balanced_start.h can: the
+  // predicted start, the warm start or the sliding guess of a body sliding flat (a predicted
+  // start's carrying faces' multipliers fitted where it rocks), the warm start of a body at
+  // rest; whether it was balanced
   static bool BalanceGuess(Guess guess, bool moving, const IslandProblem& problem,
                            const IslandLayout& layout, const IslandScales& scales, VectorXd& z) {
-    if (guess == Guess::kPredicted) {
+    if (guess == Guess::kPredicted)
       FitCarryingMultipliers(problem, layout, kDegenerateActiveFraction, z);
-      return BalancePredictedStart(problem, layout, kDegenerateActiveFraction, z);
+    if (moving) {
+      return (guess == Guess::kPredicted || guess == Guess::kWarm || guess == Guess::kSliding) &&
+             BalanceSlidingStart(problem, layout, kDegenerateActiveFraction, z);
     }
-    return guess == Guess::kWarm && !moving && !scales.bodies.empty() &&
+    return guess == Guess::kWarm && !scales.bodies.empty() &&
            BalanceRestingStart(problem, layout, kDegenerateActiveFraction,
                                kStickingSlipFraction * scales.bodies[0].velocity, z);
   }
