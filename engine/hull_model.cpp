@@ -223,7 +223,7 @@ class IslandStepper {
     // free of the degenerate σ and of round-off in far-apart coordinates
     // (the problem's layout: rebuilt only where a window grows)
     IslandLayout layout = MakeIslandLayout(problem);
-    {
+    if (MayFlyFree(problem, state)) {
       const VectorXd z = MakeGuess(Guess::kSeparated, problem, layout, state, scales);
       if (AllContactsApart(problem, layout, z, state)) {
         Commit(problem, layout, z, state);
@@ -813,6 +813,25 @@ class IslandStepper {
   // the free-flight end pose): a half-space obstacle strictly below a1, a moving G whose support
   // point a2 in +n lies strictly behind a1 along n (the plane normal to n between them separates
   // the hulls); any other obstacle: false
+  // AllContactsApart's answer for the separated guess where a fixed G decides it, without
+  // building the guess: false if a fixed contact's hull, at the free-flight end pose, does not end
+  // strictly outside its half-space (its support point in −n, the separated guess's a1, computed
+  // as MakeGuess does) or its G is no half-space; true where that does not decide it. A body on
+  // the ground fails here, at the cost of one support point instead of the whole guess
+  static bool MayFlyFree(const IslandProblem& problem, const IslandState& state) {
+    for (size_t k = 0; k < problem.contacts.size(); ++k) {
+      const IslandContact& cp = problem.contacts[k];
+      if (cp.other_kind != Other::kFixed) continue;
+      if (!cp.other_shape->IsHalfSpace()) return false;
+      const BodyProblem& body = problem.bodies[cp.body];
+      const EndPose pose = PoseAfterStep(body, body.free.v, body.free.w);
+      const Vector3d& n = state.contacts[k].n;
+      const Vector3d a1 = pose.c + pose.R * cp.hull->Support(pose.R.transpose() * -n);
+      if (!(cp.other_shape->Value(0, a1) > 0)) return false;
+    }
+    return true;
+  }
+
   static bool AllContactsApart(const IslandProblem& problem, const IslandLayout& layout,
                                const VectorXd& z, const IslandState& state) {
     for (size_t k = 0; k < problem.contacts.size(); ++k) {
