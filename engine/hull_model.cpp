@@ -388,12 +388,20 @@ class IslandStepper {
     struct Context {
       const IslandProblem& problem;
       const IslandLayout& layout;
-      const VectorXd row_scale, var_scale;
-      const IslandResidualUnits units;
+      const VectorXd& row_scale;
+      const VectorXd& var_scale;
+      const IslandResidualUnits& units;
     };
-    const Context c{problem, layout, IslandRowScales(problem, layout, scales),
-                    IslandVariableScales(problem, layout, scales),
-                    MakeIslandResidualUnits(problem, scales, options.tolerance)};
+    // (the scales' storage the thread's, kept from solve to solve: no solve runs inside another)
+    struct Scaling {
+      VectorXd row_scale, var_scale;
+      IslandResidualUnits units;
+    };
+    thread_local Scaling scaling;
+    IslandRowScales(problem, layout, scales, scaling.row_scale);
+    IslandVariableScales(problem, layout, scales, scaling.var_scale);
+    MakeIslandResidualUnits(problem, scales, options.tolerance, scaling.units);
+    const Context c{problem, layout, scaling.row_scale, scaling.var_scale, scaling.units};
     options.measure = [&c](const VectorXd& zz, const VectorXd& F) {
       return IslandMncpResidual(c.problem, c.layout, zz, F, c.row_scale, c.var_scale, c.units);
     };

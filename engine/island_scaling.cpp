@@ -12,17 +12,16 @@ using Other = IslandContact::Other;
 // a vector of the island's scales: each body's part at its ν⁺ in its own Scales, each contact's
 // block in ContactScales
 template <typename BodyPart, typename ContactPart>
-Eigen::VectorXd IslandScaleVector(const IslandProblem& problem, const IslandLayout& layout,
-                                  const IslandScales& scales, BodyPart body_part,
-                                  ContactPart contact_part) {
-  Eigen::VectorXd scale = Eigen::VectorXd::Ones(layout.size);
+void IslandScaleVector(const IslandProblem& problem, const IslandLayout& layout,
+                       const IslandScales& scales, BodyPart body_part, ContactPart contact_part,
+                       Eigen::VectorXd& scale) {
+  scale.setOnes(layout.size);
   for (int b = 0; b < layout.num_bodies; ++b)
     body_part(IslandLayout::Velocity(b), scales.bodies[b], scale);
   for (size_t k = 0; k < layout.contacts.size(); ++k) {
     contact_part(layout.contacts[k], problem.contacts[k].friction,
                  ContactScales(problem, scales, static_cast<int>(k)), scale);
   }
-  return scale;
 }
 
 }  // namespace
@@ -37,20 +36,43 @@ Scales ContactScales(const IslandProblem& problem, const IslandScales& scales, i
           std::min(body.impulse, other.impulse)};
 }
 
+void IslandVariableScales(const IslandProblem& problem, const IslandLayout& layout,
+                          const IslandScales& scales, Eigen::VectorXd& scale) {
+  IslandScaleVector(problem, layout, scales, SetVelocityScales, SetContactVariableScales, scale);
+}
+
 Eigen::VectorXd IslandVariableScales(const IslandProblem& problem, const IslandLayout& layout,
                                      const IslandScales& scales) {
-  return IslandScaleVector(problem, layout, scales, SetVelocityScales, SetContactVariableScales);
+  Eigen::VectorXd scale;
+  IslandVariableScales(problem, layout, scales, scale);
+  return scale;
+}
+
+void IslandRowScales(const IslandProblem& problem, const IslandLayout& layout,
+                     const IslandScales& scales, Eigen::VectorXd& scale) {
+  IslandScaleVector(problem, layout, scales, SetNewtonEulerRowScales, SetContactRowScales, scale);
 }
 
 Eigen::VectorXd IslandRowScales(const IslandProblem& problem, const IslandLayout& layout,
                                 const IslandScales& scales) {
-  return IslandScaleVector(problem, layout, scales, SetNewtonEulerRowScales, SetContactRowScales);
+  Eigen::VectorXd scale;
+  IslandRowScales(problem, layout, scales, scale);
+  return scale;
 }
 
 IslandResidualUnits MakeIslandResidualUnits(const IslandProblem& problem,
                                             const IslandScales& scales, double tolerance) {
   IslandResidualUnits units;
+  MakeIslandResidualUnits(problem, scales, tolerance, units);
+  return units;
+}
+
+void MakeIslandResidualUnits(const IslandProblem& problem, const IslandScales& scales,
+                             double tolerance, IslandResidualUnits& units) {
   units.tolerance = tolerance;
+  units.body_length.clear();
+  units.contact_length.clear();
+  units.contact_coordinates.clear();
   for (const Scales& s : scales.bodies) units.body_length.push_back(s.length);
   for (size_t k = 0; k < problem.contacts.size(); ++k) {
     const IslandContact& cp = problem.contacts[k];
@@ -63,7 +85,6 @@ IslandResidualUnits MakeIslandResidualUnits(const IslandProblem& problem,
     }
     units.contact_coordinates.push_back(coordinates);
   }
-  return units;
 }
 
 double IslandEnergyScale(const IslandProblem& problem, const IslandScales& scales) {

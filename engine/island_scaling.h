@@ -30,17 +30,26 @@ Scales ContactScales(const IslandProblem& problem, const IslandScales& scales, i
 /// ContactScales. For one body with fixed contacts it is VariableScales to the bit.
 Eigen::VectorXd IslandVariableScales(const IslandProblem& problem, const IslandLayout& layout,
                                      const IslandScales& scales);
+/// The same into `scale`, whose storage a caller's step after step keeps.
+void IslandVariableScales(const IslandProblem& problem, const IslandLayout& layout,
+                          const IslandScales& scales, Eigen::VectorXd& scale);
 
 /// RowScales for an island: body b's Newton–Euler rows in 1/P_b and 1/(P_b L_b), each contact's
 /// rows in ContactScales. For one body with fixed contacts it is RowScales to the bit.
 Eigen::VectorXd IslandRowScales(const IslandProblem& problem, const IslandLayout& layout,
                                 const IslandScales& scales);
+/// The same into `scale`.
+void IslandRowScales(const IslandProblem& problem, const IslandLayout& layout,
+                     const IslandScales& scales, Eigen::VectorXd& scale);
 
 /// The units of IslandMncpResidual for a solve with `tolerance`: the bodies' lengths, each
 /// contact's ContactScales length, and the largest |coordinate| of the centres of mass (a
 /// kinematic body's frame origin) each contact joins at the start of the step.
 IslandResidualUnits MakeIslandResidualUnits(const IslandProblem& problem,
                                             const IslandScales& scales, double tolerance);
+/// The same into `units`, whose storage a caller's step after step keeps.
+void MakeIslandResidualUnits(const IslandProblem& problem, const IslandScales& scales,
+                             double tolerance, IslandResidualUnits& units);
 
 /// J: Σ over the island's bodies of EnergyScale, the scale of IslandStepEnergyGain.
 double IslandEnergyScale(const IslandProblem& problem, const IslandScales& scales);
