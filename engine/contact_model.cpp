@@ -12,7 +12,8 @@
 
 namespace ecpsim::engine {
 
-std::unique_ptr<ContactModelStepper> MakeContactModel(const Scene& scene) {
+void UseContactModel(const Scene& scene,
+                     const std::function<void(const ContactModelStepper&)>& use) {
   // the hull and point models have contacts between two moving hulls (the planar and
   // multi-patch models combine ECPs on one fixed plane)
   if (scene.model == ContactModel::kPlanar || scene.model == ContactModel::kMultiPatch) {
@@ -35,17 +36,17 @@ std::unique_ptr<ContactModelStepper> MakeContactModel(const Scene& scene) {
   }
   switch (scene.model) {
     case ContactModel::kPlanar:
-      return std::make_unique<PlanarModel>(scene);
+      return use(PlanarModel(scene));
     case ContactModel::kMultiPatch:
-      return std::make_unique<MultiPatchModel>(scene);
+      return use(MultiPatchModel(scene));
     case ContactModel::kPointLcp:
-      return std::make_unique<PointContactModel>(scene);
+      return use(PointContactModel(scene));
     case ContactModel::kAuto:
-      return std::make_unique<AutoModel>(scene);
+      return use(AutoModel(scene));
     case ContactModel::kHull:
       break;
   }
-  return std::make_unique<HullModel>(scene);
+  use(HullModel(scene));
 }
 
 }  // namespace ecpsim::engine

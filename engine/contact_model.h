@@ -4,7 +4,7 @@
 // one step or sub-step. The driver (step_driver.h) forms the islands, runs the sub-step ladder
 // and commits; a model only solves.
 
-#include <memory>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -69,7 +69,10 @@ AdvanceResult AdvanceOneBody(const Scene& scene, const Island& island, double t,
       .Advance(t, h, state.bodies[0], state.contacts);
 }
 
-/// The stepper of `scene.model` for `scene` (which it references: it must outlive the stepper).
-std::unique_ptr<ContactModelStepper> MakeContactModel(const Scene& scene);
+/// Calls `use` with the stepper of `scene.model` for `scene`, built in place for the call (a
+/// time step's stepper costs no heap allocation).
+/// @throws ModelInvalid where the model does not apply to the scene.
+void UseContactModel(const Scene& scene,
+                     const std::function<void(const ContactModelStepper&)>& use);
 
 }  // namespace ecpsim::engine

@@ -167,7 +167,15 @@ class IslandStepper {
   AdvanceResult Advance(double t, double h, IslandState& state, bool last_resort) const {
     AdvanceResult result;
     IslandProblem problem = MakeProblem(t, h, state);
-    IslandScales scales;
+    // (the scales and overlaps in the thread's storage, kept from step to step: no step of the
+    // hull model runs inside another)
+    struct Scratch {
+      IslandScales scales;
+      std::vector<double> overlaps;
+    };
+    thread_local Scratch scratch;
+    IslandScales& scales = scratch.scales;
+    scales.bodies.clear();
     for (size_t i = 0; i < island_.bodies.size(); ++i) {
       const BodyProblem& body = problem.bodies[i];
       scales.bodies.push_back(
@@ -180,7 +188,8 @@ class IslandStepper {
 
     RaiseToGripperDrive(problem, scales);
     RaiseToIslandVelocity(problem, scales);
-    const std::vector<double> overlaps = SeparatePairs(problem, scales, state);
+    SeparatePairs(problem, scales, state, scratch.overlaps);
+    const std::vector<double>& overlaps = scratch.overlaps;
     // every contact of an island with bodies touching bodies: a box squeezed between a jaw and
     // a pusher on the ground is indeterminate in how much the ground's sticking friction carries
     // too. A body alone against obstacles keeps the paper's exact law
@@ -247,7 +256,7 @@ class IslandStepper {
     const bool was_in_contact =
         std::any_of(state.contacts.begin(), state.contacts.end(),
                     [](const ContactState& c) { return c.p_n > 0; });
-    std::vector<Guess> ladder = RestartLadder(have_warm_start, was_in_contact, moving);
+    GuessLadder ladder = RestartLadder(have_warm_start, was_in_contact, moving);
     // a body landing on another feature of its hull: the sliding guess first (engine/README.md,
     // "Landings")
     if (moving && ladder.front() == Guess::kWarm && Lands(problem, state, scales)) {
@@ -861,13 +870,13 @@ class IslandStepper {
   // are apart overlap; from there Newton found roots where a finger 4 mm behind a box kicked it
   // into touching at the end of the step. Such a pair takes the candidate axis that separates
   // its start-of-step hulls the most (the separating axis where one exists).
-  // Per contact the overlap of the two hulls' extents along its normal at the start of the step
-  // (m; 0 for a fixed G), after a pair that did not push in the last step got the best separating
-  // axis for its normal where the last one leaves them overlapping (a pair that pushed keeps its
-  // solved normal: its warm start's friction is in that normal's frame)
-  static std::vector<double> SeparatePairs(const IslandProblem& problem,
-                                           const IslandScales& scales, IslandState& state) {
-    std::vector<double> overlaps(problem.contacts.size(), 0.0);
+  // Per contact, into `overlaps`, the overlap of the two hulls' extents along its normal at the
+  // start of the step (m; 0 for a fixed G), after a pair that did not push in the last step got
+  // the best separating axis for its normal where the last one leaves them overlapping (a pair
+  // that pushed keeps its solved normal: its warm start's friction is in that normal's frame)
+  static void SeparatePairs(const IslandProblem& problem, const IslandScales& scales,
+                            IslandState& state, std::vector<double>& overlaps) {
+    overlaps.assign(problem.contacts.size(), 0.0);
     for (size_t k = 0; k < problem.contacts.size(); ++k) {
       const IslandContact& cp = problem.contacts[k];
       if (cp.other_kind == Other::kFixed) continue;
@@ -883,7 +892,6 @@ class IslandStepper {
       n = best.axis;
       overlaps[k] = -best.separation;
     }
-    return overlaps;
   }
 
   // J: twice the kinetic energy of moving the bodies out of their deepest start-of-step

@@ -104,10 +104,10 @@ const char* GuessName(Guess guess) {
   return "guess";
 }
 
-std::vector<Guess> RestartLadder(bool have_warm_start, bool was_in_contact, bool moving) {
+GuessLadder RestartLadder(bool have_warm_start, bool was_in_contact, bool moving) {
   const Guess in_contact = moving ? Guess::kSliding : Guess::kResting;
   const Guess other = moving ? Guess::kResting : Guess::kSliding;
-  std::vector<Guess> ladder = {in_contact, other, Guess::kSeparated};
+  GuessLadder ladder = {in_contact, other, Guess::kSeparated};
   if (have_warm_start && was_in_contact) {
     ladder.insert(ladder.begin(), Guess::kWarm);
   } else if (have_warm_start) {
@@ -116,7 +116,7 @@ std::vector<Guess> RestartLadder(bool have_warm_start, bool was_in_contact, bool
   return ladder;
 }
 
-std::vector<Guess> RestartLadder(bool have_warm_start, const std::vector<ContactState>& contacts,
+GuessLadder RestartLadder(bool have_warm_start, const std::vector<ContactState>& contacts,
                                  const BodyState& state, const Scales& scales) {
   const bool was_in_contact = std::any_of(contacts.begin(), contacts.end(),
                                           [](const ContactState& c) { return c.p_n > 0; });

@@ -6,6 +6,8 @@
 
 #include <Eigen/Core>
 
+#include <boost/container/static_vector.hpp>
+
 #include "engine/mncp_system.h"
 #include "engine/scene.h"
 #include "engine/state.h"
@@ -58,13 +60,16 @@ bool IsMoving(const BodyState& state, const Scales& scales);
 enum class Guess { kWarm, kSeparated, kResting, kSliding, kPredicted };
 const char* GuessName(Guess guess);
 
+/// The guesses of one step in the order they are tried (each at most once).
+using GuessLadder = boost::container::static_vector<Guess, 5>;
+
 /// The order to try them in: the warm start first when the body was in contact, else after the
 /// guesses that fit its motion (a free-flight warm start is a poor guess for an impact).
-std::vector<Guess> RestartLadder(bool have_warm_start, bool was_in_contact, bool moving);
+GuessLadder RestartLadder(bool have_warm_start, bool was_in_contact, bool moving);
 
 /// The same for a body in `state` whose contacts ended the last step as `contacts`: in contact
 /// if any carried a normal impulse, moving as IsMoving says.
-std::vector<Guess> RestartLadder(bool have_warm_start, const std::vector<ContactState>& contacts,
+GuessLadder RestartLadder(bool have_warm_start, const std::vector<ContactState>& contacts,
                                  const BodyState& state, const Scales& scales);
 
 /// A sliding guess's friction on contact L: for the slip (v_t, v_o, v_r) at the ECP (m/s, m/s,

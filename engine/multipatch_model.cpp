@@ -172,7 +172,7 @@ class MultiPatchStepper {
     bool have_warm_start = true;
     for (int g = 0; g < problem.num_groups; ++g)
       have_warm_start &= FitsWarmStart(layout, problem, g, contacts[g].warm_start);
-    const std::vector<Guess> ladder = RestartLadder(have_warm_start, contacts, body, scales);
+    const GuessLadder ladder = RestartLadder(have_warm_start, contacts, body, scales);
 
     McpOptions options;
     options.tolerance = scene_.solver.tolerance;

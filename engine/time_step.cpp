@@ -6,7 +6,11 @@
 namespace ecpsim::engine {
 
 StepReport Step(const Scene& scene, State& state) {
-  return StepIslands(scene, state, *MakeContactModel(scene));
+  StepReport report;
+  UseContactModel(scene, [&](const ContactModelStepper& model) {
+    report = StepIslands(scene, state, model);
+  });
+  return report;
 }
 
 }  // namespace ecpsim::engine
