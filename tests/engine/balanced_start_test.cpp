@@ -34,8 +34,8 @@ constexpr double kActiveFraction = 1e-9;
 // the sweeps balance
 constexpr double kPredictionError = 1e-4;
 
-// a 0.4 × 0.3 × 0.2 m box of `mass` on the ground (z = 0), yawed by 0.3 rad, its one contact in
-// the plane form with every face in the window
+// a 0.4 × 0.3 × 0.2 m box of 15 kg at pose (R, c) on the ground (z = 0), moving at (v, ω) under
+// a force and a torque about z, its one contact in the plane form with every face in the window
 struct BoxOnGround {
   std::shared_ptr<const geometry::ConvexShape> hull = geometry::MakeBox(Vector3d(0.2, 0.15, 0.1));
   std::shared_ptr<const geometry::ConvexShape> ground =
