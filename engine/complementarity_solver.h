@@ -68,7 +68,7 @@ struct McpOptions {
   // the Jacobian a first Newton step needs; else the solve goes on as without it (one more F)
   bool verify_start_first = false;
   // the start itself ends the solve only if its measure is at most this (and the tolerance): a
-  // start made close to the solution by construction (the hull model's balanced predicted start)
+  // start made close to the solution by construction (the hull model's balanced starts)
   // is taken on by a Newton step to round-off, where Newton's steps end, instead of being
   // accepted anywhere under the tolerance (the step's solution, and trajectories with it, would
   // move by up to the tolerance)

@@ -9,6 +9,7 @@
 
 #include <fmt/format.h>
 
+#include "engine/balanced_start.h"
 #include "engine/complementarity_solver.h"
 #include "engine/contact_window.h"
 #include "engine/island_mncp.h"
@@ -16,7 +17,6 @@
 #include "engine/mncp_scaling.h"
 #include "engine/mncp_system.h"
 #include "engine/obstacle_queries.h"
-#include "engine/balanced_start.h"
 #include "engine/rotation.h"
 #include "engine/solution_trend.h"
 #include "geometry/convex_separation.h"
@@ -81,6 +81,10 @@ constexpr double kStickingSlipFraction = 1e-12;
 // large as its first (measured on the T-bar: 1.2–1.6 at its landings and tip-overs, whose
 // predicted starts stalled; 0.01–0.12 along its smooth rocking)
 constexpr double kMaxTrendBend = 0.5;
+// ... or below this fraction of the velocity scale, however it compares with the first: the
+// dumbbell rolling almost uniformly bends its trend by more than its first difference, and its
+// predicted starts converge (gated by the ratio alone it took 2.9 iterations a step instead of 2.4)
+constexpr double kNegligibleBend = 1e-3;
 // a hull point that the body's last velocities take deeper than its last ECP by this fraction of
 // its length marks a landing on another feature (IslandStepper::Lands), where the sliding guess
 // goes first: the warm start of a tilted body falling flat stalled there (the T-bar at 0.35 s
@@ -89,10 +93,6 @@ constexpr double kMaxTrendBend = 0.5;
 // tilted_box.yaml the hull model's Newton iterations were fewest from 0.01 to 0.02 (1215 → 1117,
 // 569 → 543, 95 → 79 at 0.02; 0.005 and 0.05 gave back part of it)
 constexpr double kLandingDip = 0.02;
-// ... or below this fraction of the velocity scale, however it compares with the first: the
-// dumbbell rolling almost uniformly bends its trend by more than its first difference, and its
-// predicted starts converge (gated by the ratio alone it took 2.9 iterations a step instead of 2.4)
-constexpr double kNegligibleBend = 1e-3;
 // the last resort (HullModel::AdvanceAsLastResort: minimum-norm steps, plain Newton) gets this
 // many times the solver's iteration budget per guess: on a set of solutions that ends at a degenerate pair (a
 // contact touching with zero force, as the table's under the T-bar at a finger's first touch)
@@ -327,7 +327,7 @@ class IslandStepper {
         for (int growth = 0; growth <= kMaxWindowGrowth; ++growth) {
           VectorXd z = MakeGuess(guess, problem, layout, state, scales);
           // a balanced start often meets the tolerance already: one Newton step takes it to
-          // round-off (engine/README.md, "The predicted start")
+          // round-off (engine/README.md, "Balanced starts")
           options.start_tolerance = BalanceGuess(guess, moving, problem, layout, scales, z)
                                         ? kBalancedStartAcceptance * options.tolerance
                                         : INFINITY;
@@ -826,10 +826,6 @@ class IslandStepper {
     return ExpMap(problem.h * g.w) * g.R;
   }
 
-  // true if every contact's G is apart from the separated guess's a1 (F's support point in −n at
-  // the free-flight end pose): a half-space obstacle strictly below a1, a moving G whose support
-  // point a2 in +n lies strictly behind a1 along n (the plane normal to n between them separates
-  // the hulls); any other obstacle: false
   // AllContactsApart's answer for the separated guess where a fixed G decides it, without
   // building the guess: false if a fixed contact's hull, at the free-flight end pose, does not end
   // strictly outside its half-space (its support point in −n, the separated guess's a1, computed
@@ -849,6 +845,10 @@ class IslandStepper {
     return true;
   }
 
+  // true if every contact's G is apart from the separated guess's a1 (F's support point in −n at
+  // the free-flight end pose): a half-space obstacle strictly below a1, a moving G whose support
+  // point a2 in +n lies strictly behind a1 along n (the plane normal to n between them separates
+  // the hulls); any other obstacle: false
   static bool AllContactsApart(const IslandProblem& problem, const IslandLayout& layout,
                                const VectorXd& z, const IslandState& state) {
     for (size_t k = 0; k < problem.contacts.size(); ++k) {
