@@ -15,6 +15,12 @@ using Eigen::Vector3d;
 using Eigen::VectorXd;
 using Other = IslandContact::Other;
 
+// a resting warm start whose contact wrench and ECP the balance would move by at most this
+// fraction (of p_n, and of the lever from the CM to the ECP) is taken as unchanged: far above the
+// round-off of the Newton–Euler rows' sums (a few ulps of their largest terms), far below any
+// change of load a step brings
+constexpr double kUnchangedFraction = 1e-12;
+
 // the window positions of the faces that carry contact L in z (multiplier above
 // `active_fraction` of the largest), at most kMaxCarrying of them; count −1 where more do
 constexpr int kMaxCarrying = 3;
@@ -198,6 +204,14 @@ bool BalanceRestingStart(const IslandProblem& problem, const IslandLayout& layou
   A << -n, force.cross(frame.t), force.cross(frame.o);
   const Vector3d step = -(A.inverse() * residual);
   if (!step.allFinite()) return false;
+  // loads that did not change leave the warm start as it is (it solves the step already, and
+  // the rows' round-off would only move it by an ulp)
+  const double lever = (a1 - (body.c + body.h * v)).norm();
+  const double unchanged = kUnchangedFraction * p_n;
+  if (std::abs(p_n - z[L.p_n]) <= unchanged && std::abs(p_t - z[L.p_t]) <= unchanged &&
+      std::abs(p_o - z[L.p_o]) <= unchanged && std::abs(step[0]) <= unchanged * lever &&
+      std::hypot(step[1], step[2]) <= kUnchangedFraction * lever)
+    return false;
   const double p_r = z[L.p_r] + step[0];
   a1 += frame.t * step[1] + frame.o * step[2];
   // sticking holds only inside the friction ellipsoid

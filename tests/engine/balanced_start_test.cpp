@@ -217,6 +217,16 @@ TEST(BalancedStartTest, ARestingBoxPushedBeyondItsFrictionIsLeftToNewton) {
   EXPECT_EQ(z, warm);
 }
 
+TEST(BalancedStartTest, ARestingBoxUnderUnchangedLoadsKeepsItsWarmStart) {
+  // the warm start solves the step already: the balance would move it by its round-off only
+  const BoxOnGround box = RestingBox(9, 1.8);
+  const VectorXd warm = box.Solve();
+  VectorXd z = warm;
+  EXPECT_FALSE(BalanceRestingStart(box.problem, box.layout, kActiveFraction,
+                                   1e-12 * box.scales.bodies[0].velocity, z));
+  EXPECT_EQ(z, warm);
+}
+
 TEST(BalancedStartTest, AnEdgesCarryingMultipliersAreFittedToTheTurnedPose) {
   // the box on its long bottom edge (along x, at y = −0.15 and z = −0.1 in the body), tilted by
   // 0.3 rad about it and tipping on at 2 rad/s: the bottom face and the side face y = −0.15
