@@ -66,6 +66,14 @@ bool FlatOnOnePlane(const IslandProblem& problem, const IslandLayout& layout,
   return z[L.p_n] > 0 && CarryingFaces(L, active_fraction, z).count == 1;
 }
 
+// the torque rows G(ω⁺) − τ_ext − (a1 − c⁺) × force − n p_r of a body with one contact (G the
+// gyroscopic residual, c⁺ = c + h v⁺)
+Vector3d TorqueResidual(const BodyProblem& body, const Vector3d& v, const Vector3d& w,
+                        const Vector3d& a1, const Vector3d& force, const Vector3d& n, double p_r) {
+  return GyroscopicResidual(body, w) - body.p_ext.tail<3>() -
+         (a1 - (body.c + body.h * v)).cross(force) - n * p_r;
+}
+
 // the plane's contact frame (N is its constant normal)
 ContactFrame PlaneFrame(const IslandProblem& problem, const IslandLayout& layout,
                         const VectorXd& z) {
@@ -100,7 +108,7 @@ void FitCarryingMultipliers(const IslandProblem& problem, const IslandLayout& la
 }
 
 bool BalanceSlidingStart(const IslandProblem& problem, const IslandLayout& layout,
-                           double active_fraction, VectorXd& z) {
+                         double active_fraction, VectorXd& z) {
   if (!FlatOnOnePlane(problem, layout, active_fraction, z)) return false;
   const IslandContact& cp = problem.contacts[0];
   const MncpLayout::Contact& L = layout.contacts[0];
@@ -152,10 +160,9 @@ bool BalanceSlidingStart(const IslandProblem& problem, const IslandLayout& layou
     // step on the turn about the face's normal, which leaves it flat, and the ECP's shift in its
     // plane (the gyroscopic term's curvature is left to the next sweeps)
     const Vector3d force = n * p_n + tangential;
-    const Vector3d Iw = I * w;
-    const Vector3d residual = I * (w - body.w) + body.h * w.cross(Iw) - body.p_ext.tail<3>() -
-                              (a1 - (body.c + body.h * v)).cross(force) - n * friction[2];
-    const Vector3d In = I * n;
+    const Vector3d residual = TorqueResidual(body, v, w, a1, force, n, friction[2]);
+    // (GyroscopicJacobian's column along n, without the whole matrix)
+    const Vector3d Iw = I * w, In = I * n;
     Matrix3d A;  // the residual's derivatives along n (of ω⁺), t and o (of a1)
     A << In + body.h * (w.cross(In) - Iw.cross(n)), force.cross(frame.t), force.cross(frame.o);
     const Vector3d step = -(A.inverse() * residual);
@@ -196,10 +203,8 @@ bool BalanceRestingStart(const IslandProblem& problem, const IslandLayout& layou
   if (!(p_n > 0)) return false;
   // the torque rows I (ω⁺ − ω) + h ω⁺ × I ω⁺ − τ_ext − (a1 − c⁺) × force − n p_r = 0, linear in
   // p_r and the ECP's shift in the face's plane
-  const Matrix3d& I = body.inertia_world;
   Vector3d a1 = z.segment<3>(L.a1);
-  const Vector3d residual = I * (w - body.w) + body.h * w.cross(I * w) - body.p_ext.tail<3>() -
-                            (a1 - (body.c + body.h * v)).cross(force) - n * z[L.p_r];
+  const Vector3d residual = TorqueResidual(body, v, w, a1, force, n, z[L.p_r]);
   Matrix3d A;  // the residual's derivatives in p_r and along t and o (of a1)
   A << -n, force.cross(frame.t), force.cross(frame.o);
   const Vector3d step = -(A.inverse() * residual);

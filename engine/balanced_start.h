@@ -19,20 +19,19 @@ namespace ecpsim::engine {
 void FitCarryingMultipliers(const IslandProblem& problem, const IslandLayout& layout,
                             double active_fraction, Eigen::VectorXd& z);
 
-/// Balances, in z, a start of one body sliding flat on one plane (one hull face
-/// carries the contact: its multiplier alone exceeds `active_fraction` of the largest): sweeps
-/// that set the friction impulses and σ to maximum dissipation at z's slip, the tangential
-/// velocity and p_n to the Newton–Euler force rows (the normal velocity kept), and the turn
-/// about the plane's normal with the ECP's place on the face to the torque rows, until the
-/// friction impulse changes by at most kBalanceTolerance of μ p_n. Returns whether z was
-/// balanced; z is left as it came where the sweeps do not apply (not one body with one contact
-/// on a plane without creep, flat and sliding with σ > 0), where its friction already agrees
-/// with its slip to kBalanceTolerance (an exact start: a prediction of a uniform deceleration),
-/// or where the sweeps do not contract
-/// (a slip too slow for its friction: the fixed point of slip and friction diverges there) or
-/// would make p_n ≤ 0.
+/// Balances, in z, a start of one body sliding flat on one plane (one hull face carries the
+/// contact: its multiplier alone exceeds `active_fraction` of the largest): sweeps that set the
+/// friction impulses and σ to maximum dissipation at z's slip, the tangential velocity and p_n
+/// to the Newton–Euler force rows (the normal velocity kept), and the turn about the plane's
+/// normal with the ECP's place on the face to the torque rows, until the friction impulse
+/// changes by at most kBalanceTolerance of μ p_n. Returns whether z was balanced; z is left as
+/// it came where the sweeps do not apply (not one body with one contact on a plane without
+/// creep, flat and sliding with σ > 0), where its friction already agrees with its slip to
+/// kBalanceTolerance (an exact start: a prediction of a uniform deceleration), or where the
+/// sweeps do not contract (a slip too slow for its friction: the fixed point of slip and
+/// friction diverges there) or would make p_n ≤ 0.
 bool BalanceSlidingStart(const IslandProblem& problem, const IslandLayout& layout,
-                           double active_fraction, Eigen::VectorXd& z);
+                         double active_fraction, Eigen::VectorXd& z);
 
 /// Balances, in z, the warm start of one body at rest flat on one plane (one hull face carries
 /// the contact, σ ≤ `sticking_slip` m/s, the slip's round-off: sticking) to loads that changed

@@ -157,6 +157,12 @@ constexpr int kMaxMinimumNormUnknowns = 600;
 
 using Other = IslandContact::Other;
 
+// the world point of `shape` at pose (c, R) farthest along the world `direction`
+Vector3d WorldSupport(const geometry::ConvexShape& shape, const Vector3d& c, const Matrix3d& R,
+                      const Vector3d& direction) {
+  return c + R * shape.Support(R.transpose() * direction);
+}
+
 class IslandStepper {
  public:
   IslandStepper(const Scene& scene, const Island& island) : scene_(scene), island_(island) {}
@@ -839,7 +845,7 @@ class IslandStepper {
       const BodyProblem& body = problem.bodies[cp.body];
       const EndPose pose = PoseAfterStep(body, body.free.v, body.free.w);
       const Vector3d& n = state.contacts[k].n;
-      const Vector3d a1 = pose.c + pose.R * cp.hull->Support(pose.R.transpose() * -n);
+      const Vector3d a1 = WorldSupport(*cp.hull, pose.c, pose.R, -n);
       if (!(cp.other_shape->Value(0, a1) > 0)) return false;
     }
     return true;
@@ -907,7 +913,7 @@ class IslandStepper {
       if (cp.other_kind == Other::kFixed) {
         // F's deepest point along the last normal: a lower bound of the depth, exact for a
         // half-space
-        const Vector3d lowest = body.c + body.R * cp.hull->Support(body.R.transpose() * -n);
+        const Vector3d lowest = WorldSupport(*cp.hull, body.c, body.R, -n);
         const double g = cp.other_shape->Value(LargestConstraint(*cp.other_shape, lowest), lowest);
         depth = std::max(depth, -g);
         continue;
@@ -974,7 +980,7 @@ class IslandStepper {
     if (cp.other_kind != Other::kFixed || !(last.p_n > 0)) return false;
     const BodyProblem& body = problem.bodies[0];
     const EndPose end = PoseAfterStep(body, state.bodies[0].v_WB, state.bodies[0].w_WB);
-    const Vector3d deepest = end.c + end.R * cp.hull->Support(end.R.transpose() * -last.n);
+    const Vector3d deepest = WorldSupport(*cp.hull, end.c, end.R, -last.n);
     const Vector3d ecp = end.c + end.R * (body.R.transpose() * (last.a1 - body.c));
     return last.n.dot(ecp - deepest) > kLandingDip * scales.bodies[0].length;
   }
@@ -1086,7 +1092,7 @@ class IslandStepper {
       // geometric guess at the free-flight poses: F's support point in the direction −n
       const Vector3d n = previous.n;
       const EndPose pose = PoseAfterStep(body, z.segment<3>(col), z.segment<3>(col + 3));
-      const Vector3d support = pose.c + pose.R * cp.hull->Support(pose.R.transpose() * -n);
+      const Vector3d support = WorldSupport(*cp.hull, pose.c, pose.R, -n);
       // a contact without a warm start (new to the ladder) starts as separated
       const bool separated = guess == Guess::kSeparated || guess == Guess::kWarm;
       Vector3d a1 = support;
@@ -1101,7 +1107,7 @@ class IslandStepper {
       } else {
         // G's support point in +n at its end pose, and a1 on its support plane when touching
         const EndPose other = OtherEndPose(problem, z, static_cast<int>(k));
-        const Vector3d top = other.c + other.R * cp.other_shape->Support(other.R.transpose() * n);
+        const Vector3d top = WorldSupport(*cp.other_shape, other.c, other.R, n);
         a2 = separated ? top : Vector3d(a1 - n * n.dot(a1 - top));
         const Vector3d y_g = other.R.transpose() * (a2 - other.c);
         // G's window constraint whose world normal is most aligned with n carries its cone
