@@ -63,7 +63,7 @@ bool FlatOnOnePlane(const IslandProblem& problem, const IslandLayout& layout,
   const IslandContact& cp = problem.contacts[0];
   const MncpLayout::Contact& L = layout.contacts[0];
   if (cp.other_kind != Other::kFixed || !L.on_plane() || cp.stick_creep != 0) return false;
-  return z[L.p_n] > 0 && CarryingFaces(L, active_fraction, z).count == 1;
+  return z[L.p_n] > 0 && CarriedByOneFace(L, active_fraction, z);
 }
 
 // the torque rows G(ω⁺) − τ_ext − (a1 − c⁺) × force − n p_r of a body with one contact (G the
@@ -82,7 +82,28 @@ ContactFrame PlaneFrame(const IslandProblem& problem, const IslandLayout& layout
                           cp.tangent_reference);
 }
 
+// the friction impulse (p_t, p_o, p_r) at maximum dissipation of the slip of (v, ω) at a1 and
+// its σ = ‖(e_t v_t, e_o v_o, e_r v_r)‖ (the friction rows e² μ p_n v + p σ = 0 and the cone
+// μ p_n = ‖p̂‖ hold with them); the end of the step's CM is c + h v. False where the slip vanishes
+bool DissipatingFriction(const BodyProblem& body, const ContactFrame& frame, const Friction& fr,
+                         const Vector3d& v, const Vector3d& w, const Vector3d& a1, double p_n,
+                         Vector3d& friction, double& slip_norm) {
+  const double et2 = fr.e_t * fr.e_t, eo2 = fr.e_o * fr.e_o, er2 = fr.e_r * fr.e_r;
+  const Vector3d slip = v + w.cross(a1 - (body.c + body.h * v));
+  const double v_t = frame.t.dot(slip), v_o = frame.o.dot(slip), v_r = frame.n.dot(w);
+  slip_norm = std::sqrt(et2 * v_t * v_t + eo2 * v_o * v_o + er2 * v_r * v_r);
+  if (!(slip_norm > 0)) return false;
+  const double mu_pn = fr.mu * p_n;
+  friction = Vector3d(-et2 * mu_pn * v_t / slip_norm, -eo2 * mu_pn * v_o / slip_norm,
+                      -er2 * mu_pn * v_r / slip_norm);
+  return true;
+}
+
 }  // namespace
+
+bool CarriedByOneFace(const MncpLayout::Contact& L, double active_fraction, const VectorXd& z) {
+  return CarryingFaces(L, active_fraction, z).count == 1;
+}
 
 void FitCarryingMultipliers(const IslandProblem& problem, const IslandLayout& layout,
                             double active_fraction, VectorXd& z) {
@@ -107,43 +128,23 @@ void FitCarryingMultipliers(const IslandProblem& problem, const IslandLayout& la
   }
 }
 
-bool BalanceSlidingStart(const IslandProblem& problem, const IslandLayout& layout,
-                         double active_fraction, VectorXd& z) {
-  if (!FlatOnOnePlane(problem, layout, active_fraction, z)) return false;
-  const IslandContact& cp = problem.contacts[0];
-  const MncpLayout::Contact& L = layout.contacts[0];
-  if (!(z[L.sigma] > 0)) return false;  // sliding
-
-  const BodyProblem& body = problem.bodies[0];
-  const Friction& fr = cp.friction;
-  const int col = IslandLayout::Velocity(0);
-  const ContactFrame frame = PlaneFrame(problem, layout, z);  // one for every sweep
+bool SweepSlidingBalance(const BodyProblem& body, const ContactFrame& frame, const Friction& fr,
+                         double tolerance, SlidingBalance& balance) {
   const Vector3d& n = frame.n;
-  const double et2 = fr.e_t * fr.e_t, eo2 = fr.e_o * fr.e_o, er2 = fr.e_r * fr.e_r;
   const Matrix3d& I = body.inertia_world;
 
-  // the sweeps work on their own copies; z takes them only once they have converged
-  Vector3d v = z.segment<3>(col), w = z.segment<3>(col + 3), a1 = z.segment<3>(L.a1);
-  Vector3d friction(z[L.p_t], z[L.p_o], z[L.p_r]);
-  double p_n = z[L.p_n], slip_norm = z[L.sigma];
+  // the sweeps work on their own copies; `balance` takes them only once they have converged
+  Vector3d v = balance.v, w = balance.w, a1 = balance.a1, friction = balance.friction;
+  double p_n = balance.p_n;
   double last_change = std::numeric_limits<double>::infinity();
   for (int sweep = 0; sweep < kMaxBalanceSweeps; ++sweep) {
-    // friction: maximum dissipation at the slip of the velocities and ECP (the friction rows
-    // e² μ p_n v + p σ = 0 and the cone μ p_n = ‖p̂‖ hold with σ = ‖(e_t v_t, e_o v_o, e_r v_r)‖);
-    // the end of the step's CM is c + h v⁺
-    const Vector3d slip = v + w.cross(a1 - (body.c + body.h * v));
-    const double v_t = frame.t.dot(slip), v_o = frame.o.dot(slip), v_r = n.dot(w);
-    slip_norm = std::sqrt(et2 * v_t * v_t + eo2 * v_o * v_o + er2 * v_r * v_r);
-    if (!(slip_norm > 0)) return false;
-    const double mu_pn = fr.mu * p_n;
-    const Vector3d next_friction(-et2 * mu_pn * v_t / slip_norm, -eo2 * mu_pn * v_o / slip_norm,
-                                 -er2 * mu_pn * v_r / slip_norm);
-    const double change = (next_friction - friction).norm() / mu_pn;
-    // a start its friction already agrees with is left as it is: exact where the motion is (a
-    // uniform deceleration, which the trend extrapolates exactly), and the sweeps would only move
-    // it by their own tolerance
-    if (sweep == 0 && change <= kBalanceTolerance) return false;
-    // (the first sweeps settle the trend's own mismatch, which may grow once before it shrinks)
+    // friction: maximum dissipation at the slip of the velocities and ECP
+    Vector3d next_friction;
+    double slip_norm;
+    if (!DissipatingFriction(body, frame, fr, v, w, a1, p_n, next_friction, slip_norm))
+      return false;
+    const double change = (next_friction - friction).norm() / (fr.mu * p_n);
+    // (the first sweeps settle the start's own mismatch, which may grow once before it shrinks)
     if (sweep > 1 && !(change < last_change)) return false;  // not contracting
     last_change = change;
     friction = next_friction;
@@ -169,19 +170,51 @@ bool BalanceSlidingStart(const IslandProblem& problem, const IslandLayout& layou
     if (!step.allFinite()) return false;
     w += n * step[0];
     a1 += frame.t * step[1] + frame.o * step[2];
-    if (change <= kBalanceTolerance) {
-      z.segment<3>(col) = v;
-      z.segment<3>(col + 3) = w;
-      z.segment<3>(L.a1) = a1;
-      z[L.p_t] = friction[0];
-      z[L.p_o] = friction[1];
-      z[L.p_r] = friction[2];
-      z[L.p_n] = p_n;
-      z[L.sigma] = slip_norm;
+    // (the first sweep's change is the start's friction against its slip, which the sweep's
+    // force and torque rows have moved since)
+    if (sweep > 0 && change <= tolerance) {
+      balance = {v, w, a1, friction, p_n, slip_norm};
       return true;
     }
   }
   return false;
+}
+
+bool BalanceSlidingStart(const IslandProblem& problem, const IslandLayout& layout,
+                         double active_fraction, VectorXd& z) {
+  if (!FlatOnOnePlane(problem, layout, active_fraction, z)) return false;
+  const MncpLayout::Contact& L = layout.contacts[0];
+  if (!(z[L.sigma] > 0)) return false;  // sliding
+
+  const BodyProblem& body = problem.bodies[0];
+  const Friction& fr = problem.contacts[0].friction;
+  const ContactFrame frame = PlaneFrame(problem, layout, z);  // one for every sweep
+  const int col = IslandLayout::Velocity(0);
+  SlidingBalance balance{z.segment<3>(col),
+                         z.segment<3>(col + 3),
+                         z.segment<3>(L.a1),
+                         Vector3d(z[L.p_t], z[L.p_o], z[L.p_r]),
+                         z[L.p_n],
+                         z[L.sigma]};
+  // a start its friction already agrees with is left as it is: exact where the motion is (a
+  // uniform deceleration, which the trend extrapolates exactly), and the sweeps would only move
+  // it by their own tolerance
+  Vector3d dissipating;
+  double slip_norm;
+  if (!DissipatingFriction(body, frame, fr, balance.v, balance.w, balance.a1, balance.p_n,
+                           dissipating, slip_norm) ||
+      (dissipating - balance.friction).norm() <= kBalanceTolerance * fr.mu * balance.p_n)
+    return false;
+  if (!SweepSlidingBalance(body, frame, fr, kBalanceTolerance, balance)) return false;
+  z.segment<3>(col) = balance.v;
+  z.segment<3>(col + 3) = balance.w;
+  z.segment<3>(L.a1) = balance.a1;
+  z[L.p_t] = balance.friction[0];
+  z[L.p_o] = balance.friction[1];
+  z[L.p_r] = balance.friction[2];
+  z[L.p_n] = balance.p_n;
+  z[L.sigma] = balance.slip_norm;
+  return true;
 }
 
 bool BalanceRestingStart(const IslandProblem& problem, const IslandLayout& layout,

@@ -63,14 +63,6 @@ constexpr int kWarmStartStallIterations = 15;
 // start follows when it stalls: the predicted starts that converged took 2–4 iterations, those
 // that stalled 6–14, at events the trend could not foresee
 constexpr int kPredictedStallIterations = 5;
-// a predicted start ends the step without a Newton step only at this fraction of the tolerance:
-// balanced (balanced_start.h), it met the tolerance in 118 of the desk's 400 steps, at up to
-// 9.5e-13 against 1e-12, and accepting it there moved the desk's trajectory by 9.5e-11 m/s; one
-// Newton step from it ends at 1e-16 (C r² with C ≈ 26), where the steps from the unbalanced
-// start ended, and the trajectory stays within 1.3e-14 m/s of theirs. A slide's uniform
-// deceleration, which the trend extrapolates exactly, starts at round-off (≤ 1e-14) and still
-// ends there without a Newton step (1e-3 gave it 8 steps more of 24 over its run)
-constexpr double kBalancedStartAcceptance = 1e-2;
 // a resting body's contact sticks (balanced_start.h) where its slip multiplier σ is at most this
 // fraction of the velocity scale: Newton leaves a sticking σ at round-off (0 … 1e-18 m/s on the
 // T-bar at rest, whose velocity scale is 0.1 m/s), far below this

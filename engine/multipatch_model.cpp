@@ -10,8 +10,10 @@
 
 #include <fmt/format.h>
 
+#include "engine/balanced_start.h"
 #include "engine/complementarity_solver.h"
 #include "engine/mncp_scaling.h"
+#include "engine/multipatch_balance.h"
 #include "engine/obstacle_queries.h"
 #include "engine/rotation.h"
 #include "common/errors.h"
@@ -47,6 +49,11 @@ constexpr double kWeightFloorRel = 1e-12;
 // 522; 3.7 at 1e-4 / 1e-4, 4.0 at 1e-2 / 1e-6, 10 at 1e-2 / 1e-2); these sit in the middle
 constexpr double kEcpDampingRel = 1e-5;   // of 1/L
 constexpr double kLoadDampingRel = 1e-7;  // of L/P
+
+// a part's hull face carries it where its multiplier exceeds this fraction of the part's largest
+// (the balanced warm start applies to parts flat on one face): the hull model's
+// kDegenerateActiveFraction, far above round-off, far below the multipliers of faces that carry
+constexpr double kCarryingFaceFraction = 1e-9;
 
 // the centroid of the part's support feature in `direction` (body frame): a face's vertex centroid,
 // an edge's midpoint, or the support point. A guess at a corner of a flat foot leaves the side
@@ -101,18 +108,6 @@ std::vector<int> PartsFirstOrder(const MncpLayout& layout) {
   std::iota(order.begin() + complementarity, order.end() - 6, 6);
   std::iota(order.end() - 6, order.end(), 0);
   return order;
-}
-
-// the contact frame of a half-space obstacle: n its unit normal, t the tangent reference projected
-ContactFrame PlaneFrame(const ContactProblem& cp) {
-  const Vector3d normal = cp.obstacle->Gradient(0, Vector3d::Zero());
-  return MakeContactFrame(normal, cp.tangent_reference);
-}
-
-// the equivalent friction moment p_rE = p_r + n · (d × (t p_t + o p_o)) = p_r − p_t o·d + p_o t·d
-double EquivalentMoment(const ContactFrame& f, const Vector3d& d, double p_t, double p_o,
-                        double p_r) {
-  return p_r - p_t * f.o.dot(d) + p_o * f.t.dot(d);
 }
 
 class MultiPatchStepper {
@@ -203,6 +198,13 @@ class MultiPatchStepper {
       options.project_nonnegative = project;
       for (Guess guess : ladder) {
         VectorXd z = MakeGuess(guess, problem, layout, body, contacts, scales);
+        // a warm start balanced where the body slides flat often meets the tolerance already:
+        // one Newton step takes it to round-off (engine/README.md, "A balanced warm start")
+        options.start_tolerance =
+            guess == Guess::kWarm &&
+                    BalanceMultiPatchSlidingStart(problem, layout, kCarryingFaceFraction, z)
+                ? kBalancedStartAcceptance * options.tolerance
+                : INFINITY;
         const McpResult solve = SolveMcp(f, layout.num_free, row_scale, var_scale, z, options);
         result.iterations += solve.iterations;
         result.residual = solve.residual;
@@ -294,7 +296,7 @@ class MultiPatchStepper {
     std::vector<double> lowest(problem.num_groups, INFINITY);
     for (int i = 0; i < blocks; ++i) {
       const ContactProblem& cp = bp.contacts[i];
-      const Vector3d n = PlaneFrame(cp).n;
+      const Vector3d n = MultiPatchFrame(cp).n;
       support[i] = pose.c + pose.R * SupportFeatureCentroid(*cp.hull, pose.R.transpose() * -n);
       gap[i] = cp.obstacle->Value(0, support[i]) / cp.obstacle->Gradient(0, support[i]).norm();
       lowest[problem.group[i]] = std::min(lowest[problem.group[i]], gap[i]);
@@ -311,7 +313,7 @@ class MultiPatchStepper {
       const ContactProblem& cp = bp.contacts[i];
       const MncpLayout::Contact& L = layout.contacts[i];
       const int g = problem.group[i];
-      const ContactFrame frame = PlaneFrame(cp);
+      const ContactFrame frame = MultiPatchFrame(cp);
       const Vector3d& n = frame.n;
       z.segment<3>(L.a1) = support[i];
       const Vector3d N = cp.obstacle->Gradient(0, support[i]);
@@ -363,7 +365,7 @@ class MultiPatchStepper {
       for (size_t i = 0; i < problem.group.size(); ++i) {
         if (problem.group[i] != g) continue;
         const MncpLayout::Contact& L = layout.contacts[i];
-        const ContactFrame frame = PlaneFrame(problem.body.contacts[i]);
+        const ContactFrame frame = MultiPatchFrame(problem.body.contacts[i]);
         c.n = frame.n;
         c.t = frame.t;
         c.o = frame.o;
@@ -389,6 +391,16 @@ class MultiPatchStepper {
 };
 
 }  // namespace
+
+ContactFrame MultiPatchFrame(const ContactProblem& cp) {
+  const Vector3d normal = cp.obstacle->Gradient(0, Vector3d::Zero());
+  return MakeContactFrame(normal, cp.tangent_reference);
+}
+
+double EquivalentMoment(const ContactFrame& f, const Vector3d& d, double p_t, double p_o,
+                        double p_r) {
+  return p_r - p_t * f.o.dot(d) + p_o * f.t.dot(d);
+}
 
 MncpLayout MakeMultiPatchLayout(const BodyProblem& problem) {
   std::vector<std::array<int, 2>> counts;
@@ -450,7 +462,7 @@ void EvaluateMultiPatch(const MultiPatchProblem& problem, const MncpLayout& layo
     }
 
     // the sliding velocity at the combined ECP at the end of the step
-    const ContactFrame frame = PlaneFrame(problem.body.contacts[blocks[0]]);
+    const ContactFrame frame = MultiPatchFrame(problem.body.contacts[blocks[0]]);
     const Vector3d& n = frame.n;
     const Vector3d& t = frame.t;
     const Vector3d& o = frame.o;
@@ -544,7 +556,7 @@ void AddProximalTerms(const MultiPatchProblem& problem, const MncpLayout& layout
     const MncpLayout::Contact& L = layout.contacts[i];
     // a1 along the plane: where a flat part's ECP lies on its face is not determined (the cone
     // rows are a1's on a plane, a2's in the general form)
-    const Vector3d n = PlaneFrame(problem.body.contacts[i]).n;
+    const Vector3d n = MultiPatchFrame(problem.body.contacts[i]).n;
     const int cone_rows = L.on_plane() ? L.a1 : L.a2;
     J.block<3, 3>(cone_rows, L.a1) +=
         problem.ecp_damping * (Matrix3d::Identity() - n * n.transpose());

@@ -39,6 +39,16 @@ struct MultiPatchProblem {
 /// form (the desk's four feet: 62 unknowns instead of 82). EvaluateMultiPatch takes either.
 MncpLayout MakeMultiPatchLayout(const BodyProblem& problem);
 
+/// The contact frame of a block against a half-space (every multi-patch obstacle is one): n the
+/// plane's unit normal, t the block's tangent reference projected on the plane, o = n × t.
+ContactFrame MultiPatchFrame(const ContactProblem& cp);
+
+/// A part's friction moment about a point `d` (m, world) away from its own ECP along the
+/// plane: p_rE = p_r + n · (d × (t p_t + o p_o)) = p_r − p_t o·d + p_o t·d (N·m·s), with d =
+/// a1_i − a1 the part's equivalent moment about the combined ECP a1.
+double EquivalentMoment(const ContactFrame& frame, const Eigen::Vector3d& d, double p_t,
+                        double p_o, double p_r);
+
 /// The combined ECP of group `g`: a1 = Σ w_i a1_i / Σ w_i over the group's blocks, w_i =
 /// max(p_n_i, 0) + weight_floor (world frame, m). With `which_a2` the same mean of the a2_i (on
 /// a plane, a1_i's projections onto it).

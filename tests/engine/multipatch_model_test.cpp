@@ -206,16 +206,16 @@ TEST(MultiPatchModelTest, NewtonConvergesOnTheDeskAsOnTheHullModel) {
   // face and how the four feet share the load are not determined); with the proximal terms
   // (engine/README.md, "Non-isolated solutions") Newton takes the hull model's number of
   // iterations from the warm start, as at an isolated solution (without them: 16.7 per step on
-  // average against the hull model's 3.0, one step 1,623). The hull model starts the desk's
-  // steps balanced instead, two iterations a step fewer (3.005 → 1.005, its slowest step, the
-  // first, 5 → 3: engine/README.md, "Balanced starts"), which the multi-patch model does not
-  constexpr double kMeanRatio = 1.25;        // one more iteration in one step of four
-  constexpr int kBalancedStartSaving = 2;    // iterations a step, of the hull model's
-  constexpr int kMaxExtra = 2;               // iterations beyond the hull model's slowest step
+  // average against the hull model's 3.0, one step 1,623). Both models start the desk's steps
+  // balanced (engine/README.md, "Balanced starts", and multipatch_balance.h): one iteration a
+  // step. The multi-patch model balances only its warm starts, so its first step, from the
+  // sliding guess, takes as many as before (6, the hull model's first 3)
+  constexpr double kMeanRatio = 1.25;  // one more iteration in one step of four
+  constexpr int kFirstStepExtra = 4;   // the unbalanced first step's 3 more, and one to spare
   const Scene hull_scene = PaperDesk(ContactModel::kHull);
   const Scene patch_scene = PaperDesk(ContactModel::kMultiPatch);
   State hull = InitialState(hull_scene), patch = InitialState(patch_scene);
-  int hull_sum = 0, patch_sum = 0, hull_max = 0, patch_max = 0;
+  int hull_sum = 0, patch_sum = 0, hull_max = 0, patch_first = 0, patch_max_warm = 0;
   for (int i = 0; i < 400; ++i) {
     const StepReport hull_report = Step(hull_scene, hull);
     const StepReport patch_report = Step(patch_scene, patch);
@@ -224,20 +224,27 @@ TEST(MultiPatchModelTest, NewtonConvergesOnTheDeskAsOnTheHullModel) {
     hull_sum += hull_report.iterations;
     patch_sum += patch_report.iterations;
     hull_max = std::max(hull_max, hull_report.iterations);
-    patch_max = std::max(patch_max, patch_report.iterations);
+    if (i == 0) {
+      patch_first = patch_report.iterations;
+    } else {
+      patch_max_warm = std::max(patch_max_warm, patch_report.iterations);
+    }
   }
-  std::printf("desk, Newton iterations per step: multipatch mean %.3f max %d, hull mean %.3f max %d\n",
-              patch_sum / 400.0, patch_max, hull_sum / 400.0, hull_max);
-  EXPECT_LE(patch_sum, kMeanRatio * (hull_sum + kBalancedStartSaving * 400));
-  EXPECT_LE(patch_max, hull_max + kBalancedStartSaving + kMaxExtra);
+  std::printf("desk, Newton iterations per step: multipatch mean %.3f first %d then at most %d, "
+              "hull mean %.3f max %d\n",
+              patch_sum / 400.0, patch_first, patch_max_warm, hull_sum / 400.0, hull_max);
+  EXPECT_LE(patch_sum, kMeanRatio * hull_sum);
+  EXPECT_LE(patch_max_warm, hull_max);
+  EXPECT_LE(patch_first, hull_max + kFirstStepExtra);
 }
 
 TEST(MultiPatchModelTest, AgreesWithTheHullModelOnThePaperDesk) {
   // the paper's claim: |Δv_x|, |Δω_z| < 1e-8 between the hull-ECP and multi-patch models. Both
   // give the same total wrench about the same combined ECP (engine/README.md, "The multi-patch
   // model"), so they agree to the solver tolerance (1e-12) and the combined ECP's weight floor
-  // (1e-12 of the impulse scale) times the steps' amplification; measured 2.9e-12 m/s and
-  // 2.0e-11 rad/s, the ECPs 1.2e-11 m apart
+  // (1e-12 of the impulse scale) times the steps' amplification; measured 1.8e-12 m/s and
+  // 3.9e-11 rad/s, the ECPs 5.1e-12 m apart (where in the solution set the balanced warm starts
+  // land sets how the weight floor weighs the feet)
   const Scene hull_scene = PaperDesk(ContactModel::kHull);
   const Scene patch_scene = PaperDesk(ContactModel::kMultiPatch);
   State hull = InitialState(hull_scene), patch = InitialState(patch_scene);
