@@ -129,7 +129,7 @@ void FitCarryingMultipliers(const IslandProblem& problem, const IslandLayout& la
 }
 
 bool SweepSlidingBalance(const BodyProblem& body, const ContactFrame& frame, const Friction& fr,
-                         double tolerance, SlidingBalance& balance) {
+                         double tolerance, AgreeingStart agreeing, SlidingBalance& balance) {
   const Vector3d& n = frame.n;
   const Matrix3d& I = body.inertia_world;
 
@@ -144,6 +144,7 @@ bool SweepSlidingBalance(const BodyProblem& body, const ContactFrame& frame, con
     if (!DissipatingFriction(body, frame, fr, v, w, a1, p_n, next_friction, slip_norm))
       return false;
     const double change = (next_friction - friction).norm() / (fr.mu * p_n);
+    if (sweep == 0 && agreeing == AgreeingStart::kKeep && change <= tolerance) return false;
     // (the first sweeps settle the start's own mismatch, which may grow once before it shrinks)
     if (sweep > 1 && !(change < last_change)) return false;  // not contracting
     last_change = change;
@@ -199,13 +200,8 @@ bool BalanceSlidingStart(const IslandProblem& problem, const IslandLayout& layou
   // a start its friction already agrees with is left as it is: exact where the motion is (a
   // uniform deceleration, which the trend extrapolates exactly), and the sweeps would only move
   // it by their own tolerance
-  Vector3d dissipating;
-  double slip_norm;
-  if (!DissipatingFriction(body, frame, fr, balance.v, balance.w, balance.a1, balance.p_n,
-                           dissipating, slip_norm) ||
-      (dissipating - balance.friction).norm() <= kBalanceTolerance * fr.mu * balance.p_n)
+  if (!SweepSlidingBalance(body, frame, fr, kBalanceTolerance, AgreeingStart::kKeep, balance))
     return false;
-  if (!SweepSlidingBalance(body, frame, fr, kBalanceTolerance, balance)) return false;
   z.segment<3>(col) = balance.v;
   z.segment<3>(col + 3) = balance.w;
   z.segment<3>(L.a1) = balance.a1;

@@ -32,15 +32,22 @@ struct SlidingBalance {
   double p_n = 0, slip_norm = 0;
 };
 
+/// What SweepSlidingBalance does with a start whose friction already agrees with its slip.
+enum class AgreeingStart {
+  kKeep,   // a start whose friction agrees is exact (a trend's prediction of a uniform slide)
+  kSweep,  // it may be off in the other rows all the same (a warm start under changed loads)
+};
+
 /// The sweeps of BalanceSlidingStart on one body (its Newton–Euler rows) and one contact wrench
 /// at `balance.a1` on the plane of `frame` (n its normal), until the friction impulse changes by
 /// at most `tolerance` of μ p_n: friction at maximum dissipation of the slip, the tangential
 /// velocity and p_n from the force rows (the normal velocity kept), the turn about n and the
 /// ECP's shift in the plane from the torque rows; at least two sweeps (the first one's friction
 /// is the start's slip's). Returns whether `balance` was balanced; it is left as it came where
-/// the sweeps do not contract, the slip vanishes or p_n would be ≤ 0.
+/// the sweeps do not contract, the slip vanishes or p_n would be ≤ 0, and with
+/// AgreeingStart::kKeep where the start's friction already agrees with its slip to `tolerance`.
 bool SweepSlidingBalance(const BodyProblem& body, const ContactFrame& frame, const Friction& fr,
-                         double tolerance, SlidingBalance& balance);
+                         double tolerance, AgreeingStart agreeing, SlidingBalance& balance);
 
 /// Balances, in z, a start of one body sliding flat on one plane (one hull face carries the
 /// contact: its multiplier alone exceeds `active_fraction` of the largest): sweeps that set the

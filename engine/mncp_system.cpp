@@ -143,9 +143,10 @@ BodyProblem StartOfStep(const Scene& scene, int body, const BodyState& state, do
 
 bool FreeFlightIsFinite(const BodyProblem& problem, std::string& tried) {
   const FreeFlight& free = problem.free;
-  // a finite but huge ω still overflows the rotation angle h|ω| inside Exp
+  // a finite but huge ω still overflows the rotation angle h|ω| inside Exp, whose terms are
+  // finite exactly where θ² = |h ω|² is (R = I + a K + b K², |a| ≤ 1, |b| ≤ 2/θ², |K²| ≤ θ²)
   if (free.v.allFinite() && free.w.allFinite() &&
-      PoseAfterStep(problem, free.v, free.w).R.allFinite()) {
+      std::isfinite((problem.h * free.w).squaredNorm())) {
     return true;
   }
   tried += fmt::format("{}non-finite free-flight velocities (h = {:g} s, |ω| = {:.3g} rad/s)",

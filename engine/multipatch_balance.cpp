@@ -51,7 +51,11 @@ bool BalanceMultiPatchSlidingStart(const MultiPatchProblem& problem, const MncpL
     sum.slip_norm += z[L.p_n] * z[L.sigma];
   }
   sum.slip_norm /= sum.p_n;
-  if (!SweepSlidingBalance(body, frame, friction, kMultiPatchBalanceTolerance, sum)) return false;
+  // (the warm start's slip turns little from step to step while its loads change: a friction
+  // that agrees with it says nothing of the other rows)
+  if (!SweepSlidingBalance(body, frame, friction, kMultiPatchBalanceTolerance,
+                           AgreeingStart::kSweep, sum))
+    return false;
 
   // the ECPs carried to the balanced end pose, and the loads that put their p_n-weighted mean at
   // the balanced combined ECP a*: the least change δ of the warm start's p_n,i with

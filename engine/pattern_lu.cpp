@@ -401,17 +401,17 @@ void PatternLu::SolveInOrder(Eigen::VectorXd& x) const {
   // the unit lower triangular solve with the row interchanges as the elimination made them (L
   // as FactorDense left it: each entry still takes the same terms in the same order as after all
   // interchanges up front), then the upper one; column-oriented (Eigen's triangular solve
-  // allocates a temporary for dynamic vectors)
+  // allocates a temporary for dynamic vectors). No test for x_j = 0 (x − l·0 = x for finite l):
+  // its branch waits on the division before it, and dropping it took the engine benchmark's
+  // hull desk step from 3.07–3.13 to 2.98–3.07 µs, every trajectory bit-identical
   for (Eigen::Index j = 0; j < n; ++j) {
     std::swap(x[j], x[pivots_[j]]);
     const double xj = x[j];
-    if (xj == 0) continue;
     for (Eigen::Index i = j + 1; i < n; ++i) x[i] -= a[j * n + i] * xj;
   }
   for (Eigen::Index j = n - 1; j >= 0; --j) {
     x[j] /= a[j * n + j];
     const double xj = x[j];
-    if (xj == 0) continue;
     for (Eigen::Index i = 0; i < j; ++i) x[i] -= a[j * n + i] * xj;
   }
 }
