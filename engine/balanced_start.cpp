@@ -181,11 +181,11 @@ bool SweepSlidingBalance(const BodyProblem& body, const ContactFrame& frame, con
   return false;
 }
 
-bool BalanceSlidingStart(const IslandProblem& problem, const IslandLayout& layout,
-                         double active_fraction, VectorXd& z) {
-  if (!FlatOnOnePlane(problem, layout, active_fraction, z)) return false;
+StartBalance BalanceSlidingStart(const IslandProblem& problem, const IslandLayout& layout,
+                                 double active_fraction, VectorXd& z) {
+  if (!FlatOnOnePlane(problem, layout, active_fraction, z)) return StartBalance::kUnbalanced;
   const MncpLayout::Contact& L = layout.contacts[0];
-  if (!(z[L.sigma] > 0)) return false;  // sliding
+  if (!(z[L.sigma] > 0)) return StartBalance::kUnbalanced;  // sliding
 
   const BodyProblem& body = problem.bodies[0];
   const Friction& fr = problem.contacts[0].friction;
@@ -201,7 +201,12 @@ bool BalanceSlidingStart(const IslandProblem& problem, const IslandLayout& layou
   // uniform deceleration, which the trend extrapolates exactly), and the sweeps would only move
   // it by their own tolerance
   if (!SweepSlidingBalance(body, frame, fr, kBalanceTolerance, AgreeingStart::kKeep, balance))
-    return false;
+    return StartBalance::kUnbalanced;
+  // on to the sweeps' own round-off where they still contract there; else the balanced start
+  SlidingBalance polished = balance;
+  const bool polish =
+      SweepSlidingBalance(body, frame, fr, kPolishTolerance, AgreeingStart::kSweep, polished);
+  if (polish) balance = polished;
   z.segment<3>(col) = balance.v;
   z.segment<3>(col + 3) = balance.w;
   z.segment<3>(L.a1) = balance.a1;
@@ -210,7 +215,7 @@ bool BalanceSlidingStart(const IslandProblem& problem, const IslandLayout& layou
   z[L.p_r] = balance.friction[2];
   z[L.p_n] = balance.p_n;
   z[L.sigma] = balance.slip_norm;
-  return true;
+  return polish ? StartBalance::kPolished : StartBalance::kBalanced;
 }
 
 bool BalanceRestingStart(const IslandProblem& problem, const IslandLayout& layout,

@@ -309,7 +309,6 @@ class IslandStepper {
       for (Guess guess : ladder) {
         // bodies at rest under unchanged loads: the last step's solution usually solves this one
         // too (a stack, a box on the table), and is verified on the residual alone
-        options.verify_start_first = guess == Guess::kWarm && !moving;
         // a body alone's warm start in the first pass gives up sooner (engine/README.md, "The
         // first pass's warm start"); the other guesses and passes as before
         const bool first_warm = p == 0 && guess == Guess::kWarm;
@@ -325,10 +324,17 @@ class IslandStepper {
         for (int growth = 0; growth <= kMaxWindowGrowth; ++growth) {
           VectorXd z = MakeGuess(guess, problem, layout, state, scales);
           // a balanced start often meets the tolerance already: one Newton step takes it to
-          // round-off (engine/README.md, "Balanced starts")
-          options.start_tolerance = BalanceGuess(guess, moving, problem, layout, scales, z)
-                                        ? kBalancedStartAcceptance * options.tolerance
-                                        : INFINITY;
+          // round-off, where a polished one usually is (engine/README.md, "Balanced starts")
+          const StartBalance balance = BalanceGuess(guess, moving, problem, layout, scales, z);
+          options.start_tolerance =
+              balance == StartBalance::kUnbalanced ? INFINITY
+              : balance == StartBalance::kPolished ? kPolishedStartAcceptance * options.tolerance
+                                                   : kBalancedStartAcceptance * options.tolerance;
+          // bodies at rest under unchanged loads: the last step's solution usually solves this
+          // one too (a stack, a box on the table), and a polished start its step: each is
+          // verified on the residual alone
+          options.verify_start_first =
+              (guess == Guess::kWarm && !moving) || balance == StartBalance::kPolished;
           Attempt attempt = Solve(problem, layout, z, options, scales, ejection_energy, result);
           result.residual = attempt.residual;
           if (attempt.outcome == Outcome::kUnconverged) {
@@ -1168,18 +1174,22 @@ class IslandStepper {
   // the guess `z` made consistent with the step's equations where balanced_start.h can: the
   // predicted start, the warm start or the sliding guess of a body sliding flat (a predicted
   // start's carrying faces' multipliers fitted where it rocks), the warm start of a body at
-  // rest; whether it was balanced
-  static bool BalanceGuess(Guess guess, bool moving, const IslandProblem& problem,
-                           const IslandLayout& layout, const IslandScales& scales, VectorXd& z) {
+  // rest; how far it was balanced
+  static StartBalance BalanceGuess(Guess guess, bool moving, const IslandProblem& problem,
+                                   const IslandLayout& layout, const IslandScales& scales,
+                                   VectorXd& z) {
     if (guess == Guess::kPredicted)
       FitCarryingMultipliers(problem, layout, kDegenerateActiveFraction, z);
     if (moving) {
-      return (guess == Guess::kPredicted || guess == Guess::kWarm || guess == Guess::kSliding) &&
-             BalanceSlidingStart(problem, layout, kDegenerateActiveFraction, z);
+      if (guess != Guess::kPredicted && guess != Guess::kWarm && guess != Guess::kSliding)
+        return StartBalance::kUnbalanced;
+      return BalanceSlidingStart(problem, layout, kDegenerateActiveFraction, z);
     }
     return guess == Guess::kWarm && !scales.bodies.empty() &&
-           BalanceRestingStart(problem, layout, kDegenerateActiveFraction,
-                               kStickingSlipFraction * scales.bodies[0].velocity, z);
+                   BalanceRestingStart(problem, layout, kDegenerateActiveFraction,
+                                       kStickingSlipFraction * scales.bodies[0].velocity, z)
+               ? StartBalance::kBalanced
+               : StartBalance::kUnbalanced;
   }
 
   // grows the windows (F's, and a moving polyhedral G's) of every contact whose windowed

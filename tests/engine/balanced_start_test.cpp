@@ -148,7 +148,8 @@ TEST(BalancedStartTest, TheBalancedStartOfABoxSlidingFlatIsItsStepsSolution) {
   const VectorXd solution = box.Solve();
   VectorXd z = Predicted(box, solution);
   const double predicted = box.Measure(z);
-  ASSERT_TRUE(BalanceSlidingStart(box.problem, box.layout, kActiveFraction, z));
+  ASSERT_NE(BalanceSlidingStart(box.problem, box.layout, kActiveFraction, z),
+            StartBalance::kUnbalanced);
   const double balanced = box.Measure(z);
   std::printf("sliding box: predicted start %.3g, balanced %.3g\n", predicted, balanced);
   // the error of the trend's kind is in the residual to its own order ...
@@ -171,13 +172,15 @@ TEST(BalancedStartTest, AStickingOrUnflatContactIsLeftAsPredicted) {
   VectorXd sticking = Predicted(box, solution);
   sticking[L.sigma] = 0;
   const VectorXd sticking_before = sticking;
-  EXPECT_FALSE(BalanceSlidingStart(box.problem, box.layout, kActiveFraction, sticking));
+  EXPECT_EQ(BalanceSlidingStart(box.problem, box.layout, kActiveFraction, sticking),
+            StartBalance::kUnbalanced);
   EXPECT_EQ(sticking, sticking_before);
   // on an edge: two faces carry it
   VectorXd edge = Predicted(box, solution);
   edge[L.l + (box.bottom + 1) % L.l_count] = 0.5;
   const VectorXd edge_before = edge;
-  EXPECT_FALSE(BalanceSlidingStart(box.problem, box.layout, kActiveFraction, edge));
+  EXPECT_EQ(BalanceSlidingStart(box.problem, box.layout, kActiveFraction, edge),
+            StartBalance::kUnbalanced);
   EXPECT_EQ(edge, edge_before);
 }
 
