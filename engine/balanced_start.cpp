@@ -265,4 +265,16 @@ bool BalanceRestingStart(const IslandProblem& problem, const IslandLayout& layou
   return true;
 }
 
+double BalancedStartTolerance(StartBalance balance, double tolerance) {
+  switch (balance) {
+    case StartBalance::kUnbalanced:
+      return INFINITY;
+    case StartBalance::kBalanced:
+      return kBalancedStartAcceptance * tolerance;
+    case StartBalance::kPolished:
+      return kPolishedStartAcceptance * tolerance;
+  }
+  return INFINITY;
+}
+
 }  // namespace ecpsim::engine

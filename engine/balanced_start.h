@@ -118,4 +118,9 @@ inline constexpr double kBalanceTolerance = 1e-6;
 inline constexpr double kPolishTolerance = 1e-12;
 inline constexpr int kMaxBalanceSweeps = 12;
 
+/// The start tolerance (McpOptions::start_tolerance) of a start balanced as `balance`, for the
+/// solver's `tolerance`: none (∞) unbalanced, else kBalancedStartAcceptance or
+/// kPolishedStartAcceptance of it.
+double BalancedStartTolerance(StartBalance balance, double tolerance);
+
 }  // namespace ecpsim::engine

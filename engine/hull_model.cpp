@@ -326,10 +326,7 @@ class IslandStepper {
           // a balanced start often meets the tolerance already: one Newton step takes it to
           // round-off, where a polished one usually is (engine/README.md, "Balanced starts")
           const StartBalance balance = BalanceGuess(guess, moving, problem, layout, scales, z);
-          options.start_tolerance =
-              balance == StartBalance::kUnbalanced ? INFINITY
-              : balance == StartBalance::kPolished ? kPolishedStartAcceptance * options.tolerance
-                                                   : kBalancedStartAcceptance * options.tolerance;
+          options.start_tolerance = BalancedStartTolerance(balance, options.tolerance);
           // bodies at rest under unchanged loads: the last step's solution usually solves this
           // one too (a stack, a box on the table), and a polished start its step: each is
           // verified on the residual alone

@@ -12,15 +12,16 @@ using Eigen::Matrix3d;
 using Eigen::Vector3d;
 using Eigen::VectorXd;
 
-bool BalanceMultiPatchSlidingStart(const MultiPatchProblem& problem, const MncpLayout& layout,
-                                   double active_fraction, VectorXd& z) {
+StartBalance BalanceMultiPatchSlidingStart(const MultiPatchProblem& problem,
+                                           const MncpLayout& layout, double active_fraction,
+                                           VectorXd& z) {
   const BodyProblem& body = problem.body;
   const int parts = static_cast<int>(body.contacts.size());
-  if (problem.num_groups != 1 || parts < 2) return false;
+  if (problem.num_groups != 1 || parts < 2) return StartBalance::kUnbalanced;
   for (const MncpLayout::Contact& L : layout.contacts) {
     if (!L.on_plane() || !(z[L.p_n] > 0) || !(z[L.sigma] > 0) ||
         !CarriedByOneFace(L, active_fraction, z))
-      return false;
+      return StartBalance::kUnbalanced;
   }
   // one group: one scene contact, so one plane and one friction for every part
   const ContactFrame frame = MultiPatchFrame(body.contacts[0]);
@@ -55,7 +56,12 @@ bool BalanceMultiPatchSlidingStart(const MultiPatchProblem& problem, const MncpL
   // that agrees with it says nothing of the other rows)
   if (!SweepSlidingBalance(body, frame, friction, kMultiPatchBalanceTolerance,
                            AgreeingStart::kSweep, sum))
-    return false;
+    return StartBalance::kUnbalanced;
+  // on to the sweeps' round-off where they still contract there, as the hull model's
+  SlidingBalance polished = sum;
+  const bool polish = SweepSlidingBalance(body, frame, friction, kPolishTolerance,
+                                          AgreeingStart::kSweep, polished);
+  if (polish) sum = polished;
 
   // the ECPs carried to the balanced end pose, and the loads that put their p_n-weighted mean at
   // the balanced combined ECP a*: the least change δ of the warm start's p_n,i with
@@ -73,11 +79,11 @@ bool BalanceMultiPatchSlidingStart(const MultiPatchProblem& problem, const MncpL
   }
   const Matrix3d gram = A * A.transpose();
   const VectorXd change = A.transpose() * (gram.inverse() * b);
-  if (!change.allFinite()) return false;
+  if (!change.allFinite()) return StartBalance::kUnbalanced;
   for (int i = 0; i < parts; ++i) {
     const MncpLayout::Contact& L = layout.contacts[i];
     balanced[L.p_n] = z[L.p_n] + change[i];
-    if (!(balanced[L.p_n] > 0)) return false;
+    if (!(balanced[L.p_n] > 0)) return StartBalance::kUnbalanced;
   }
 
   // each part's share of the friction about the combined ECP, at the group's slip
@@ -95,7 +101,7 @@ bool BalanceMultiPatchSlidingStart(const MultiPatchProblem& problem, const MncpL
     balanced[L.sigma] = sum.slip_norm;
   }
   z.swap(balanced);
-  return true;
+  return polish ? StartBalance::kPolished : StartBalance::kBalanced;
 }
 
 }  // namespace ecpsim::engine

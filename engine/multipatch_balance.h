@@ -6,6 +6,7 @@
 
 #include <Eigen/Core>
 
+#include "engine/balanced_start.h"
 #include "engine/multipatch_model.h"
 
 namespace ecpsim::engine {
@@ -21,11 +22,14 @@ namespace ecpsim::engine {
 /// mean of the carried ECPs at that combined ECP, and each part takes its share of the friction:
 /// (p_t,i, p_o,i, p_rE,i) = (p_n,i / p_n) (p_t, p_o, p_r), σ_i = σ (engine/README.md, "Why it
 /// agrees with the hull model on the desk": a solution of the multi-patch MNCP where the sweeps'
-/// is one of the single-patch rows). Returns whether z was balanced; z is left as it came where
-/// this does not apply, where the sweeps do not balance (SweepSlidingBalance), or where the
-/// split would leave a part without load (the combined ECP outside the parts' ECPs).
-bool BalanceMultiPatchSlidingStart(const MultiPatchProblem& problem, const MncpLayout& layout,
-                                   double active_fraction, Eigen::VectorXd& z);
+/// is one of the single-patch rows). The sweeps go to kMultiPatchBalanceTolerance (kBalanced)
+/// and on to kPolishTolerance where they still contract (kPolished); z is left as it came
+/// (kUnbalanced) where this does not apply, where the sweeps do not balance
+/// (SweepSlidingBalance), or where the split would leave a part without load (the combined ECP
+/// outside the parts' ECPs).
+StartBalance BalanceMultiPatchSlidingStart(const MultiPatchProblem& problem,
+                                           const MncpLayout& layout, double active_fraction,
+                                           Eigen::VectorXd& z);
 
 /// The sweeps' tolerance here (SweepSlidingBalance), tighter than the hull model's
 /// kBalanceTolerance: near the parts' non-isolated solutions the proximal Newton step

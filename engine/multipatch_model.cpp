@@ -198,13 +198,15 @@ class MultiPatchStepper {
       options.project_nonnegative = project;
       for (Guess guess : ladder) {
         VectorXd z = MakeGuess(guess, problem, layout, body, contacts, scales);
-        // a warm start balanced where the body slides flat often meets the tolerance already:
-        // one Newton step takes it to round-off (engine/README.md, "A balanced warm start")
-        options.start_tolerance =
-            guess == Guess::kWarm &&
-                    BalanceMultiPatchSlidingStart(problem, layout, kCarryingFaceFraction, z)
-                ? kBalancedStartAcceptance * options.tolerance
-                : INFINITY;
+        // a warm start balanced where the body slides flat takes one Newton step to round-off,
+        // where a polished one usually is already: it is verified on its residual alone
+        // (engine/README.md, "A balanced warm start")
+        const StartBalance balance =
+            guess == Guess::kWarm
+                ? BalanceMultiPatchSlidingStart(problem, layout, kCarryingFaceFraction, z)
+                : StartBalance::kUnbalanced;
+        options.start_tolerance = BalancedStartTolerance(balance, options.tolerance);
+        options.verify_start_first = balance == StartBalance::kPolished;
         const McpResult solve = SolveMcp(f, layout.num_free, row_scale, var_scale, z, options);
         result.iterations += solve.iterations;
         result.residual = solve.residual;

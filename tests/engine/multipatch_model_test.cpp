@@ -208,10 +208,10 @@ TEST(MultiPatchModelTest, NewtonConvergesOnTheDeskAsOnTheHullModel) {
   // iterations from the warm start, as at an isolated solution (without them: 16.7 per step on
   // average against the hull model's 3.0, one step 1,623). Both models start the desk's steps
   // balanced (engine/README.md, "Balanced starts", and multipatch_balance.h): one iteration a
-  // step at most (the hull model's polished starts often none). The multi-patch model balances
-  // only its warm starts, so its first step, from the sliding guess, takes as many as before
-  // (6, the hull model's first 3)
-  constexpr int kBalancedStepIterations = 1;  // one Newton step from a balanced warm start
+  // step at most, none where the polished start solves the step already. The multi-patch model
+  // balances only its warm starts, so its first step, from the sliding guess, takes as many as
+  // before (6, the hull model's first 3)
+  constexpr int kBalancedStepIterations = 1;  // a Newton step from a start balanced, not polished
   constexpr int kFirstStepExtra = 4;          // the unbalanced first step's 3 more, one to spare
   const Scene hull_scene = PaperDesk(ContactModel::kHull);
   const Scene patch_scene = PaperDesk(ContactModel::kMultiPatch);
