@@ -96,9 +96,9 @@ inline constexpr double kBalancedStartAcceptance = 1e-2;
 /// rather than a mismatch the sweeps left: on the engine benchmark's desk (BM_DeskStep, the desk
 /// built in code, whose face rows' round-off is larger than scenes/desk.yaml's) polished starts
 /// measured 1.0e-14 … 5.2e-14 in 40 % of the steps, which 1e-2 sent to a Newton step each
-/// (0.60 iterations a step; 1e-1: 0.0075); on scenes/desk.yaml 1e-2 and 1e-1 both took none.
-/// The trajectories moved by round-off: the desk by 1.8e-14 m/s, the T-bar by 2.1e-12 m/s
-/// (1.1e-13 with 1e-2; its run 891 iterations instead of 853).
+/// (0.60 iterations a step; 1e-1: 0.0075); on scenes/desk.yaml 1e-2 and 1e-1 both took none
+/// after the first step. The trajectories moved by round-off: the desk by 1.8e-14 m/s, the
+/// T-bar by 2.1e-12 m/s (1.1e-13 with 1e-2; its run 904 iterations instead of 866).
 inline constexpr double kPolishedStartAcceptance = 1e-1;
 
 /// The sweeps stop when the friction impulse changed by at most this fraction of μ p_n. On the
@@ -110,11 +110,12 @@ inline constexpr double kBalanceTolerance = 1e-6;
 /// The polish: BalanceSlidingStart's sweeps go on from kBalanceTolerance to this change of the
 /// friction impulse (of μ p_n) where they still contract, a few sweeps more, and the start then
 /// usually solves the step to round-off. Measured with kPolishedStartAcceptance = 1e-1 (`ecpsim
-/// run scenes/X.yaml --model hull`, Newton iterations per run, largest change of a pose or
-/// velocity against the starts without the polish): 1e-11 left the desk 0 iterations (from 402)
-/// at 4.4e-14 m/s, the T-bar 888 (from 957) at 1.5e-12; 1e-12 the desk 0 at 1.8e-14, the T-bar
-/// 853 at 2.1e-12; 1e-13 the desk 0 at 6.4e-15, the T-bar 873 at 1.9e-12. Below, the sweeps
-/// stall at their round-off and the polish is given up.
+/// run scenes/X.yaml --model hull`, Newton iterations per run, against 402 and 957 without the
+/// polish, and the largest change of a position or velocity): 1e-11 left the desk 3 (all in
+/// its first step, which has no trend to start from) at 4.4e-14 m/s, the T-bar 901 at
+/// 1.5e-12; 1e-12 the desk 3 at 1.8e-14, the T-bar 866 at 2.1e-12; 1e-13 the desk 3 at
+/// 6.4e-15, the T-bar 886 at 1.9e-12. Below, the sweeps stall at their round-off and the
+/// polish is given up.
 inline constexpr double kPolishTolerance = 1e-12;
 inline constexpr int kMaxBalanceSweeps = 12;
 
