@@ -307,8 +307,6 @@ class IslandStepper {
       // re-solved")
       std::optional<std::pair<IslandProblem, VectorXd>> far_stall;
       for (Guess guess : ladder) {
-        // bodies at rest under unchanged loads: the last step's solution usually solves this one
-        // too (a stack, a box on the table), and is verified on the residual alone
         // a body alone's warm start in the first pass gives up sooner (engine/README.md, "The
         // first pass's warm start"); the other guesses and passes as before
         const bool first_warm = p == 0 && guess == Guess::kWarm;

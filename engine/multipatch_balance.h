@@ -34,8 +34,10 @@ StartBalance BalanceMultiPatchSlidingStart(const MultiPatchProblem& problem,
 /// The sweeps' tolerance here (SweepSlidingBalance), tighter than the hull model's
 /// kBalanceTolerance: near the parts' non-isolated solutions the proximal Newton step
 /// (AddProximalTerms) removes less of a start's residual than the hull model's step does.
-/// On the desk (`ecpsim run scenes/desk.yaml --model multipatch`, 399 balanced warm starts; the
-/// steps' Newton iterations 1 / 2 / 3 and the largest end residual, tolerance 1e-12): 1e-6
+/// Measured without the polish, which it is the fallback of (with it no desk step after the
+/// first takes a Newton step), on the desk (`ecpsim run scenes/desk.yaml --model multipatch`,
+/// 399 balanced warm starts; the steps' Newton iterations 1 / 2 / 3 and the largest end residual,
+/// tolerance 1e-12): 1e-6
 /// 357 / 39 / 3, 1e-8 359 / 37 / 3; 1e-9 one iteration every step but ending at up to 8.8e-13;
 /// 1e-10 one every step (3 starts taken without a Newton step, under kBalancedStartAcceptance
 /// of the tolerance), ending at ≤ 7.2e-14; 1e-11 and 1e-12 the same ends, with 19 and 26 starts

@@ -136,7 +136,9 @@ TEST(IslandReductionTest, OneBodyWithFixedContactsIsTodaysMncpWithPlanesEliminat
         ASSERT_EQ(std::count(column.begin(), column.end(), -1), 0);
         ASSERT_EQ(layout.num_free, std::count_if(column.begin(), column.end(),
                                                  [&](int j) { return j < c.layout.num_free; }));
-        if (!any_plane) ASSERT_EQ(layout.size, c.layout.size);
+        if (!any_plane) {
+          ASSERT_EQ(layout.size, c.layout.size);
+        }
         const VectorXd z = c.z(column);
 
         VectorXd F_body, F_island, F_only;
