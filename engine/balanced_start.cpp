@@ -181,6 +181,18 @@ bool SweepSlidingBalance(const BodyProblem& body, const ContactFrame& frame, con
   return false;
 }
 
+StartBalance SweepAndPolish(const BodyProblem& body, const ContactFrame& frame, const Friction& fr,
+                            double tolerance, AgreeingStart agreeing, SlidingBalance& balance) {
+  if (!SweepSlidingBalance(body, frame, fr, tolerance, agreeing, balance))
+    return StartBalance::kUnbalanced;
+  // on to the sweeps' own round-off where they still contract there; else the balanced start
+  SlidingBalance polished = balance;
+  if (!SweepSlidingBalance(body, frame, fr, kPolishTolerance, AgreeingStart::kSweep, polished))
+    return StartBalance::kBalanced;
+  balance = polished;
+  return StartBalance::kPolished;
+}
+
 StartBalance BalanceSlidingStart(const IslandProblem& problem, const IslandLayout& layout,
                                  double active_fraction, VectorXd& z) {
   if (!FlatOnOnePlane(problem, layout, active_fraction, z)) return StartBalance::kUnbalanced;
@@ -200,13 +212,9 @@ StartBalance BalanceSlidingStart(const IslandProblem& problem, const IslandLayou
   // a start its friction already agrees with is left as it is: exact where the motion is (a
   // uniform deceleration, which the trend extrapolates exactly), and the sweeps would only move
   // it by their own tolerance
-  if (!SweepSlidingBalance(body, frame, fr, kBalanceTolerance, AgreeingStart::kKeep, balance))
-    return StartBalance::kUnbalanced;
-  // on to the sweeps' own round-off where they still contract there; else the balanced start
-  SlidingBalance polished = balance;
-  const bool polish =
-      SweepSlidingBalance(body, frame, fr, kPolishTolerance, AgreeingStart::kSweep, polished);
-  if (polish) balance = polished;
+  const StartBalance result =
+      SweepAndPolish(body, frame, fr, kBalanceTolerance, AgreeingStart::kKeep, balance);
+  if (result == StartBalance::kUnbalanced) return result;
   z.segment<3>(col) = balance.v;
   z.segment<3>(col + 3) = balance.w;
   z.segment<3>(L.a1) = balance.a1;
@@ -215,7 +223,7 @@ StartBalance BalanceSlidingStart(const IslandProblem& problem, const IslandLayou
   z[L.p_r] = balance.friction[2];
   z[L.p_n] = balance.p_n;
   z[L.sigma] = balance.slip_norm;
-  return polish ? StartBalance::kPolished : StartBalance::kBalanced;
+  return result;
 }
 
 bool BalanceRestingStart(const IslandProblem& problem, const IslandLayout& layout,

@@ -56,6 +56,12 @@ enum class StartBalance {
   kPolished,    // on to kPolishTolerance: usually a solution to round-off already
 };
 
+/// SweepSlidingBalance to `tolerance` (kBalanced), then on to kPolishTolerance where the sweeps
+/// still contract there (kPolished); `balance` is left as it came where the first sweeps do not
+/// balance it (kUnbalanced).
+StartBalance SweepAndPolish(const BodyProblem& body, const ContactFrame& frame, const Friction& fr,
+                            double tolerance, AgreeingStart agreeing, SlidingBalance& balance);
+
 /// Balances, in z, a start of one body sliding flat on one plane (one hull face carries the
 /// contact: its multiplier alone exceeds `active_fraction` of the largest): sweeps that set the
 /// friction impulses and σ to maximum dissipation at z's slip, the tangential velocity and p_n

@@ -54,14 +54,9 @@ StartBalance BalanceMultiPatchSlidingStart(const MultiPatchProblem& problem,
   sum.slip_norm /= sum.p_n;
   // (the warm start's slip turns little from step to step while its loads change: a friction
   // that agrees with it says nothing of the other rows)
-  if (!SweepSlidingBalance(body, frame, friction, kMultiPatchBalanceTolerance,
-                           AgreeingStart::kSweep, sum))
-    return StartBalance::kUnbalanced;
-  // on to the sweeps' round-off where they still contract there, as the hull model's
-  SlidingBalance polished = sum;
-  const bool polish = SweepSlidingBalance(body, frame, friction, kPolishTolerance,
-                                          AgreeingStart::kSweep, polished);
-  if (polish) sum = polished;
+  const StartBalance result = SweepAndPolish(body, frame, friction, kMultiPatchBalanceTolerance,
+                                             AgreeingStart::kSweep, sum);
+  if (result == StartBalance::kUnbalanced) return result;
 
   // the ECPs carried to the balanced end pose, and the loads that put their p_n-weighted mean at
   // the balanced combined ECP a*: the least change δ of the warm start's p_n,i with
@@ -101,7 +96,7 @@ StartBalance BalanceMultiPatchSlidingStart(const MultiPatchProblem& problem,
     balanced[L.sigma] = sum.slip_norm;
   }
   z.swap(balanced);
-  return polish ? StartBalance::kPolished : StartBalance::kBalanced;
+  return result;
 }
 
 }  // namespace ecpsim::engine
