@@ -12,7 +12,7 @@
 
 #include "app/commands.h"
 #include "app/option_checks.h"
-#include "engine/mesh_report.h"
+#include "engine/scene_io/mesh_report.h"
 #include "geometry/convex_hull.h"
 #include "common/errors.h"
 #include "geometry/mass_properties.h"

@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "engine/mesh_scale.h"
+#include "engine/scene_io/mesh_scale.h"
 #include "common/errors.h"
 
 namespace ecpsim::app {

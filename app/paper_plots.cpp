@@ -18,7 +18,7 @@
 #include "app/plot_writer.h"
 #include "app/trajectory_table.h"
 #include "engine/scene.h"
-#include "engine/scene_yaml.h"
+#include "engine/scene_io/scene_yaml.h"
 #include "geometry/contact_patch.h"
 #include "common/errors.h"
 

@@ -11,7 +11,7 @@
 #include "app/commands.h"
 #include "app/option_checks.h"
 #include "app/frame_recorder.h"
-#include "engine/scene_yaml.h"
+#include "engine/scene_io/scene_yaml.h"
 #include "engine/time_step.h"
 #include "common/errors.h"
 #include "render/png_writer.h"

@@ -23,8 +23,8 @@
 #include "app/simulation_run.h"
 #include "app/option_checks.h"
 #include "common/errors.h"
-#include "engine/drop_scene.h"
-#include "engine/scene_yaml.h"
+#include "engine/scene_io/drop_scene.h"
+#include "engine/scene_io/scene_yaml.h"
 #include "render/ffmpeg_pipe.h"
 
 namespace ecpsim::app {

@@ -10,8 +10,8 @@
 #include <nlohmann/json.hpp>
 
 #include "engine/scene.h"
-#include "engine/drop_scene.h"
-#include "engine/scene_yaml.h"
+#include "engine/scene_io/drop_scene.h"
+#include "engine/scene_io/scene_yaml.h"
 
 namespace ecpsim::app {
 

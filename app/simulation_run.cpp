@@ -17,7 +17,7 @@
 #include "app/trajectory_writer.h"
 #include "common/atomic_file.h"
 #include "common/errors.h"
-#include "engine/penetration.h"
+#include "engine/report/penetration.h"
 #include "engine/scene_limits.h"
 #include "engine/state.h"
 #include "engine/time_step.h"

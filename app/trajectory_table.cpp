@@ -10,7 +10,7 @@
 #include <fmt/format.h>
 
 #include "common/errors.h"
-#include "engine/trajectory_columns.h"
+#include "engine/report/trajectory_columns.h"
 
 namespace ecpsim::app {
 namespace {

@@ -6,7 +6,7 @@
 #include <benchmark/benchmark.h>
 
 #include "bench/step_loop.h"
-#include "engine/scene_yaml.h"
+#include "engine/scene_io/scene_yaml.h"
 #include "engine/time_step.h"
 
 namespace ecpsim::engine {

@@ -13,7 +13,7 @@
 #include <benchmark/benchmark.h>
 
 #include "bench/step_loop.h"
-#include "engine/scene_builders.h"
+#include "engine/scene_io/scene_builders.h"
 #include "tests/engine/test_bodies.h"
 
 namespace ecpsim::engine {

@@ -1,10 +1,9 @@
 #pragma once
 // The interface every contact model implements (hull, planar, multi-patch, point): advance one
 // contact island — bodies whose contacts couple them within the step, with those contacts — by
-// one step or sub-step. The driver (step_driver.h) forms the islands, runs the sub-step ladder
-// and commits; a model only solves.
+// one step or sub-step. The driver (step_driver.h) forms the islands (islands.h), runs the
+// sub-step ladder and commits; a model only solves.
 
-#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -68,11 +67,5 @@ AdvanceResult AdvanceOneBody(const Scene& scene, const Island& island, double t,
   return Stepper(scene, island.bodies[0], island.contacts)
       .Advance(t, h, state.bodies[0], state.contacts);
 }
-
-/// Calls `use` with the stepper of `scene.model` for `scene`, built in place for the call (a
-/// time step's stepper costs no heap allocation).
-/// @throws ModelInvalid where the model does not apply to the scene.
-void UseContactModel(const Scene& scene,
-                     const std::function<void(const ContactModelStepper&)>& use);
 
 }  // namespace ecpsim::engine

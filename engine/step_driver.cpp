@@ -3,14 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <iterator>
-#include <numeric>
 #include <optional>
 #include <string>
 #include <variant>
 
 #include <fmt/format.h>
 
-#include "engine/loads.h"
+#include "engine/islands.h"
 
 namespace ecpsim::engine {
 namespace {
@@ -24,9 +23,8 @@ constexpr int kLadderLength = static_cast<int>(std::size(kSubsteps));
 // allocates nothing of its own (vectors keep their capacity, and a contact copied over the last
 // step's copy reuses its warm start's buffers)
 struct StepScratch {
-  // FormIslands: the union–find's roots, each contact's presence in the step, each root's island
-  std::vector<int> root, island_of;
-  std::vector<char> in_step;
+  // FormIslandsInto's storage and its islands
+  IslandScratch island_scratch;
   std::vector<Island> islands;
   // StepIslands: per island its state at the step's end, its contacts' impulses summed over the
   // sub-steps; the bodies at the step's end; the contacts in an island
@@ -46,126 +44,6 @@ void Gather(const Island& island, const State& state, IslandState& local) {
     local.contacts[i] = state.contacts[island.contacts[i]];
 }
 
-// an axis-aligned box (world) that holds everything of a body that can be touched within the step
-using Box = Eigen::AlignedBox3d;
-
-// the broad phase's margin beyond a body's reach in the step, relative to its hull's size: the
-// reach is a bound already; the margin only keeps round-off of the support queries out
-constexpr double kBroadPhaseRelMargin = 1e-6;
-
-// the world box of `hull` at pose (c, R): six support queries (hill climbing on a polyhedron)
-Box HullBox(const geometry::ConvexShape& hull, const Eigen::Vector3d& c, const Eigen::Matrix3d& R) {
-  Box box;
-  for (int i = 0; i < 3; ++i) {
-    const Eigen::Vector3d axis = Eigen::Vector3d::Unit(i);
-    box.extend(c + R * hull.Support(R.transpose() * axis));
-    box.extend(c + R * hull.Support(R.transpose() * -axis));
-  }
-  return box;
-}
-
-// How far a jaw can move within the step: its gripper holds it on the frame across the axis and
-// in orientation (to the frame's pose at the step's end: the displacement and turn over the
-// step), and along the axis it moves at its own speed plus the actuator's push h F / m — a
-// motion along the axis only (the jaws hang 2.5 cm over the table in scenes/gripper.yaml: an
-// isotropic 1 cm of closing would bring the table into the island)
-struct JawReach {
-  double speed = 0;                                    // m/s, in any direction
-  Eigen::Vector3d closing = Eigen::Vector3d::Zero();   // m/s, along the axis (world)
-};
-
-JawReach JawReachOf(const Scene& scene, int b, const State& state, double radius,
-                    const Eigen::Matrix<double, 6, 1>& applied) {
-  const Gripper& gripper = scene.grippers[scene.bodies[b].gripper];
-  const int j = gripper.jaws[0] == b ? 0 : 1;
-  const double h = scene.h;
-  const Body& body = scene.bodies[b];
-  const BodyState& s = state.bodies[b];
-  const KinematicPose frame = gripper.motion->PoseAt(state.t + h);
-  const Eigen::Vector3d axis = ClosingAxis(gripper, frame);
-  // across the axis to its place on the frame; along it, with the jaws' midpoint to the frame's
-  // centre (island_gripper.h), the jaw's own opening being free
-  const KinematicPose target = JawOnFrame(gripper, j, frame);
-  const Eigen::Vector3d across = target.p - s.p_WB;
-  const Eigen::Vector3d centre_shift =
-      0.5 * (target.p + JawOnFrame(gripper, 1 - j, frame).p - state.bodies[gripper.jaws[0]].p_WB -
-             state.bodies[gripper.jaws[1]].p_WB);
-  const double turn = target.q.angularDistance(s.Q_WB);
-  JawReach reach;
-  reach.speed = ((across - axis.dot(across) * axis).norm() + std::abs(axis.dot(centre_shift)) +
-                 turn * radius) / h +
-                std::abs(axis.dot(s.v_WB)) + applied.head<3>().norm() / body.mass +
-                h * scene.gravity.norm();
-  reach.closing = (h * std::abs(gripper.force(state.t)) / body.mass) * axis;
-  return reach;
-}
-
-// Each body's box for the step [t, t + h]: its hull's box at the start pose grown by how far any
-// of its points can move within the step — h (|v| + |ω| r + |p_applied| / m + h |g|) for its
-// own motion, plus h V_max for what a contact can give it: a body struck by another, or pushed,
-// ends the step no faster than the fastest body of the scene (V_max, kinematic ones included)
-// brings in, plus gravity and loads. A kinematic body's box holds its hull at the step's two ends.
-std::vector<Box> StepBoxes(const Scene& scene, const State& state) {
-  const double h = scene.h;
-  std::vector<Box> boxes;
-  std::vector<double> speed(scene.bodies.size());
-  std::vector<Eigen::Vector3d> closing(scene.bodies.size(), Eigen::Vector3d::Zero());
-  double fastest = 0;
-  for (size_t b = 0; b < scene.bodies.size(); ++b) {
-    const Body& body = scene.bodies[b];
-    const BodyState& s = state.bodies[b];
-    const Eigen::Matrix3d R = s.Q_WB.toRotationMatrix();
-    boxes.push_back(HullBox(*body.hull, s.p_WB, R));
-    const double radius = 0.5 * boxes.back().diagonal().norm() + (boxes.back().center() - s.p_WB).norm();
-    if (body.IsKinematic()) {
-      const KinematicPose end = body.motion->PoseAt(state.t + h);
-      boxes.back().extend(HullBox(*body.hull, end.p, end.q.toRotationMatrix()));
-      speed[b] = 0;
-      fastest = std::max(fastest, (end.p - s.p_WB).norm() / h + s.w_WB.norm() * radius);
-      continue;
-    }
-    const Eigen::Matrix<double, 6, 1> applied =
-        AppliedImpulse(scene.loads, scene.impulses, static_cast<int>(b), state.t, h, R);
-    if (body.IsJaw()) {
-      const JawReach reach = JawReachOf(scene, static_cast<int>(b), state, radius, applied);
-      speed[b] = reach.speed;
-      closing[b] = reach.closing;
-    } else {
-      speed[b] = s.v_WB.norm() + s.w_WB.norm() * radius + applied.head<3>().norm() / body.mass +
-                 h * scene.gravity.norm();
-    }
-    // a body struck by a jaw can get its closing speed in any direction
-    fastest = std::max(fastest, speed[b] + closing[b].norm());
-  }
-  for (size_t b = 0; b < boxes.size(); ++b) {
-    Eigen::Array3d grow = h * closing[b].cwiseAbs().array();
-    grow += h * (speed[b] + fastest) + kBroadPhaseRelMargin * boxes[b].diagonal().norm();
-    // a bound that overflowed (or is NaN) bounds nothing: the box then reaches everything, so a
-    // contact is never missed
-    if (!grow.allFinite()) grow.setConstant(INFINITY);
-    boxes[b].min().array() -= grow;
-    boxes[b].max().array() += grow;
-  }
-  return boxes;
-}
-
-// whether anything in `box` can touch the fixed convex `obstacle` (world frame): a half-space's
-// constraint at the box's point deepest into it, else the obstacle's own box
-bool InReach(const Box& box, const geometry::ConvexShape& obstacle) {
-  if (!box.min().allFinite() || !box.max().allFinite()) return true;
-  const Eigen::Vector3d centre = box.center(), half = 0.5 * box.sizes();
-  if (obstacle.IsHalfSpace()) {
-    const Eigen::Vector3d g = obstacle.Gradient(0, centre);
-    return obstacle.Value(0, centre) - g.cwiseAbs().dot(half) <= 0;
-  }
-  Box reach;
-  for (int i = 0; i < 3; ++i) {
-    reach.extend(obstacle.Support(Eigen::Vector3d::Unit(i)));
-    reach.extend(obstacle.Support(-Eigen::Vector3d::Unit(i)));
-  }
-  return reach.intersects(box);
-}
-
 std::string BodyNames(const Scene& scene, const Island& island) {
   std::string names;
   for (int b : island.bodies)
@@ -175,69 +53,6 @@ std::string BodyNames(const Scene& scene, const Island& island) {
 
 }  // namespace
 
-namespace {
-
-// FormIslands into `islands`, over their last contents
-void FormIslandsInto(const Scene& scene, const State& state, std::vector<Island>& islands) {
-  const int n = static_cast<int>(scene.bodies.size());
-  // union–find over the dynamic bodies joined by a contact in the step
-  std::vector<int>& root = scratch.root;
-  root.resize(n);
-  std::iota(root.begin(), root.end(), 0);
-  const auto find = [&](int b) {
-    while (root[b] != b) b = root[b] = root[root[b]];
-    return b;
-  };
-  std::vector<char>& in_step = scratch.in_step;
-  in_step.assign(scene.contacts.size(), true);
-  std::vector<Box> boxes;
-  for (size_t k = 0; k < scene.contacts.size(); ++k) {
-    const ContactPair& pair = scene.contacts[k];
-    if (!pair.WithBody()) continue;
-    if (boxes.empty()) boxes = StepBoxes(scene, state);
-    in_step[k] = boxes[pair.body].intersects(boxes[pair.other_body]);
-    if (in_step[k] && !scene.bodies[pair.other_body].IsKinematic())
-      root[find(pair.body)] = find(pair.other_body);
-  }
-  // a gripper's jaws move as one (island_gripper.h)
-  for (const Gripper& gripper : scene.grippers) root[find(gripper.jaws[0])] = find(gripper.jaws[1]);
-  std::vector<int>& island_of = scratch.island_of;
-  island_of.assign(n, -1);
-  size_t count = 0;
-  for (int b = 0; b < n; ++b) {
-    if (scene.bodies[b].IsKinematic()) continue;
-    const int r = find(b);
-    if (island_of[r] < 0) {
-      island_of[r] = static_cast<int>(count);
-      if (count == islands.size()) islands.emplace_back();
-      islands[count].bodies.clear();
-      islands[count].contacts.clear();
-      ++count;
-    }
-    islands[island_of[r]].bodies.push_back(b);
-  }
-  islands.resize(count);
-  // an obstacle out of reach of a body of a coupled island leaves its MNCP: there every contact
-  // is a block of the coupled Newton system (the stack's upper boxes over the ground, a gripper's
-  // jaws over the table), while a body alone takes far obstacles in closed form (free flight)
-  for (size_t k = 0; k < scene.contacts.size(); ++k) {
-    const ContactPair& pair = scene.contacts[k];
-    if (pair.WithBody() || islands[island_of[find(pair.body)]].bodies.size() < 2) continue;
-    if (boxes.empty()) boxes = StepBoxes(scene, state);
-    in_step[k] = InReach(boxes[pair.body], *scene.obstacles[pair.obstacle].shape);
-  }
-  for (size_t k = 0; k < scene.contacts.size(); ++k)
-    if (in_step[k]) islands[island_of[find(scene.contacts[k].body)]].contacts.push_back(static_cast<int>(k));
-}
-
-}  // namespace
-
-std::vector<Island> FormIslands(const Scene& scene, const State& state) {
-  std::vector<Island> islands;
-  FormIslandsInto(scene, state, islands);
-  return islands;
-}
-
 StepReport StepIslands(const Scene& scene, State& state, const ContactModelStepper& model) {
   StepReport report;
   report.converged = true;
@@ -246,7 +61,7 @@ StepReport StepIslands(const Scene& scene, State& state, const ContactModelStepp
   // it as it was); the contacts' states are not copied as a whole: with every pair of bodies a
   // potential contact they outnumber the bodies by far (2,016 pairs for 64 boxes)
   std::vector<Island>& islands = scratch.islands;
-  FormIslandsInto(scene, state, islands);
+  FormIslandsInto(scene, state, scratch.island_scratch, islands);
   std::vector<IslandState>& solved = scratch.solved;
   solved.resize(islands.size());
 

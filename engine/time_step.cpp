@@ -1,6 +1,7 @@
 #include "engine/time_step.h"
 
 #include "engine/contact_model.h"
+#include "engine/models/model_selection.h"
 #include "engine/step_driver.h"
 
 namespace ecpsim::engine {

@@ -10,8 +10,8 @@
 
 #include <fmt/format.h>
 
-#include "engine/penetration.h"
-#include "engine/scene_yaml.h"
+#include "engine/report/penetration.h"
+#include "engine/scene_io/scene_yaml.h"
 #include "engine/state.h"
 #include "engine/step_report.h"
 #include "engine/time_step.h"

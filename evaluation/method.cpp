@@ -2,7 +2,7 @@
 
 #include <fmt/format.h>
 
-#include "engine/contact_wrench.h"
+#include "engine/report/contact_wrench.h"
 #include "engine/time_step.h"
 #include "common/errors.h"
 

@@ -7,8 +7,8 @@
 #include <fmt/format.h>
 
 #include "common/errors.h"
-#include "engine/scene_builders.h"
-#include "engine/scene_yaml.h"
+#include "engine/scene_io/scene_builders.h"
+#include "engine/scene_io/scene_yaml.h"
 #include "engine/state.h"
 #include "geometry/paper_bodies.h"
 

@@ -6,8 +6,8 @@
 
 #include <fmt/format.h>
 
-#include "engine/scene_builders.h"
-#include "engine/scene_yaml.h"
+#include "engine/scene_io/scene_builders.h"
+#include "engine/scene_io/scene_yaml.h"
 #include "evaluation/csv_file.h"
 #include "geometry/convex_hull.h"
 #include "geometry/convex_shape.h"

@@ -7,7 +7,7 @@
 
 #include <fmt/format.h>
 
-#include "engine/penetration.h"
+#include "engine/report/penetration.h"
 #include "engine/step_report.h"
 #include "engine/step_report.h"
 #include "geometry/convex_shape.h"

@@ -23,14 +23,14 @@
 #include <pybind11/stl.h>
 
 #include "common/errors.h"
-#include "engine/mesh_report.h"
-#include "engine/mesh_scale.h"
-#include "engine/scene_builders.h"
+#include "engine/scene_io/mesh_report.h"
+#include "engine/scene_io/mesh_scale.h"
+#include "engine/scene_io/scene_builders.h"
 #include "engine/scene_limits.h"
-#include "engine/scene_validation.h"
-#include "engine/scene_yaml.h"
+#include "engine/scene_io/scene_validation.h"
+#include "engine/scene_io/scene_yaml.h"
 #include "engine/time_step.h"
-#include "engine/trajectory_columns.h"
+#include "engine/report/trajectory_columns.h"
 #include "geometry/convex_hull.h"
 #include "geometry/convex_shape.h"
 #include "geometry/mass_properties.h"
@@ -54,7 +54,7 @@ using SceneHandle = std::shared_ptr<engine::Scene>;
 constexpr double kSeparatedImpulseFraction = 1e-9;  // dimensionless
 // a contact whose slip multiplier σ exceeds this fraction of the body's velocity scale
 // |g| h + |v| slides; a sticking one's σ is 0 up to the solver's tolerance, or the hull model's
-// creep of 1e-7 of the velocity scale (engine/hull_model.cpp, kStickCreepFraction)
+// creep between bodies (kStickCreepFraction, engine/models/hull_model.h)
 constexpr double kSlidingSlipFraction = 1e-6;  // dimensionless
 
 // ---- conversions --------------------------------------------------------------------------
@@ -689,7 +689,7 @@ std::shared_ptr<engine::Scene> MakeScene(const py::list& bodies, const py::objec
     throw InputError(fmt::format("model = {}: expected auto, hull, planar, multipatch or point", model));
   }
   scene.model = models.at(model);
-  // the checks every scene passes, a file's too (engine/scene_validation.h)
+  // the checks every scene passes, a file's too (engine/scene_io/scene_validation.h)
   engine::ValidateScene(scene);
   return std::make_shared<engine::Scene>(std::move(scene));
 }

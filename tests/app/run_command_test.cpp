@@ -18,7 +18,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "engine/trajectory_columns.h"
+#include "engine/report/trajectory_columns.h"
 #include "tests/app/run_fixture.h"
 
 namespace ecpsim {

@@ -25,7 +25,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/trajectory_columns.h"
+#include "engine/report/trajectory_columns.h"
 #include "tests/cli_test.h"
 
 namespace ecpsim {

@@ -12,7 +12,7 @@
 
 #include "baseline_test_scenes.h"
 #include "baselines/external_simulation.h"
-#include "engine/scene_yaml.h"
+#include "engine/scene_io/scene_yaml.h"
 #include "engine/time_step.h"
 #include "common/errors.h"
 

@@ -10,8 +10,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include "engine/penetration.h"
-#include "engine/scene_yaml.h"
+#include "engine/report/penetration.h"
+#include "engine/scene_io/scene_yaml.h"
 #include "engine/time_step.h"
 #include "common/errors.h"
 #include "tests/baselines/baseline_test_scenes.h"

@@ -14,7 +14,7 @@
 #include <gtest/gtest.h>
 
 #include "baselines/external_simulation.h"
-#include "engine/scene_yaml.h"
+#include "engine/scene_io/scene_yaml.h"
 
 namespace ecpsim::baselines {
 namespace {

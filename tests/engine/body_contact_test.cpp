@@ -6,8 +6,10 @@
 #include <gtest/gtest.h>
 
 #include "engine/contact_model.h"
-#include "engine/contact_wrench.h"
-#include "engine/scene_yaml.h"
+#include "engine/islands.h"
+#include "engine/models/model_selection.h"
+#include "engine/report/contact_wrench.h"
+#include "engine/scene_io/scene_yaml.h"
 #include "engine/step_driver.h"
 #include "engine/time_step.h"
 #include "tests/engine/test_bodies.h"

@@ -10,7 +10,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
-#include "engine/hull_model.h"
+#include "engine/models/hull_model.h"
 #include "engine/step_report.h"
 #include "engine/time_step.h"
 #include "tests/engine/test_bodies.h"

@@ -14,10 +14,10 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
-#include "engine/hull_model.h"
-#include "engine/penetration.h"
+#include "engine/models/hull_model.h"
+#include "engine/report/penetration.h"
 #include "engine/scene.h"
-#include "engine/scene_yaml.h"
+#include "engine/scene_io/scene_yaml.h"
 #include "engine/state.h"
 #include "engine/time_step.h"
 

@@ -8,7 +8,7 @@
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
-#include "engine/scene_builders.h"
+#include "engine/scene_io/scene_builders.h"
 #include "engine/step_report.h"
 #include "engine/time_step.h"
 

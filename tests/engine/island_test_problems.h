@@ -9,9 +9,9 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-#include "engine/island_mncp.h"
-#include "engine/mncp_scaling.h"
-#include "engine/mncp_system.h"
+#include "engine/mncp/island_mncp.h"
+#include "engine/mncp/mncp_scaling.h"
+#include "engine/mncp/mncp_system.h"
 #include "geometry/convex_shape.h"
 
 namespace ecpsim::engine::testing {

@@ -8,11 +8,11 @@
 
 #include <gtest/gtest.h>
 
-#include "engine/contact_wrench.h"
-#include "engine/hull_model.h"
-#include "engine/penetration.h"
+#include "engine/report/contact_wrench.h"
+#include "engine/models/hull_model.h"
+#include "engine/report/penetration.h"
 #include "engine/scene.h"
-#include "engine/scene_yaml.h"
+#include "engine/scene_io/scene_yaml.h"
 #include "engine/state.h"
 #include "engine/time_step.h"
 

@@ -13,7 +13,7 @@
 #include <gtest/gtest.h>
 
 #include "engine/scene.h"
-#include "engine/scene_yaml.h"
+#include "engine/scene_io/scene_yaml.h"
 #include "engine/state.h"
 #include "engine/step_report.h"
 #include "engine/time_step.h"

@@ -13,8 +13,8 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
-#include "engine/penetration.h"
-#include "engine/scene_yaml.h"
+#include "engine/report/penetration.h"
+#include "engine/scene_io/scene_yaml.h"
 #include "engine/state.h"
 #include "engine/time_step.h"
 

@@ -9,7 +9,7 @@
 
 #include <gtest/gtest.h>
 
-#include "engine/scene_yaml.h"
+#include "engine/scene_io/scene_yaml.h"
 #include "engine/time_step.h"
 #include "tests/engine/scaled_scene.h"
 #include "tests/engine/test_bodies.h"

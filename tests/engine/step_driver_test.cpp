@@ -6,7 +6,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include "engine/hull_model.h"
+#include "engine/islands.h"
+#include "engine/models/hull_model.h"
 #include "engine/time_step.h"
 #include "tests/engine/test_bodies.h"
 

@@ -8,7 +8,7 @@
 #include <Eigen/Geometry>
 
 #include "engine/scene.h"
-#include "engine/scene_builders.h"
+#include "engine/scene_io/scene_builders.h"
 #include "engine/state.h"
 #include "geometry/convex_hull.h"
 #include "geometry/convex_shape.h"

@@ -11,7 +11,7 @@
 
 #include "common/errors.h"
 #include "engine/scene.h"
-#include "engine/scene_yaml.h"
+#include "engine/scene_io/scene_yaml.h"
 #include "engine/state.h"
 #include "engine/step_report.h"
 #include "engine/time_step.h"

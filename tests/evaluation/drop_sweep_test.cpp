@@ -16,7 +16,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include "engine/scene_yaml.h"
+#include "engine/scene_io/scene_yaml.h"
 #include "common/errors.h"
 #include "geometry/mass_properties.h"
 #include "geometry/mesh_io.h"

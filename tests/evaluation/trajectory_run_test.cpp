@@ -5,7 +5,7 @@
 
 #include <gtest/gtest.h>
 
-#include "engine/scene_builders.h"
+#include "engine/scene_io/scene_builders.h"
 #include "evaluation/error_metrics.h"
 #include "evaluation/method.h"
 #include "evaluation/scenario.h"

@@ -5,7 +5,7 @@
 
 #include <gtest/gtest.h>
 
-#include "engine/hull_model.h"
+#include "engine/models/hull_model.h"
 #include "evaluation/stability_map.h"
 #include "common/errors.h"
 

@@ -12,8 +12,8 @@
 #include <gtest/gtest.h>
 
 #include "engine/scene.h"
-#include "engine/scene_builders.h"
-#include "engine/scene_yaml.h"
+#include "engine/scene_io/scene_builders.h"
+#include "engine/scene_io/scene_yaml.h"
 #include "engine/state.h"
 #include "engine/time_step.h"
 #include "geometry/convex_hull.h"

@@ -1,0 +1,123 @@
+#include "engine/broad_phase.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "engine/loads.h"
+
+namespace ecpsim::engine {
+namespace {
+
+// the broad phase's margin beyond a body's reach in the step, relative to its hull's size: the
+// reach is a bound already; the margin only keeps round-off of the support queries out
+constexpr double kBroadPhaseRelMargin = 1e-6;
+
+// the world box of `hull` at pose (c, R): six support queries (hill climbing on a polyhedron)
+Box HullBox(const geometry::ConvexShape& hull, const Eigen::Vector3d& c, const Eigen::Matrix3d& R) {
+  Box box;
+  for (int i = 0; i < 3; ++i) {
+    const Eigen::Vector3d axis = Eigen::Vector3d::Unit(i);
+    box.extend(c + R * hull.Support(R.transpose() * axis));
+    box.extend(c + R * hull.Support(R.transpose() * -axis));
+  }
+  return box;
+}
+
+// How far a jaw can move within the step: its gripper holds it on the frame across the axis and
+// in orientation (to the frame's pose at the step's end: the displacement and turn over the
+// step), and along the axis it moves at its own speed plus the actuator's push h F / m — a
+// motion along the axis only (the jaws hang 2.5 cm over the table in scenes/gripper.yaml: an
+// isotropic 1 cm of closing would bring the table into the island)
+struct JawReach {
+  double speed = 0;                                    // m/s, in any direction
+  Eigen::Vector3d closing = Eigen::Vector3d::Zero();   // m/s, along the axis (world)
+};
+
+JawReach JawReachOf(const Scene& scene, int b, const State& state, double radius,
+                    const Eigen::Matrix<double, 6, 1>& applied) {
+  const Gripper& gripper = scene.grippers[scene.bodies[b].gripper];
+  const int j = gripper.jaws[0] == b ? 0 : 1;
+  const double h = scene.h;
+  const Body& body = scene.bodies[b];
+  const BodyState& s = state.bodies[b];
+  const KinematicPose frame = gripper.motion->PoseAt(state.t + h);
+  const Eigen::Vector3d axis = ClosingAxis(gripper, frame);
+  // across the axis to its place on the frame; along it, with the jaws' midpoint to the frame's
+  // centre (island_gripper.h), the jaw's own opening being free
+  const KinematicPose target = JawOnFrame(gripper, j, frame);
+  const Eigen::Vector3d across = target.p - s.p_WB;
+  const Eigen::Vector3d centre_shift =
+      0.5 * (target.p + JawOnFrame(gripper, 1 - j, frame).p - state.bodies[gripper.jaws[0]].p_WB -
+             state.bodies[gripper.jaws[1]].p_WB);
+  const double turn = target.q.angularDistance(s.Q_WB);
+  JawReach reach;
+  reach.speed = ((across - axis.dot(across) * axis).norm() + std::abs(axis.dot(centre_shift)) +
+                 turn * radius) / h +
+                std::abs(axis.dot(s.v_WB)) + applied.head<3>().norm() / body.mass +
+                h * scene.gravity.norm();
+  reach.closing = (h * std::abs(gripper.force(state.t)) / body.mass) * axis;
+  return reach;
+}
+
+}  // namespace
+
+std::vector<Box> StepBoxes(const Scene& scene, const State& state) {
+  const double h = scene.h;
+  std::vector<Box> boxes;
+  std::vector<double> speed(scene.bodies.size());
+  std::vector<Eigen::Vector3d> closing(scene.bodies.size(), Eigen::Vector3d::Zero());
+  double fastest = 0;
+  for (size_t b = 0; b < scene.bodies.size(); ++b) {
+    const Body& body = scene.bodies[b];
+    const BodyState& s = state.bodies[b];
+    const Eigen::Matrix3d R = s.Q_WB.toRotationMatrix();
+    boxes.push_back(HullBox(*body.hull, s.p_WB, R));
+    const double radius = 0.5 * boxes.back().diagonal().norm() + (boxes.back().center() - s.p_WB).norm();
+    if (body.IsKinematic()) {
+      const KinematicPose end = body.motion->PoseAt(state.t + h);
+      boxes.back().extend(HullBox(*body.hull, end.p, end.q.toRotationMatrix()));
+      speed[b] = 0;
+      fastest = std::max(fastest, (end.p - s.p_WB).norm() / h + s.w_WB.norm() * radius);
+      continue;
+    }
+    const Eigen::Matrix<double, 6, 1> applied =
+        AppliedImpulse(scene.loads, scene.impulses, static_cast<int>(b), state.t, h, R);
+    if (body.IsJaw()) {
+      const JawReach reach = JawReachOf(scene, static_cast<int>(b), state, radius, applied);
+      speed[b] = reach.speed;
+      closing[b] = reach.closing;
+    } else {
+      speed[b] = s.v_WB.norm() + s.w_WB.norm() * radius + applied.head<3>().norm() / body.mass +
+                 h * scene.gravity.norm();
+    }
+    // a body struck by a jaw can get its closing speed in any direction
+    fastest = std::max(fastest, speed[b] + closing[b].norm());
+  }
+  for (size_t b = 0; b < boxes.size(); ++b) {
+    Eigen::Array3d grow = h * closing[b].cwiseAbs().array();
+    grow += h * (speed[b] + fastest) + kBroadPhaseRelMargin * boxes[b].diagonal().norm();
+    // a bound that overflowed (or is NaN) bounds nothing: the box then reaches everything, so a
+    // contact is never missed
+    if (!grow.allFinite()) grow.setConstant(INFINITY);
+    boxes[b].min().array() -= grow;
+    boxes[b].max().array() += grow;
+  }
+  return boxes;
+}
+
+bool InReach(const Box& box, const geometry::ConvexShape& obstacle) {
+  if (!box.min().allFinite() || !box.max().allFinite()) return true;
+  const Eigen::Vector3d centre = box.center(), half = 0.5 * box.sizes();
+  if (obstacle.IsHalfSpace()) {
+    const Eigen::Vector3d g = obstacle.Gradient(0, centre);
+    return obstacle.Value(0, centre) - g.cwiseAbs().dot(half) <= 0;
+  }
+  Box reach;
+  for (int i = 0; i < 3; ++i) {
+    reach.extend(obstacle.Support(Eigen::Vector3d::Unit(i)));
+    reach.extend(obstacle.Support(-Eigen::Vector3d::Unit(i)));
+  }
+  return reach.intersects(box);
+}
+
+}  // namespace ecpsim::engine

@@ -1,0 +1,69 @@
+#include "engine/islands.h"
+
+#include <numeric>
+
+#include "engine/broad_phase.h"
+
+namespace ecpsim::engine {
+
+void FormIslandsInto(const Scene& scene, const State& state, IslandScratch& scratch,
+                     std::vector<Island>& islands) {
+  const int n = static_cast<int>(scene.bodies.size());
+  // union–find over the dynamic bodies joined by a contact in the step
+  std::vector<int>& root = scratch.root;
+  root.resize(n);
+  std::iota(root.begin(), root.end(), 0);
+  const auto find = [&](int b) {
+    while (root[b] != b) b = root[b] = root[root[b]];
+    return b;
+  };
+  std::vector<char>& in_step = scratch.in_step;
+  in_step.assign(scene.contacts.size(), true);
+  std::vector<Box> boxes;
+  for (size_t k = 0; k < scene.contacts.size(); ++k) {
+    const ContactPair& pair = scene.contacts[k];
+    if (!pair.WithBody()) continue;
+    if (boxes.empty()) boxes = StepBoxes(scene, state);
+    in_step[k] = boxes[pair.body].intersects(boxes[pair.other_body]);
+    if (in_step[k] && !scene.bodies[pair.other_body].IsKinematic())
+      root[find(pair.body)] = find(pair.other_body);
+  }
+  // a gripper's jaws move as one (island_gripper.h)
+  for (const Gripper& gripper : scene.grippers) root[find(gripper.jaws[0])] = find(gripper.jaws[1]);
+  std::vector<int>& island_of = scratch.island_of;
+  island_of.assign(n, -1);
+  size_t count = 0;
+  for (int b = 0; b < n; ++b) {
+    if (scene.bodies[b].IsKinematic()) continue;
+    const int r = find(b);
+    if (island_of[r] < 0) {
+      island_of[r] = static_cast<int>(count);
+      if (count == islands.size()) islands.emplace_back();
+      islands[count].bodies.clear();
+      islands[count].contacts.clear();
+      ++count;
+    }
+    islands[island_of[r]].bodies.push_back(b);
+  }
+  islands.resize(count);
+  // an obstacle out of reach of a body of a coupled island leaves its MNCP: there every contact
+  // is a block of the coupled Newton system (the stack's upper boxes over the ground, a gripper's
+  // jaws over the table), while a body alone takes far obstacles in closed form (free flight)
+  for (size_t k = 0; k < scene.contacts.size(); ++k) {
+    const ContactPair& pair = scene.contacts[k];
+    if (pair.WithBody() || islands[island_of[find(pair.body)]].bodies.size() < 2) continue;
+    if (boxes.empty()) boxes = StepBoxes(scene, state);
+    in_step[k] = InReach(boxes[pair.body], *scene.obstacles[pair.obstacle].shape);
+  }
+  for (size_t k = 0; k < scene.contacts.size(); ++k)
+    if (in_step[k]) islands[island_of[find(scene.contacts[k].body)]].contacts.push_back(static_cast<int>(k));
+}
+
+std::vector<Island> FormIslands(const Scene& scene, const State& state) {
+  std::vector<Island> islands;
+  IslandScratch scratch;
+  FormIslandsInto(scene, state, scratch, islands);
+  return islands;
+}
+
+}  // namespace ecpsim::engine

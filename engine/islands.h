@@ -1,0 +1,33 @@
+#pragma once
+// Contact islands: the dynamic bodies that contacts in the step join, each group solved as one
+// MNCP (engine/README.md, "Islands").
+
+#include <vector>
+
+#include "engine/contact_model.h"
+#include "engine/scene.h"
+#include "engine/state.h"
+
+namespace ecpsim::engine {
+
+/// FormIslandsInto's working storage, kept by the caller from step to step so that a step in a
+/// steady state allocates nothing.
+struct IslandScratch {
+  std::vector<int> root, island_of;  // the union–find's roots, each root's island
+  std::vector<char> in_step;         // each contact's presence in the step
+};
+
+/// The scene's islands for the step [t, t + h] from `state` (in order of their lowest body):
+/// the broad phase bounds each body by a world box holding its hull and everything it can reach
+/// within the step (its own speed, spin, loads and gravity over h, plus what the fastest body of
+/// the scene can give it); a kinematic body's box holds its hull at the step's two ends. A
+/// contact between two bodies whose boxes overlap is in the step (two dynamic bodies then share
+/// an island); one whose boxes are apart is not, and its bodies cannot touch within the step. Every dynamic body is in exactly one island, with all its contacts with obstacles;
+/// kinematic bodies are in none (their motion is given).
+std::vector<Island> FormIslands(const Scene& scene, const State& state);
+
+/// FormIslands into `islands`, over their last contents (reusing their storage).
+void FormIslandsInto(const Scene& scene, const State& state, IslandScratch& scratch,
+                     std::vector<Island>& islands);
+
+}  // namespace ecpsim::engine

@@ -1,0 +1,309 @@
+#include "engine/solver/complementarity_solver.h"
+
+#include <cmath>
+#include <numeric>
+#include <vector>
+#include <stdexcept>
+#include <utility>
+
+#include <gtest/gtest.h>
+
+namespace ecpsim::engine {
+namespace {
+
+// a mixed linear complementarity problem F(z) = M z + q with a planted solution z*: the first
+// `num_free` rows are equations, of the rest every third is strictly complementary with z* = 0,
+// F* = 1 and the others have z* = 1 + i/n, F* = 0. M = 4 I + B with |B_ij| ≤ 1/n (a
+// deterministic pseudo-random pattern with about 80 % structural zeros, as in the MNCP's Newton
+// matrix): diagonally dominant, so z* is the unique solution and, once the active set is found,
+// ‖z − z*‖∞ ≤ ‖M⁻¹‖∞ · residual ≤ residual / (4 − 1)
+struct PlantedMcp {
+  Eigen::MatrixXd M;
+  Eigen::VectorXd q, z_star;
+};
+
+PlantedMcp MakePlantedMcp(int n, int num_free) {
+  PlantedMcp p;
+  p.M = 4 * Eigen::MatrixXd::Identity(n, n);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+      if (i != j && (7 * i + 13 * j) % 5 == 0) p.M(i, j) = std::sin(1.0 + i + 2.0 * j) / n;
+  p.z_star.resize(n);
+  Eigen::VectorXd F_star(n);
+  for (int i = 0; i < n; ++i) {
+    const bool inactive = i >= num_free && i % 3 == 0;
+    p.z_star[i] = inactive ? 0 : 1 + static_cast<double>(i) / n;
+    F_star[i] = inactive ? 1 : 0;
+  }
+  p.q = F_star - p.M * p.z_star;
+  return p;
+}
+
+void ExpectSolvesPlanted(int n, int num_free, bool sparse = false, bool replay = false,
+                         const std::vector<int>& elimination_order = {}) {
+  const PlantedMcp p = MakePlantedMcp(n, num_free);
+  McpOptions options;
+  options.tolerance = 1e-12;
+  options.replay_pivots = replay;
+  options.elimination_order = elimination_order;
+  Eigen::VectorXd z = Eigen::VectorXd::Constant(n, 0.5);
+  const Eigen::VectorXd ones = Eigen::VectorXd::Ones(n);
+  McpResult result;
+  if (sparse) {
+    const SparseMatrix M = p.M.sparseView();
+    const SparseMcpFunction f = [&](const Eigen::VectorXd& z, Eigen::VectorXd* F,
+                                    SparseMatrix* J) {
+      *F = M * z + p.q;
+      if (J != nullptr) *J = M;
+    };
+    result = SolveMcp(f, num_free, ones, ones, z, options);
+  } else {
+    const McpFunction f = [&p](const Eigen::VectorXd& z, Eigen::VectorXd* F,
+                               Eigen::MatrixXd* J) {
+      *F = p.M * z + p.q;
+      if (J != nullptr) *J = p.M;
+    };
+    result = SolveMcp(f, num_free, ones, ones, z, options);
+  }
+  EXPECT_TRUE(result.converged) << "n = " << n;
+  EXPECT_LE(result.residual, 1e-12);
+  // semismooth Newton from a nearby start: the active set is found in a few iterations
+  EXPECT_LE(result.iterations, 10);
+  // residual ≤ 1e-12 bounds the error by 1e-12 / 3 (see PlantedMcp); 1e-12 leaves round-off room
+  EXPECT_LT((z - p.z_star).cwiseAbs().maxCoeff(), 1e-12) << "n = " << n;
+}
+
+TEST(ComplementaritySolverTest, SolvesPlantedMixedLcpOfOneContactsSize) {
+  // the size of one contact's MNCP (the unblocked LU)
+  ExpectSolvesPlanted(25, 16);
+}
+
+TEST(ComplementaritySolverTest, SolvesPlantedMixedLcpAboveTheUnblockedSize) {
+  // large enough for the blocked LU, then also for a workspace of the solve's own
+  ExpectSolvesPlanted(150, 40);
+  ExpectSolvesPlanted(300, 60);
+  // and the shared workspace again afterwards
+  ExpectSolvesPlanted(25, 16);
+}
+
+TEST(ComplementaritySolverTest, SolvesPlantedMixedLcpWithReplayedPivots) {
+  // the Newton matrix factored by the pattern's replayed elimination (pattern_lu.h): the same
+  // bounds, at one contact's size and the multi-patch desk's, twice each (the second replays)
+  for (int pass = 0; pass < 2; ++pass) {
+    ExpectSolvesPlanted(25, 16, /*sparse=*/false, /*replay=*/true);
+    ExpectSolvesPlanted(82, 40, /*sparse=*/false, /*replay=*/true);
+  }
+}
+
+TEST(ComplementaritySolverTest, SolvesPlantedMixedLcpInAnotherEliminationOrder) {
+  // the dense LU on the Newton matrix permuted symmetrically (the multi-patch model's order:
+  // complementarity unknowns, then free ones, the first six last), and in a reversed order: the
+  // same bounds
+  for (const auto& [n, num_free] : {std::pair{25, 16}, std::pair{62, 30}}) {
+    std::vector<int> parts_first(n), reversed(n);
+    std::iota(parts_first.begin(), parts_first.begin() + (n - num_free), num_free);
+    std::iota(parts_first.begin() + (n - num_free), parts_first.end() - 6, 6);
+    std::iota(parts_first.end() - 6, parts_first.end(), 0);
+    std::iota(reversed.rbegin(), reversed.rend(), 0);
+    ExpectSolvesPlanted(n, num_free, /*sparse=*/false, /*replay=*/false, parts_first);
+    ExpectSolvesPlanted(n, num_free, /*sparse=*/false, /*replay=*/false, reversed);
+  }
+}
+
+TEST(ComplementaritySolverTest, SolvesPlantedMixedLcpWithASparseJacobian) {
+  // the sparse LU's path: the same bounds, small and large, and its pattern analysed again when
+  // the next solve's size differs
+  ExpectSolvesPlanted(25, 16, /*sparse=*/true);
+  ExpectSolvesPlanted(300, 60, /*sparse=*/true);
+  ExpectSolvesPlanted(150, 40, /*sparse=*/true);
+}
+
+// F(z) = ((z₀ − 1)², z₁ − 2): Newton's matrix is singular at the solution (1, 2) and
+// near-singular next to it, where the line search and the Levenberg–Marquardt rescue act
+TEST(ComplementaritySolverTest, SparseAndDenseFallbacksReachTheSameDoubleRoot) {
+  McpOptions options;
+  options.tolerance = 1e-10;
+  options.max_iterations = 100;
+  options.levenberg_marquardt_rescue = true;
+  const Eigen::VectorXd ones = Eigen::VectorXd::Ones(2);
+  const auto residual = [](const Eigen::VectorXd& z, Eigen::VectorXd* F) {
+    F->resize(2);
+    (*F)[0] = (z[0] - 1) * (z[0] - 1);
+    (*F)[1] = z[1] - 2;
+  };
+  const McpFunction dense = [&](const Eigen::VectorXd& z, Eigen::VectorXd* F, Eigen::MatrixXd* J) {
+    residual(z, F);
+    if (J) *J = Eigen::Vector2d(2 * (z[0] - 1), 1).asDiagonal();
+  };
+  const SparseMcpFunction sparse = [&](const Eigen::VectorXd& z, Eigen::VectorXd* F,
+                                       SparseMatrix* J) {
+    residual(z, F);
+    if (!J) return;
+    J->resize(2, 2);
+    J->setIdentity();
+    J->coeffRef(0, 0) = 2 * (z[0] - 1);
+  };
+  // Newton halves z₀ − 1 per step (a double root): the same path on both matrices
+  Eigen::VectorXd z_dense = Eigen::Vector2d(3, 0), z_sparse = z_dense;
+  const McpResult a = SolveMcp(dense, 2, ones, ones, z_dense, options);
+  const McpResult b = SolveMcp(sparse, 2, ones, ones, z_sparse, options);
+  EXPECT_TRUE(a.converged);
+  EXPECT_TRUE(b.converged);
+  EXPECT_EQ(a.iterations, b.iterations);
+  // the double root: residual (z₀ − 1)² ≤ 1e-10 bounds |z₀ − 1| by 1e-5
+  constexpr double kDoubleRootError = 1e-5;
+  EXPECT_NEAR(z_sparse[0], 1, kDoubleRootError);
+  // the linear row is solved exactly by the first full step
+  EXPECT_NEAR(z_sparse[1], 2, 1e-12);
+}
+
+// F(z) = A z − b with A of rank 2 and b in its range: the solutions form the line
+// (t, 2 − t, 3), the Newton matrix is singular everywhere, and the minimum-norm Newton step from
+// z₀ lands on the solution nearest z₀ — (4, −2, 3) from (5, −1, 0) — in one iteration, moving
+// nothing along the line (McpOptions::minimum_norm_steps), dense and sparse alike
+TEST(ComplementaritySolverTest, MinimumNormStepsStayNearTheStartOnANonIsolatedSolutionSet) {
+  Eigen::Matrix3d A;
+  A << 1, 1, 0, 1, 1, 0, 0, 0, 1;
+  const Eigen::Vector3d b(2, 2, 3);
+  const Eigen::Vector3d nearest(4, -2, 3);
+  McpOptions options;
+  options.tolerance = 1e-12;
+  options.minimum_norm_steps = true;
+  const Eigen::VectorXd ones = Eigen::VectorXd::Ones(3);
+  const McpFunction dense = [&](const Eigen::VectorXd& z, Eigen::VectorXd* F, Eigen::MatrixXd* J) {
+    *F = A * z - b;
+    if (J) *J = A;
+  };
+  const SparseMcpFunction sparse = [&](const Eigen::VectorXd& z, Eigen::VectorXd* F,
+                                       SparseMatrix* J) {
+    *F = A * z - b;
+    if (J) *J = A.sparseView();
+  };
+  Eigen::VectorXd z_dense = Eigen::Vector3d(5, -1, 0), z_sparse = z_dense;
+  const McpResult a = SolveMcp(dense, 3, ones, ones, z_dense, options);
+  const McpResult c = SolveMcp(sparse, 3, ones, ones, z_sparse, options);
+  for (const McpResult& result : {a, c}) {
+    EXPECT_TRUE(result.converged);
+    EXPECT_EQ(result.iterations, 1);
+  }
+  // one orthogonal decomposition's round-off on O(1) entries
+  constexpr double kRoundOff = 1e-14;
+  EXPECT_LT((z_dense - nearest).cwiseAbs().maxCoeff(), kRoundOff);
+  EXPECT_LT((z_sparse - nearest).cwiseAbs().maxCoeff(), kRoundOff);
+}
+
+TEST(ComplementaritySolverTest, NestedSolveInTheCallbackKeepsTheOuterWorkspace) {
+  // the outer callback solves an inner problem on every evaluation: both must still converge
+  const PlantedMcp outer = MakePlantedMcp(25, 16);
+  const PlantedMcp inner = MakePlantedMcp(12, 3);
+  const Eigen::VectorXd ones_inner = Eigen::VectorXd::Ones(12);
+  int inner_failures = 0;
+  const McpFunction f_inner = [&inner](const Eigen::VectorXd& z, Eigen::VectorXd* F,
+                                       Eigen::MatrixXd* J) {
+    *F = inner.M * z + inner.q;
+    if (J != nullptr) *J = inner.M;
+  };
+  const McpFunction f = [&](const Eigen::VectorXd& z, Eigen::VectorXd* F, Eigen::MatrixXd* J) {
+    Eigen::VectorXd z_inner = Eigen::VectorXd::Constant(12, 0.5);
+    McpOptions options;
+    options.tolerance = 1e-12;
+    const McpResult r = SolveMcp(f_inner, 3, ones_inner, ones_inner, z_inner, options);
+    if (!r.converged || (z_inner - inner.z_star).cwiseAbs().maxCoeff() > 1e-12) ++inner_failures;
+    *F = outer.M * z + outer.q;
+    if (J != nullptr) *J = outer.M;
+  };
+  McpOptions options;
+  options.tolerance = 1e-12;
+  Eigen::VectorXd z = Eigen::VectorXd::Constant(25, 0.5);
+  const Eigen::VectorXd ones = Eigen::VectorXd::Ones(25);
+  const McpResult result = SolveMcp(f, 16, ones, ones, z, options);
+  EXPECT_TRUE(result.converged);
+  EXPECT_EQ(inner_failures, 0);
+  EXPECT_LT((z - outer.z_star).cwiseAbs().maxCoeff(), 1e-12);
+}
+
+TEST(ComplementaritySolverTest, HandsTheCallbackAZeroJacobianOfTheProblemsSize) {
+  // the callback may add its entries into J (complementarity_solver.h): J arrives n × n and zero
+  // at every evaluation, also when the shared workspace served another size in between, when an
+  // evaluation left without its Jacobian (a converged trial point) and after a callback that
+  // threw half-way through writing J
+  {
+    const PlantedMcp p = MakePlantedMcp(25, 16);
+    const McpFunction throwing = [&](const Eigen::VectorXd& z, Eigen::VectorXd* F,
+                                     Eigen::MatrixXd* J) {
+      *F = p.M * z + p.q;
+      if (J != nullptr) {
+        *J += p.M;
+        throw std::runtime_error("callback failed");
+      }
+    };
+    Eigen::VectorXd z = Eigen::VectorXd::Constant(25, 0.5);
+    const Eigen::VectorXd ones = Eigen::VectorXd::Ones(25);
+    EXPECT_THROW(SolveMcp(throwing, 16, ones, ones, z), std::runtime_error);
+  }
+  int unclean = 0, evaluations = 0;
+  for (const auto& [n, num_free] : {std::pair{25, 16}, {82, 40}, {25, 16}, {7, 2}}) {
+    const PlantedMcp p = MakePlantedMcp(n, num_free);
+    const McpFunction f = [&](const Eigen::VectorXd& z, Eigen::VectorXd* F, Eigen::MatrixXd* J) {
+      *F = p.M * z + p.q;
+      if (J == nullptr) return;
+      ++evaluations;
+      if (J->rows() != n || J->cols() != n || !(J->array() == 0).all()) ++unclean;
+      *J += p.M;
+    };
+    McpOptions options;
+    options.tolerance = 1e-12;
+    Eigen::VectorXd z = Eigen::VectorXd::Constant(n, 0.5);
+    const Eigen::VectorXd ones = Eigen::VectorXd::Ones(n);
+    const McpResult result = SolveMcp(f, num_free, ones, ones, z, options);
+    EXPECT_TRUE(result.converged) << "n = " << n;
+    // as ExpectSolvesPlanted: residual ≤ 1e-12 bounds the error by 1e-12 / 3
+    EXPECT_LT((z - p.z_star).cwiseAbs().maxCoeff(), 1e-12) << "n = " << n;
+  }
+  EXPECT_GT(evaluations, 8);
+  EXPECT_EQ(unclean, 0);
+}
+
+}  // namespace
+}  // namespace ecpsim::engine
+
+namespace ecpsim::engine {
+namespace {
+
+// McpOptions::verify_start_first: a start that solves the problem is accepted on F alone (no
+// Jacobian asked for); any other start is solved to the same doubles as without the option
+TEST(ComplementaritySolverTest, AStartThatSolvesTheProblemIsVerifiedWithoutAJacobian) {
+  const int n = 25, num_free = 10;
+  const PlantedMcp p = MakePlantedMcp(n, num_free);
+  int jacobians = 0;
+  const McpFunction f = [&](const Eigen::VectorXd& z, Eigen::VectorXd* F, Eigen::MatrixXd* J) {
+    *F = p.M * z + p.q;
+    if (J != nullptr) {
+      *J = p.M;
+      ++jacobians;
+    }
+  };
+  const Eigen::VectorXd ones = Eigen::VectorXd::Ones(n);
+  McpOptions options;
+  options.tolerance = 1e-12;
+  options.verify_start_first = true;
+  Eigen::VectorXd z = p.z_star;
+  McpResult result = SolveMcp(f, num_free, ones, ones, z, options);
+  EXPECT_TRUE(result.converged);
+  EXPECT_EQ(result.iterations, 0);
+  EXPECT_EQ(jacobians, 0);
+  EXPECT_EQ(z, p.z_star);
+
+  // from a start that is no solution: the same iterates as the plain solve
+  Eigen::VectorXd verified = Eigen::VectorXd::Constant(n, 0.5), plain = verified;
+  result = SolveMcp(f, num_free, ones, ones, verified, options);
+  options.verify_start_first = false;
+  const McpResult plain_result = SolveMcp(f, num_free, ones, ones, plain, options);
+  EXPECT_TRUE(result.converged);
+  EXPECT_GT(jacobians, 0);
+  EXPECT_EQ(result.iterations, plain_result.iterations);
+  EXPECT_EQ(verified, plain);
+}
+
+}  // namespace
+}  // namespace ecpsim::engine
