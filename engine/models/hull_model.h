@@ -11,14 +11,9 @@
 namespace ecpsim::engine {
 
 // a contact of an island where bodies touch bodies sticks up to a creep of this fraction of F's
-// velocity scale (IslandContact::stick_creep): a held body creeps < 1e-6 m/s at the scale g h of
-// a resting body (0.098 m/s at h = 0.01 s), 1e-5 m in 10 s, and the friction it makes unique is
-// resolved to the solver's tolerance over it, 1e-7 of e² μ p_n. Stiffer creeps condition Newton
-// worse, and it stalls 100–1000 × above the tolerance: examples/push_sweep.py's 1,000 runs (seed
-// 1) failed 61 times at 1e-7, 20 at 1e-6, once here (none since the last resort), while the 939
-// runs every one completed ended as close to each other at 1e-5 as at 1e-6 (median 0.4 mm, 90 %
-// within 5 mm of the 1e-7 poses after 1 s: the point push's own sensitivity, not the creep's
-// ≤ 3 µm of slip) (engine/README.md)
+// velocity scale (IslandContact::stick_creep): a held body creeps < 1e-6 m/s at a resting body's
+// scale g h; stiffer creeps condition Newton worse and it stalls above the tolerance
+// (engine/README.md, "Sticking between bodies")
 inline constexpr double kStickCreepFraction = 1e-5;
 
 class HullModel final : public ContactModelStepper {
