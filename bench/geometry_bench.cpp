@@ -4,7 +4,6 @@
 // Run: build/bench/ecpsim_bench_geometry (medians of 3 repetitions). The meshes are generated
 // once per process into a temporary folder, so file reading is part of the Load timings.
 
-#include <time.h>
 #include <unistd.h>
 
 #include <cmath>
@@ -21,6 +20,7 @@
 #include <libqhull_r/qhull_ra.h>
 #endif
 
+#include "common/cpu_clock.h"
 #include "geometry/convex_hull.h"
 #include "geometry/mass_properties.h"
 #include "geometry/mesh_io.h"
@@ -161,14 +161,6 @@ std::vector<Eigen::Vector3d> RandomSpherePoints(int count) {
 const std::vector<Eigen::Vector3d>& SphereCloud() {
   static const std::vector<Eigen::Vector3d> points = RandomSpherePoints(500'000);
   return points;
-}
-
-// CPU time of the calling thread, s: both hulls run single-threaded, and on a shared machine
-// their CPU times compare more steadily than wall-clock times
-double ThreadCpuSeconds() {
-  timespec now{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
-  return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
 }
 
 #ifdef ECPSIM_HAVE_QHULL

@@ -70,11 +70,11 @@ StepReport StepIslands(const Scene& scene, State& state, const ContactModelStepp
     IslandState& local = solved[island_index];
     std::string tried;
     double residual = 0;
-    bool solved = false;
+    bool island_solved = false;
     // the sub-step ladder with the model's Advance; only where that fails at every length,
     // again with its last resort (if it has one), so that what Advance solves stays as it was
     bool has_last_resort = true;
-    for (int attempt = 0; attempt < 2 * kLadderLength && !solved && has_last_resort; ++attempt) {
+    for (int attempt = 0; attempt < 2 * kLadderLength && !island_solved && has_last_resort; ++attempt) {
       const bool last_resort = attempt >= kLadderLength;
       const int substeps = kSubsteps[attempt % kLadderLength];
       Gather(island, state, local);
@@ -126,10 +126,10 @@ StepReport StepIslands(const Scene& scene, State& state, const ContactModelStepp
       }
       report.substeps = std::max(report.substeps, substeps);
       report.residual = std::max(report.residual, island_residual);
-      solved = true;
+      island_solved = true;
       break;
     }
-    if (!solved) {
+    if (!island_solved) {
       throw SolverFailure(fmt::format(
           "{}solver failed at t = {:.6g} s on body {}: residual {:.3g} > tolerance {:.3g}; "
           "tried {}",

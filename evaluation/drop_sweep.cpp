@@ -3,13 +3,13 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <map>
 
 #include <fmt/format.h>
 
+#include "common/cpu_clock.h"
 #include "engine/report/penetration.h"
 #include "engine/scene_io/scene_yaml.h"
 #include "engine/state.h"
@@ -42,12 +42,6 @@ const std::vector<std::string> kHeader = {
     "duration",   "outcome",    "steps",       "max_penetration_rel", "energy_gain_rel",
     "final_speed_rel", "iterations_max", "retries", "substepped", "cpu_s",
     "wall_s",     "max_step_cpu_s", "message"};
-
-double ThreadCpuSeconds() {
-  timespec now{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
-  return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
-}
 
 double WallSeconds() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch())

@@ -2,11 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <ctime>
 #include <limits>
 
 #include <fmt/format.h>
 
+#include "common/cpu_clock.h"
 #include "engine/report/penetration.h"
 #include "engine/step_report.h"
 #include "engine/step_report.h"
@@ -27,12 +27,6 @@ std::vector<Vector3d> HullVertices(const geometry::ConvexShape& hull) {
     return polyhedron->hull().vertices;
   }
   return hull.Tessellate(kSmoothHullSegments).vertices;
-}
-
-double ThreadCpuSeconds() {
-  timespec now{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
-  return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
 }
 
 double Energy(const engine::Scene& scene, int index, const engine::BodyState& b) {

@@ -5,7 +5,6 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
-#include <ctime>
 #include <limits>
 #include <numeric>
 #include <tuple>
@@ -18,6 +17,7 @@
 #include <Eigen/Geometry>
 #include <fmt/format.h>
 
+#include "common/cpu_clock.h"
 #include "common/errors.h"
 
 namespace ecpsim::geometry {
@@ -39,13 +39,6 @@ using HullTraits = CGAL::Convex_hull_traits_3<Kernel, HullTriangles, CGAL::Tag_t
 constexpr int kFlatnessProbes = 16;
 
 Eigen::Vector3d ToEigen(const Point3& p) { return {p.x(), p.y(), p.z()}; }
-
-// CPU time of the calling thread, s: stage times that other processes on the machine do not skew
-double ThreadCpuSeconds() {
-  timespec now{};
-  ECPSIM_DEMAND(clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now) == 0);
-  return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
-}
 
 // rejects point sets that cannot bound a volume, with exact predicates, before CGAL sees them
 void CheckFullDimensional(const std::vector<Point3>& points, const std::string& source) {

@@ -107,8 +107,8 @@ Camera MakeCamera(const CameraSpec& spec, const std::vector<BoundingSphere>& sph
   const double distance = (camera.target - camera.eye).norm();
   const double near = kNearFraction * distance;
   double far = (2 + std::sqrt(2.0) * kGroundHalfExtent) * distance;
-  for (const BoundingSphere& s : spheres) {
-    far = std::max(far, (s.centre - camera.eye).norm() + s.radius);
+  for (const BoundingSphere& sphere : spheres) {
+    far = std::max(far, (sphere.centre - camera.eye).norm() + sphere.radius);
   }
   far *= kFarMargin;
   const double cot = 1 / std::tan(fov_y / 2);

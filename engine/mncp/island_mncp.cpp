@@ -162,7 +162,7 @@ IslandLayout MakeIslandLayout(const IslandProblem& problem) {
     for (int i : cp.window) ECPSIM_DEMAND(i >= 0 && i < cp.hull->NumConstraints());
     for (int j : cp.other_window) ECPSIM_DEMAND(j >= 0 && j < cp.other_shape->NumConstraints());
     // a fixed half-space's contact in the plane form (MncpLayout), without a2, s and l_G
-    const bool plane = cp.other_kind == Other::kFixed && IsPlane(*cp.other_shape);
+    const bool plane = cp.other_kind == Other::kFixed && cp.other_shape->IsHalfSpace();
     counts.push_back({static_cast<int>(cp.window.size()),
                       plane ? 0 : static_cast<int>(cp.other_window.size())});
   }

@@ -185,10 +185,6 @@ ContactFrame MakeContactFrame(const Vector3d& N, const Vector3d& tangent_referen
   return frame;
 }
 
-bool IsPlane(const geometry::ConvexShape& shape) {
-  return shape.NumConstraints() == 1 && shape.IsLinear(0);
-}
-
 ContactGap ContactGapAt(const MncpLayout::Contact& L, const geometry::ConvexShape* plane,
                         const Eigen::VectorXd& z) {
   if (!L.on_plane()) return {z.segment<3>(L.a2), z[L.s]};

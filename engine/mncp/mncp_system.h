@@ -78,10 +78,6 @@ MncpLayout MakeLayout(const BodyProblem& problem);
 /// with it, and contacts on a plane in the plane form.
 MncpLayout LayOutContacts(int first, const std::vector<std::array<int, 2>>& counts);
 
-/// Whether `shape` (a fixed obstacle, world frame) is a half-space: one linear constraint,
-/// whose contacts MakeIslandLayout lays out on a plane.
-bool IsPlane(const geometry::ConvexShape& shape);
-
 /// Contact L's point on G and gap at z: z's a2 and s, or on a plane (`plane` the half-space)
 /// a1's projection onto it and its signed distance g(a1)/|∇g|².
 struct ContactGap {

@@ -407,7 +407,7 @@ double EquivalentMoment(const ContactFrame& f, const Vector3d& d, double p_t, do
 MncpLayout MakeMultiPatchLayout(const BodyProblem& problem) {
   std::vector<std::array<int, 2>> counts;
   for (const ContactProblem& cp : problem.contacts) {
-    const int l_g_count = IsPlane(*cp.obstacle) ? 0 : cp.obstacle->NumConstraints();
+    const int l_g_count = cp.obstacle->IsHalfSpace() ? 0 : cp.obstacle->NumConstraints();
     counts.push_back({static_cast<int>(cp.window.size()), l_g_count});
   }
   return LayOutContacts(6, counts);  // ν⁺ = (v⁺, ω⁺) first

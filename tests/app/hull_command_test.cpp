@@ -79,9 +79,9 @@ TEST_F(HullCommandTest, JsonForTheBoxFixture) {
     EXPECT_NEAR(j["center_of_mass"][a].get<double>(), centre[a], kRoundOff);
   // 12 kg box 1 × 2 × 3: I = m/12 (b² + c², a² + c², a² + b²) = (13, 10, 5) kg·m²
   const Eigen::Vector3d moments(13.0, 10.0, 5.0);
-  for (int r = 0; r < 3; ++r) {
+  for (int row = 0; row < 3; ++row) {
     for (int c = 0; c < 3; ++c) {
-      EXPECT_NEAR(j["inertia"][r][c].get<double>(), r == c ? moments[r] : 0.0, kRoundOff);
+      EXPECT_NEAR(j["inertia"][row][c].get<double>(), row == c ? moments[row] : 0.0, kRoundOff);
     }
   }
 

@@ -353,7 +353,7 @@ TEST_P(SceneFuzzTest, EveryMutationEndsWithADefinedOutcome) {
 
 INSTANTIATE_TEST_SUITE_P(ShippedScenes, SceneFuzzTest,
                          ::testing::Range(0, static_cast<int>(std::size(kScenes))),
-                         [](const auto& info) { return std::string(kScenes[info.param]); });
+                         [](const auto& param_info) { return std::string(kScenes[param_info.param]); });
 
 }  // namespace
 }  // namespace ecpsim

@@ -90,8 +90,8 @@ TEST_P(MujocoSettingTest, SlidingBoxStopsAtTheCoulombDistance) {
 
 INSTANTIATE_TEST_SUITE_P(BothSettings, MujocoSettingTest,
                          ::testing::Values(FrictionSetting::kDefault, FrictionSetting::kCoulomb),
-                         [](const auto& info) {
-                           return std::string(info.param == FrictionSetting::kDefault ? "Default"
+                         [](const auto& param_info) {
+                           return std::string(param_info.param == FrictionSetting::kDefault ? "Default"
                                                                                       : "Coulomb");
                          });
 

@@ -361,8 +361,8 @@ INSTANTIATE_TEST_SUITE_P(Pushes, LimitSurfaceTest,
                          ::testing::Values(Push{"Offset5cmBall5mm", 0.05, 0.005},
                                            Push{"Offset5cmBall1mm", 0.05, 0.001},
                                            Push{"OffsetMinus8cmBall1cm", -0.08, 0.01}),
-                         [](const ::testing::TestParamInfo<Push>& info) {
-                           return std::string(info.param.name);
+                         [](const ::testing::TestParamInfo<Push>& param_info) {
+                           return std::string(param_info.param.name);
                          });
 
 }  // namespace

@@ -117,8 +117,8 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(ImpactCase{10, 2e-4, 1e-12, true}, ImpactCase{10, 2e-4, 1e-8, true},
                       ImpactCase{10, 2e-4, 1e-5, true}, ImpactCase{1, 2e-4, 1e-12, true},
                       ImpactCase{100, 1e-2, 1e-12, false}, ImpactCase{100, 2e-2, 1e-8, false}),
-    [](const ::testing::TestParamInfo<ImpactCase>& info) {
-      const ImpactCase& c = info.param;
+    [](const ::testing::TestParamInfo<ImpactCase>& param_info) {
+      const ImpactCase& c = param_info.param;
       std::string name = "speed" + std::to_string(static_cast<int>(c.speed)) + "_h" +
                          std::to_string(static_cast<int>(std::lround(c.h * 1e4))) + "e4_tol" +
                          std::to_string(static_cast<int>(std::lround(-std::log10(c.tolerance))));

@@ -120,7 +120,7 @@ TEST_P(EveryKind, OneComponentOfTheRightGenusOrSeparateParts) {
 }
 
 INSTANTIATE_TEST_SUITE_P(MeshGenerators, EveryKind, ::testing::ValuesIn(AllMeshKinds()),
-                         [](const auto& info) { return std::string(MeshKindName(info.param)); });
+                         [](const auto& param_info) { return std::string(MeshKindName(param_info.param)); });
 
 TEST(MeshGeneratorsTest, ConvexPolytopesAreTheirOwnHulls) {
   for (int seed = 0; seed < kSeedsPerKind; ++seed) {

@@ -207,6 +207,8 @@ TEST(ContactPatchTest, ScaledBoxGivesTheSamePatches) {
       Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 1, 0).normalized())};
   const std::vector<ContactMode> expected = {ContactMode::kConvexPatch, ContactMode::kLine,
                                              ContactMode::kPoint};
+  // relative: the patch's area from a few products of coordinates scaled by L
+  constexpr double kAreaRoundOff = 1e-12;
   for (const double L : {1e-4, 1e-2, 1.0, 1e2, 1e3}) {
     const TriangleMesh box = MakeBoxMesh(Eigen::Vector3d(-0.1, -0.2, -0.15) * L,
                                          Eigen::Vector3d(0.1, 0.2, 0.15) * L);
@@ -220,7 +222,9 @@ TEST(ContactPatchTest, ScaledBoxGivesTheSamePatches) {
       const ContactPatch patch = ExtractContactPatch(box, X, kGround);
       EXPECT_EQ(patch.mode, expected[k]) << "L = " << L << ", tilt " << k;
       // the flat face's area 0.2 × 0.4 L², to round-off
-      if (k == 0) EXPECT_NEAR(patch.area / (L * L), 0.08, 1e-12) << "L = " << L;
+      if (k == 0) {
+        EXPECT_NEAR(patch.area / (L * L), 0.08, kAreaRoundOff) << "L = " << L;
+      }
     }
   }
 }

@@ -202,14 +202,14 @@ TEST(MassPropertiesTest, ScaleFreeFromBelowAMicrometreToAboveALightYear) {
   // the unit cube scaled by L: volume L³, inertia L⁵/6 at density 1, whatever L in the range
   // (the old absolute 1e-12 m³ threshold rejected everything below a 0.1 mm cube); L is a
   // power of 2 here, so the scaled coordinates are exact and only the summation rounds
-  constexpr double kRoundOff = 1e-14;  // relative; 12 triangles of exact coordinates
+  constexpr double kRelativeRoundOff = 1e-14;  // relative; 12 triangles of exact coordinates
   for (int exponent : {-60, -20, -13, 0, 10, 60}) {
     const double l = std::ldexp(1.0, exponent);
     const MassProperties p = ComputeMassProperties(
         MakeBoxMesh(Eigen::Vector3d::Zero(), Eigen::Vector3d::Constant(l)), 1.0);
-    EXPECT_NEAR(p.volume / std::pow(l, 3), 1.0, kRoundOff) << l;
-    EXPECT_NEAR(p.principal_moments.minCoeff() / (std::pow(l, 5) / 6), 1.0, kRoundOff) << l;
-    EXPECT_NEAR(p.principal_moments.maxCoeff() / (std::pow(l, 5) / 6), 1.0, kRoundOff) << l;
+    EXPECT_NEAR(p.volume / std::pow(l, 3), 1.0, kRelativeRoundOff) << l;
+    EXPECT_NEAR(p.principal_moments.minCoeff() / (std::pow(l, 5) / 6), 1.0, kRelativeRoundOff) << l;
+    EXPECT_NEAR(p.principal_moments.maxCoeff() / (std::pow(l, 5) / 6), 1.0, kRelativeRoundOff) << l;
   }
 }
 

@@ -101,7 +101,7 @@ TEST(MeshIoTest, SizesFromTheRangeEndsLoadWithExactProportions) {
 TEST(MeshIoTest, MirroringNodeTransformKeepsTrianglesFacingOutward) {
   // two boxes, one placed by scale (−1, 1, 1): see make_fixtures.py for the closed form. Without
   // re-winding, the mirrored copy is inside out and the volumes cancel (0 m³)
-  constexpr double kRoundOff = 1e-12;  // exact single-precision corners, 24 triangles
+  constexpr double kCornerRoundOff = 1e-12;  // exact single-precision corners, 24 triangles
   for (const char* file : {"mirrored_boxes.gltf", "mirrored_boxes.fbx"}) {
     const std::string path = FixturePath(file);
     const TriangleMesh mesh = LoadMesh(path);
@@ -109,12 +109,12 @@ TEST(MeshIoTest, MirroringNodeTransformKeepsTrianglesFacingOutward) {
     EXPECT_TRUE(topology.closed) << file;
     EXPECT_TRUE(topology.consistently_oriented) << file;
     const MassProperties p = ComputeMassProperties(mesh, 1.0, path);
-    EXPECT_NEAR(p.volume, 12.0, kRoundOff) << file;
-    EXPECT_LE((p.center_of_mass - Eigen::Vector3d(0.0, 1.0, 1.5)).norm(), kRoundOff) << file;
+    EXPECT_NEAR(p.volume, 12.0, kCornerRoundOff) << file;
+    EXPECT_LE((p.center_of_mass - Eigen::Vector3d(0.0, 1.0, 1.5)).norm(), kCornerRoundOff) << file;
     const Eigen::Matrix3d expected = Eigen::Vector3d(13.0, 37.0, 32.0).asDiagonal();
-    EXPECT_LE((p.inertia - expected).norm(), kRoundOff * expected.norm()) << file;
+    EXPECT_LE((p.inertia - expected).norm(), kCornerRoundOff * expected.norm()) << file;
     // each box by itself encloses +6 m³: both face outward
-    for (const double volume : testing::ComponentVolumes(mesh)) EXPECT_NEAR(volume, 6.0, kRoundOff);
+    for (const double volume : testing::ComponentVolumes(mesh)) EXPECT_NEAR(volume, 6.0, kCornerRoundOff);
   }
 }
 

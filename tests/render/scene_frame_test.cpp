@@ -345,8 +345,8 @@ TEST_P(ScaleFreeFrames, MillimetreAndKilometreBoxesLookLikeTheMetreBox) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Camera, ScaleFreeFrames, ::testing::Bool(),
-                         [](const ::testing::TestParamInfo<bool>& info) {
-                           return std::string(info.param ? "Automatic" : "Fixed");
+                         [](const ::testing::TestParamInfo<bool>& param_info) {
+                           return std::string(param_info.param ? "Automatic" : "Fixed");
                          });
 
 }  // namespace

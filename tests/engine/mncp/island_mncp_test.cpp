@@ -108,7 +108,7 @@ TEST(IslandReductionTest, OneBodyWithFixedContactsIsTodaysMncpWithPlanesEliminat
         for (size_t k = 0; k < layout.contacts.size(); ++k) {
           const MncpLayout::Contact& a = layout.contacts[k];
           const MncpLayout::Contact& b = c.layout.contacts[k];
-          const bool plane = IsPlane(*obstacles[k]);
+          const bool plane = obstacles[k]->IsHalfSpace();
           ASSERT_EQ(a.on_plane(), plane);
           ASSERT_EQ(a.l_count, b.l_count);
           ASSERT_EQ(a.l_g_count, plane ? 0 : b.l_g_count);

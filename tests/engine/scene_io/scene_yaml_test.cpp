@@ -648,7 +648,7 @@ TEST_P(BadSceneTest, IsRejectedWithItsLocationAndExpectation) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Validation, BadSceneTest, ::testing::ValuesIn(kBadScenes),
-                         [](const auto& info) { return std::string(info.param.name); });
+                         [](const auto& param_info) { return std::string(param_info.param.name); });
 
 TEST_F(SceneYamlTest, KinematicBodiesAndPairSettingsMakeTheDocumentedContacts) {
   const Scene scene = LoadText(

@@ -51,16 +51,16 @@ void ExpectSolvesPlanted(int n, int num_free, bool sparse = false, bool replay =
   McpResult result;
   if (sparse) {
     const SparseMatrix M = p.M.sparseView();
-    const SparseMcpFunction f = [&](const Eigen::VectorXd& z, Eigen::VectorXd* F,
+    const SparseMcpFunction f = [&](const Eigen::VectorXd& x, Eigen::VectorXd* F,
                                     SparseMatrix* J) {
-      *F = M * z + p.q;
+      *F = M * x + p.q;
       if (J != nullptr) *J = M;
     };
     result = SolveMcp(f, num_free, ones, ones, z, options);
   } else {
-    const McpFunction f = [&p](const Eigen::VectorXd& z, Eigen::VectorXd* F,
+    const McpFunction f = [&p](const Eigen::VectorXd& x, Eigen::VectorXd* F,
                                Eigen::MatrixXd* J) {
-      *F = p.M * z + p.q;
+      *F = p.M * x + p.q;
       if (J != nullptr) *J = p.M;
     };
     result = SolveMcp(f, num_free, ones, ones, z, options);
