@@ -4,7 +4,6 @@
 // one step or sub-step. The driver (step_driver.h) forms the islands (islands.h), runs the
 // sub-step ladder and commits; a model only solves.
 
-#include <optional>
 #include <string>
 #include <vector>
 
@@ -35,27 +34,24 @@ struct AdvanceResult {
   double residual = 0;   // the accepted solution's convergence measure (failed: the last one)
   int iterations = 0;    // solver iterations (Lemke pivots for the point model), all attempts
   int retries = 0;       // guesses that failed before the accepted one
-  std::string tried;     // what failed, for SolverFailure's message ("; "-separated)
+  std::vector<FailedAttempt> tried;  // what failed, in order, for SolverFailure
 };
+
+/// How hard the driver asks a model to try: its usual attempt, or the dearer last resort that the
+/// driver asks for only where the usual one failed at h and at every sub-step length, so that
+/// every step the usual attempt solves is solved as without it.
+enum class Effort { kUsual, kLastResort };
 
 class ContactModelStepper {
  public:
   virtual ~ContactModelStepper() = default;
-  /// What the model's failure messages start with ("" for the hull model, "planar model: ").
-  virtual std::string MessagePrefix() const = 0;
-  /// Advances `state` from time t by h. When the result is not solved, `state` holds no
-  /// meaningful values (the driver discards it).
+  /// Advances `state` from time t by h with `effort`. When the result is not solved, `state`
+  /// holds no meaningful values (the driver discards it).
   /// @throws ModelInvalid where the model does not apply.
-  virtual AdvanceResult Advance(const Island& island, double t, double h,
-                                IslandState& state) const = 0;
-  /// A dearer attempt that the driver makes only where Advance failed at h and at every
-  /// sub-step length, so that every step Advance solves is solved as without it; the same
-  /// contract as Advance. Empty for a model that has none (the default).
-  virtual std::optional<AdvanceResult> AdvanceAsLastResort(const Island& /*island*/,
-                                                           double /*t*/, double /*h*/,
-                                                           IslandState& /*state*/) const {
-    return std::nullopt;
-  }
+  virtual AdvanceResult Advance(const Island& island, double t, double h, IslandState& state,
+                                Effort effort) const = 0;
+  /// Whether Effort::kLastResort tries more than Effort::kUsual (false: the driver never asks).
+  virtual bool HasLastResort() const { return false; }
 };
 
 /// For a model that solves one body with its contacts at a time: `Stepper(scene, body,

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <iterator>
-#include <optional>
 #include <string>
 #include <variant>
 
@@ -44,13 +43,6 @@ void Gather(const Island& island, const State& state, IslandState& local) {
     local.contacts[i] = state.contacts[island.contacts[i]];
 }
 
-std::string BodyNames(const Scene& scene, const Island& island) {
-  std::string names;
-  for (int b : island.bodies)
-    names += fmt::format("{}'{}'", names.empty() ? "" : ", ", scene.bodies[b].name);
-  return names;
-}
-
 }  // namespace
 
 StepReport StepIslands(const Scene& scene, State& state, const ContactModelStepper& model) {
@@ -68,14 +60,15 @@ StepReport StepIslands(const Scene& scene, State& state, const ContactModelStepp
   for (size_t island_index = 0; island_index < islands.size(); ++island_index) {
     const Island& island = islands[island_index];
     IslandState& local = solved[island_index];
-    std::string tried;
+    std::vector<FailedAttempt> tried;
     double residual = 0;
     bool island_solved = false;
-    // the sub-step ladder with the model's Advance; only where that fails at every length,
-    // again with its last resort (if it has one), so that what Advance solves stays as it was
-    bool has_last_resort = true;
-    for (int attempt = 0; attempt < 2 * kLadderLength && !island_solved && has_last_resort; ++attempt) {
-      const bool last_resort = attempt >= kLadderLength;
+    // the sub-step ladder with the model's usual effort; only where that fails at every length,
+    // again with its last resort (if it has one), so that what the usual effort solves stays as
+    // it was
+    const int attempts = (model.HasLastResort() ? 2 : 1) * kLadderLength;
+    for (int attempt = 0; attempt < attempts && !island_solved; ++attempt) {
+      const Effort effort = attempt < kLadderLength ? Effort::kUsual : Effort::kLastResort;
       const int substeps = kSubsteps[attempt % kLadderLength];
       Gather(island, state, local);
       const double h = scene.h / substeps;
@@ -86,14 +79,7 @@ StepReport StepIslands(const Scene& scene, State& state, const ContactModelStepp
       std::vector<Eigen::Vector4d>& impulse = scratch.impulse;
       impulse.assign(island.contacts.size(), Eigen::Vector4d::Zero());
       for (int i = 0; i < substeps && ok; ++i) {
-        std::optional<AdvanceResult> attempted =
-            last_resort ? model.AdvanceAsLastResort(island, state.t + i * h, h, local)
-                        : model.Advance(island, state.t + i * h, h, local);
-        if (!attempted) {  // the model has none
-          has_last_resort = ok = false;
-          break;
-        }
-        AdvanceResult& result = *attempted;
+        const AdvanceResult result = model.Advance(island, state.t + i * h, h, local, effort);
         for (size_t k = 0; k < island.contacts.size(); ++k) {
           const ContactState& c = local.contacts[k];
           impulse[k] += Eigen::Vector4d(c.p_n, c.p_t, c.p_o, c.p_r);
@@ -103,8 +89,7 @@ StepReport StepIslands(const Scene& scene, State& state, const ContactModelStepp
         residual = result.residual;
         island_residual = std::max(island_residual, result.residual);
         island_model = std::max(island_model, result.model);
-        if (!result.tried.empty())
-          tried += fmt::format("{}{}", tried.empty() ? "" : "; ", result.tried);
+        tried.insert(tried.end(), result.tried.begin(), result.tried.end());
         ok = result.solved;
         // a solved step can still overflow (e.g. the explicit gyroscopic term feeding a fast
         // spin, engine/README.md): such a state is never committed
@@ -112,7 +97,7 @@ StepReport StepIslands(const Scene& scene, State& state, const ContactModelStepp
                                [](const BodyState& b) { return IsFinite(b); })) {
           ok = false;
           residual = INFINITY;
-          tried += fmt::format("{}a non-finite state (h = {:g} s)", tried.empty() ? "" : "; ", h);
+          tried.push_back({"the solved step", h, "a non-finite state"});
         }
       }
       if (!ok) continue;
@@ -127,14 +112,16 @@ StepReport StepIslands(const Scene& scene, State& state, const ContactModelStepp
       report.substeps = std::max(report.substeps, substeps);
       report.residual = std::max(report.residual, island_residual);
       island_solved = true;
-      break;
     }
     if (!island_solved) {
-      throw SolverFailure(fmt::format(
-          "{}solver failed at t = {:.6g} s on body {}: residual {:.3g} > tolerance {:.3g}; "
-          "tried {}",
-          model.MessagePrefix(), state.t, BodyNames(scene, island), residual,
-          scene.solver.tolerance, tried));
+      StepFailure failure;
+      failure.model = ContactModelName(scene.model);
+      failure.t = state.t;
+      for (int b : island.bodies) failure.bodies.push_back(scene.bodies[b].name);
+      failure.residual = residual;
+      failure.tolerance = scene.solver.tolerance;
+      failure.tried = std::move(tried);
+      throw SolverFailure(std::move(failure));
     }
   }
 

@@ -12,8 +12,8 @@ namespace ecpsim::engine {
 
 /// One step of `scene` with `model`, island by island; a contact left out of every island (its
 /// bodies apart) reports no impulse.
-/// @throws SolverFailure "<prefix>solver failed at t = … on body '…': residual … > tolerance …;
-///         tried …"; ModelInvalid from the model; InputError from a kinematic body's motion
+/// @throws SolverFailure with the island's StepFailure (its message FormatStepFailure's);
+///         ModelInvalid from the model; InputError from a kinematic body's motion
 ///         (an expression not finite at t). `state` is then unchanged.
 StepReport StepIslands(const Scene& scene, State& state, const ContactModelStepper& model);
 

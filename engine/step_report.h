@@ -1,6 +1,7 @@
 #pragma once
 // What one time step's solve reports, and the errors raised when it cannot be solved.
 
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -26,11 +27,41 @@ struct StepReport {
   std::vector<StepModel> models;
 };
 
-/// The step could not be solved after every retry. The message names time, body, residual and
-/// what was tried.
+/// One attempt of a step that failed: the start it came from, its step length and how it ended.
+struct FailedAttempt {
+  std::string start;    // what was tried: "warm start", "sliding guess (projected)", "Lemke", ...
+  double h = 0;         // s, the attempt's step length
+  std::string outcome;  // how it ended: "residual 2.1e-09 after 60 iterations", ...
+};
+
+/// A step that could not be solved after every retry: the scene's contact model, the time, the
+/// island's bodies, the last residual against the tolerance, and every attempt in order.
+struct StepFailure {
+  std::string model;  // ContactModelName of the scene's model
+  double t = 0;       // s, the start of the step
+  std::vector<std::string> bodies;
+  double residual = 0;
+  double tolerance = 0;
+  std::vector<FailedAttempt> tried;
+};
+
+/// The one line SolverFailure says of `failure`: "[<model> model: ]solver failed at t = … s on
+/// body '…', '…': residual … > tolerance …; tried <start> (h = … s): <outcome>; …"; the hull
+/// model's own failures (models "hull" and "auto") carry no model prefix.
+std::string FormatStepFailure(const StepFailure& failure);
+
+/// The step could not be solved (StepIslands' record), or a solved state cannot be used (a peer
+/// engine's, an output that is not finite: the message alone). The message names time, body and
+/// residual, and what was tried.
 class SolverFailure : public std::runtime_error {
  public:
-  using std::runtime_error::runtime_error;
+  explicit SolverFailure(const std::string& message) : std::runtime_error(message) {}
+  explicit SolverFailure(StepFailure failure);
+  /// The failed step's record; null for a failure that is no step's.
+  const StepFailure* step_failure() const { return step_failure_.get(); }
+
+ private:
+  std::shared_ptr<const StepFailure> step_failure_;
 };
 
 /// The scene's contact model does not apply to the scene or stopped applying during the run (the

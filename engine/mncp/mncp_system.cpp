@@ -141,7 +141,7 @@ BodyProblem StartOfStep(const Scene& scene, int body, const BodyState& state, do
   return p;
 }
 
-bool FreeFlightIsFinite(const BodyProblem& problem, std::string& tried) {
+bool FreeFlightIsFinite(const BodyProblem& problem, std::vector<FailedAttempt>& tried) {
   const FreeFlight& free = problem.free;
   // a finite but huge ω still overflows the rotation angle h|ω| inside Exp, whose terms are
   // finite exactly where θ² = |h ω|² is (R = I + a K + b K², |a| ≤ 1, |b| ≤ 2/θ², |K²| ≤ θ²)
@@ -149,8 +149,8 @@ bool FreeFlightIsFinite(const BodyProblem& problem, std::string& tried) {
       std::isfinite((problem.h * free.w).squaredNorm())) {
     return true;
   }
-  tried += fmt::format("{}non-finite free-flight velocities (h = {:g} s, |ω| = {:.3g} rad/s)",
-                       tried.empty() ? "" : "; ", problem.h, problem.w.norm());
+  tried.push_back({"free flight", problem.h,
+                   fmt::format("non-finite velocities (|ω| = {:.3g} rad/s)", problem.w.norm())});
   return false;
 }
 

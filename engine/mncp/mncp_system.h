@@ -13,6 +13,7 @@
 
 #include "engine/scene.h"
 #include "engine/state.h"
+#include "engine/step_report.h"
 #include "geometry/convex_shape.h"
 
 namespace ecpsim::engine {
@@ -94,9 +95,9 @@ ContactGap ContactGapAt(const MncpLayout::Contact& L, const geometry::ConvexShap
 BodyProblem StartOfStep(const Scene& scene, int body, const BodyState& state, double t, double h);
 
 /// Whether the step's free-flight velocities and end pose are finite: a state that already spins
-/// at an overflowing rate (or a load that is not finite) cannot be stepped; then appends
-/// "non-finite free-flight velocities (h = …)" to `tried` for the failure message.
-bool FreeFlightIsFinite(const BodyProblem& problem, std::string& tried);
+/// at an overflowing rate (or a load that is not finite) cannot be stepped; then appends the
+/// free flight's failure (its |ω|) to `tried`.
+bool FreeFlightIsFinite(const BodyProblem& problem, std::vector<FailedAttempt>& tried);
 
 /// Position and orientation at the end of the step for velocities (v⁺, ω⁺).
 struct EndPose {

@@ -3,9 +3,6 @@
 // closed-form free flight, the planar sliding model where its solution provably solves the hull
 // MNCP, else the hull MNCP (engine/README.md, "model: auto").
 
-#include <optional>
-#include <string>
-
 #include "engine/contact_model.h"
 #include "engine/models/hull_model.h"
 #include "engine/scene.h"
@@ -15,22 +12,14 @@ namespace ecpsim::engine {
 class AutoModel final : public ContactModelStepper {
  public:
   explicit AutoModel(const Scene& scene) : scene_(scene), hull_(scene) {}
-  std::string MessagePrefix() const override { return ""; }
   /// The planar step when the island is one body lying flat on one plane obstacle and moving in
   /// it (AcceptsPlanarStep), and its solution keeps the ECP on the support face; otherwise the
-  /// hull model's step (which takes free flight in closed form by itself).
-  AdvanceResult Advance(const Island& island, double t, double h,
-                        IslandState& state) const override;
-  /// The same with the hull model's last resort where the planar step is not taken.
-  std::optional<AdvanceResult> AdvanceAsLastResort(const Island& island, double t, double h,
-                                                   IslandState& state) const override;
+  /// hull model's step with `effort` (which takes free flight in closed form by itself).
+  AdvanceResult Advance(const Island& island, double t, double h, IslandState& state,
+                        Effort effort) const override;
+  bool HasLastResort() const override { return true; }
 
  private:
-  // the planar step where it is taken, else `hull_step` (the hull model's step or last resort)
-  template <typename HullStep>
-  AdvanceResult PlanarElse(const Island& island, double t, double h, IslandState& state,
-                           const HullStep& hull_step) const;
-
   const Scene& scene_;
   HullModel hull_;
 };

@@ -183,6 +183,26 @@ void CommitSolution(const IslandProblem& problem, const IslandLayout& layout, co
   }
 }
 
+SolutionTrend::Point HullTrendPoint(const BodyState& body, const ContactState& c) {
+  const auto* warm = std::get_if<HullWarmStart>(&c.warm_start);
+  return TrendPoint(body, c, warm != nullptr ? warm->s : 0.0);
+}
+
+void CommitFlatWarmStart(const SolutionTrend::Point& before, double h, const BodyState& body,
+                         int face, ContactState& c) {
+  auto* warm = std::get_if<HullWarmStart>(&c.warm_start);
+  const SolutionTrend trend =
+      NextTrend(warm != nullptr ? &warm->trend : nullptr, before, TrendPoint(body, c, 0.0), h);
+  // written over the last warm start, whose storage it reuses
+  if (warm == nullptr) warm = &c.warm_start.emplace<HullWarmStart>();
+  warm->s = 0;
+  warm->l_g.setOnes(1);
+  warm->window.assign(1, face);
+  warm->l.setOnes(1);
+  warm->other_window.clear();
+  warm->trend = trend;
+}
+
 bool AcceptReduced(const IslandProblem& reduced, const IslandLayout& layout, const VectorXd& z,
                    const Attempt& attempt, const IslandScales& scales, IslandState& state,
                    AdvanceResult& result) {

@@ -11,7 +11,9 @@
 #include "engine/contact_model.h"
 #include "engine/mncp/island_mncp.h"
 #include "engine/mncp/island_scaling.h"
+#include "engine/solution_trend.h"
 #include "engine/solver/complementarity_solver.h"
+#include "engine/state.h"
 
 namespace ecpsim::engine::hull {
 
@@ -49,6 +51,17 @@ bool GrowViolatedWindows(IslandProblem& problem, const IslandLayout& layout,
 /// each body's pose advanced by its new velocities.
 void CommitSolution(const IslandProblem& problem, const IslandLayout& layout,
                     const Eigen::VectorXd& z, IslandState& state);
+
+/// A contact's point for its hull warm start's trend: TrendPoint with the warm start's gap s (0
+/// without a hull warm start).
+SolutionTrend::Point HullTrendPoint(const BodyState& body, const ContactState& c);
+
+/// Writes the hull model's warm start of a contact that another model (the planar step) solved
+/// flat on face `face` of F's hull against a plane: a1 = a2 (s = 0), the face's and the plane's
+/// multipliers 1, and the trend carried on from `before` (HullTrendPoint before the step of
+/// length h) to `body` and `c` after it, so that a hull step after it starts as after its own.
+void CommitFlatWarmStart(const SolutionTrend::Point& before, double h, const BodyState& body,
+                         int face, ContactState& c);
 
 /// Commits the root of a problem whose windows were cut (faces left out) where it converged and
 /// passed its checks and every face outside its windows holds: then it is exact. Sets

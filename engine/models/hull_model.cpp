@@ -138,8 +138,7 @@ class LadderRun {
 
   // a failed guess in the failure's list of what was tried
   void Note(Guess guess, const Pass& pass, const std::string& what) {
-    result_.tried += fmt::format("{}{}{} (h = {:g} s): {}", result_.tried.empty() ? "" : "; ",
-                                 GuessName(guess), pass.name, problem_.h, what);
+    result_.tried.push_back({std::string(GuessName(guess)) + pass.name, problem_.h, what});
     ++result_.retries;
   }
 
@@ -157,7 +156,7 @@ class LadderRun {
 // One step of length h from `state`; not solved if every guess failed. As the last resort, the
 // ladder's guesses with minimum-norm steps on the plain Newton iteration instead of its passes.
 AdvanceResult AdvanceIsland(const Scene& scene, const Island& island, double t, double h,
-                            IslandState& state, bool last_resort) {
+                            IslandState& state, Effort effort) {
   AdvanceResult result;
   IslandProblem problem = MakeHullProblem(scene, island, t, h, state);
   // (the scales and overlaps in the thread's storage, kept from step to step: no step of the
@@ -199,6 +198,7 @@ AdvanceResult AdvanceIsland(const Scene& scene, const Island& island, double t, 
   const GuessLadder ladder = HullLadder(problem, state, scales, moving);
   LadderRun run(scene, problem, std::move(layout), scales, ejection_energy, moving, state,
                 result);
+  const bool last_resort = effort == Effort::kLastResort;
   const int first_pass = last_resort ? kLastResortPass : 0;
   const int end_pass = last_resort ? kPassCount : kLastResortPass;
   for (int p = first_pass; p < end_pass; ++p) {
@@ -213,14 +213,9 @@ AdvanceResult AdvanceIsland(const Scene& scene, const Island& island, double t, 
 }  // namespace
 }  // namespace hull
 
-AdvanceResult HullModel::Advance(const Island& island, double t, double h,
-                                 IslandState& state) const {
-  return hull::AdvanceIsland(scene_, island, t, h, state, /*last_resort=*/false);
-}
-
-std::optional<AdvanceResult> HullModel::AdvanceAsLastResort(const Island& island, double t,
-                                                            double h, IslandState& state) const {
-  return hull::AdvanceIsland(scene_, island, t, h, state, /*last_resort=*/true);
+AdvanceResult HullModel::Advance(const Island& island, double t, double h, IslandState& state,
+                                 Effort effort) const {
+  return hull::AdvanceIsland(scene_, island, t, h, state, effort);
 }
 
 }  // namespace ecpsim::engine

@@ -93,7 +93,8 @@ IslandProblem MakeHullProblem(const Scene& scene, const Island& island, double t
 }
 
 bool MakeIslandScales(const Scene& scene, const Island& island, const IslandProblem& problem,
-                      const IslandState& state, IslandScales& scales, std::string& tried) {
+                      const IslandState& state, IslandScales& scales,
+                      std::vector<FailedAttempt>& tried) {
   scales.bodies.clear();
   for (size_t i = 0; i < island.bodies.size(); ++i) {
     const BodyProblem& body = problem.bodies[i];

@@ -34,7 +34,8 @@ IslandProblem MakeHullProblem(const Scene& scene, const Island& island, double t
 /// bring more than its own motion shows (RaiseToGripperDrive, RaiseToIslandVelocity). False,
 /// with `tried` saying why, where a body's free flight is not finite.
 bool MakeIslandScales(const Scene& scene, const Island& island, const IslandProblem& problem,
-                      const IslandState& state, IslandScales& scales, std::string& tried);
+                      const IslandState& state, IslandScales& scales,
+                      std::vector<FailedAttempt>& tried);
 
 /// Whether bodies touch bodies in the island (several bodies, or one against a kinematic body).
 bool Coupled(const IslandProblem& problem);

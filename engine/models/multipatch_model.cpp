@@ -215,10 +215,10 @@ class MultiPatchStepper {
           result.solved = true;
           return result;
         }
-        result.tried += fmt::format("{}{}{} (h = {:g} s): residual {:.3g} after {} iterations",
-                                    result.tried.empty() ? "" : "; ", GuessName(guess),
-                                    project ? " (projected)" : "", h, solve.residual,
-                                    solve.iterations);
+        result.tried.push_back({std::string(GuessName(guess)) + (project ? " (projected)" : ""),
+                                h,
+                                fmt::format("residual {:.3g} after {} iterations",
+                                            solve.residual, solve.iterations)});
         ++result.retries;
       }
     }
@@ -567,8 +567,9 @@ void AddProximalTerms(const MultiPatchProblem& problem, const MncpLayout& layout
   }
 }
 
+// (no last resort: every effort is the usual one)
 AdvanceResult MultiPatchModel::Advance(const Island& island, double t, double h,
-                                       IslandState& state) const {
+                                       IslandState& state, Effort) const {
   return AdvanceOneBody<MultiPatchStepper>(scene_, island, t, h, state);
 }
 

@@ -87,12 +87,11 @@ void AddProximalTerms(const MultiPatchProblem& problem, const MncpLayout& layout
 class MultiPatchModel final : public ContactModelStepper {
  public:
   explicit MultiPatchModel(const Scene& scene) : scene_(scene) {}
-  std::string MessagePrefix() const override { return "multipatch model: "; }
   /// Free flight in closed form, else the warm start and the restart ladder (plain, then with
   /// projected iterates).
   /// @throws ModelInvalid if a contact's obstacle is not a half-space.
-  AdvanceResult Advance(const Island& island, double t, double h,
-                        IslandState& state) const override;
+  AdvanceResult Advance(const Island& island, double t, double h, IslandState& state,
+                        Effort effort) const override;
 
  private:
   const Scene& scene_;

@@ -220,8 +220,9 @@ PlanarStep SolvePlanarStep(const Scene& scene, const Island& island, double t, d
   result.model = StepModel::kPlanar;
   McpResult solve = SolveMcp(f, 3, row_scale, var_scale, z, options);
   if (!solve.converged) {
-    result.tried = fmt::format("warm start (h = {:g} s): residual {:.3g} after {} iterations", h,
-                               solve.residual, solve.iterations);
+    result.tried.push_back({"warm start", h,
+                            fmt::format("residual {:.3g} after {} iterations", solve.residual,
+                                        solve.iterations)});
     ++result.retries;
     result.iterations += solve.iterations;
     z << 0, 0, 0, speed;
@@ -230,8 +231,9 @@ PlanarStep SolvePlanarStep(const Scene& scene, const Island& island, double t, d
   result.iterations += solve.iterations;
   result.residual = solve.residual;
   if (!solve.converged) {
-    result.tried += fmt::format("; sliding guess (h = {:g} s): residual {:.3g} after {} iterations",
-                                h, solve.residual, solve.iterations);
+    result.tried.push_back({"sliding guess", h,
+                            fmt::format("residual {:.3g} after {} iterations", solve.residual,
+                                        solve.iterations)});
     return step;
   }
 
@@ -272,8 +274,9 @@ PlanarStep SolvePlanarStep(const Scene& scene, const Island& island, double t, d
   return step;
 }
 
+// (no last resort: every effort is the usual one)
 AdvanceResult PlanarModel::Advance(const Island& island, double t, double h,
-                                  IslandState& state) const {
+                                   IslandState& state, Effort) const {
   const PlanarStep step =
       SolvePlanarStep(scene_, island, t, h, {kFlatTolerance, kSupportRelTolerance, INFINITY, {}}, state);
   if (!step.invalid.empty()) {

@@ -49,11 +49,10 @@ PlanarStep SolvePlanarStep(const Scene& scene, const Island& island, double t, d
 class PlanarModel final : public ContactModelStepper {
  public:
   explicit PlanarModel(const Scene& scene) : scene_(scene) {}
-  std::string MessagePrefix() const override { return "planar model: "; }
   /// @throws ModelInvalid when the model's assumptions fail: the body is not flat on a plane,
   ///         would lift off (p_n ≤ 0), or its ECP left the support face (it would tip).
-  AdvanceResult Advance(const Island& island, double t, double h,
-                        IslandState& state) const override;
+  AdvanceResult Advance(const Island& island, double t, double h, IslandState& state,
+                        Effort effort) const override;
 
  private:
   const Scene& scene_;

@@ -331,10 +331,11 @@ class PointIslandStepper {
         }
         if (lcp.status != LcpStatus::kSolved || !(lcp.residual <= kLcpResidualTol)) {
           result.residual = lcp.status == LcpStatus::kSolved ? lcp.residual : INFINITY;
-          result.tried = fmt::format("Lemke at h = {:.3g} s: {} after {} pivots ({} contact "
-                                     "points, LCP size {}, scaled residual {:.3g})",
-                                     h, LcpStatusName(lcp.status), lcp.pivots, k, size,
-                                     lcp.residual);
+          result.tried.push_back(
+              {"Lemke", h,
+               fmt::format("{} after {} pivots ({} contact points, LCP size {}, scaled residual "
+                           "{:.3g})",
+                           LcpStatusName(lcp.status), lcp.pivots, k, size, lcp.residual)});
           return result;
         }
         lcp_residual = lcp.residual;
@@ -346,8 +347,8 @@ class PointIslandStepper {
     }
     if (!nu.allFinite()) {
       result.residual = INFINITY;
-      result.tried = fmt::format("Lemke at h = {:.3g} s: non-finite velocities ({} contact points)",
-                                 h, k);
+      result.tried.push_back(
+          {"Lemke", h, fmt::format("non-finite velocities ({} contact points)", k)});
       return result;
     }
 
@@ -491,8 +492,9 @@ PointContactModel::PointContactModel(const Scene& scene) : scene_(scene) {
   for (const Body& body : scene.bodies) vertices_.push_back(HullVertices(*body.hull));
 }
 
+// (no last resort: every effort is the usual one)
 AdvanceResult PointContactModel::Advance(const Island& island, double t, double h,
-                                         IslandState& state) const {
+                                         IslandState& state, Effort) const {
   return PointIslandStepper(scene_, vertices_, island).Advance(t, h, state);
 }
 

@@ -43,9 +43,8 @@ class PointContactModel final : public ContactModelStepper {
  public:
   /// Keeps a reference to `scene` (it must outlive the model) and each body's hull vertices.
   explicit PointContactModel(const Scene& scene);
-  std::string MessagePrefix() const override { return "point model: "; }
-  AdvanceResult Advance(const Island& island, double t, double h,
-                        IslandState& state) const override;
+  AdvanceResult Advance(const Island& island, double t, double h, IslandState& state,
+                        Effort effort) const override;
 
  private:
   const Scene& scene_;

@@ -2,6 +2,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -26,8 +27,8 @@ using testing::MakeGroundScene;
 class SubstepModel final : public ContactModelStepper {
  public:
   explicit SubstepModel(const Scene& scene, double largest_h) : scene_(scene), largest_h_(largest_h) {}
-  std::string MessagePrefix() const override { return "test model: "; }
-  AdvanceResult Advance(const Island& island, double, double h, IslandState& state) const override {
+  AdvanceResult Advance(const Island& island, double, double h, IslandState& state,
+                        Effort) const override {
     AdvanceResult result;
     ++calls;
     result.iterations = 1;
@@ -35,7 +36,7 @@ class SubstepModel final : public ContactModelStepper {
     if (stubborn && h > largest_h_) {
       result.residual = 0.5;
       result.retries = 1;
-      result.tried = "refused";
+      result.tried.push_back({"test", h, "refused"});
       state.bodies[0].p_WB.setConstant(NAN);  // a failed attempt's state must never be committed
       return result;
     }
@@ -92,14 +93,31 @@ TEST(StepIslandsTest, AnIslandThatFailsAtHIsSteppedInTheFirstSubstepsThatSolve) 
 }
 
 TEST(StepIslandsTest, AnIslandThatNeverSolvesNamesTimeBodyAndWhatWasTriedAndLeavesTheState) {
-  const Scene scene = TwoBoxes();
+  Scene scene = TwoBoxes();
+  scene.model = ContactModel::kPlanar;  // the failure names a model other than the hull's
   State state = InitialState(scene);
   const State before = state;
   const SubstepModel model(scene, scene.h / 100);  // below the ladder's last rung, h/16
   EXPECT_THAT([&] { StepIslands(scene, state, model); },
               ::testing::ThrowsMessage<SolverFailure>(
-                  AllOf(HasSubstr("test model: solver failed at t = 0 s on body 'stubborn'"),
-                        HasSubstr("residual 0.5"), HasSubstr("tried refused; refused"))));
+                  AllOf(HasSubstr("planar model: solver failed at t = 0 s on body 'stubborn': "
+                                  "residual 0.5 > tolerance 1e-12"),
+                        HasSubstr("tried test (h = 0.01 s): refused; test (h = 0.005 s): "
+                                  "refused; test (h = 0.0025 s): refused; test (h = 0.000625 s): "
+                                  "refused"))));
+  // the same as a record: each rung's first sub-step refused
+  try {
+    StepIslands(scene, state, model);
+    ADD_FAILURE() << "no SolverFailure";
+  } catch (const SolverFailure& failure) {
+    const StepFailure* record = failure.step_failure();
+    ASSERT_NE(record, nullptr);
+    EXPECT_EQ(record->model, "planar");
+    EXPECT_EQ(record->bodies, std::vector<std::string>{"stubborn"});
+    EXPECT_EQ(record->residual, 0.5);
+    ASSERT_EQ(record->tried.size(), 4u);
+    EXPECT_EQ(record->tried[3].h, scene.h / 16);
+  }
   EXPECT_EQ(state.steps, 0);
   for (size_t b = 0; b < state.bodies.size(); ++b)
     EXPECT_EQ(state.bodies[b].p_WB, before.bodies[b].p_WB);
@@ -111,16 +129,13 @@ class LastResortModel final : public ContactModelStepper {
  public:
   LastResortModel(const Scene& scene, double last_resort_h)
       : advance_(scene, 0), last_resort_(scene, last_resort_h) {}
-  std::string MessagePrefix() const override { return "test model: "; }
-  AdvanceResult Advance(const Island& island, double t, double h,
-                        IslandState& state) const override {
-    EXPECT_EQ(last_resort_.calls, 0) << "Advance after the last resort";
-    return advance_.Advance(island, t, h, state);
+  AdvanceResult Advance(const Island& island, double t, double h, IslandState& state,
+                        Effort effort) const override {
+    if (effort == Effort::kLastResort) return last_resort_.Advance(island, t, h, state, effort);
+    EXPECT_EQ(last_resort_.calls, 0) << "the usual effort after the last resort";
+    return advance_.Advance(island, t, h, state, effort);
   }
-  std::optional<AdvanceResult> AdvanceAsLastResort(const Island& island, double t, double h,
-                                                   IslandState& state) const override {
-    return last_resort_.Advance(island, t, h, state);
-  }
+  bool HasLastResort() const override { return true; }
   SubstepModel advance_, last_resort_;
 };
 
