@@ -45,7 +45,7 @@ BENCHMARK(BM_DeskStepAuto)->Unit(benchmark::kMicrosecond);
 // the same desk with the point-contact baseline (hull vertices near the ground, d = 8 friction
 // directions, one LCP per step by Lemke's method); "newton_iters" counts Lemke pivots here
 void BM_PointContactDesk(benchmark::State& bench) {
-  RunSteps(bench, testing::PaperDeskScene(ContactModel::kPointLcp), 400);
+  RunSteps(bench, testing::PaperDeskScene(ContactModel::kPoint), 400);
 }
 BENCHMARK(BM_PointContactDesk)->Unit(benchmark::kMicrosecond);
 

@@ -16,7 +16,7 @@ const char* ContactModelName(ContactModel model) {
       return "planar";
     case ContactModel::kMultiPatch:
       return "multipatch";
-    case ContactModel::kPointLcp:
+    case ContactModel::kPoint:
       return "point";
   }
   return "unknown";

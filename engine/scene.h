@@ -31,7 +31,7 @@ enum class ContactModel {
   kHull,        // the paper's model: one ECP per body–obstacle pair on the body's convex hull
   kPlanar,      // planar sliding (WAFR 2018): flat on a horizontal plane, no vertical motion
   kMultiPatch,  // multi-convex-patch (IDETC 2018): one ECP per convex part, friction combined
-  kPointLcp,    // usual practice: hull vertices near G as contact points, polyhedral cone, an LCP
+  kPoint,       // usual practice: hull vertices near G as contact points, polyhedral cone, an LCP
 };
 const char* ContactModelName(ContactModel model);
 

@@ -79,7 +79,7 @@ std::vector<Method> AllMethods() {
   methods.push_back(automatic);
   for (engine::ContactModel model : {engine::ContactModel::kPlanar,
                                      engine::ContactModel::kMultiPatch,
-                                     engine::ContactModel::kPointLcp}) {
+                                     engine::ContactModel::kPoint}) {
     Method method;
     method.model = model;
     method.name = engine::ContactModelName(model);

@@ -684,7 +684,7 @@ std::shared_ptr<engine::Scene> MakeScene(const py::list& bodies, const py::objec
   const std::map<std::string, engine::ContactModel> models = {
       {"auto", engine::ContactModel::kAuto}, {"hull", engine::ContactModel::kHull},
       {"planar", engine::ContactModel::kPlanar},
-      {"multipatch", engine::ContactModel::kMultiPatch}, {"point", engine::ContactModel::kPointLcp}};
+      {"multipatch", engine::ContactModel::kMultiPatch}, {"point", engine::ContactModel::kPoint}};
   if (models.count(model) == 0) {
     throw InputError(fmt::format("model = {}: expected auto, hull, planar, multipatch or point", model));
   }

@@ -6,7 +6,7 @@
 #include "engine/models/hull_model.h"
 #include "engine/models/multipatch_model.h"
 #include "engine/models/planar_model.h"
-#include "engine/models/point_contact_model.h"
+#include "engine/models/point_model.h"
 #include "engine/step_report.h"
 
 namespace ecpsim::engine {
@@ -38,8 +38,8 @@ void UseContactModel(const Scene& scene,
       return use(PlanarModel(scene));
     case ContactModel::kMultiPatch:
       return use(MultiPatchModel(scene));
-    case ContactModel::kPointLcp:
-      return use(PointContactModel(scene));
+    case ContactModel::kPoint:
+      return use(PointModel(scene));
     case ContactModel::kAuto:
       return use(AutoModel(scene));
     case ContactModel::kHull:

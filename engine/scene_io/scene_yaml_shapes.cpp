@@ -51,7 +51,7 @@ std::shared_ptr<const ConvexShape> ReadPlaneShape(const Context& ctx, const MapN
 
 ContactModel ReadModel(const Context& ctx, const YAML::Node& node, const std::string& key) {
   for (ContactModel model : {ContactModel::kAuto, ContactModel::kHull, ContactModel::kPlanar,
-                             ContactModel::kMultiPatch, ContactModel::kPointLcp}) {
+                             ContactModel::kMultiPatch, ContactModel::kPoint}) {
     if (node.IsScalar() && node.Scalar() == ContactModelName(model)) return model;
   }
   Fail(ctx, node, key, "one of auto, hull, planar, multipatch, point");

@@ -21,7 +21,7 @@ namespace {
 
 constexpr std::array<ContactModel, 5> kModels = {ContactModel::kAuto, ContactModel::kHull,
                                                  ContactModel::kPlanar, ContactModel::kMultiPatch,
-                                                 ContactModel::kPointLcp};
+                                                 ContactModel::kPoint};
 
 // steps of every case: 1.5 s at the usual h = 0.01 s, past the drops' landings, the paper
 // scenes' first mode changes and the gripper's squeeze

@@ -344,7 +344,7 @@ TEST(GripperTest, TrajectoryRowsCarryTheGripsOpeningAndForce) {
 
 TEST(GripperTest, OnlyTheHullModelStepsAGripper) {
   Scene scene = HeldBox(Drag(0.1), 1);
-  scene.model = ContactModel::kPointLcp;
+  scene.model = ContactModel::kPoint;
   State state = InitialState(scene);
   EXPECT_THROW(Step(scene, state), ModelInvalid);
 }

@@ -98,7 +98,7 @@ struct DeskLcpCase {
 // the point-contact LCP of a 15 kg desk sliding on four coplanar feet (at (±0.25, ±0.25, −0.45) m
 // from the CM in its frame, yawed by θ; normal z, 8 friction directions from x, μ = 0.22) under
 // gravity, a 45 N push along y and a 2.1 N·m twist, from v = (0.3, 0.2, 0) m/s, ω_z = 0.5 rad/s,
-// built and scaled as point_contact_model.cpp does: the 36 × 36 (p_n, β) block is Wᵀ M⁻¹ W of
+// built and scaled as point_model.cpp does: the 36 × 36 (p_n, β) block is Wᵀ M⁻¹ W of
 // rank 6 and its normal part of rank 3 (statically indeterminate). Returns the velocity scale V.
 double DeskContactLcp(const DeskLcpCase& c, MatrixXd& M, VectorXd& q) {
   constexpr int k = 4, d = 8, m = (1 + d) * k, size = m + k;

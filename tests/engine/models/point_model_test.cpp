@@ -1,4 +1,4 @@
-#include "engine/models/point_contact_model.h"
+#include "engine/models/point_model.h"
 
 #include <cmath>
 
@@ -23,11 +23,11 @@ Scene BoxScene() {
   Body box = testing::MakeBoxBody(Vector3d(0.2, 0.1, 0.05), 1);
   box.p0 = Vector3d(0, 0, 0.025);
   Scene scene = testing::MakeGroundScene({box});
-  scene.model = ContactModel::kPointLcp;
+  scene.model = ContactModel::kPoint;
   return scene;
 }
 
-TEST(PointContactModelTest, BoxAtRestStaysPut) {
+TEST(PointModelTest, BoxAtRestStaysPut) {
   const Scene scene = BoxScene();
   State state = InitialState(scene);
   for (int i = 0; i < 100; ++i) {
@@ -47,14 +47,14 @@ TEST(PointContactModelTest, BoxAtRestStaysPut) {
   EXPECT_NEAR(c.n.z(), 1, 1e-15);
 }
 
-TEST(PointContactModelTest, SmoothHullStandingOnItsDiscStaysPut) {
+TEST(PointModelTest, SmoothHullStandingOnItsDiscStaysPut) {
   // a cylinder hull (radius 0.1 m, length 0.3 m, axis z) standing on an end disc: its 48-segment
   // tessellation puts 49 vertices on the ground, a highly degenerate LCP of size 490
   Body body = testing::MakeBoxBody(Vector3d(0.2, 0.2, 0.3), 3, "drum");
   body.hull = geometry::MakeCylinder(0.1, 0.3, 2);
   body.p0 = Vector3d(0, 0, 0.15);
   Scene scene = testing::MakeGroundScene({body});
-  scene.model = ContactModel::kPointLcp;
+  scene.model = ContactModel::kPoint;
   State state = InitialState(scene);
   for (int i = 0; i < 5; ++i) ASSERT_TRUE(Step(scene, state).converged);
   EXPECT_LE((state.bodies[0].p_WB - Vector3d(0, 0, 0.15)).norm(), 1e-12);
@@ -88,7 +88,7 @@ double SlideUntilStop(const Scene& scene, const Vector3d& v0, double decel) {
   return state.bodies[0].p_WB.head<2>().norm();
 }
 
-TEST(PointContactModelTest, SlidingAlongAFrictionDirectionDeceleratesAtMuG) {
+TEST(PointModelTest, SlidingAlongAFrictionDirectionDeceleratesAtMuG) {
   const Scene scene = BoxScene();
   const double mu = scene.contacts[0].friction.mu, a = mu * kG, v0 = 1, h = scene.h;
   // the first step's contact state: the whole friction impulse −μ p_n along t = x, no torsion
@@ -113,7 +113,7 @@ TEST(PointContactModelTest, SlidingAlongAFrictionDirectionDeceleratesAtMuG) {
   EXPECT_NEAR(distance, v0 * v0 / (2 * a), v0 * h);
 }
 
-TEST(PointContactModelTest, SlidingBetweenTwoDirectionsUnderestimatesFrictionByCosPiOverD) {
+TEST(PointModelTest, SlidingBetweenTwoDirectionsUnderestimatesFrictionByCosPiOverD) {
   // at 22.5° the sliding velocity bisects two of the d = 8 directions: the polyhedral cone's
   // edge is perpendicular to it at the distance μ p_n cos(π/d) from the apex
   const Scene scene = BoxScene();
@@ -156,7 +156,7 @@ DropResult Drop(const Scene& scene, int steps) {
   return result;
 }
 
-TEST(PointContactModelTest, FlatBoxDroppedFrom5cmLandsWithoutPenetration) {
+TEST(PointModelTest, FlatBoxDroppedFrom5cmLandsWithoutPenetration) {
   Scene scene = BoxScene();
   scene.bodies[0].p0.z() += 0.05;
   const DropResult r = Drop(scene, 50);
@@ -167,7 +167,7 @@ TEST(PointContactModelTest, FlatBoxDroppedFrom5cmLandsWithoutPenetration) {
   EXPECT_LE(r.final.bodies[0].v_WB.norm(), 1e-12);
 }
 
-TEST(PointContactModelTest, TumblingBoxPenetratesOnlyByTheExplicitGeometryBound) {
+TEST(PointModelTest, TumblingBoxPenetratesOnlyByTheExplicitGeometryBound) {
   Scene scene = BoxScene();
   Body& box = scene.bodies[0];
   box.q0 = Eigen::Quaterniond(Eigen::AngleAxisd(0.4, Vector3d(1, 1, 0).normalized()));
@@ -184,8 +184,8 @@ TEST(PointContactModelTest, TumblingBoxPenetratesOnlyByTheExplicitGeometryBound)
   EXPECT_LE(r.final.bodies[0].v_WB.norm(), 1e-9);
 }
 
-TEST(PointContactModelTest, PaperDeskRunsWithoutSolverFailure) {
-  const Scene scene = testing::PaperDeskScene(ContactModel::kPointLcp);
+TEST(PointModelTest, PaperDeskRunsWithoutSolverFailure) {
+  const Scene scene = testing::PaperDeskScene(ContactModel::kPoint);
   State state = InitialState(scene);
   for (int i = 0; i < 50; ++i) {
     const StepReport report = Step(scene, state);
@@ -207,7 +207,7 @@ class PointContactSmallStepTest : public ::testing::TestWithParam<double> {};
 
 TEST_P(PointContactSmallStepTest, PaperDeskFollowsTheHullModel) {
   const double h = GetParam();
-  Scene point = testing::PaperDeskScene(ContactModel::kPointLcp);
+  Scene point = testing::PaperDeskScene(ContactModel::kPoint);
   Scene hull = testing::PaperDeskScene(ContactModel::kHull);
   point.h = hull.h = h;
   State sp = InitialState(point), sh = InitialState(hull);
@@ -246,7 +246,7 @@ constexpr double kStackDrift = 1e-9;
 
 Scene StackScene(double h) {
   Scene scene = LoadScene(ECPSIM_SOURCE_DIR "/scenes/stack.yaml");
-  scene.model = ContactModel::kPointLcp;
+  scene.model = ContactModel::kPoint;
   scene.h = h;
   return scene;
 }
@@ -312,7 +312,7 @@ TEST(PointContactBodiesTest, TwoFreeCubesExchangeMomentumExactlyAndNeverGainKine
   scene.gravity = Vector3d::Zero();
   scene.h = 0.01;
   scene.bodies = {a, b};
-  scene.model = ContactModel::kPointLcp;
+  scene.model = ContactModel::kPoint;
   AddBodyPairs(scene);
   State state = InitialState(scene);
 
@@ -363,7 +363,7 @@ TEST(PointContactBodiesTest, TwoFreeCubesExchangeMomentumExactlyAndNeverGainKine
 
 TEST(PointContactBodiesTest, ConstantSpeedPusherCarriesTheBoxAtItsSpeed) {
   Scene scene = LoadScene(ECPSIM_SOURCE_DIR "/scenes/push_box.yaml");
-  scene.model = ContactModel::kPointLcp;
+  scene.model = ContactModel::kPoint;
   ASSERT_EQ(scene.contacts.size(), 2u);  // box–ground, box–pusher (F the box, G the pusher)
   const double speed = 0.1, mu = scene.contacts[0].friction.mu, mass = scene.bodies[0].mass;
   State state = InitialState(scene);

@@ -1,4 +1,4 @@
-#include "engine/models/point_contact_model.h"
+#include "engine/models/point_model.h"
 
 #include <algorithm>
 #include <cmath>
@@ -488,12 +488,12 @@ class PointIslandStepper {
 
 }  // namespace
 
-PointContactModel::PointContactModel(const Scene& scene) : scene_(scene) {
+PointModel::PointModel(const Scene& scene) : scene_(scene) {
   for (const Body& body : scene.bodies) vertices_.push_back(HullVertices(*body.hull));
 }
 
 // (no last resort: every effort is the usual one)
-AdvanceResult PointContactModel::Advance(const Island& island, double t, double h,
+AdvanceResult PointModel::Advance(const Island& island, double t, double h,
                                          IslandState& state, Effort) const {
   return PointIslandStepper(scene_, vertices_, island).Advance(t, h, state);
 }

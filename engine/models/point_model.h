@@ -18,7 +18,7 @@ namespace ecpsim::engine {
 /// by up to 1 − cos(π/d) (7.6 % for d = 8) depending on the sliding direction.
 constexpr int kPointContactFrictionDirections = 8;
 
-/// The point-contact model (ContactModel::kPointLcp), for islands of one or more dynamic bodies:
+/// The point-contact model (ContactModel::kPoint), for islands of one or more dynamic bodies:
 /// - at the start of the step, every hull vertex whose gap ψ to an obstacle (the obstacle's
 ///   largest constraint value, m) is below an activation distance becomes a contact point with
 ///   the obstacle's normal at that vertex (explicit geometry: positions of the start of the step);
@@ -39,10 +39,10 @@ constexpr int kPointContactFrictionDirections = 8;
 /// pivot limit, a non-finite result) when the LCP has no acceptable solution. The contact states
 /// (ContactState) hold the summed impulses on F, their centre of pressure as a1 and its
 /// projection on G as a2.
-class PointContactModel final : public ContactModelStepper {
+class PointModel final : public ContactModelStepper {
  public:
   /// Keeps a reference to `scene` (it must outlive the model) and each body's hull vertices.
-  explicit PointContactModel(const Scene& scene);
+  explicit PointModel(const Scene& scene);
   AdvanceResult Advance(const Island& island, double t, double h, IslandState& state,
                         Effort effort) const override;
 
