@@ -12,16 +12,16 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
-#include "common/atomic_file.h"
 #include "app/bench_report.h"
 #include "app/commands.h"
 #include "app/option_checks.h"
+#include "common/atomic_file.h"
+#include "common/errors.h"
 #include "evaluation/drop_sweep.h"
 #include "evaluation/method.h"
 #include "evaluation/scenario.h"
 #include "evaluation/stability_map.h"
 #include "evaluation/work_precision.h"
-#include "common/errors.h"
 
 namespace ecpsim::app {
 namespace {
@@ -109,10 +109,11 @@ void Merge(const BenchOptions& o) {
     const fs::path st_csv = fs::path(dir) / "stability.csv";
     const fs::path drop_csv = fs::path(dir) / kDropCsv;
     if (!fs::exists(wp_csv) && !fs::exists(st_csv) && !fs::exists(drop_csv)) {
-      throw InputError(fmt::format("--merge {}: neither work_precision.csv nor stability.csv "
-                                   "nor {} there (expected the output folder of an `ecpsim "
-                                   "bench --shard` run)",
-                                   dir, kDropCsv));
+      throw InputError(
+          fmt::format("--merge {}: neither work_precision.csv nor stability.csv "
+                      "nor {} there (expected the output folder of an `ecpsim "
+                      "bench --shard` run)",
+                      dir, kDropCsv));
     }
     if (fs::exists(drop_csv)) {
       for (auto& row : evaluation::ReadDropSweepCsv(drop_csv.string())) drops.push_back(row);
@@ -141,34 +142,35 @@ void Merge(const BenchOptions& o) {
   }
   if (!drops.empty()) {
     evaluation::SortDropRows(drops);
-    WriteFileAtomically((fs::path(o.out_dir) / kDropCsv).string(),
-                        evaluation::DropSweepCsv(drops));
+    WriteFileAtomically((fs::path(o.out_dir) / kDropCsv).string(), evaluation::DropSweepCsv(drops));
   }
   for (const std::string& path : WriteBenchReport(o.out_dir, wp, st, drops, o.charts)) {
     std::printf("wrote %s\n", path.c_str());
   }
-  std::printf("merged %zu work-precision rows, %zu stability rows and %zu drop rows from %zu "
-              "folders\n",
-              wp.size(), st.size(), drops.size(), o.merge.size());
+  std::printf(
+      "merged %zu work-precision rows, %zu stability rows and %zu drop rows from %zu "
+      "folders\n",
+      wp.size(), st.size(), drops.size(), o.merge.size());
 }
 
 // the drop sweep of this shard, every option checked (PlanDropSweep)
 evaluation::DropSweepOptions DropSweep(const BenchOptions& o, int shard_index, int shard_count) {
   evaluation::DropSweepOptions sweep;
   sweep.kinds = o.drop_kinds;
-  sweep.seeds_per_kind =
-      o.drop_seeds >= 0 ? o.drop_seeds : o.quick ? kQuickDropSeeds : kFullDropSeeds;
-  sweep.poses_per_file =
-      o.drop_poses >= 0 ? o.drop_poses : o.quick ? kQuickDropPoses : kFullDropPoses;
+  sweep.seeds_per_kind = o.drop_seeds >= 0 ? o.drop_seeds
+                         : o.quick         ? kQuickDropSeeds
+                                           : kFullDropSeeds;
+  sweep.poses_per_file = o.drop_poses >= 0 ? o.drop_poses
+                         : o.quick         ? kQuickDropPoses
+                                           : kFullDropPoses;
   sweep.max_files = o.quick ? kQuickDropFiles : -1;
   sweep.only = o.drop_cases;
   if (!o.drop_steps.empty()) {
-    sweep.steps = Select(std::vector<evaluation::DropStep>{evaluation::DropStep::kFixed,
-                                                           evaluation::DropStep::kScaled},
-                         o.drop_steps, "--drop-steps",
-                         [](evaluation::DropStep step) -> std::string {
-                           return evaluation::DropStepName(step);
-                         });
+    sweep.steps = Select(
+        std::vector<evaluation::DropStep>{evaluation::DropStep::kFixed,
+                                          evaluation::DropStep::kScaled},
+        o.drop_steps, "--drop-steps",
+        [](evaluation::DropStep step) -> std::string { return evaluation::DropStepName(step); });
   }
   sweep.cpu_limit_s = o.cpu_limit_s;
   sweep.shard_index = shard_index;
@@ -200,10 +202,10 @@ void Run(const BenchOptions& o) {
       o.steps.empty() ? (o.quick ? kQuickSteps : kFullSteps) : o.steps;
   std::vector<evaluation::Scenario> scenarios;
   if (!o.skip_work_precision) {
-    scenarios = Select(
-        evaluation::WorkPrecisionScenarios(
-            o.scenes_dir, o.quick ? kQuickConvergedDuration : kFullConvergedDuration),
-        o.scenarios, "--scenarios", [](const evaluation::Scenario& s) { return s.name; });
+    scenarios =
+        Select(evaluation::WorkPrecisionScenarios(
+                   o.scenes_dir, o.quick ? kQuickConvergedDuration : kFullConvergedDuration),
+               o.scenarios, "--scenarios", [](const evaluation::Scenario& s) { return s.name; });
   }
   std::vector<evaluation::StabilityMapSpec> maps;
   if (!o.skip_stability) {
@@ -229,8 +231,8 @@ void Run(const BenchOptions& o) {
                         evaluation::WorkPrecisionCsv(wp));
   }
   if (!o.skip_stability) {
-    st = evaluation::RunStabilityMaps(maps, methods, steps, shard_index, shard_count,
-                                      o.cpu_limit_s, Progress);
+    st = evaluation::RunStabilityMaps(maps, methods, steps, shard_index, shard_count, o.cpu_limit_s,
+                                      Progress);
     WriteFileAtomically((fs::path(o.out_dir) / "stability.csv").string(),
                         evaluation::StabilityCsv(st));
   }
@@ -239,8 +241,7 @@ void Run(const BenchOptions& o) {
   std::vector<evaluation::DropRow> drops;
   if (!o.skip_drops) {
     drops = evaluation::RunDropSweep(drop_sweep, drop_plan);
-    WriteFileAtomically((fs::path(o.out_dir) / kDropCsv).string(),
-                        evaluation::DropSweepCsv(drops));
+    WriteFileAtomically((fs::path(o.out_dir) / kDropCsv).string(), evaluation::DropSweepCsv(drops));
   }
   // a shard's charts would show a part of the sweep: they are drawn by the merge
   for (const std::string& path :
@@ -254,65 +255,81 @@ void Run(const BenchOptions& o) {
 void AddBenchCommand(CLI::App& app) {
   auto o = std::make_shared<BenchOptions>();
   CLI::App* bench = app.add_subcommand(
-      "bench", "Speed against accuracy: work-precision charts of every contact model and of "
-               "MuJoCo, Bullet and ODE (where built), and stability maps (docs/benchmarks.md)");
+      "bench",
+      "Speed against accuracy: work-precision charts of every contact model and of "
+      "MuJoCo, Bullet and ODE (where built), and stability maps (docs/benchmarks.md)");
   bench->add_option("-o,--output", o->out_dir, "output folder")->capture_default_str();
   bench->add_flag("--quick", o->quick,
                   "steps 0.01 and 0.002 s only, converged scenes cut to 0.5 s, 3 drops per "
                   "mesh kind and 10 collection files (for CI)");
   // listed from the scenarios themselves, so that the help names every one
-  bench->add_option("--scenarios", o->scenarios,
-                    fmt::format("work-precision scenarios (default all): {}",
-                                fmt::join(evaluation::WorkPrecisionScenarioNames(), ", ")))
+  bench
+      ->add_option("--scenarios", o->scenarios,
+                   fmt::format("work-precision scenarios (default all): {}",
+                               fmt::join(evaluation::WorkPrecisionScenarioNames(), ", ")))
       ->delimiter(',');
-  bench->add_option("--methods", o->methods,
-                    "methods (default all available): hull, hull-tol1e-08, hull-tol1e-05, "
-                    "auto, planar, multipatch, point, mujoco-default, mujoco-coulomb, bullet-default, "
-                    "bullet-coulomb, ode-default, ode-coulomb")
+  bench
+      ->add_option(
+          "--methods", o->methods,
+          "methods (default all available): hull, hull-tol1e-08, hull-tol1e-05, "
+          "auto, planar, multipatch, point, mujoco-default, mujoco-coulomb, bullet-default, "
+          "bullet-coulomb, ode-default, ode-coulomb")
       ->delimiter(',');
-  bench->add_option("--maps", o->maps,
-                    "stability maps (default all): impact, thin_plate, tbar_mass_ratio, "
-                    "push_speed")
+  bench
+      ->add_option("--maps", o->maps,
+                   "stability maps (default all): impact, thin_plate, tbar_mass_ratio, "
+                   "push_speed")
       ->delimiter(',');
-  bench->add_option("--steps", o->steps,
-                    "step sizes in s, each dividing 0.02 (default 0.02,0.01,0.005,0.002,0.001,"
-                    "0.0005,0.0002)")
+  bench
+      ->add_option("--steps", o->steps,
+                   "step sizes in s, each dividing 0.02 (default 0.02,0.01,0.005,0.002,0.001,"
+                   "0.0005,0.0002)")
       ->delimiter(',')
       ->check(FinitePositive("--steps", engine::kTimeRange));
-  bench->add_option("--shard", o->shard,
-                    "run part i of N of the sweep (i/N); join the parts with --merge")
+  bench
+      ->add_option("--shard", o->shard,
+                   "run part i of N of the sweep (i/N); join the parts with --merge")
       ->capture_default_str();
   bench->add_flag("--no-work-precision", o->skip_work_precision, "skip the work-precision sweep");
   bench->add_flag("--no-stability", o->skip_stability, "skip the stability maps");
   bench->add_flag("--no-drops", o->skip_drops, "skip the drop sweep");
-  bench->add_option("--drop-kinds", o->drop_kinds,
-                    "drop sweep: mesh kinds (default all): convex, l_shape, t_shape, u_shape, "
-                    "torus, plate, needle, coplanar, terrain, disconnected, file (the collection)")
+  bench
+      ->add_option("--drop-kinds", o->drop_kinds,
+                   "drop sweep: mesh kinds (default all): convex, l_shape, t_shape, u_shape, "
+                   "torus, plate, needle, coplanar, terrain, disconnected, file (the collection)")
       ->delimiter(',');
-  bench->add_option("--drop-steps", o->drop_steps,
-                    "drop sweep: step sizes (default both): fixed (h = 0.01 s), scaled (h = "
-                    "0.01 s sqrt(size / 1 m))")
+  bench
+      ->add_option("--drop-steps", o->drop_steps,
+                   "drop sweep: step sizes (default both): fixed (h = 0.01 s), scaled (h = "
+                   "0.01 s sqrt(size / 1 m))")
       ->delimiter(',');
-  bench->add_option("--drop-seeds", o->drop_seeds,
-                    "drop sweep: cases per generated kind (default 120; --quick 3)")
+  bench
+      ->add_option("--drop-seeds", o->drop_seeds,
+                   "drop sweep: cases per generated kind (default 120; --quick 3)")
       ->check(CLI::NonNegativeNumber);
-  bench->add_option("--drop-meshes", o->drop_meshes,
-                    "drop sweep: folders of mesh files, searched recursively")
+  bench
+      ->add_option("--drop-meshes", o->drop_meshes,
+                   "drop sweep: folders of mesh files, searched recursively")
       ->capture_default_str()
       ->expected(1, -1);
-  bench->add_option("--drop-poses", o->drop_poses,
-                    "drop sweep: poses per collection file (default 3; --quick 1, first 10 files)")
+  bench
+      ->add_option("--drop-poses", o->drop_poses,
+                   "drop sweep: poses per collection file (default 3; --quick 1, first 10 files)")
       ->check(CLI::NonNegativeNumber);
-  bench->add_option("--drop-case", o->drop_cases,
-                    "drop sweep: run only these cases, KIND:SEED or MESH_FILE:SEED (as "
-                    "results.md lists failures)")
+  bench
+      ->add_option("--drop-case", o->drop_cases,
+                   "drop sweep: run only these cases, KIND:SEED or MESH_FILE:SEED (as "
+                   "results.md lists failures)")
       ->expected(1, -1);
   bench->add_flag("!--no-charts", o->charts, "write CSV and results.md only");
-  bench->add_option("--merge", o->merge,
-                    "join the CSVs of these shard output folders into -o and draw the charts")
+  bench
+      ->add_option("--merge", o->merge,
+                   "join the CSVs of these shard output folders into -o and draw the charts")
       ->expected(1, -1);
-  bench->add_option("--scenes", o->scenes_dir,
-                    "folder of desk.yaml, tbar.yaml, dumbbell.yaml, stack.yaml, push_box.yaml, tbar_push.yaml")
+  bench
+      ->add_option("--scenes", o->scenes_dir,
+                   "folder of desk.yaml, tbar.yaml, dumbbell.yaml, stack.yaml, push_box.yaml, "
+                   "tbar_push.yaml")
       ->capture_default_str();
   bench->add_option("--cpu-limit", o->cpu_limit_s, "CPU seconds allowed per run")
       ->capture_default_str()

@@ -8,8 +8,8 @@
 
 #include <fmt/format.h>
 
-#include "common/atomic_file.h"
 #include "app/plot_writer.h"
+#include "common/atomic_file.h"
 #include "evaluation/method.h"
 #include "evaluation/scenario.h"
 
@@ -55,7 +55,8 @@ std::vector<std::string> MethodOrder() {
 std::vector<std::string> MapOrder() {
   std::vector<std::string> names;
   // names only: a map reads its scene files when its scenarios are made, not here
-  for (const evaluation::StabilityMapSpec& m : evaluation::StabilityMaps("")) names.push_back(m.name);
+  for (const evaluation::StabilityMapSpec& m : evaluation::StabilityMaps(""))
+    names.push_back(m.name);
   return names;
 }
 
@@ -81,10 +82,13 @@ std::string Sci(double value) { return value < 0 ? "–" : fmt::format("{:.2g}",
 // engine its own hue, its default settings dashed
 std::string LineStyle(const std::string& method) {
   static const std::vector<std::pair<std::string, std::string>> kStyles = {
-      {"hull", "lc rgb '#08306b' pt 7"},          {"hull-tol1e-08", "lc rgb '#2171b5' pt 6"},
-      {"hull-tol1e-05", "lc rgb '#6baed6' pt 4"}, {"auto", "lc rgb '#a50f15' pt 3"},
+      {"hull", "lc rgb '#08306b' pt 7"},
+      {"hull-tol1e-08", "lc rgb '#2171b5' pt 6"},
+      {"hull-tol1e-05", "lc rgb '#6baed6' pt 4"},
+      {"auto", "lc rgb '#a50f15' pt 3"},
       {"planar", "lc rgb '#ff7f00' pt 9"},
-      {"multipatch", "lc rgb '#e6ab02' pt 11"},   {"point", "lc rgb '#7f3b08' pt 5"},
+      {"multipatch", "lc rgb '#e6ab02' pt 11"},
+      {"point", "lc rgb '#7f3b08' pt 5"},
       {"mujoco-default", "lc rgb '#e7298a' pt 7 dt 2"},
       {"mujoco-coulomb", "lc rgb '#e7298a' pt 7"},
       {"bullet-default", "lc rgb '#1b9e77' pt 13 dt 2"},
@@ -154,8 +158,10 @@ void StabilityCharts(PlotWriter& writer, const std::vector<StabilityRow>& rows) 
     const int panel_rows = (n + 1 + cols - 1) / cols;
     writer.BeginPng(fmt::format("stability_{}.png", map), 360 * cols, 300 * panel_rows + 80);
     std::string xtics, ytics;
-    for (size_t i = 0; i < steps.size(); ++i) xtics += fmt::format("{}'{:g}' {}", i ? ", " : "", steps[i], i);
-    for (size_t j = 0; j < values.size(); ++j) ytics += fmt::format("{}'{:g}' {}", j ? ", " : "", values[j], j);
+    for (size_t i = 0; i < steps.size(); ++i)
+      xtics += fmt::format("{}'{:g}' {}", i ? ", " : "", steps[i], i);
+    for (size_t j = 0; j < values.size(); ++j)
+      ytics += fmt::format("{}'{:g}' {}", j ? ", " : "", values[j], j);
     writer.Line(fmt::format("set multiplot layout {},{} title {} noenhanced", panel_rows, cols,
                             GnuplotQuote(fmt::format("stability map: {}", map))));
     std::string palette;
@@ -188,9 +194,10 @@ void StabilityCharts(PlotWriter& writer, const std::vector<StabilityRow>& rows) 
       writer.Line("unset key");
       writer.Line(fmt::format("plot {} using 1:2:3 with image notitle", file));
     }
-    writer.Line("unset title\nunset border\nunset xtics\nunset ytics\nunset xlabel\n"
-                "unset ylabel\nset xrange [0:1]\nset yrange [0:1]\n"
-                "set key center center vertical noenhanced");
+    writer.Line(
+        "unset title\nunset border\nunset xtics\nunset ytics\nunset xlabel\n"
+        "unset ylabel\nset xrange [0:1]\nset yrange [0:1]\n"
+        "set key center center vertical noenhanced");
     std::string key = "plot ";
     for (int k = 0; k < evaluation::kOutcomeCount; ++k) {
       key += fmt::format("{}NaN with boxes fs solid lc rgb '{}' title {}", k ? ", " : "",
@@ -224,10 +231,9 @@ std::string PushForceTable(const std::vector<WorkPrecisionRow>& wp, const std::s
       std::string cell = " |";
       for (const WorkPrecisionRow& r : wp) {
         if (r.scenario != scenario || r.method != method || r.h != *h) continue;
-        cell = r.push_force_error < 0
-                   ? (r.failed ? " failed |" : " |")
-                   : fmt::format(" {} ({:.0f} %) |", Sci(r.push_force_error),
-                                 100 * r.push_contact_breaks);
+        cell = r.push_force_error < 0 ? (r.failed ? " failed |" : " |")
+                                      : fmt::format(" {} ({:.0f} %) |", Sci(r.push_force_error),
+                                                    100 * r.push_contact_breaks);
       }
       line += cell;
     }
@@ -240,21 +246,22 @@ std::string ResultsMarkdown(const std::vector<WorkPrecisionRow>& wp,
                             const std::vector<StabilityRow>& stability) {
   std::string md = "# ecpsim bench results\n\n";
   if (!wp.empty()) {
-    md += "## Work–precision\n\nState error max |Δp| + L·|Δθ| (m) against the reference; CPU s "
-          "per simulated s; at the coarsest and finest step of the sweep; `fail` = failed runs "
-          "of the sweep. `ref ±` estimates the reference's own error: 0 for a "
-          "closed form; for a converged reference the state error between it and the same "
-          "method at twice its step, below which an error is not resolved. For converged "
-          "references, `vs hull` is the state error of the finest run against the hull model's "
-          "converged solution (cross-model agreement).\n\n";
+    md +=
+        "## Work–precision\n\nState error max |Δp| + L·|Δθ| (m) against the reference; CPU s "
+        "per simulated s; at the coarsest and finest step of the sweep; `fail` = failed runs "
+        "of the sweep. `ref ±` estimates the reference's own error: 0 for a "
+        "closed form; for a converged reference the state error between it and the same "
+        "method at twice its step, below which an error is not resolved. For converged "
+        "references, `vs hull` is the state error of the finest run against the hull model's "
+        "converged solution (cross-model agreement).\n\n";
     for (const std::string& scenario :
          InOrder(wp, ScenarioOf, evaluation::WorkPrecisionScenarioNames())) {
-      md += fmt::format("### {}\n\n| method | h coarse | error | CPU s/s | h fine | error | CPU "
-                        "s/s | ref ± | max penetration (m) | wrong mode | vs hull | fail |\n"
-                        "|---|---|---|---|---|---|---|---|---|---|---|---|\n",
-                        scenario);
-      for (const std::string& method :
-           InOrder(wp, MethodOf<WorkPrecisionRow>, MethodOrder())) {
+      md += fmt::format(
+          "### {}\n\n| method | h coarse | error | CPU s/s | h fine | error | CPU "
+          "s/s | ref ± | max penetration (m) | wrong mode | vs hull | fail |\n"
+          "|---|---|---|---|---|---|---|---|---|---|---|---|\n",
+          scenario);
+      for (const std::string& method : InOrder(wp, MethodOf<WorkPrecisionRow>, MethodOrder())) {
         const WorkPrecisionRow *coarse = nullptr, *fine = nullptr;
         int failures = 0;
         double penetration = 0, wrong = 0;
@@ -287,8 +294,7 @@ std::string ResultsMarkdown(const std::vector<WorkPrecisionRow>& wp,
       md += "\n|---|";
       for (int k = 0; k < evaluation::kOutcomeCount; ++k) md += "---|";
       md += "\n";
-      for (const std::string& method :
-           InOrder(stability, MethodOf<StabilityRow>, MethodOrder())) {
+      for (const std::string& method : InOrder(stability, MethodOf<StabilityRow>, MethodOrder())) {
         int counts[evaluation::kOutcomeCount] = {};
         int total = 0;
         for (const StabilityRow& r : stability) {
@@ -351,8 +357,9 @@ std::string DropMarkdown(const std::vector<evaluation::DropRow>& rows) {
       md += fmt::format(" {} |", evaluation::DropOutcomeName(static_cast<DropOutcome>(k)));
     }
   }
-  md += " worst penetration ÷ size | max Newton iterations per step | retries | sub-stepped "
-        "steps | slowest step (ms) | CPU s |\n|---|---|";
+  md +=
+      " worst penetration ÷ size | max Newton iterations per step | retries | sub-stepped "
+      "steps | slowest step (ms) | CPU s |\n|---|---|";
   for (int k = 0; k + 1 < evaluation::kDropOutcomeCount; ++k) md += "---|";
   md += "---|---|---|---|---|---|---|\n";
   const auto add_row = [&](const std::string& label, const std::string& kind,
@@ -393,18 +400,18 @@ std::string DropMarkdown(const std::vector<evaluation::DropRow>& rows) {
   for (const DropRow& r : rows) {
     if (r.outcome != DropOutcome::kSkipped && r.steps > 0) slowest.push_back(&r);
   }
-  std::sort(slowest.begin(), slowest.end(),
-            [](const DropRow* a, const DropRow* b) {
-              return a->max_step_cpu_s > b->max_step_cpu_s;
-            });
+  std::sort(slowest.begin(), slowest.end(), [](const DropRow* a, const DropRow* b) {
+    return a->max_step_cpu_s > b->max_step_cpu_s;
+  });
   slowest.resize(std::min<size_t>(slowest.size(), kSlowestDrops));
   if (!slowest.empty()) {
-    md += fmt::format("\n### The {} slowest steps\n\nCPU time of one `engine::Step` (thread CPU "
-                      "clock; the machine's load adds noise), with the case it belongs to.\n\n"
-                      "| case | mesh | size (m) | h (s) | mesh vertices | hull faces | slowest step "
-                      "(ms) | mean of its steps (ms) | steps | max Newton iterations |\n"
-                      "|---|---|---|---|---|---|---|---|---|---|\n",
-                      slowest.size());
+    md += fmt::format(
+        "\n### The {} slowest steps\n\nCPU time of one `engine::Step` (thread CPU "
+        "clock; the machine's load adds noise), with the case it belongs to.\n\n"
+        "| case | mesh | size (m) | h (s) | mesh vertices | hull faces | slowest step "
+        "(ms) | mean of its steps (ms) | steps | max Newton iterations |\n"
+        "|---|---|---|---|---|---|---|---|---|---|\n",
+        slowest.size());
     for (const DropRow* r : slowest) {
       md += fmt::format("| `{}` | {} | {:.3g} | {:.2g} | {} | {} | {} | {} | {} | {} |\n",
                         evaluation::DropCaseKey(r->Case()),
@@ -416,12 +423,13 @@ std::string DropMarkdown(const std::vector<evaluation::DropRow>& rows) {
 
   md += "\n### Failures\n\n";
   if (failures == 0) return md + "None.\n\n";
-  md += "Rerun one with `ecpsim bench --no-work-precision --no-stability --drop-case CASE`, or "
-        "run the very files the sweep ran, kept in `drop_failures/` (the mesh as OBJ in metres, "
-        "the scene for `ecpsim run`; named kind or file stem, seed and step).\n\n"
-        "| case | outcome | mesh | size (m) | h (s) | lowest point (m) | quaternion (w, x, y, z) "
-        "| ω (rad/s) | steps done | message |\n"
-        "|---|---|---|---|---|---|---|---|---|---|\n";
+  md +=
+      "Rerun one with `ecpsim bench --no-work-precision --no-stability --drop-case CASE`, or "
+      "run the very files the sweep ran, kept in `drop_failures/` (the mesh as OBJ in metres, "
+      "the scene for `ecpsim run`; named kind or file stem, seed and step).\n\n"
+      "| case | outcome | mesh | size (m) | h (s) | lowest point (m) | quaternion (w, x, y, z) "
+      "| ω (rad/s) | steps done | message |\n"
+      "|---|---|---|---|---|---|---|---|---|---|\n";
   for (const DropRow& r : rows) {
     if (!evaluation::IsDropFailure(r.outcome)) continue;
     std::string message = r.message;
@@ -429,12 +437,12 @@ std::string DropMarkdown(const std::vector<evaluation::DropRow>& rows) {
     for (char& c : message) {
       if (c == '|') c = '/';
     }
-    md += fmt::format("| `{}` | {} | {} | {:.6g} | {:.3g} | {:.6g} | {:.4f}, {:.4f}, {:.4f}, "
-                      "{:.4f} | {:.4g}, {:.4g}, {:.4g} | {} | {} |\n",
-                      evaluation::DropCaseKey(r.Case()), evaluation::DropOutcomeName(r.outcome),
-                      r.kind == evaluation::kFileKind ? "" : r.mesh, r.size, r.h, r.height,
-                      r.q0.w(), r.q0.x(), r.q0.y(), r.q0.z(), r.w0.x(), r.w0.y(), r.w0.z(),
-                      r.steps, message);
+    md += fmt::format(
+        "| `{}` | {} | {} | {:.6g} | {:.3g} | {:.6g} | {:.4f}, {:.4f}, {:.4f}, "
+        "{:.4f} | {:.4g}, {:.4g}, {:.4g} | {} | {} |\n",
+        evaluation::DropCaseKey(r.Case()), evaluation::DropOutcomeName(r.outcome),
+        r.kind == evaluation::kFileKind ? "" : r.mesh, r.size, r.h, r.height, r.q0.w(), r.q0.x(),
+        r.q0.y(), r.q0.z(), r.w0.x(), r.w0.y(), r.w0.z(), r.steps, message);
   }
   return md + "\n";
 }

@@ -59,7 +59,9 @@ Eigen::Vector3d ReadVector3(const json& node, const std::string& key) {
 
 json BodyJson(const engine::BodyState& b) {
   const Eigen::Vector4d q(b.Q_WB.w(), b.Q_WB.x(), b.Q_WB.y(), b.Q_WB.z());
-  return {{"p_WB", Exact(b.p_WB)}, {"Q_WB_wxyz", Exact(q)}, {"v_WB", Exact(b.v_WB)},
+  return {{"p_WB", Exact(b.p_WB)},
+          {"Q_WB_wxyz", Exact(q)},
+          {"v_WB", Exact(b.v_WB)},
           {"w_WB", Exact(b.w_WB)}};
 }
 
@@ -119,7 +121,8 @@ engine::WarmStart ReadWarmStart(const json& node, const std::string& key) {
     hull.s = ReadExact(node.at("s"), key + ".s");
     hull.l_g = ReadExactVector(node.at("l_g"), key + ".l_g", -1);
     hull.window = node.at("window").get<std::vector<int>>();
-    hull.l = ReadExactVector(node.at("l"), key + ".l", static_cast<Eigen::Index>(hull.window.size()));
+    hull.l =
+        ReadExactVector(node.at("l"), key + ".l", static_cast<Eigen::Index>(hull.window.size()));
     // a moving G's window, by which l_G is carried to the next step's (empty: a fixed G)
     hull.other_window = node.at("other_window").get<std::vector<int>>();
     hull.trend = ReadTrend(node.at("trend"), key + ".trend");
@@ -129,17 +132,26 @@ engine::WarmStart ReadWarmStart(const json& node, const std::string& key) {
     engine::MultiPatchWarmStart multipatch;
     const json& parts = node.at("parts");
     for (std::size_t i = 0; i < parts.size(); ++i)
-      multipatch.parts.push_back(ReadExactVector(parts[i], fmt::format("{}.parts[{}]", key, i), -1));
+      multipatch.parts.push_back(
+          ReadExactVector(parts[i], fmt::format("{}.parts[{}]", key, i), -1));
     return multipatch;
   }
-  throw InputError(fmt::format("{}.model = \"{}\": expected \"hull\" or \"multipatch\"", key, model));
+  throw InputError(
+      fmt::format("{}.model = \"{}\": expected \"hull\" or \"multipatch\"", key, model));
 }
 
 json ContactJson(const engine::ContactState& c) {
-  return {{"a1", Exact(c.a1)},       {"a2", Exact(c.a2)},       {"p_n", Exact(c.p_n)},
-          {"p_t", Exact(c.p_t)},     {"p_o", Exact(c.p_o)},     {"p_r", Exact(c.p_r)},
-          {"sigma", Exact(c.sigma)}, {"n", Exact(c.n)},         {"t", Exact(c.t)},
-          {"o", Exact(c.o)},         {"warm_start", WarmStartJson(c.warm_start)}};
+  return {{"a1", Exact(c.a1)},
+          {"a2", Exact(c.a2)},
+          {"p_n", Exact(c.p_n)},
+          {"p_t", Exact(c.p_t)},
+          {"p_o", Exact(c.p_o)},
+          {"p_r", Exact(c.p_r)},
+          {"sigma", Exact(c.sigma)},
+          {"n", Exact(c.n)},
+          {"t", Exact(c.t)},
+          {"o", Exact(c.o)},
+          {"warm_start", WarmStartJson(c.warm_start)}};
 }
 
 engine::ContactState ReadContact(const json& node, const std::string& key) {
@@ -224,22 +236,24 @@ void WriteCheckpoint(const std::string& path, const Checkpoint& checkpoint) {
 Checkpoint ReadCheckpoint(const std::string& path) {
   std::ifstream in(path);
   if (!in) {
-    throw InputError(fmt::format("{}: no checkpoint there, nothing to resume (a run leaves one "
-                                 "only when it stops early: Ctrl-C, SIGTERM or a solver failure)",
-                                 path));
+    throw InputError(
+        fmt::format("{}: no checkpoint there, nothing to resume (a run leaves one "
+                    "only when it stops early: Ctrl-C, SIGTERM or a solver failure)",
+                    path));
   }
   try {
     const json file = json::parse(in);
     if (file.at("format") != kFormat) {
-      throw InputError(fmt::format("format = {}: expected {} (written by another version of "
-                                   "ecpsim)",
-                                   file.at("format").dump(), kFormat));
+      throw InputError(
+          fmt::format("format = {}: expected {} (written by another version of "
+                      "ecpsim)",
+                      file.at("format").dump(), kFormat));
     }
     Checkpoint checkpoint;
     checkpoint.origin = file.at("origin");
     if (!checkpoint.origin.is_object() || !checkpoint.origin.contains("arguments")) {
-      throw InputError(fmt::format("origin = {}: expected how the run was started",
-                                   checkpoint.origin.dump()));
+      throw InputError(
+          fmt::format("origin = {}: expected how the run was started", checkpoint.origin.dump()));
     }
     checkpoint.rows = file.at("rows").get<long>();
     checkpoint.totals = ReadTotals(file.at("totals"));
@@ -270,11 +284,11 @@ void CheckFitsScene(const Checkpoint& checkpoint, const engine::Scene& scene,
                     const std::string& path) {
   if (checkpoint.state.bodies.size() != scene.bodies.size() ||
       checkpoint.state.contacts.size() != scene.contacts.size()) {
-    throw InputError(fmt::format("{}: a state of {} bodies and {} contacts; the scene has {} and "
-                                 "{}",
-                                 path, checkpoint.state.bodies.size(),
-                                 checkpoint.state.contacts.size(), scene.bodies.size(),
-                                 scene.contacts.size()));
+    throw InputError(
+        fmt::format("{}: a state of {} bodies and {} contacts; the scene has {} and "
+                    "{}",
+                    path, checkpoint.state.bodies.size(), checkpoint.state.contacts.size(),
+                    scene.bodies.size(), scene.contacts.size()));
   }
 }
 

@@ -18,11 +18,11 @@ namespace ecpsim::app {
 
 /// The sums and maxima behind summary.json over the steps done so far.
 struct RunTotals {
-  long steps = 0;              // steps done
-  long retries = 0;            // Σ StepReport::retries
-  long iterations = 0;         // Σ Newton iterations
+  long steps = 0;       // steps done
+  long retries = 0;     // Σ StepReport::retries
+  long iterations = 0;  // Σ Newton iterations
   int iterations_max = 0;
-  double residual_max = 0;     // largest unscaled residual of any step
+  double residual_max = 0;  // largest unscaled residual of any step
   int substeps_max = 1;
   double max_penetration = 0;  // m, deepest mesh vertex inside an obstacle, t = 0 included
   bool all_converged = true;   // every step converged

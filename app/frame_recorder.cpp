@@ -65,11 +65,11 @@ FrameRecorder::FrameRecorder(const engine::Scene& scene, const std::string& out_
       const bool there = fs::is_regular_file(video_path);
       const int earlier = there ? render::CountVideoFrames(video_path) : 0;
       if (earlier != frames_) {
-        throw InputError(fmt::format("{}: {}; the run to resume rendered {} frames up to t = {} "
-                                     "s, so the video cannot be continued: start the run again",
-                                     video_path,
-                                     there ? fmt::format("{} frames", earlier) : "missing",
-                                     frames_, resumed_from->t));
+        throw InputError(
+            fmt::format("{}: {}; the run to resume rendered {} frames up to t = {} "
+                        "s, so the video cannot be continued: start the run again",
+                        video_path, there ? fmt::format("{} frames", earlier) : "missing", frames_,
+                        resumed_from->t));
       }
     }
     video_ = std::make_unique<render::FfmpegPipe>(

@@ -12,9 +12,9 @@
 
 #include "app/commands.h"
 #include "app/option_checks.h"
+#include "common/errors.h"
 #include "engine/scene_io/mesh_report.h"
 #include "geometry/convex_hull.h"
-#include "common/errors.h"
 #include "geometry/mass_properties.h"
 #include "geometry/mesh_io.h"
 #include "geometry/mesh_topology.h"
@@ -148,10 +148,10 @@ void AddHullCommand(CLI::App& app) {
       ->check(KnownUnit("--units"));
   CLI::Option* mass = command->add_option("--mass", options->mass, "total mass M, kg")
                           ->check(FinitePositive("--mass", engine::kMassRange));
-  CLI::Option* density = command
-                             ->add_option("--density", options->density,
-                                          "uniform density RHO, kg/m³ (default 1000)")
-                             ->check(FinitePositive("--density", engine::kDensityRange));
+  CLI::Option* density =
+      command
+          ->add_option("--density", options->density, "uniform density RHO, kg/m³ (default 1000)")
+          ->check(FinitePositive("--density", engine::kDensityRange));
   mass->excludes(density);
   command->callback([options] { RunHull(*options); });
 }

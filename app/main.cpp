@@ -6,14 +6,13 @@
 #include <string>
 #include <vector>
 
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <CLI/CLI.hpp>
 
 #include "app/commands.h"
 #include "app/interrupt.h"
 #include "app/version.h"
 #include "common/errors.h"
-#include "engine/step_report.h"
 #include "engine/step_report.h"
 
 namespace {
@@ -53,8 +52,9 @@ int CommandLineError(const CLI::App& app, const CLI::ParseError& error, int argc
     std::fprintf(stderr, "ecpsim: error: unknown command '%s'; expected one of: %s\n", *word,
                  expected.c_str());
   } else if (word == argv + argc && message.find("subcommand is required") != std::string::npos) {
-    std::fprintf(stderr, "ecpsim: error: a command is required; expected one of: %s (see ecpsim "
-                         "--help)\n",
+    std::fprintf(stderr,
+                 "ecpsim: error: a command is required; expected one of: %s (see ecpsim "
+                 "--help)\n",
                  expected.c_str());
   } else {
     std::fprintf(stderr, "ecpsim: error: %s (see ecpsim --help)\n", message.c_str());

@@ -4,8 +4,8 @@
 
 #include <cmath>
 
-#include "engine/scene_io/mesh_scale.h"
 #include "common/errors.h"
+#include "engine/scene_io/mesh_scale.h"
 
 namespace ecpsim::app {
 namespace {

@@ -36,9 +36,10 @@ void PrepareOutputFolder(const std::string& out_dir, bool resume) {
   std::error_code error;
   fs::create_directories(out_dir, error);
   if (error || !fs::is_directory(out_dir)) {
-    throw InputError(fmt::format("output folder {}: cannot create it ({}); expected a writable "
-                                 "path",
-                                 out_dir, error ? error.message() : "a file of that name exists"));
+    throw InputError(
+        fmt::format("output folder {}: cannot create it ({}); expected a writable "
+                    "path",
+                    out_dir, error ? error.message() : "a file of that name exists"));
   }
   for (const char* name : kOutputNames) RequireReplaceable((fs::path(out_dir) / name).string());
 

@@ -9,18 +9,18 @@
 #include <string>
 #include <vector>
 
+#include <fmt/format.h>
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "common/atomic_file.h"
 #include "app/plot_writer.h"
 #include "app/trajectory_table.h"
+#include "common/atomic_file.h"
+#include "common/errors.h"
 #include "engine/scene.h"
 #include "engine/scene_io/scene_yaml.h"
 #include "geometry/contact_patch.h"
-#include "common/errors.h"
 
 namespace ecpsim::app {
 namespace {
@@ -41,14 +41,13 @@ const std::vector<double> kDumbbellSnapshotTimes = {0.01, 0.25, 0.5, 1.75, 2.5};
 constexpr int kDeskSnapshots = 6;
 constexpr int kMaxModeSnapshots = 8;
 
-
 // numbers written to data files in shortest round-trip form
 std::string Num(double value) { return fmt::format("{}", value); }
 
 // The column names of the first body and its first contact: unprefixed for one body and one
 // contact, `<body>.` / `<body>.<obstacle>.` otherwise (docs/scene_format.md).
 struct Columns {
-  std::string body;     // prefix of px ... wz
+  std::string body;                 // prefix of px ... wz
   std::vector<std::string> bodies;  // every body's prefix, in the file's order (body the first)
   std::string contact;  // prefix of a1x ... sigma; empty string also when there is no contact
   bool has_contact = false;
@@ -73,9 +72,10 @@ Columns FindColumns(const TrajectoryTable& table) {
     }
   }
   if (!body_found) {
-    throw InputError(fmt::format("{}: no body position column (px); expected a trajectory.csv of "
-                                 "`ecpsim run`",
-                                 table.path));
+    throw InputError(
+        fmt::format("{}: no body position column (px); expected a trajectory.csv of "
+                    "`ecpsim run`",
+                    table.path));
   }
   return columns;
 }
@@ -112,9 +112,10 @@ void PlotSnapshots(PlotWriter& writer, const std::string& png, const TrajectoryT
   const int cols = n <= 3 ? n : (n <= 4 ? 2 : (n <= 6 ? 3 : 4));
   const int rows = (n + cols - 1) / cols;
   writer.BeginPng(png, 400 * cols, 400 * rows + 40);
-  writer.Line(fmt::format("set multiplot layout {},{} title {}", rows, cols,
-                          GnuplotQuote("contact patch (top view): polygons/segments/points black, hull "
-                                "dashed red, ECP x, CM projection o")));
+  writer.Line(
+      fmt::format("set multiplot layout {},{} title {}", rows, cols,
+                  GnuplotQuote("contact patch (top view): polygons/segments/points black, hull "
+                               "dashed red, ECP x, CM projection o")));
   writer.Line("set size ratio -1\nunset key\nset xlabel 'x (m)'\nset ylabel 'y (m)'");
   const geometry::Plane ground{Vector3d::UnitZ(), 0.0};
   for (std::size_t k = 0; k < snapshots.size(); ++k) {
@@ -159,11 +160,11 @@ void PlotSnapshots(PlotWriter& writer, const std::string& png, const TrajectoryT
     for (const Vector3d& p : patch.hull) extend(p);
     for (const Vector3d& p : patch.points) extend(p);
     extend(ecp);
-    writer.Line(fmt::format("set xrange [{}:{}]\nset yrange [{}:{}]", cm.x() - half,
-                            cm.x() + half, cm.y() - half, cm.y() + half));
+    writer.Line(fmt::format("set xrange [{}:{}]\nset yrange [{}:{}]", cm.x() - half, cm.x() + half,
+                            cm.y() - half, cm.y() + half));
     writer.Line(fmt::format("set title {}",
                             GnuplotQuote(fmt::format("{} — {}", snapshots[k].title,
-                                              geometry::ContactModeName(patch.mode)))));
+                                                     geometry::ContactModeName(patch.mode)))));
     std::vector<std::string> parts;
     if (!patch.polygons.empty()) {
       parts.push_back(data + " index 0 with filledcurves closed fs solid 0.35 lc rgb 'black'");
@@ -216,7 +217,8 @@ void PlotStackedBodies(PlotWriter& writer, const std::string& png, const std::st
   static const char* const kColours[] = {"#1f5fbf", "#d62728", "#2ca02c", "#ff7f0e",
                                          "#9467bd", "#8c564b", "#e377c2", "#17becf"};
   writer.BeginPng(png, 1000, 300 * static_cast<int>(labels.size()) + 40);
-  writer.Line(fmt::format("set multiplot layout {},1 title {}", labels.size(), GnuplotQuote(title)));
+  writer.Line(
+      fmt::format("set multiplot layout {},1 title {}", labels.size(), GnuplotQuote(title)));
   writer.Line(bodies.size() > 1 ? "set key outside right noenhanced" : "unset key");
   for (std::size_t i = 0; i < labels.size(); ++i) {
     writer.Line(fmt::format("set ylabel {}", GnuplotQuote(labels[i])));
@@ -226,8 +228,9 @@ void PlotStackedBodies(PlotWriter& writer, const std::string& png, const std::st
       const std::string name = bodies[j].empty() || bodies[j].back() != '.'
                                    ? bodies[j]
                                    : bodies[j].substr(0, bodies[j].size() - 1);
-      plot += fmt::format("{}{} using 1:{} with lines lw 2 lc rgb '{}'", plot.empty() ? "plot " : ", ",
-                          data, 2 + i * bodies.size() + j, kColours[j % std::size(kColours)]);
+      plot +=
+          fmt::format("{}{} using 1:{} with lines lw 2 lc rgb '{}'", plot.empty() ? "plot " : ", ",
+                      data, 2 + i * bodies.size() + j, kColours[j % std::size(kColours)]);
       if (bodies.size() > 1) plot += " title " + GnuplotQuote(name.empty() ? "body" : name);
     }
     writer.Line(plot);
@@ -250,9 +253,10 @@ std::optional<TrajectoryTable> ReadSibling(const std::string& dir, const std::st
   bool same = t.size() == times.size();
   for (std::size_t i = 0; same && i < t.size(); ++i) same = std::abs(t[i] - times[i]) <= 1e-9;
   if (!same) {
-    throw InputError(fmt::format("{}: {} rows at times that differ from trajectory.csv's {} "
-                                 "rows; expected the same scene run with another --model",
-                                 path.string(), t.size(), times.size()));
+    throw InputError(
+        fmt::format("{}: {} rows at times that differ from trajectory.csv's {} "
+                    "rows; expected the same scene run with another --model",
+                    path.string(), t.size(), times.size()));
   }
   return table;
 }
@@ -267,9 +271,9 @@ void PlotDeskVelocities(PlotWriter& writer, const std::string& dir, const Trajec
     std::vector<double> vx, wz, dvx, dwz;
   };
   std::vector<Other> others;
-  for (const auto& [file, label] : {std::pair<std::string, std::string>{"trajectory_planar.csv",
-                                                                        "planar sliding"},
-                                    {"trajectory_multipatch.csv", "multi-patch"}}) {
+  for (const auto& [file, label] :
+       {std::pair<std::string, std::string>{"trajectory_planar.csv", "planar sliding"},
+        {"trajectory_multipatch.csv", "multi-patch"}}) {
     const std::optional<TrajectoryTable> sibling = ReadSibling(dir, file, t);
     if (!sibling) continue;
     const Columns sc = FindColumns(*sibling);
@@ -290,11 +294,12 @@ void PlotDeskVelocities(PlotWriter& writer, const std::string& dir, const Trajec
   writer.BeginPng("desk_velocity.png", 1400, compare ? 900 : 500);
   writer.Line(fmt::format("set multiplot layout {},2 title {}", compare ? 2 : 1,
                           GnuplotQuote(compare ? "desk: hull-ECP model (*) and the earlier models"
-                                        : "desk: hull-ECP model")));
+                                               : "desk: hull-ECP model")));
   writer.Line("set xlabel 't (s)'");
   const char* colors[] = {"#d62728", "#2ca02c"};
   for (int quantity = 0; quantity < 2; ++quantity) {
-    writer.Line(fmt::format("set ylabel {}", GnuplotQuote(quantity == 0 ? "v_x (m/s)" : "w_z (rad/s)")));
+    writer.Line(
+        fmt::format("set ylabel {}", GnuplotQuote(quantity == 0 ? "v_x (m/s)" : "w_z (rad/s)")));
     std::string plot = fmt::format("plot {} using 1:{} with lines lw 3 lc rgb '#1f5fbf' title {}",
                                    data, 2 + quantity, GnuplotQuote("hull ECP (*)"));
     for (std::size_t k = 0; k < others.size(); ++k) {
@@ -305,13 +310,13 @@ void PlotDeskVelocities(PlotWriter& writer, const std::string& dir, const Trajec
   }
   if (compare) {
     for (int quantity = 0; quantity < 2; ++quantity) {
-      writer.Line(fmt::format("set ylabel {}",
-                              GnuplotQuote(quantity == 0 ? "v_x* - v_x (m/s)" : "w_z* - w_z (rad/s)")));
+      writer.Line(fmt::format("set ylabel {}", GnuplotQuote(quantity == 0 ? "v_x* - v_x (m/s)"
+                                                                          : "w_z* - w_z (rad/s)")));
       writer.Line("set format y '%.1e'");
       std::string plot = "plot ";
       for (std::size_t k = 0; k < others.size(); ++k) {
-        plot += fmt::format("{}{} using 1:{} with lines lw 1.5 lc rgb '{}' title {}",
-                            k ? ", " : "", data, 6 + 4 * k + quantity, colors[k],
+        plot += fmt::format("{}{} using 1:{} with lines lw 1.5 lc rgb '{}' title {}", k ? ", " : "",
+                            data, 6 + 4 * k + quantity, colors[k],
                             GnuplotQuote("hull ECP - " + others[k].label));
       }
       writer.Line(plot);
@@ -335,9 +340,10 @@ RunInfo ReadSummary(const std::string& dir) {
   try {
     json = nlohmann::json::parse(in);
   } catch (const nlohmann::json::exception& e) {
-    throw InputError(fmt::format("{}: not valid JSON ({}); expected the summary.json of `ecpsim "
-                                 "run`",
-                                 path.string(), e.what()));
+    throw InputError(
+        fmt::format("{}: not valid JSON ({}); expected the summary.json of `ecpsim "
+                    "run`",
+                    path.string(), e.what()));
   }
   if (json.contains("scene") && json["scene"].is_string()) {
     info.scene_path = json["scene"].get<std::string>();
@@ -348,14 +354,16 @@ RunInfo ReadSummary(const std::string& dir) {
 engine::Scene LoadRunScene(const std::string& dir, const RunInfo& info) {
   const std::string summary = (fs::path(dir) / "summary.json").string();
   if (info.scene_path.empty()) {
-    throw InputError(fmt::format("{}: no \"scene\" key (or no file); expected the summary.json "
-                                 "of `ecpsim run`, which names the scene the snapshots need",
-                                 summary));
+    throw InputError(
+        fmt::format("{}: no \"scene\" key (or no file); expected the summary.json "
+                    "of `ecpsim run`, which names the scene the snapshots need",
+                    summary));
   }
   if (!fs::exists(info.scene_path)) {
-    throw InputError(fmt::format("{}: scene = \"{}\": file not found from the current folder; "
-                                 "run `ecpsim plot` from the folder `ecpsim run` ran in",
-                                 summary, info.scene_path));
+    throw InputError(
+        fmt::format("{}: scene = \"{}\": file not found from the current folder; "
+                    "run `ecpsim plot` from the folder `ecpsim run` ran in",
+                    summary, info.scene_path));
   }
   return engine::LoadScene(info.scene_path);
 }
@@ -376,13 +384,12 @@ PlotKind ParsePlotKind(const std::string& name) {
   if (name == "tbar") return PlotKind::kTBar;
   if (name == "dumbbell") return PlotKind::kDumbbell;
   if (name == "generic") return PlotKind::kGeneric;
-  throw InputError(fmt::format("--scene = {}: expected desk, tbar, dumbbell, generic or auto",
-                               name));
+  throw InputError(
+      fmt::format("--scene = {}: expected desk, tbar, dumbbell, generic or auto", name));
 }
 
 std::vector<std::string> PlotRun(const std::string& dir, PlotKind kind) {
-  const TrajectoryTable table =
-      ReadTrajectoryTable((fs::path(dir) / "trajectory.csv").string());
+  const TrajectoryTable table = ReadTrajectoryTable((fs::path(dir) / "trajectory.csv").string());
   const Columns c = FindColumns(table);
   const RunInfo info = ReadSummary(dir);
   if (kind == PlotKind::kAuto) kind = KindFromScene(info);
@@ -409,11 +416,10 @@ std::vector<std::string> PlotRun(const std::string& dir, PlotKind kind) {
       const std::vector<double>& az = table.Column(c.contact + "a1z");
       const std::vector<double>& qz = table.Column(c.body + "pz");
       const std::vector<double>& vz = table.Column(c.body + "vz");
-      PlotStacked(writer, "tbar_ecp.png",
-                  writer.Data("tbar_ecp", Columnar({&t, &ax, &ay, &az})),
+      PlotStacked(writer, "tbar_ecp.png", writer.Data("tbar_ecp", Columnar({&t, &ax, &ay, &az})),
                   {"a_x (m)", "a_y (m)", "a_z (m)"}, "T-bar: equivalent contact point");
-      PlotStacked(writer, "tbar_qz.png", writer.Data("tbar_qz", Columnar({&t, &qz})),
-                  {"q_z (m)"}, "T-bar: height of the centre of mass");
+      PlotStacked(writer, "tbar_qz.png", writer.Data("tbar_qz", Columnar({&t, &qz})), {"q_z (m)"},
+                  "T-bar: height of the centre of mass");
 
       // contact modes of the mesh at every row; the rows where the mode changes
       const geometry::Plane ground{Vector3d::UnitZ(), 0.0};
@@ -421,8 +427,7 @@ std::vector<std::string> PlotRun(const std::string& dir, PlotKind kind) {
       geometry::ContactMode previous = geometry::ContactMode::kNone;
       for (std::size_t row = 0; row < table.rows(); ++row) {
         const geometry::ContactMode mode =
-            geometry::ExtractContactPatch(scene.bodies[0].mesh, PoseAt(table, c, row), ground)
-                .mode;
+            geometry::ExtractContactPatch(scene.bodies[0].mesh, PoseAt(table, c, row), ground).mode;
         if (row > 0 && mode != previous) changes.push_back(row);
         previous = mode;
       }
@@ -437,7 +442,8 @@ std::vector<std::string> PlotRun(const std::string& dir, PlotKind kind) {
                       .insert(0, "set multiplot layout 2,1 title "));
       writer.Line("unset key");
       for (int panel = 0; panel < 2; ++panel) {
-        writer.Line(fmt::format("set ylabel {}", GnuplotQuote(panel == 0 ? "v_z (m/s)" : "a_x (m)")));
+        writer.Line(
+            fmt::format("set ylabel {}", GnuplotQuote(panel == 0 ? "v_z (m/s)" : "a_x (m)")));
         writer.Line(panel == 1 ? "set xlabel 't (s)'" : "unset xlabel");
         std::string plot =
             fmt::format("plot {} using 1:{} with lines lw 2 lc rgb '#1f5fbf'", data, 2 + panel);
@@ -453,8 +459,7 @@ std::vector<std::string> PlotRun(const std::string& dir, PlotKind kind) {
       std::vector<Snapshot> snapshots;
       const std::size_t count = std::min<std::size_t>(changes.size(), kMaxModeSnapshots);
       for (std::size_t k = 0; k < count; ++k) {
-        const std::size_t row =
-            changes[count == 1 ? 0 : k * (changes.size() - 1) / (count - 1)];
+        const std::size_t row = changes[count == 1 ? 0 : k * (changes.size() - 1) / (count - 1)];
         snapshots.push_back({row, fmt::format("t = {:.2f} s", t[row])});
       }
       PlotSnapshots(writer, "tbar_patches.png", table, c, scene, snapshots);
@@ -474,8 +479,7 @@ std::vector<std::string> PlotRun(const std::string& dir, PlotKind kind) {
         const std::size_t row = RowNear(t, time);
         snapshots.push_back({row, fmt::format("t = {:.2f} s", t[row])});
       }
-      PlotSnapshots(writer, "dumbbell_patches.png", table, c, scene, snapshots,
-                    kDumbbellSagitta);
+      PlotSnapshots(writer, "dumbbell_patches.png", table, c, scene, snapshots, kDumbbellSagitta);
       break;
     }
     case PlotKind::kGeneric:
@@ -489,10 +493,10 @@ std::vector<std::string> PlotRun(const std::string& dir, PlotKind kind) {
       const std::string title = c.bodies.size() > 1 ? "centres of mass" : "centre of mass";
       PlotStackedBodies(writer, "position.png", writer.Data("position", Columnar(position)),
                         {"p_x (m)", "p_y (m)", "p_z (m)"}, c.bodies, title);
-      PlotStackedBodies(writer, "velocity.png", writer.Data("velocity", Columnar(velocity)),
-                        {"v_x (m/s)", "v_y (m/s)", "v_z (m/s)", "w_x (rad/s)", "w_y (rad/s)",
-                         "w_z (rad/s)"},
-                        c.bodies, "velocity (world frame)");
+      PlotStackedBodies(
+          writer, "velocity.png", writer.Data("velocity", Columnar(velocity)),
+          {"v_x (m/s)", "v_y (m/s)", "v_z (m/s)", "w_x (rad/s)", "w_y (rad/s)", "w_z (rad/s)"},
+          c.bodies, "velocity (world frame)");
       break;
     }
   }

@@ -21,8 +21,9 @@ struct PlotOptions {
 void AddPlotCommand(CLI::App& app) {
   auto options = std::make_shared<PlotOptions>();
   CLI::App* plot = app.add_subcommand(
-      "plot", "Draw PNG plots of a run (DIR/trajectory.csv) with gnuplot: the paper's figures "
-              "for the desk, T-bar and dumbbell scenes, with contact-patch snapshots");
+      "plot",
+      "Draw PNG plots of a run (DIR/trajectory.csv) with gnuplot: the paper's figures "
+      "for the desk, T-bar and dumbbell scenes, with contact-patch snapshots");
   plot->add_option("dir", options->dir, "output folder of `ecpsim run`")->required();
   plot->add_option("--scene", options->scene,
                    "which figures: desk, tbar, dumbbell, generic, or auto (from the scene file "

@@ -21,7 +21,8 @@ std::string GnuplotQuote(const std::string& text) {
 }
 
 PlotWriter::PlotWriter(std::string dir) : dir_(std::move(dir)) {
-  script_ = "set terminal pngcairo size 1200,800 font 'DejaVu Sans,11'\nset grid\nset key top right\n";
+  script_ =
+      "set terminal pngcairo size 1200,800 font 'DejaVu Sans,11'\nset grid\nset key top right\n";
 }
 
 std::string PlotWriter::Data(const std::string& name, const std::string& content) {

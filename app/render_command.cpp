@@ -9,11 +9,11 @@
 #include <fmt/format.h>
 
 #include "app/commands.h"
-#include "app/option_checks.h"
 #include "app/frame_recorder.h"
+#include "app/option_checks.h"
+#include "common/errors.h"
 #include "engine/scene_io/scene_yaml.h"
 #include "engine/time_step.h"
-#include "common/errors.h"
 #include "render/png_writer.h"
 
 namespace ecpsim::app {
@@ -32,12 +32,14 @@ struct RenderOptions {
 void AddRenderCommand(CLI::App& app) {
   auto options = std::make_shared<RenderOptions>();
   CLI::App* render = app.add_subcommand(
-      "render", "Render one frame of a scene at time T (simulating up to T) to a PNG; the output "
-                "is deterministic on a given machine, for image-based regression tests");
+      "render",
+      "Render one frame of a scene at time T (simulating up to T) to a PNG; the output "
+      "is deterministic on a given machine, for image-based regression tests");
   render->add_option("scene", options->scene, "scene file (YAML)")->required();
   render->add_option("-o,--out", options->out, "PNG file to write")->required();
-  render->add_option("--time", options->time,
-                     "simulated time of the frame, s, within the scene's duration (default 0)")
+  render
+      ->add_option("--time", options->time,
+                   "simulated time of the frame, s, within the scene's duration (default 0)")
       ->check(FiniteNumber("--time"));
   render->add_option("--set", options->overrides, "override a scene value, key=value");
   render->add_option("--width", options->width, "pixels (default: the scene's, else 1280)")
@@ -52,9 +54,10 @@ void AddRenderCommand(CLI::App& app) {
     PrintWarnings(scene);
     // the step count of a run bounds the stepping below
     if (!(options->time >= 0 && options->time <= scene.duration)) {
-      throw InputError(fmt::format("--time = {}: expected a time in [0, {}] s, the scene's "
-                                   "duration",
-                                   options->time, scene.duration));
+      throw InputError(
+          fmt::format("--time = {}: expected a time in [0, {}] s, the scene's "
+                      "duration",
+                      options->time, scene.duration));
     }
 
     // the state nearest to T
@@ -63,7 +66,8 @@ void AddRenderCommand(CLI::App& app) {
     while (state.t + scene.h / 2 <= options->time) report = engine::Step(scene, state);
 
     render::Renderer renderer(RenderSettingsFor(scene));
-    render::FrameInput frame = render::SceneFrameBuilder(scene).Build(state, report.iterations, report.models);
+    render::FrameInput frame =
+        render::SceneFrameBuilder(scene).Build(state, report.iterations, report.models);
     ApplyCamera(scene, frame);
     render::WritePng(options->out, renderer.Render(frame));
     std::printf("t = %.6g s: wrote %s\n", state.t, options->out.c_str());

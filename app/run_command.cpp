@@ -18,10 +18,10 @@
 #include "app/commands.h"
 #include "app/frame_recorder.h"
 #include "app/interrupt.h"
+#include "app/option_checks.h"
 #include "app/output_folder.h"
 #include "app/run_origin.h"
 #include "app/simulation_run.h"
-#include "app/option_checks.h"
 #include "common/errors.h"
 #include "engine/scene_io/drop_scene.h"
 #include "engine/scene_io/scene_yaml.h"
@@ -31,11 +31,12 @@ namespace ecpsim::app {
 namespace {
 
 void PrintResult(const RunSummary& summary, const std::string& out_dir) {
-  std::printf("%ld steps, %.2f Newton iterations per step (max %d), %ld retries, max "
-              "penetration %.3g m, median step %.1f us; wrote %s/trajectory.csv and "
-              "%s/summary.json\n",
-              summary.steps, summary.iterations_mean, summary.iterations_max, summary.retries,
-              summary.max_penetration, summary.median_step_us, out_dir.c_str(), out_dir.c_str());
+  std::printf(
+      "%ld steps, %.2f Newton iterations per step (max %d), %ld retries, max "
+      "penetration %.3g m, median step %.1f us; wrote %s/trajectory.csv and "
+      "%s/summary.json\n",
+      summary.steps, summary.iterations_mean, summary.iterations_max, summary.retries,
+      summary.max_penetration, summary.median_step_us, out_dir.c_str(), out_dir.c_str());
 }
 
 struct RunOptions {
@@ -78,8 +79,7 @@ std::string FramePlaces(FrameOutputs outputs, const std::string& out_dir) {
 
 // runs the scene, recording frames when its origin asks for them; frames and video are finished
 // also when the run stops on a failure, so what was rendered stays valid
-RunSummary RunWithFrames(const engine::Scene& scene, const std::string& out_dir,
-                         RunSetup setup) {
+RunSummary RunWithFrames(const engine::Scene& scene, const std::string& out_dir, RunSetup setup) {
   const FrameOutputs outputs = FrameOutputsOf(setup.origin.at("arguments"));
   setup.progress = isatty(fileno(stderr)) == 1;
   if (!outputs.frames && !outputs.video) return RunSimulation(scene, out_dir, setup);
@@ -144,18 +144,20 @@ void Resume(const RunOptions& given) {
   const nlohmann::json& arguments = checkpoint.origin.at("arguments");
   std::error_code error;
   if (!given.out_dir.empty() && !std::filesystem::equivalent(given.out_dir, dir, error)) {
-    throw InputError(fmt::format("--resume {} -o {}: a resumed run writes into its own folder; "
-                                 "leave out -o or give the same folder",
-                                 dir, given.out_dir));
+    throw InputError(
+        fmt::format("--resume {} -o {}: a resumed run writes into its own folder; "
+                    "leave out -o or give the same folder",
+                    dir, given.out_dir));
   }
   // a command line given with --resume must be the run's own
   const bool more_given = !Overrides(given).empty() || given.frames || given.video;
   if (!given.scene.empty() || more_given) {
     if (given.scene.empty() ||
         RunArguments(given.scene, Overrides(given), given.frames, given.video) != arguments) {
-      throw InputError(fmt::format("--resume {}: the run there is `{} -o {}`; give its command "
-                                   "line exactly, or nothing but --resume DIR",
-                                   dir, CommandLine(arguments), dir));
+      throw InputError(
+          fmt::format("--resume {}: the run there is `{} -o {}`; give its command "
+                      "line exactly, or nothing but --resume DIR",
+                      dir, CommandLine(arguments), dir));
     }
   }
   const engine::Scene scene = SceneOf(arguments);
@@ -175,8 +177,9 @@ void PrintWarnings(const engine::Scene& scene) {
 void AddRunCommand(CLI::App& app) {
   auto options = std::make_shared<RunOptions>();
   CLI::App* run = app.add_subcommand(
-      "run", "Simulate a YAML scene (docs/scene_format.md); writes DIR/trajectory.csv and "
-             "DIR/summary.json");
+      "run",
+      "Simulate a YAML scene (docs/scene_format.md); writes DIR/trajectory.csv and "
+      "DIR/summary.json");
   run->add_option("scene", options->scene, "scene file (YAML); required unless --resume");
   run->add_option("-o,--out", options->out_dir,
                   "output folder (created if missing); required unless --resume");
@@ -231,9 +234,10 @@ void AddDropCommand(CLI::App& app) {
   auto out_dir = std::make_shared<std::string>();
   auto frames = std::make_shared<bool>(false);
   auto video = std::make_shared<bool>(false);
-  CLI::App* drop = app.add_subcommand(
-      "drop", "Drop a mesh onto the ground z = 0 (mu = 0.22, e = 1, 1, 0.1 m); writes "
-              "DIR/trajectory.csv and DIR/summary.json");
+  CLI::App* drop =
+      app.add_subcommand("drop",
+                         "Drop a mesh onto the ground z = 0 (mu = 0.22, e = 1, 1, 0.1 m); writes "
+                         "DIR/trajectory.csv and DIR/summary.json");
   drop->add_option("mesh", options->mesh, "mesh file (any format assimp reads)")->required();
   drop->add_option("-o,--out", *out_dir, "output folder (created if missing)")->required();
   drop->add_option("--height", options->height,

@@ -40,8 +40,8 @@ std::string Absolute(const std::string& path) {
 
 }  // namespace
 
-json RunArguments(const std::string& scene, const std::vector<std::string>& overrides,
-                  bool frames, bool video) {
+json RunArguments(const std::string& scene, const std::vector<std::string>& overrides, bool frames,
+                  bool video) {
   return {{"command", "run"},
           {"scene", Absolute(scene)},
           {"overrides", overrides},
@@ -65,12 +65,18 @@ std::optional<T> ReadOptional(const json& node) {
 }  // namespace
 
 json DropArguments(const engine::DropOptions& options, bool frames, bool video) {
-  return {{"command", "drop"},           {"mesh", Absolute(options.mesh)},
-          {"scale", Optional(options.scale)}, {"units", Optional(options.units)},
-          {"height", options.height},     {"tilt_deg", options.tilt_deg},
-          {"spin", options.spin},         {"duration", options.duration},
-          {"h", options.h},               {"mass", Optional(options.mass)},
-          {"frames", frames},             {"video", video}};
+  return {{"command", "drop"},
+          {"mesh", Absolute(options.mesh)},
+          {"scale", Optional(options.scale)},
+          {"units", Optional(options.units)},
+          {"height", options.height},
+          {"tilt_deg", options.tilt_deg},
+          {"spin", options.spin},
+          {"duration", options.duration},
+          {"h", options.h},
+          {"mass", Optional(options.mass)},
+          {"frames", frames},
+          {"video", video}};
 }
 
 std::string CommandLine(const json& arguments) {
@@ -139,22 +145,23 @@ json RunOrigin(const json& arguments, const engine::Scene& scene) {
 
 void RequireSameOrigin(const json& stored, const json& now, const std::string& checkpoint_path) {
   if (stored.value("ecpsim", "") != now.at("ecpsim")) {
-    throw InputError(fmt::format("{}: written by {}, this is {}; resume with the same build, or "
-                                 "start the run again",
-                                 checkpoint_path, stored.value("ecpsim", "an unknown version"),
-                                 now.at("ecpsim").get<std::string>()));
+    throw InputError(
+        fmt::format("{}: written by {}, this is {}; resume with the same build, or "
+                    "start the run again",
+                    checkpoint_path, stored.value("ecpsim", "an unknown version"),
+                    now.at("ecpsim").get<std::string>()));
   }
   if (stored.value("inputs", "") != now.at("inputs")) {
     const json& arguments = now.at("arguments");
-    const std::string input = arguments.value("command", "") == "run"
-                                  ? "the scene file " + arguments.at("scene").get<std::string>() +
-                                        " or a mesh it names"
-                                  : "the mesh " + arguments.at("mesh").get<std::string>();
-    throw InputError(fmt::format("{}: {} has changed since the run began (fingerprint {}, now "
-                                 "{}); a resumed run needs the same inputs: restore them, or "
-                                 "start the run again",
-                                 checkpoint_path, input, stored.value("inputs", "?"),
-                                 now.at("inputs").get<std::string>()));
+    const std::string input =
+        arguments.value("command", "") == "run"
+            ? "the scene file " + arguments.at("scene").get<std::string>() + " or a mesh it names"
+            : "the mesh " + arguments.at("mesh").get<std::string>();
+    throw InputError(fmt::format(
+        "{}: {} has changed since the run began (fingerprint {}, now "
+        "{}); a resumed run needs the same inputs: restore them, or "
+        "start the run again",
+        checkpoint_path, input, stored.value("inputs", "?"), now.at("inputs").get<std::string>()));
   }
 }
 

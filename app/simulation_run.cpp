@@ -44,8 +44,8 @@ long PlannedSteps(const engine::Scene& scene) {
 void DrawProgress(double fraction, double t) {
   const int filled = static_cast<int>(fraction * kProgressWidth);
   std::fprintf(stderr, "\r[%s%s] %3d%%  t = %.3f s", std::string(filled, '#').c_str(),
-               std::string(kProgressWidth - filled, ' ').c_str(),
-               static_cast<int>(fraction * 100), t);
+               std::string(kProgressWidth - filled, ' ').c_str(), static_cast<int>(fraction * 100),
+               t);
   std::fflush(stderr);
 }
 
@@ -74,7 +74,8 @@ void WriteSummary(const engine::Scene& scene, const RunSummary& s, const std::st
   // "hull": 20}; models that solved none are left out
   nlohmann::json models = nlohmann::json::object();
   for (int m = 0; m < engine::kNumStepModels; ++m) {
-    if (s.model_steps[m] > 0) models[engine::StepModelName(static_cast<engine::StepModel>(m))] = s.model_steps[m];
+    if (s.model_steps[m] > 0)
+      models[engine::StepModelName(static_cast<engine::StepModel>(m))] = s.model_steps[m];
   }
   json["models"] = models;
   if (s.interrupt_signal != 0) {
@@ -101,9 +102,10 @@ RunSummary RunSimulation(const engine::Scene& scene, const std::string& out_dir,
   std::error_code error;
   fs::create_directories(out_dir, error);
   if (error || !fs::is_directory(out_dir)) {
-    throw InputError(fmt::format("output folder {}: cannot create it ({}); expected a writable "
-                                 "path",
-                                 out_dir, error.message()));
+    throw InputError(
+        fmt::format("output folder {}: cannot create it ({}); expected a writable "
+                    "path",
+                    out_dir, error.message()));
   }
   // refuse a FIFO, symlink or folder at summary.json now, not after the whole run
   const std::string summary_path = (fs::path(out_dir) / "summary.json").string();

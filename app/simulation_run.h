@@ -24,17 +24,17 @@ struct RunSummary {
   long retries = 0;            // Σ StepReport::retries
   double iterations_mean = 0;  // Newton iterations per step
   int iterations_max = 0;
-  double residual_max = 0;     // largest unscaled residual of any step
+  double residual_max = 0;  // largest unscaled residual of any step
   int substeps_max = 1;
-  double max_penetration = 0;  // m, deepest mesh vertex inside an obstacle at t = 0 or after
-                               // any step
-  double wall_s = 0;           // s, the whole loop including output
-  double median_step_us = 0;   // µs, median of engine::Step's wall time (ReservoirMedian: exact
-                               // up to 16384 steps, its rank within ±1.2 % beyond)
-  bool converged = false;      // every step converged and the run reached the duration
-  int interrupt_signal = 0;    // SIGINT or SIGTERM when a signal stopped the run, else 0
-  long resumed_from_step = -1; // the step a resumed run continued from, else -1
-  std::string error;           // the failure's message, empty on success
+  double max_penetration = 0;   // m, deepest mesh vertex inside an obstacle at t = 0 or after
+                                // any step
+  double wall_s = 0;            // s, the whole loop including output
+  double median_step_us = 0;    // µs, median of engine::Step's wall time (ReservoirMedian: exact
+                                // up to 16384 steps, its rank within ±1.2 % beyond)
+  bool converged = false;       // every step converged and the run reached the duration
+  int interrupt_signal = 0;     // SIGINT or SIGTERM when a signal stopped the run, else 0
+  long resumed_from_step = -1;  // the step a resumed run continued from, else -1
+  std::string error;            // the failure's message, empty on success
   // body-steps solved by each engine::StepModel (indexed by it): summary.json's "models"
   std::array<long, engine::kNumStepModels> model_steps{};
 };

@@ -37,17 +37,19 @@ const std::vector<double>& TrajectoryTable::Column(const std::string& name) cons
   for (std::size_t i = 0; i < names.size(); ++i) {
     if (names[i] == name) return data[i];
   }
-  throw InputError(fmt::format("{}: no column \"{}\"; expected a trajectory.csv of `ecpsim run` "
-                               "(columns: {})",
-                               path, name, fmt::join(names, ",")));
+  throw InputError(
+      fmt::format("{}: no column \"{}\"; expected a trajectory.csv of `ecpsim run` "
+                  "(columns: {})",
+                  path, name, fmt::join(names, ",")));
 }
 
 TrajectoryTable ReadTrajectoryTable(const std::string& path) {
   std::ifstream in(path);
   if (!in) {
-    throw InputError(fmt::format("{}: cannot read it ({}); expected the trajectory.csv of an "
-                                 "`ecpsim run` output folder",
-                                 path, std::strerror(errno)));
+    throw InputError(
+        fmt::format("{}: cannot read it ({}); expected the trajectory.csv of an "
+                    "`ecpsim run` output folder",
+                    path, std::strerror(errno)));
   }
   TrajectoryTable table;
   table.path = path;

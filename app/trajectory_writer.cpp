@@ -26,15 +26,16 @@ TrajectoryWriter::TrajectoryWriter(const engine::Scene& scene, const std::string
       std::ifstream earlier(path, std::ios::binary);
       std::string line;
       if (!std::getline(earlier, line) || line != header) {
-        throw InputError(fmt::format("{}: {}; expected the header of this scene's trajectory",
-                                     path, earlier ? "another header" : "missing or empty"));
+        throw InputError(fmt::format("{}: {}; expected the header of this scene's trajectory", path,
+                                     earlier ? "another header" : "missing or empty"));
       }
       for (long r = 0; r < *keep_rows; ++r) {
         // a last line without its newline is incomplete
         if (!std::getline(earlier, line) || earlier.eof()) {
-          throw InputError(fmt::format("{}: {} complete rows; expected at least the {} rows that "
-                                       "the checkpoint counts",
-                                       path, r, *keep_rows));
+          throw InputError(
+              fmt::format("{}: {} complete rows; expected at least the {} rows that "
+                          "the checkpoint counts",
+                          path, r, *keep_rows));
         }
         Append(line, false);
       }
@@ -60,9 +61,10 @@ void TrajectoryWriter::Write(const engine::State& state, const engine::StepRepor
   // never a NaN in an output: refuse the row and let the run stop as a failure
   for (size_t i = 0; i < values.size(); ++i) {
     if (!std::isfinite(values[i])) {
-      throw engine::SolverFailure(fmt::format("t = {} s: {} = {} is not finite; the trajectory "
-                                              "stops at the last finite row",
-                                              state.t, columns_[i], values[i]));
+      throw engine::SolverFailure(
+          fmt::format("t = {} s: {} = {} is not finite; the trajectory "
+                      "stops at the last finite row",
+                      state.t, columns_[i], values[i]));
     }
   }
   fmt::memory_buffer row;

@@ -14,10 +14,10 @@
 
 namespace ecpsim::app {
 
-/// The rows of engine::TrajectoryColumns. Streams rows to a temporary file next to `path` (common/atomic_file.h; flushed after every row)
-/// and renames it onto `path` in Finish(), so that a run stopped by a solver failure or an
-/// interrupt still leaves a valid trajectory.csv holding the rows written so far. Numbers are
-/// written in shortest round-trip form.
+/// The rows of engine::TrajectoryColumns. Streams rows to a temporary file next to `path`
+/// (common/atomic_file.h; flushed after every row) and renames it onto `path` in Finish(), so that
+/// a run stopped by a solver failure or an interrupt still leaves a valid trajectory.csv holding
+/// the rows written so far. Numbers are written in shortest round-trip form.
 class TrajectoryWriter {
  public:
   /// Starts a new trajectory at `path`, or, with `keep_rows`, continues the one there: its

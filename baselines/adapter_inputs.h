@@ -7,14 +7,14 @@
 #include <optional>
 #include <vector>
 
-#include <Eigen/Core>
 #include <fmt/format.h>
+#include <Eigen/Core>
 
+#include "common/errors.h"
 #include "engine/scene.h"
 #include "engine/state.h"
 #include "engine/step_report.h"
 #include "geometry/convex_shape.h"
-#include "common/errors.h"
 
 namespace ecpsim::baselines {
 
@@ -49,7 +49,8 @@ class PairFrictionTable {
   explicit PairFrictionTable(const engine::Scene& scene)
       : obstacle_(scene.bodies.size(),
                   std::vector<std::optional<engine::Friction>>(scene.obstacles.size())),
-        body_(scene.bodies.size(), std::vector<std::optional<engine::Friction>>(scene.bodies.size())) {
+        body_(scene.bodies.size(),
+              std::vector<std::optional<engine::Friction>>(scene.bodies.size())) {
     for (const engine::ContactPair& pair : scene.contacts) {
       const auto b = static_cast<std::size_t>(pair.body);
       if (pair.WithBody()) {
@@ -93,8 +94,8 @@ template <typename NameOf>
 void RequireFiniteState(const char* engine, const engine::State& state, NameOf name_of) {
   for (std::size_t b = 0; b < state.bodies.size(); ++b) {
     if (!engine::IsFinite(state.bodies[b])) {
-      throw engine::SolverFailure(fmt::format("{}: the state of body '{}' is not finite at t = {} s",
-                                              engine, name_of(b), state.t));
+      throw engine::SolverFailure(fmt::format(
+          "{}: the state of body '{}' is not finite at t = {} s", engine, name_of(b), state.t));
     }
   }
 }

@@ -17,10 +17,10 @@
 
 #include "baselines/adapter_inputs.h"
 #include "baselines/engine_adapters.h"
-#include "engine/loads.h"
-#include "geometry/convex_hull.h"
-#include "engine/step_report.h"
 #include "common/errors.h"
+#include "engine/loads.h"
+#include "engine/step_report.h"
+#include "geometry/convex_hull.h"
 
 namespace ecpsim::baselines {
 namespace {
@@ -148,9 +148,9 @@ class BulletSimulation final : public ExternalSimulation {
     dispatcher_ = std::make_unique<btCollisionDispatcher>(configuration_.get());
     broadphase_ = std::make_unique<btDbvtBroadphase>();
     solver_ = std::make_unique<btSequentialImpulseConstraintSolver>();
-    world_ = std::make_unique<PairFrictionWorld>(dispatcher_.get(), broadphase_.get(),
-                                                 solver_.get(), configuration_.get(),
-                                                 PairFrictionTable(scene));
+    world_ =
+        std::make_unique<PairFrictionWorld>(dispatcher_.get(), broadphase_.get(), solver_.get(),
+                                            configuration_.get(), PairFrictionTable(scene));
     world_->setGravity(ToBt(scene.gravity));
     // the polyhedral clipping of two hulls starts from the separating axis found by SAT (else
     // from GJK's, found only once the hulls overlap: a stack resting face on face at margin 0
@@ -194,9 +194,9 @@ class BulletSimulation final : public ExternalSimulation {
       if (settings_.polyhedral_hulls) hull->initializePolyhedralFeatures();
       // a kinematic object has mass 0 (Bullet: infinite) and is moved by the adapter (Step)
       const bool kinematic = body.IsKinematic();
-      btRigidBody::btRigidBodyConstructionInfo ci(kinematic ? 0 : body.mass, nullptr, hull.get(),
-                                                  kinematic ? btVector3(0, 0, 0)
-                                                            : ToBt(axes.principal));
+      btRigidBody::btRigidBodyConstructionInfo ci(
+          kinematic ? 0 : body.mass, nullptr, hull.get(),
+          kinematic ? btVector3(0, 0, 0) : ToBt(axes.principal));
       const engine::BodyState& initial = initial_state.bodies[static_cast<size_t>(b)];
       ci.m_startWorldTransform = PoseOf(b, initial.p_WB, initial.Q_WB);
       ci.m_friction = 1;
@@ -219,8 +219,7 @@ class BulletSimulation final : public ExternalSimulation {
       } else {
         rigid->setLinearVelocity(ToBt(initial.v_WB));
         rigid->setAngularVelocity(ToBt(initial.w_WB));
-        world_->addRigidBody(rigid, btBroadphaseProxy::DefaultFilter,
-                             btBroadphaseProxy::AllFilter);
+        world_->addRigidBody(rigid, btBroadphaseProxy::DefaultFilter, btBroadphaseProxy::AllFilter);
       }
       bodies_.push_back(rigid);
     }

@@ -43,8 +43,9 @@ bool IsAvailable(ExternalEngine engine) {
   return false;
 }
 
-std::unique_ptr<ExternalSimulation> MakeExternalSimulation(
-    ExternalEngine engine, [[maybe_unused]] FrictionSetting setting, const engine::Scene& scene) {
+std::unique_ptr<ExternalSimulation> MakeExternalSimulation(ExternalEngine engine,
+                                                           [[maybe_unused]] FrictionSetting setting,
+                                                           const engine::Scene& scene) {
   if (!IsAvailable(engine)) {
     throw InputError(fmt::format(
         "{}: this build has no {} (install the Debian package lib{}-dev with scripts/setup.sh "

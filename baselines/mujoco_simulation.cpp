@@ -11,18 +11,18 @@
 #include <string>
 #include <vector>
 
-#include <Eigen/Core>
-#include <Eigen/Geometry>
 #include <fmt/format.h>
 #include <mujoco/mujoco.h>
+#include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include "baselines/adapter_inputs.h"
 #include "baselines/engine_adapters.h"
+#include "common/errors.h"
 #include "engine/loads.h"
 #include "engine/step_report.h"
 #include "geometry/convex_hull.h"
 #include "geometry/convex_shape.h"
-#include "common/errors.h"
 
 namespace ecpsim::baselines {
 namespace {
@@ -37,8 +37,8 @@ struct MujocoSettings {
   // 3: sliding friction only in both settings; torsion (condim 4) would count twice: the
   // contact points at the hull's vertices already resist a spin through their lever arms
   int condim = 3;
-  double impratio = 1;             // friction-to-normal impedance ratio (elliptic cones)
-  int noslip_iterations = 0;       // post-solve friction-only iterations that remove soft slip
+  double impratio = 1;        // friction-to-normal impedance ratio (elliptic cones)
+  int noslip_iterations = 0;  // post-solve friction-only iterations that remove soft slip
   // solimp (d0, dmax, width m, midpoint, power); empty: MuJoCo's default "0.9 0.95 0.001 0.5 2".
   std::string solimp;
   // solref time constant, s; 0: MuJoCo's default 0.02. A corner hitting the ground at v sinks
@@ -214,8 +214,8 @@ std::string MakeMjcf(const engine::Scene& scene, const MujocoSettings& s) {
     xml += "/>\n";
   };
   for (const engine::ContactPair& pair : scene.contacts) {
-    const std::string f_target = pair.WithBody() ? fmt::format("h{}", pair.other_body)
-                                                 : fmt::format("o{}", pair.obstacle);
+    const std::string f_target =
+        pair.WithBody() ? fmt::format("h{}", pair.other_body) : fmt::format("o{}", pair.obstacle);
     for (size_t k = 0; k < vertices[pair.body].size(); ++k)
       add_pair(f_target, pair.body, k, pair.friction);
     if (!pair.WithBody()) continue;

@@ -19,10 +19,10 @@
 
 #include "baselines/adapter_inputs.h"
 #include "baselines/engine_adapters.h"
+#include "common/errors.h"
 #include "engine/loads.h"
 #include "engine/step_report.h"
 #include "geometry/convex_hull.h"
-#include "common/errors.h"
 
 namespace ecpsim::baselines {
 namespace {
@@ -43,9 +43,9 @@ constexpr double kSlipDirectionSpeed = 1e-9;
 
 /// What the two settings change (baselines/ode.md gives the sources and measurements).
 struct OdeSettings {
-  bool dantzig_step = false;      // dWorldStep (Dantzig LCP) instead of dWorldQuickStep
-  bool slip_aligned = false;      // one friction direction, along the contact's predicted slip
-  bool finite_rotation = false;   // Q⁺ = Exp(h ω) Q (ecpsim's update), not ODE's first order
+  bool dantzig_step = false;     // dWorldStep (Dantzig LCP) instead of dWorldQuickStep
+  bool slip_aligned = false;     // one friction direction, along the contact's predicted slip
+  bool finite_rotation = false;  // Q⁺ = Exp(h ω) Q (ecpsim's update), not ODE's first order
 };
 
 OdeSettings SettingsFor(FrictionSetting setting) {
@@ -66,9 +66,9 @@ struct GeomTag {
 
 /// The hull arrays dCreateConvex points into (ODE does not copy them).
 struct ConvexArrays {
-  std::vector<dReal> planes;        // a, b, c, d per face: a x + b y + c z = d
-  std::vector<dReal> points;        // x, y, z per vertex, body frame
-  std::vector<unsigned> polygons;   // per face: its vertex count, then its vertex indices
+  std::vector<dReal> planes;       // a, b, c, d per face: a x + b y + c z = d
+  std::vector<dReal> points;       // x, y, z per vertex, body frame
+  std::vector<unsigned> polygons;  // per face: its vertex count, then its vertex indices
 };
 
 ConvexArrays MakeConvexArrays(const geometry::ConvexHull& hull) {
@@ -79,7 +79,8 @@ ConvexArrays MakeConvexArrays(const geometry::ConvexHull& hull) {
     arrays.polygons.push_back(static_cast<unsigned>(hull.faces[f].size()));
     for (int v : hull.faces[f]) arrays.polygons.push_back(static_cast<unsigned>(v));
   }
-  for (const Vector3d& v : hull.vertices) arrays.points.insert(arrays.points.end(), {v.x(), v.y(), v.z()});
+  for (const Vector3d& v : hull.vertices)
+    arrays.points.insert(arrays.points.end(), {v.x(), v.y(), v.z()});
   return arrays;
 }
 
@@ -161,11 +162,10 @@ class OdeSimulation final : public ExternalSimulation {
 
       convex_arrays_.push_back(MakeConvexArrays(hulls[static_cast<size_t>(b)]));
       ConvexArrays& arrays = convex_arrays_.back();
-      dGeomID geom = dCreateConvex(space_, arrays.planes.data(),
-                                   static_cast<unsigned>(arrays.planes.size() / 4),
-                                   arrays.points.data(),
-                                   static_cast<unsigned>(arrays.points.size() / 3),
-                                   arrays.polygons.data());
+      dGeomID geom =
+          dCreateConvex(space_, arrays.planes.data(),
+                        static_cast<unsigned>(arrays.planes.size() / 4), arrays.points.data(),
+                        static_cast<unsigned>(arrays.points.size() / 3), arrays.polygons.data());
       dGeomSetBody(geom, id);
       tags_.push_back(GeomTag{true, b});
       dGeomSetData(geom, &tags_.back());
@@ -226,8 +226,8 @@ class OdeSimulation final : public ExternalSimulation {
       }
     } catch (const OdeInternalError& error) {
       dJointGroupEmpty(contact_group_);
-      throw engine::SolverFailure(fmt::format("{}: {} at t = {} s", scene_.source, error.what(),
-                                              state_.t));
+      throw engine::SolverFailure(
+          fmt::format("{}: {} at t = {} s", scene_.source, error.what(), state_.t));
     }
     dJointGroupEmpty(contact_group_);
     engine::AdvanceTime(h, state_);
@@ -341,8 +341,8 @@ class OdeSimulation final : public ExternalSimulation {
   dWorldID world_ = nullptr;
   dSpaceID space_ = nullptr;
   dJointGroupID contact_group_ = nullptr;
-  std::vector<GeomTag> tags_;                  // reserved up front: geoms point into it
-  std::vector<ConvexArrays> convex_arrays_;    // reserved up front: convex geoms point into it
+  std::vector<GeomTag> tags_;                // reserved up front: geoms point into it
+  std::vector<ConvexArrays> convex_arrays_;  // reserved up front: convex geoms point into it
   std::vector<dBodyID> bodies_;
   std::vector<Vector3d> v_predicted_, w_predicted_;  // m/s, rad/s, world: no-contact end velocities
   std::deque<ContactFeedback> feedback_;  // this step's, at stable addresses (ODE writes into them)

@@ -19,8 +19,7 @@ void BM_DeskModelStep(benchmark::State& bench, const std::string& model) {
       LoadScene(std::string(ECPSIM_SOURCE_DIR) + "/scenes/desk.yaml", {"model=" + model});
   RunSteps(bench, scene, static_cast<int>(scene.duration / scene.h + 0.5));
 }
-BENCHMARK_CAPTURE(BM_DeskModelStep, planar, std::string("planar"))
-    ->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_DeskModelStep, planar, std::string("planar"))->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_DeskModelStep, hull, std::string("hull"))->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_DeskModelStep, multipatch, std::string("multipatch"))
     ->Unit(benchmark::kMicrosecond);

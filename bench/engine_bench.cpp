@@ -93,7 +93,13 @@ void BM_HullFaces(benchmark::State& bench) {
   bench.counters["hull_faces"] = hull->NumConstraints();
   RunSteps(bench, scene, 100);
 }
-BENCHMARK(BM_HullFaces)->Arg(6)->Arg(20)->Arg(100)->Arg(1000)->Arg(20000)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_HullFaces)
+    ->Arg(6)
+    ->Arg(20)
+    ->Arg(100)
+    ->Arg(1000)
+    ->Arg(20000)
+    ->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 }  // namespace ecpsim::engine

@@ -169,14 +169,15 @@ const std::vector<Eigen::Vector3d>& SphereCloud() {
 int QhullFacets(const std::vector<Eigen::Vector3d>& points) {
   std::vector<coordT> coordinates;
   coordinates.reserve(3 * points.size());
-  for (const Eigen::Vector3d& p : points) coordinates.insert(coordinates.end(), {p.x(), p.y(), p.z()});
+  for (const Eigen::Vector3d& p : points)
+    coordinates.insert(coordinates.end(), {p.x(), p.y(), p.z()});
   qhT qh_storage;
   qhT* qh = &qh_storage;
   QHULL_LIB_CHECK
   qh_zero(qh, stderr);
   char options[] = "qhull Qt";
-  const int status = qh_new_qhull(qh, 3, static_cast<int>(points.size()), coordinates.data(),
-                                  False, options, nullptr, stderr);
+  const int status = qh_new_qhull(qh, 3, static_cast<int>(points.size()), coordinates.data(), False,
+                                  options, nullptr, stderr);
   const int facets = status == 0 ? qh->num_facets : -1;
   qh_freeqhull(qh, !qh_ALL);
   int current_long = 0;

@@ -44,9 +44,9 @@ Scene HullScene(std::vector<Body> bodies) {
 void RunIslandSteps(benchmark::State& bench, const Scene& scene) {
   RunSteps(bench, scene, kRestartSteps);
   bench.counters["bodies"] = static_cast<double>(scene.bodies.size());
-  bench.counters["per_body"] = benchmark::Counter(
-      static_cast<double>(bench.iterations()) * scene.bodies.size(),
-      benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  bench.counters["per_body"] =
+      benchmark::Counter(static_cast<double>(bench.iterations()) * scene.bodies.size(),
+                         benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 
 // one 0.2 m box at rest on the ground: the unit of the other benchmarks

@@ -59,8 +59,8 @@ const FrameInput& Frame(int scene) {
   static const FrameInput torus = [] {
     FrameInput frame = testing::GroundFrame();
     frame.title = "torus, 100k triangles";
-    frame.bodies.push_back(testing::MakeBody(MakeTorusMesh(250, 200),
-                                             Eigen::Isometry3d::Identity()));
+    frame.bodies.push_back(
+        testing::MakeBody(MakeTorusMesh(250, 200), Eigen::Isometry3d::Identity()));
     frame.contacts.push_back(testing::GroundContact(frame.bodies[0]));
     return frame;
   }();
@@ -99,8 +99,7 @@ double ProcessCpuSeconds(int who = RUSAGE_SELF) {
 // counter cpu_ms: process CPU per frame (ms, every thread)
 void CountCpu(benchmark::State& state, double cpu_start) {
   const auto frames = std::max<benchmark::IterationCount>(1, state.iterations());
-  state.counters["cpu_ms"] =
-      1e3 * (ProcessCpuSeconds() - cpu_start) / static_cast<double>(frames);
+  state.counters["cpu_ms"] = 1e3 * (ProcessCpuSeconds() - cpu_start) / static_cast<double>(frames);
 }
 
 // counter ffmpeg_cpu_ms: the encoder process's CPU per frame (ms, start and flush included)
@@ -114,8 +113,8 @@ void Label(benchmark::State& state, const char* what, double cpu_start) {
   state.SetLabel(fmt::format("{} {} {}x{} SSAA {}x", what,
                              state.range(0) == kDesk ? "desk" : "torus100k", state.range(1),
                              state.range(2), Settings(state).supersample));
-  state.counters["fps"] = benchmark::Counter(static_cast<double>(state.iterations()),
-                                             benchmark::Counter::kIsRate);
+  state.counters["fps"] =
+      benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
   CountCpu(state, cpu_start);
 }
 
@@ -237,8 +236,8 @@ void BM_RenderParts(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(renderer.Render(frame));
   static const char* const kNames[] = {"full",        "no planes", "no hulls",      "no contacts",
                                        "planes only", "empty",     "empty, no text"};
-  state.SetLabel(fmt::format("{} {}", state.range(0) == kDesk ? "desk" : "torus100k",
-                             kNames[part]));
+  state.SetLabel(
+      fmt::format("{} {}", state.range(0) == kDesk ? "desk" : "torus100k", kNames[part]));
   CountCpu(state, cpu_start);
 }
 

@@ -59,9 +59,10 @@ void RequireReplaceable(const std::string& path) {
                                  path, std::strerror(errno)));
   }
   if (!S_ISREG(info.st_mode)) {
-    throw InputError(fmt::format("{}: a {} is there; expected a regular file or nothing (an "
-                                 "output replaces only regular files)",
-                                 path, Describe(path, info)));
+    throw InputError(
+        fmt::format("{}: a {} is there; expected a regular file or nothing (an "
+                    "output replaces only regular files)",
+                    path, Describe(path, info)));
   }
 }
 
@@ -99,8 +100,8 @@ void AtomicFile::Commit() {
     // what is at the destination may have changed while the temporary file was written
     RequireReplaceable(path_);
     if (std::rename(temp_path_.c_str(), path_.c_str()) != 0) {
-      throw InputError(fmt::format("{}: cannot rename it to {} ({})", temp_path_, path_,
-                                   std::strerror(errno)));
+      throw InputError(
+          fmt::format("{}: cannot rename it to {} ({})", temp_path_, path_, std::strerror(errno)));
     }
   } catch (...) {
     ::unlink(temp_path_.c_str());

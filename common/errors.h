@@ -1,5 +1,6 @@
 #pragma once
-// The three error tiers of ecpsim: bugs (ECPSIM_DEMAND), bad input (InputError), numerics (engine's SolverFailure).
+// The three error tiers of ecpsim: bugs (ECPSIM_DEMAND), bad input (InputError), numerics (engine's
+// SolverFailure).
 
 #include <stdexcept>
 #include <string>

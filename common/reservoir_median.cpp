@@ -13,9 +13,10 @@ ReservoirMedian::ReservoirMedian(std::vector<double> sample, std::int64_t count)
     : sample_(std::move(sample)), count_(count) {
   const std::int64_t expected = std::min<std::int64_t>(count, kCapacity);
   if (count < 0 || static_cast<std::int64_t>(sample_.size()) != expected) {
-    throw InputError(fmt::format("median sample of {} values after {} values: expected "
-                                 "min(count, {}) values",
-                                 sample_.size(), count, kCapacity));
+    throw InputError(
+        fmt::format("median sample of {} values after {} values: expected "
+                    "min(count, {}) values",
+                    sample_.size(), count, kCapacity));
   }
 }
 
@@ -27,8 +28,8 @@ void ReservoirMedian::Add(double value) {
   }
   // algorithm R: the n-th value replaces a uniformly chosen slot with probability kCapacity / n
   // (the modulo's bias is below n / 2^64)
-  const std::uint64_t slot = SplitMix64(static_cast<std::uint64_t>(count_)) %
-                             static_cast<std::uint64_t>(count_);
+  const std::uint64_t slot =
+      SplitMix64(static_cast<std::uint64_t>(count_)) % static_cast<std::uint64_t>(count_);
   if (slot < static_cast<std::uint64_t>(kCapacity)) sample_[slot] = value;
 }
 

@@ -29,8 +29,8 @@ Box HullBox(const geometry::ConvexShape& hull, const Eigen::Vector3d& c, const E
 // motion along the axis only (the jaws hang 2.5 cm over the table in scenes/gripper.yaml: an
 // isotropic 1 cm of closing would bring the table into the island)
 struct JawReach {
-  double speed = 0;                                    // m/s, in any direction
-  Eigen::Vector3d closing = Eigen::Vector3d::Zero();   // m/s, along the axis (world)
+  double speed = 0;                                   // m/s, in any direction
+  Eigen::Vector3d closing = Eigen::Vector3d::Zero();  // m/s, along the axis (world)
 };
 
 JawReach JawReachOf(const Scene& scene, int b, const State& state, double radius,
@@ -52,7 +52,8 @@ JawReach JawReachOf(const Scene& scene, int b, const State& state, double radius
   const double turn = target.q.angularDistance(s.Q_WB);
   JawReach reach;
   reach.speed = ((across - axis.dot(across) * axis).norm() + std::abs(axis.dot(centre_shift)) +
-                 turn * radius) / h +
+                 turn * radius) /
+                    h +
                 std::abs(axis.dot(s.v_WB)) + applied.head<3>().norm() / body.mass +
                 h * scene.gravity.norm();
   reach.closing = (h * std::abs(gripper.force(state.t)) / body.mass) * axis;
@@ -72,7 +73,8 @@ std::vector<Box> StepBoxes(const Scene& scene, const State& state) {
     const BodyState& s = state.bodies[b];
     const Eigen::Matrix3d R = s.Q_WB.toRotationMatrix();
     boxes.push_back(HullBox(*body.hull, s.p_WB, R));
-    const double radius = 0.5 * boxes.back().diagonal().norm() + (boxes.back().center() - s.p_WB).norm();
+    const double radius =
+        0.5 * boxes.back().diagonal().norm() + (boxes.back().center() - s.p_WB).norm();
     if (body.IsKinematic()) {
       const KinematicPose end = body.motion->PoseAt(state.t + h);
       boxes.back().extend(HullBox(*body.hull, end.p, end.q.toRotationMatrix()));

@@ -7,10 +7,10 @@
 #include <string>
 #include <vector>
 
+#include "common/errors.h"
 #include "engine/scene.h"
 #include "engine/state.h"
 #include "engine/step_report.h"
-#include "common/errors.h"
 
 namespace ecpsim::engine {
 
@@ -31,9 +31,9 @@ struct IslandState {
 struct AdvanceResult {
   StepModel model = StepModel::kHull;  // what solved it
   bool solved = false;
-  double residual = 0;   // the accepted solution's convergence measure (failed: the last one)
-  int iterations = 0;    // solver iterations (Lemke pivots for the point model), all attempts
-  int retries = 0;       // guesses that failed before the accepted one
+  double residual = 0;  // the accepted solution's convergence measure (failed: the last one)
+  int iterations = 0;   // solver iterations (Lemke pivots for the point model), all attempts
+  int retries = 0;      // guesses that failed before the accepted one
   std::vector<FailedAttempt> tried;  // what failed, in order, for SolverFailure
 };
 

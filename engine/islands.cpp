@@ -56,7 +56,8 @@ void FormIslandsInto(const Scene& scene, const State& state, IslandScratch& scra
     in_step[k] = InReach(boxes[pair.body], *scene.obstacles[pair.obstacle].shape);
   }
   for (size_t k = 0; k < scene.contacts.size(); ++k)
-    if (in_step[k]) islands[island_of[find(scene.contacts[k].body)]].contacts.push_back(static_cast<int>(k));
+    if (in_step[k])
+      islands[island_of[find(scene.contacts[k].body)]].contacts.push_back(static_cast<int>(k));
 }
 
 std::vector<Island> FormIslands(const Scene& scene, const State& state) {

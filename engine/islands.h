@@ -22,8 +22,9 @@ struct IslandScratch {
 /// within the step (its own speed, spin, loads and gravity over h, plus what the fastest body of
 /// the scene can give it); a kinematic body's box holds its hull at the step's two ends. A
 /// contact between two bodies whose boxes overlap is in the step (two dynamic bodies then share
-/// an island); one whose boxes are apart is not, and its bodies cannot touch within the step. Every dynamic body is in exactly one island, with all its contacts with obstacles;
-/// kinematic bodies are in none (their motion is given).
+/// an island); one whose boxes are apart is not, and its bodies cannot touch within the step. Every
+/// dynamic body is in exactly one island, with all its contacts with obstacles; kinematic bodies
+/// are in none (their motion is given).
 std::vector<Island> FormIslands(const Scene& scene, const State& state);
 
 /// FormIslands into `islands`, over their last contents (reusing their storage).

@@ -45,9 +45,10 @@ Eigen::Quaterniond UnitQuaternion(const std::string& what, const Eigen::Quaterni
   const Eigen::Vector4d wxyz(q.w(), q.x(), q.y(), q.z());
   CheckNumbers(what, wxyz.data(), 4, "a quaternion [w, x, y, z]");
   if (!(wxyz.norm() >= kMinQuaternionNorm)) {
-    throw InputError(fmt::format("{} = {}: expected a non-zero quaternion [w, x, y, z] (it is "
-                                 "normalized)",
-                                 what, ShowNumbers(wxyz.data(), 4)));
+    throw InputError(
+        fmt::format("{} = {}: expected a non-zero quaternion [w, x, y, z] (it is "
+                    "normalized)",
+                    what, ShowNumbers(wxyz.data(), 4)));
   }
   return q.normalized();
 }
@@ -113,9 +114,10 @@ KinematicMotion::KinematicMotion(PoseExpressions expressions, std::string where)
 KinematicMotion::KinematicMotion(std::vector<Waypoint> waypoints, std::string where)
     : where_(std::move(where)) {
   if (waypoints.empty()) {
-    throw InputError(fmt::format("{}.waypoints = []: expected a list of at least one waypoint "
-                                 "{{t, position, orientation}}",
-                                 where_));
+    throw InputError(
+        fmt::format("{}.waypoints = []: expected a list of at least one waypoint "
+                    "{{t, position, orientation}}",
+                    where_));
   }
   for (size_t i = 0; i < waypoints.size(); ++i) {
     Waypoint& w = waypoints[i];
@@ -126,9 +128,10 @@ KinematicMotion::KinematicMotion(std::vector<Waypoint> waypoints, std::string wh
     if (i == 0) continue;
     const Waypoint& previous = waypoints[i - 1];
     if (!(w.t > previous.t)) {
-      throw InputError(fmt::format("{}.t = {}: expected a time > {} s, waypoint {}'s (strictly "
-                                   "increasing)",
-                                   at, w.t, previous.t, i - 1));
+      throw InputError(
+          fmt::format("{}.t = {}: expected a time > {} s, waypoint {}'s (strictly "
+                      "increasing)",
+                      at, w.t, previous.t, i - 1));
     }
     const double turn = Turn(previous.pose.q, w.pose.q);
     if (turn >= kMaxKinematicTurn) {
@@ -163,9 +166,10 @@ KinematicPose KinematicMotion::PoseAt(double t) const {
   }
   // the engine squares coordinates (residual norms): the format's range for any number
   if (!(pose.p.cwiseAbs().maxCoeff() <= kMaxMagnitude)) {
-    throw InputError(fmt::format("{}: the position at t = {} s is {} m: expected coordinates "
-                                 "within ±{:g} m",
-                                 where_, t, ShowNumbers(pose.p.data(), 3), kMaxMagnitude));
+    throw InputError(
+        fmt::format("{}: the position at t = {} s is {} m: expected coordinates "
+                    "within ±{:g} m",
+                    where_, t, ShowNumbers(pose.p.data(), 3), kMaxMagnitude));
   }
   return pose;
 }
@@ -198,10 +202,11 @@ KinematicMotion::Twist KinematicMotion::StepTwist(double t, double h) const {
   const KinematicPose middle = PoseAt(t + 0.5 * h);
   const double deviation = Turn(QuaternionExp(0.5 * phi) * begin.q, middle.q);
   if (deviation > kMaxMidpointDeviation) {
-    refuse(fmt::format("{:.6g} rad between its ends, but its orientation at mid-step is {:.6g} "
-                       "rad away from that turn's (more than π/2: it turned past π, the other "
-                       "way round)",
-                       turn, deviation));
+    refuse(
+        fmt::format("{:.6g} rad between its ends, but its orientation at mid-step is {:.6g} "
+                    "rad away from that turn's (more than π/2: it turned past π, the other "
+                    "way round)",
+                    turn, deviation));
   }
   return {(end.p - begin.p) / h, phi / h};
 }

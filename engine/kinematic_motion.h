@@ -42,7 +42,7 @@ struct PoseExpressions {
   std::array<TimeFunction, 3> rpy_deg;
   // kAxisAngle: R = Exp(angle(t) · axis), a turn about one fixed world axis
   Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();  // world; normalized by KinematicMotion
-  TimeFunction angle;                                // rad
+  TimeFunction angle;                               // rad
 };
 
 /// A prescribed pose at time t.

@@ -5,9 +5,9 @@
 #include <memory>
 #include <mutex>
 
-#include <Eigen/Geometry>
 #include <fmt/format.h>
 #include <muParser.h>
+#include <Eigen/Geometry>
 
 #include "common/errors.h"
 

@@ -39,21 +39,21 @@ struct Load {
   enum class Kind { kForce, kTorque };
   Kind kind = Kind::kForce;
   int body = 0;
-  TimeFunction x, y, z;             // N or N·m, world frame
-  bool at_point = false;            // force applied at `point_B` instead of the centre of mass
+  TimeFunction x, y, z;   // N or N·m, world frame
+  bool at_point = false;  // force applied at `point_B` instead of the centre of mass
   Eigen::Vector3d point_B = Eigen::Vector3d::Zero();  // m, body frame (origin at the CM)
-  double start = 0;                 // s
-  double end = 1e300;               // s
+  double start = 0;                                   // s
+  double end = 1e300;                                 // s
 };
 
 /// An instantaneous impulse applied at the first step whose interval contains `time`.
 struct Impulse {
   int body = 0;
-  double time = 0;                                     // s
-  Eigen::Vector3d linear = Eigen::Vector3d::Zero();    // N·s, world frame
-  Eigen::Vector3d angular = Eigen::Vector3d::Zero();   // N·m·s, world frame, about the CM
-  bool at_point = false;                               // linear impulse applied at point_B
-  Eigen::Vector3d point_B = Eigen::Vector3d::Zero();   // m, body frame
+  double time = 0;                                    // s
+  Eigen::Vector3d linear = Eigen::Vector3d::Zero();   // N·s, world frame
+  Eigen::Vector3d angular = Eigen::Vector3d::Zero();  // N·m·s, world frame, about the CM
+  bool at_point = false;                              // linear impulse applied at point_B
+  Eigen::Vector3d point_B = Eigen::Vector3d::Zero();  // m, body frame
 };
 
 /// Σ over `loads` and `impulses` of body `body`'s applied impulse over the step [t, t + h): each
@@ -63,7 +63,7 @@ struct Impulse {
 /// Returns (linear N·s; angular N·m·s about the CM, world frame). `R_WB` rotates body points of
 /// loads applied at points.
 Eigen::Matrix<double, 6, 1> AppliedImpulse(const std::vector<Load>& loads,
-                                           const std::vector<Impulse>& impulses, int body,
-                                           double t, double h, const Eigen::Matrix3d& R_WB);
+                                           const std::vector<Impulse>& impulses, int body, double t,
+                                           double h, const Eigen::Matrix3d& R_WB);
 
 }  // namespace ecpsim::engine

@@ -19,10 +19,10 @@ namespace ecpsim::engine {
 
 /// Ellipsoidal friction parameters of one contact (paper eq. for the friction ellipsoid).
 struct Friction {
-  double mu = 0.22;   // Coulomb coefficient, ≥ 0
-  double e_t = 1;     // ellipsoid semi-axes: force axes (dimensionless) ...
+  double mu = 0.22;  // Coulomb coefficient, ≥ 0
+  double e_t = 1;    // ellipsoid semi-axes: force axes (dimensionless) ...
   double e_o = 1;
-  double e_r = 0.1;   // ... and torsion (m)
+  double e_r = 0.1;  // ... and torsion (m)
 };
 
 /// Which contact model steps the scene (`model:` in the scene file, `ecpsim run --model`).
@@ -43,13 +43,13 @@ struct Body {
   // body frame: the convex parts whose union is the body's contact geometry (ContactModel::
   // kMultiPatch only; empty: the hull is the one part)
   std::vector<std::shared_ptr<const geometry::ConvexShape>> parts;
-  double mass = 1;                                    // kg
+  double mass = 1;                                        // kg
   Eigen::Matrix3d inertia = Eigen::Matrix3d::Identity();  // kg·m², about the CM, body axes
   // initial state
-  Eigen::Vector3d p0 = Eigen::Vector3d::Zero();        // m, CM position in world
+  Eigen::Vector3d p0 = Eigen::Vector3d::Zero();            // m, CM position in world
   Eigen::Quaterniond q0 = Eigen::Quaterniond::Identity();  // body → world
-  Eigen::Vector3d v0 = Eigen::Vector3d::Zero();        // m/s, world
-  Eigen::Vector3d w0 = Eigen::Vector3d::Zero();        // rad/s, world (spatial)
+  Eigen::Vector3d v0 = Eigen::Vector3d::Zero();            // m/s, world
+  Eigen::Vector3d w0 = Eigen::Vector3d::Zero();            // rad/s, world (spatial)
   // true: the initial pose may overlap an obstacle deeper than ValidateScene's tolerance (the
   // solver then pushes the body out in the first steps)
   bool allow_initial_penetration = false;
@@ -73,7 +73,7 @@ struct Body {
 /// jaws with `force` on each, and their midpoint follows the frame's centre.
 struct Gripper {
   std::string name;
-  std::array<int, 2> jaws = {-1, -1};  // scene body indices: jaws[0] closes along +axis
+  std::array<int, 2> jaws = {-1, -1};             // scene body indices: jaws[0] closes along +axis
   std::shared_ptr<const KinematicMotion> motion;  // the frame's pose
   Eigen::Vector3d axis = Eigen::Vector3d::UnitX();  // frame coordinates, unit, jaws[0] → jaws[1]
   TimeFunction force;  // N, ≥ 0 at every step: the closing force on each jaw
@@ -95,7 +95,7 @@ struct Obstacle {
 /// columns follow the order).
 struct ContactPair {
   int body = 0;
-  int obstacle = 0;     // -1 when G is a body
+  int obstacle = 0;  // -1 when G is a body
   Friction friction;
   int other_body = -1;  // ≥ 0: G is this body (then obstacle = -1)
   bool WithBody() const { return other_body >= 0; }
@@ -107,19 +107,19 @@ struct ContactPair {
 Friction PairFriction(const Friction& a, const Friction& b);
 
 struct SolverSettings {
-  double tolerance = 1e-12;    // on the unscaled residual (see engine/README.md)
+  double tolerance = 1e-12;  // on the unscaled residual (see engine/README.md)
   int max_iterations = 60;
-  int window_rings = 1;        // vertex rings of hull faces around the support vertex
-  bool use_window = true;      // false: every hull face enters the MNCP
+  int window_rings = 1;    // vertex rings of hull faces around the support vertex
+  bool use_window = true;  // false: every hull face enters the MNCP
 };
 
 /// What `ecpsim run` writes (the engine ignores it).
 struct OutputSettings {
   int every = 1;  // write every N-th step to trajectory.csv (plus the first and last state)
   // frames (`ecpsim run --frames/--video`, `ecpsim render`)
-  double fps = 30;     // frames per simulated second, independent of h
-  int width = 1280;    // pixels
-  int height = 720;    // pixels
+  double fps = 30;            // frames per simulated second, independent of h
+  int width = 1280;           // pixels
+  int height = 720;           // pixels
   bool camera_fixed = false;  // false: automatic framing that follows the bodies
   Eigen::Vector3d camera_position = Eigen::Vector3d(1.2, -1.8, 1.1);  // m, world
   Eigen::Vector3d camera_target = Eigen::Vector3d::Zero();            // m, world
@@ -127,13 +127,13 @@ struct OutputSettings {
 };
 
 struct Scene {
-  std::string source;                                   // file the scene came from, for messages
+  std::string source;  // file the scene came from, for messages
   // one-line notes found while building the scene that are no errors (a mesh of implausible
   // size: wrong units?), for the caller to show; the engine never prints
   std::vector<std::string> warnings;
   Eigen::Vector3d gravity = Eigen::Vector3d(0, 0, -9.8);  // m/s²
-  double h = 0.01;                                      // s, time step
-  double duration = 1;                                  // s
+  double h = 0.01;                                        // s, time step
+  double duration = 1;                                    // s
   std::vector<Body> bodies;
   std::vector<Obstacle> obstacles;
   std::vector<ContactPair> contacts;

@@ -18,8 +18,8 @@ struct ContactState;
 struct SolutionTrend {
   static constexpr int kSize = 18;
   using Point = Eigen::Matrix<double, kSize, 1, Eigen::DontAlign>;
-  double h = 0;    // s, the length of the step that ended at the contact's point (0: none)
-  int steps = 0;   // differences known: 0, 1 (the first) or 2 (and the second)
+  double h = 0;   // s, the length of the step that ended at the contact's point (0: none)
+  int steps = 0;  // differences known: 0, 1 (the first) or 2 (and the second)
   Point first = Point::Zero();
   Point second = Point::Zero();
 };

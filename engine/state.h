@@ -14,10 +14,10 @@
 namespace ecpsim::engine {
 
 struct BodyState {
-  Eigen::Vector3d p_WB = Eigen::Vector3d::Zero();             // m, CM position
-  Eigen::Quaterniond Q_WB = Eigen::Quaterniond::Identity();   // unit, body → world
-  Eigen::Vector3d v_WB = Eigen::Vector3d::Zero();             // m/s
-  Eigen::Vector3d w_WB = Eigen::Vector3d::Zero();             // rad/s, world frame
+  Eigen::Vector3d p_WB = Eigen::Vector3d::Zero();            // m, CM position
+  Eigen::Quaterniond Q_WB = Eigen::Quaterniond::Identity();  // unit, body → world
+  Eigen::Vector3d v_WB = Eigen::Vector3d::Zero();            // m/s
+  Eigen::Vector3d w_WB = Eigen::Vector3d::Zero();            // rad/s, world frame
 };
 
 /// The hull model's unknowns of one contact that ContactState's own fields do not hold: the gap s,

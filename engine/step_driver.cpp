@@ -38,7 +38,8 @@ thread_local StepScratch scratch;
 void Gather(const Island& island, const State& state, IslandState& local) {
   local.bodies.resize(island.bodies.size());
   local.contacts.resize(island.contacts.size());
-  for (size_t i = 0; i < island.bodies.size(); ++i) local.bodies[i] = state.bodies[island.bodies[i]];
+  for (size_t i = 0; i < island.bodies.size(); ++i)
+    local.bodies[i] = state.bodies[island.bodies[i]];
   for (size_t i = 0; i < island.contacts.size(); ++i)
     local.contacts[i] = state.contacts[island.contacts[i]];
 }
@@ -133,8 +134,7 @@ StepReport StepIslands(const Scene& scene, State& state, const ContactModelStepp
     const Body& body = scene.bodies[b];
     if (!body.IsKinematic()) continue;
     const KinematicMotion::Twist twist = body.motion->StepTwist(state.t, scene.h);
-    const KinematicPose end =
-        body.motion->PoseAt(static_cast<double>(state.steps + 1) * scene.h);
+    const KinematicPose end = body.motion->PoseAt(static_cast<double>(state.steps + 1) * scene.h);
     next_bodies[b] = {end.p, end.q, twist.v, twist.w};
   }
 
@@ -144,7 +144,8 @@ StepReport StepIslands(const Scene& scene, State& state, const ContactModelStepp
   in_island.assign(scene.contacts.size(), false);
   for (size_t i = 0; i < islands.size(); ++i) {
     const Island& island = islands[i];
-    for (size_t j = 0; j < island.bodies.size(); ++j) state.bodies[island.bodies[j]] = solved[i].bodies[j];
+    for (size_t j = 0; j < island.bodies.size(); ++j)
+      state.bodies[island.bodies[j]] = solved[i].bodies[j];
     for (size_t j = 0; j < island.contacts.size(); ++j) {
       state.contacts[island.contacts[j]] = solved[i].contacts[j];
       in_island[island.contacts[j]] = true;

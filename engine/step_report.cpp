@@ -31,10 +31,11 @@ std::string FormatStepFailure(const StepFailure& failure) {
                          attempt.h, attempt.outcome);
   }
   const bool hull = failure.model == "hull" || failure.model == "auto";
-  return fmt::format("{}solver failed at t = {:.6g} s on body {}: residual {:.3g} > tolerance "
-                     "{:.3g}; tried {}",
-                     hull ? "" : failure.model + " model: ", failure.t, bodies, failure.residual,
-                     failure.tolerance, tried);
+  return fmt::format(
+      "{}solver failed at t = {:.6g} s on body {}: residual {:.3g} > tolerance "
+      "{:.3g}; tried {}",
+      hull ? "" : failure.model + " model: ", failure.t, bodies, failure.residual,
+      failure.tolerance, tried);
 }
 
 SolverFailure::SolverFailure(StepFailure failure)

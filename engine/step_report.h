@@ -18,10 +18,10 @@ inline constexpr int kNumStepModels = 6;
 
 struct StepReport {
   bool converged = false;
-  int iterations = 0;        // Newton iterations, summed over bodies and sub-steps
-  double residual = 0;       // max over bodies of the unscaled residual (see engine/README.md)
-  int retries = 0;           // restarts of the ladder used (0 when the warm start converged)
-  int substeps = 1;          // 1, 2, 4 or 16
+  int iterations = 0;   // Newton iterations, summed over bodies and sub-steps
+  double residual = 0;  // max over bodies of the unscaled residual (see engine/README.md)
+  int retries = 0;      // restarts of the ladder used (0 when the warm start converged)
+  int substeps = 1;     // 1, 2, 4 or 16
   // per body of the scene: what solved its step (of its sub-steps, the dearest); empty for a
   // state no step produced (the initial one)
   std::vector<StepModel> models;

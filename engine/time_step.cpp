@@ -8,9 +8,8 @@ namespace ecpsim::engine {
 
 StepReport Step(const Scene& scene, State& state) {
   StepReport report;
-  UseContactModel(scene, [&](const ContactModelStepper& model) {
-    report = StepIslands(scene, state, model);
-  });
+  UseContactModel(
+      scene, [&](const ContactModelStepper& model) { report = StepIslands(scene, state, model); });
   return report;
 }
 

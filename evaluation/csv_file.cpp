@@ -52,8 +52,8 @@ double CsvFile::Number(size_t row, int column) const {
     if (used == text.size() && std::isfinite(value)) return value;
   } catch (const std::exception&) {
   }
-  throw InputError(fmt::format("{}:{}: column '{}' = '{}': expected a finite number", path,
-                               row + 2, header[column], text));
+  throw InputError(fmt::format("{}:{}: column '{}' = '{}': expected a finite number", path, row + 2,
+                               header[column], text));
 }
 
 CsvFile ReadCsvFile(const std::string& path, const std::vector<std::string>& expected_header) {
@@ -62,11 +62,12 @@ CsvFile ReadCsvFile(const std::string& path, const std::vector<std::string>& exp
   CsvFile file;
   file.path = path;
   std::string line;
-  if (!std::getline(in, line)) throw InputError(fmt::format("{}: empty file, expected a header", path));
+  if (!std::getline(in, line))
+    throw InputError(fmt::format("{}: empty file, expected a header", path));
   file.header = SplitFields(line);
   if (file.header != expected_header) {
-    throw InputError(fmt::format("{}:1: header '{}': expected '{}'", path, line,
-                                 Join(expected_header)));
+    throw InputError(
+        fmt::format("{}:1: header '{}': expected '{}'", path, line, Join(expected_header)));
   }
   int line_number = 1;
   while (std::getline(in, line)) {

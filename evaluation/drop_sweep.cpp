@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "common/cpu_clock.h"
+#include "common/errors.h"
 #include "engine/report/penetration.h"
 #include "engine/scene_io/scene_yaml.h"
 #include "engine/state.h"
@@ -18,7 +19,6 @@
 #include "evaluation/csv_file.h"
 #include "evaluation/seeded_random.h"
 #include "geometry/convex_shape.h"
-#include "common/errors.h"
 #include "geometry/mass_properties.h"
 #include "geometry/mesh_io.h"
 
@@ -35,24 +35,44 @@ const char* const kCompanionExtensions[] = {".png", ".jpg", ".jpeg", ".tga", ".b
                                             ".gif", ".tif", ".tiff", ".ktx", ".mtl", ".txt",
                                             ".md",  ".bin", ".glsl", ".pdf", ".html"};
 
-const std::vector<std::string> kHeader = {
-    "kind",       "seed",       "step",       "mesh",        "size",           "vertices",
-    "hull_faces", "height",     "q_w",         "q_x",            "q_y",
-    "q_z",        "w_x",        "w_y",         "w_z",            "h",
-    "duration",   "outcome",    "steps",       "max_penetration_rel", "energy_gain_rel",
-    "final_speed_rel", "iterations_max", "retries", "substepped", "cpu_s",
-    "wall_s",     "max_step_cpu_s", "message"};
+const std::vector<std::string> kHeader = {"kind",
+                                          "seed",
+                                          "step",
+                                          "mesh",
+                                          "size",
+                                          "vertices",
+                                          "hull_faces",
+                                          "height",
+                                          "q_w",
+                                          "q_x",
+                                          "q_y",
+                                          "q_z",
+                                          "w_x",
+                                          "w_y",
+                                          "w_z",
+                                          "h",
+                                          "duration",
+                                          "outcome",
+                                          "steps",
+                                          "max_penetration_rel",
+                                          "energy_gain_rel",
+                                          "final_speed_rel",
+                                          "iterations_max",
+                                          "retries",
+                                          "substepped",
+                                          "cpu_s",
+                                          "wall_s",
+                                          "max_step_cpu_s",
+                                          "message"};
 
 double WallSeconds() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch())
-      .count();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
 // the seed of a case's pose stream: the kind (or the file's name — not its path, so a mesh
 // collection unpacked anywhere draws the same poses) and the seed
 SeededRandom PoseRandom(const DropCase& c) {
-  const std::string source =
-      c.kind == kFileKind ? fs::path(c.path).filename().string() : c.kind;
+  const std::string source = c.kind == kFileKind ? fs::path(c.path).filename().string() : c.kind;
   return SeededRandom(c.seed, StableHash("drop pose " + source));
 }
 
@@ -62,8 +82,8 @@ MeshKind KindNamed(const std::string& name) {
   }
   std::string choices;
   for (MeshKind kind : AllMeshKinds()) choices += std::string(MeshKindName(kind)) + ", ";
-  throw InputError(fmt::format("drop sweep kind '{}': expected one of {}{}", name, choices,
-                               kFileKind));
+  throw InputError(
+      fmt::format("drop sweep kind '{}': expected one of {}{}", name, choices, kFileKind));
 }
 
 void CentreAndNormalize(geometry::TriangleMesh& mesh) {
@@ -91,9 +111,10 @@ DropOutcome ParseOutcome(const CsvFile& file, size_t row, int column) {
       return static_cast<DropOutcome>(k);
     }
   }
-  throw InputError(fmt::format("{}:{}: outcome '{}': expected ok, solver_failure, non_finite, "
-                               "energy_gain, penetration, cpu_limit, exception or skipped",
-                               file.path, row + 2, file.rows[row][column]));
+  throw InputError(
+      fmt::format("{}:{}: outcome '{}': expected ok, solver_failure, non_finite, "
+                  "energy_gain, penetration, cpu_limit, exception or skipped",
+                  file.path, row + 2, file.rows[row][column]));
 }
 
 DropStep ParseStep(const CsvFile& file, size_t row, int column) {
@@ -132,8 +153,8 @@ std::string DropCaseKey(const DropCase& c) {
 DropCase ParseDropCaseKey(const std::string& full_key) {
   const std::string kScaledSuffix = ":scaled";
   const bool scaled = full_key.size() > kScaledSuffix.size() &&
-                      full_key.compare(full_key.size() - kScaledSuffix.size(),
-                                       kScaledSuffix.size(), kScaledSuffix) == 0;
+                      full_key.compare(full_key.size() - kScaledSuffix.size(), kScaledSuffix.size(),
+                                       kScaledSuffix) == 0;
   const std::string key =
       scaled ? full_key.substr(0, full_key.size() - kScaledSuffix.size()) : full_key;
   const size_t colon = key.rfind(':');
@@ -141,9 +162,10 @@ DropCase ParseDropCaseKey(const std::string& full_key) {
   const std::string seed = colon == std::string::npos ? "" : key.substr(colon + 1);
   if (name.empty() || seed.empty() || seed.find_first_not_of("0123456789") != std::string::npos ||
       seed.size() > 18) {
-    throw InputError(fmt::format("drop case '{}': expected KIND:SEED (e.g. convex:17) or "
-                                 "MESH_FILE:SEED with a whole seed, optionally then :scaled",
-                                 full_key));
+    throw InputError(
+        fmt::format("drop case '{}': expected KIND:SEED (e.g. convex:17) or "
+                    "MESH_FILE:SEED with a whole seed, optionally then :scaled",
+                    full_key));
   }
   DropCase c;
   c.seed = std::stoull(seed);
@@ -156,8 +178,8 @@ DropCase ParseDropCaseKey(const std::string& full_key) {
   }
   std::error_code error;
   if (!fs::is_regular_file(name, error)) {
-    throw InputError(fmt::format("drop case '{}': '{}' is neither a mesh kind nor a file",
-                                 full_key, name));
+    throw InputError(
+        fmt::format("drop case '{}': '{}' is neither a mesh kind nor a file", full_key, name));
   }
   c.kind = kFileKind;
   c.path = name;
@@ -240,11 +262,10 @@ namespace {
 
 std::string DropName(const DropCase& c) {
   // a file's stem alone may repeat across a collection's folders: its path's hash tells apart
-  const std::string mesh =
-      c.kind == kFileKind
-          ? fmt::format("{}-{:06x}", fs::path(c.path).stem().string(),
-                        StableHash(c.path) & 0xffffff)
-          : c.kind;
+  const std::string mesh = c.kind == kFileKind
+                               ? fmt::format("{}-{:06x}", fs::path(c.path).stem().string(),
+                                             StableHash(c.path) & 0xffffff)
+                               : c.kind;
   return fmt::format("{}_{}{}", mesh, c.seed, c.step == DropStep::kScaled ? "_scaled" : "");
 }
 
@@ -355,8 +376,7 @@ DropRow RunDropCase(const DropCase& c, const UnitMesh& unit, const std::string& 
           std::max(row.max_penetration_rel, probe.MaxDepth(scene, state) / size);
       row.energy_gain_rel =
           std::max(row.energy_gain_rel, (Energy(scene, b) - energy0) / energy_scale);
-      row.final_speed_rel =
-          (b.v_WB.norm() + size * b.w_WB.norm()) / std::sqrt(g * size);
+      row.final_speed_rel = (b.v_WB.norm() + size * b.w_WB.norm()) / std::sqrt(g * size);
       if (row.cpu_s > cpu_limit_s) {
         row.outcome = DropOutcome::kCpuLimit;
         row.message = fmt::format("CPU limit of {} s reached at t = {} s", cpu_limit_s, state.t);
@@ -390,9 +410,9 @@ std::vector<std::string> CollectionFiles(const std::vector<std::string>& dirs) {
       std::string extension = entry.path().extension().string();
       std::transform(extension.begin(), extension.end(), extension.begin(),
                      [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
-      const bool companion = std::find(std::begin(kCompanionExtensions),
-                                       std::end(kCompanionExtensions),
-                                       extension) != std::end(kCompanionExtensions);
+      const bool companion =
+          std::find(std::begin(kCompanionExtensions), std::end(kCompanionExtensions), extension) !=
+          std::end(kCompanionExtensions);
       if (!companion) files.push_back(entry.path().string());
     }
   }
@@ -515,8 +535,8 @@ std::vector<DropRow> RunDropSweep(const DropSweepOptions& o, const DropPlan& gro
   fs::remove(o.scratch_dir, not_empty);
   if (o.progress) {
     for (const auto& [kind, counts] : ok_of_kind) {
-      o.progress(fmt::format("drop sweep {}: {} of {} cases ok", kind, counts.first,
-                             counts.second));
+      o.progress(
+          fmt::format("drop sweep {}: {} of {} cases ok", kind, counts.first, counts.second));
     }
   }
   return rows;
@@ -540,10 +560,9 @@ std::string DropSweepCsv(const std::vector<DropRow>& rows) {
     csv += fmt::format(
         "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
         r.kind, r.seed, DropStepName(r.step), CsvField(r.mesh), Exact(r.size), r.vertices,
-        r.hull_faces,
-        Exact(r.height), Exact(r.q0.w()), Exact(r.q0.x()), Exact(r.q0.y()), Exact(r.q0.z()),
-        Exact(r.w0.x()), Exact(r.w0.y()), Exact(r.w0.z()), Exact(r.h), Exact(r.duration),
-        DropOutcomeName(r.outcome), r.steps, Short(r.max_penetration_rel),
+        r.hull_faces, Exact(r.height), Exact(r.q0.w()), Exact(r.q0.x()), Exact(r.q0.y()),
+        Exact(r.q0.z()), Exact(r.w0.x()), Exact(r.w0.y()), Exact(r.w0.z()), Exact(r.h),
+        Exact(r.duration), DropOutcomeName(r.outcome), r.steps, Short(r.max_penetration_rel),
         Short(r.energy_gain_rel), Short(r.final_speed_rel), r.iterations_max, r.retries,
         r.substepped, Short(r.cpu_s), Short(r.wall_s), Short(r.max_step_cpu_s),
         CsvField(r.message));
@@ -561,8 +580,8 @@ std::vector<DropRow> ReadDropSweepCsv(const std::string& path) {
     const auto whole = [&] {
       const double value = number();
       if (value < 0 || value != std::floor(value)) {
-        throw InputError(fmt::format("{}:{}: column '{}' = '{}': expected a whole number ≥ 0",
-                                     path, i + 2, file.header[c - 1], file.rows[i][c - 1]));
+        throw InputError(fmt::format("{}:{}: column '{}' = '{}': expected a whole number ≥ 0", path,
+                                     i + 2, file.header[c - 1], file.rows[i][c - 1]));
       }
       return value;
     };

@@ -27,11 +27,11 @@ constexpr double kDropPenetrationBar = 1e-9;  // × size (bounding-box diagonal)
 // potential-energy scale) is a numerical blow-up
 constexpr double kDropEnergyGainBar = 1e-2;  // × m |g| size
 
-constexpr double kDropMinSize = 1e-3;    // m, bounding-box diagonal, drawn log-uniformly ...
-constexpr double kDropMaxSize = 1e2;     // m ... up to this
-constexpr double kDropDensity = 1000;    // kg/m³, water (`ecpsim drop`'s default)
-constexpr double kDropStep = 0.01;       // s, h of DropStep::kFixed; of kScaled at size 1 m
-constexpr double kDropMinDuration = 1;   // s, at least (kScaled: × sqrt(size / 1 m))
+constexpr double kDropMinSize = 1e-3;   // m, bounding-box diagonal, drawn log-uniformly ...
+constexpr double kDropMaxSize = 1e2;    // m ... up to this
+constexpr double kDropDensity = 1000;   // kg/m³, water (`ecpsim drop`'s default)
+constexpr double kDropStep = 0.01;      // s, h of DropStep::kFixed; of kScaled at size 1 m
+constexpr double kDropMinDuration = 1;  // s, at least (kScaled: × sqrt(size / 1 m))
 // after the fall, this many free-fall times sqrt(size / g) to bounce, tumble and settle
 constexpr double kDropSettleTimes = 10;
 // lowest hull point at t = 0 above the ground, × size
@@ -96,12 +96,12 @@ UnitMesh MakeUnitMesh(const DropCase& c);
 
 /// A case's size and initial pose, drawn from its seed.
 struct DropPose {
-  double size = 0;    // m, bounding-box diagonal, log-uniform in [kDropMinSize, kDropMaxSize]
+  double size = 0;  // m, bounding-box diagonal, log-uniform in [kDropMinSize, kDropMaxSize]
   Eigen::Quaterniond q0 = Eigen::Quaterniond::Identity();  // body → world, uniform
   double height = 0;  // m, lowest hull point above the ground: [kDropMinHeight, kDropMaxHeight]
                       // × size
   Eigen::Vector3d w0 = Eigen::Vector3d::Zero();  // rad/s, world; a random axis
-  double h = 0;         // s, by the case's DropStep
+  double h = 0;                                  // s, by the case's DropStep
   double duration = 0;  // s, whole steps: to fall, then kDropSettleTimes sqrt(size / g)
 };
 /// The same for a case's two DropSteps but for h and the duration.
@@ -130,10 +130,10 @@ struct DropRow {
   std::string mesh;  // the generator's parameters, or the file's path
   double size = 0;   // m
   int vertices = 0, hull_faces = 0;
-  double height = 0;                                           // m
-  Eigen::Quaterniond q0 = Eigen::Quaterniond::Identity();      // body → world at t = 0
-  Eigen::Vector3d w0 = Eigen::Vector3d::Zero();                // rad/s, world
-  double h = 0, duration = 0;                                  // s
+  double height = 0;                                       // m
+  Eigen::Quaterniond q0 = Eigen::Quaterniond::Identity();  // body → world at t = 0
+  Eigen::Vector3d w0 = Eigen::Vector3d::Zero();            // rad/s, world
+  double h = 0, duration = 0;                              // s
   DropOutcome outcome = DropOutcome::kOk;
   long steps = 0;                  // completed
   double max_penetration_rel = 0;  // max over steps of the deepest mesh vertex ÷ size
@@ -156,16 +156,16 @@ DropRow RunDropCase(const DropCase& c, const UnitMesh& unit, const std::string& 
                     double cpu_limit_s);
 
 struct DropSweepOptions {
-  std::vector<std::string> kinds;       // MeshKindNames and "file" to run; empty: all
-  int seeds_per_kind = 120;             // generated cases 0 … n−1 of each kind
-  std::vector<std::string> mesh_dirs;   // collection folders, searched recursively
+  std::vector<std::string> kinds;      // MeshKindNames and "file" to run; empty: all
+  int seeds_per_kind = 120;            // generated cases 0 … n−1 of each kind
+  std::vector<std::string> mesh_dirs;  // collection folders, searched recursively
   int poses_per_file = 3;
   std::vector<DropStep> steps = {DropStep::kFixed, DropStep::kScaled};  // each case at each
-  int max_files = -1;                   // ≥ 0: only the first files in path order
-  std::vector<std::string> only;        // case keys: run these (and nothing else)
-  double cpu_limit_s = 300;             // per case
-  std::string scratch_dir;              // where cases write their files (emptied as they pass)
-  std::string failures_dir;             // where a failed case's files are moved
+  int max_files = -1;             // ≥ 0: only the first files in path order
+  std::vector<std::string> only;  // case keys: run these (and nothing else)
+  double cpu_limit_s = 300;       // per case
+  std::string scratch_dir;        // where cases write their files (emptied as they pass)
+  std::string failures_dir;       // where a failed case's files are moved
   int shard_index = 1, shard_count = 1;
   std::function<void(const std::string&)> progress;
 };

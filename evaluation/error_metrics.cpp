@@ -18,8 +18,7 @@ TrajectoryErrors CompareTrajectories(const RunRecord& run, const RunRecord& refe
     e.position = std::max(e.position, dp);
     e.angle = std::max(e.angle, dtheta);
     e.state = std::max(e.state, dp + length * dtheta);
-    e.velocity = std::max(e.velocity,
-                          (a.v_WB - b.v_WB).norm() + length * (a.w_WB - b.w_WB).norm());
+    e.velocity = std::max(e.velocity, (a.v_WB - b.v_WB).norm() + length * (a.w_WB - b.w_WB).norm());
     if (run.modes[k] != reference.modes[k]) ++wrong;
   }
   e.wrong_mode = n > 0 ? static_cast<double>(wrong) / static_cast<double>(n) : 0;

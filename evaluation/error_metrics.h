@@ -7,10 +7,10 @@
 namespace ecpsim::evaluation {
 
 struct TrajectoryErrors {
-  double state = 0;     // m, max over samples of |Δp| + length·|Δθ| (the work–precision error)
-  double position = 0;  // m, max |Δp|
-  double angle = 0;     // rad, max rotation angle between the orientations
-  double velocity = 0;  // m/s, max |Δv| + length·|Δω|
+  double state = 0;  // m, max over samples of |Δp| + length·|Δθ| (the work–precision error)
+  double position = 0;    // m, max |Δp|
+  double angle = 0;       // rad, max rotation angle between the orientations
+  double velocity = 0;    // m/s, max |Δv| + length·|Δω|
   double wrong_mode = 0;  // fraction of samples whose ContactMode differs
   double stop_time = -1;  // s, |t_stop − t_stop,ref| (< 0: either never stops)
 };

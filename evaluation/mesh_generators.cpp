@@ -9,9 +9,9 @@
 
 #include <fmt/format.h>
 
+#include "common/errors.h"
 #include "evaluation/seeded_random.h"
 #include "geometry/convex_hull.h"
-#include "common/errors.h"
 
 namespace ecpsim::evaluation {
 namespace {
@@ -241,8 +241,8 @@ GeneratedMesh UShape(SeededRandom& random) {
   // the base is row j = 0, the uprights the outer cells of row 1
   const Grid grid = {Lines({0, left, x - right, x}), Lines({0, base, y}), Lines({0, z})};
   return {CellUnionBoundary(grid, [](int i, int j, int) { return j == 0 || i != 1; }),
-          fmt::format("{:.3g} x {:.3g} x {:.3g} uprights {:.3g} {:.3g} base {:.3g}", x, y, z,
-                      left, right, base)};
+          fmt::format("{:.3g} x {:.3g} x {:.3g} uprights {:.3g} {:.3g} base {:.3g}", x, y, z, left,
+                      right, base)};
 }
 
 GeneratedMesh Torus(SeededRandom& random) {
@@ -281,9 +281,8 @@ GeneratedMesh Needle(SeededRandom& random) {
   const double aspect = random.Uniform(0.5, 1);
   const double radius = 0.5 / kThinRatio;
   const std::vector<Vector2d> section = EllipsePolygon(random, k, radius, radius * aspect);
-  return {Prism(section, 1),
-          fmt::format("{}-gon section 1/{:g} x {:.3g}/{:g} length 1", k, kThinRatio, aspect,
-                      kThinRatio)};
+  return {Prism(section, 1), fmt::format("{}-gon section 1/{:g} x {:.3g}/{:g} length 1", k,
+                                         kThinRatio, aspect, kThinRatio)};
 }
 
 GeneratedMesh Coplanar(SeededRandom& random) {
@@ -297,8 +296,8 @@ GeneratedMesh Coplanar(SeededRandom& random) {
   // every vertex moved by `jitter` × the diagonal in a random direction: the faces' quads are
   // no longer exactly coplanar
   for (Vector3d& v : mesh.vertices) v += jitter * random.UnitVector();
-  return {mesh, fmt::format("box 1 x {:.3g} x {:.3g} {} cells per edge jitter {:.2g}",
-                            size.y(), size.z(), cells, jitter)};
+  return {mesh, fmt::format("box 1 x {:.3g} x {:.3g} {} cells per edge jitter {:.2g}", size.y(),
+                            size.z(), cells, jitter)};
 }
 
 GeneratedMesh Terrain(SeededRandom& random) {
@@ -324,8 +323,8 @@ GeneratedMesh Terrain(SeededRandom& random) {
     for (const Wave& w : waves) height += std::sin(w.k.dot(v.head<2>()) + w.phase) / 4;
     v.z() += relief * (height + random.Uniform(-0.25, 0.25));
   }
-  return {mesh, fmt::format("slab 1 x {:.3g} x {:.3g} top {} x {} relief {:.2g}", y, z, nx, ny,
-                            relief)};
+  return {mesh,
+          fmt::format("slab 1 x {:.3g} x {:.3g} top {} x {} relief {:.2g}", y, z, nx, ny, relief)};
 }
 
 GeneratedMesh Disconnected(SeededRandom& random) {
@@ -337,8 +336,8 @@ GeneratedMesh Disconnected(SeededRandom& random) {
     TriangleMesh part;
     const double scale = random.Uniform(0.3, 1);
     if (random.Integer(0, 1) == 0) {
-      const Vector3d size = scale * Vector3d(random.Uniform(0.3, 1), random.Uniform(0.3, 1),
-                                             random.Uniform(0.3, 1));
+      const Vector3d size =
+          scale * Vector3d(random.Uniform(0.3, 1), random.Uniform(0.3, 1), random.Uniform(0.3, 1));
       part = CellUnionBoundary({Lines({0, size.x()}), Lines({0, size.y()}), Lines({0, size.z()})},
                                [](int, int, int) { return true; });
       description += fmt::format(" box {:.3g} x {:.3g} x {:.3g}", size.x(), size.y(), size.z());

@@ -2,9 +2,9 @@
 
 #include <fmt/format.h>
 
+#include "common/errors.h"
 #include "engine/report/contact_wrench.h"
 #include "engine/time_step.h"
-#include "common/errors.h"
 
 namespace ecpsim::evaluation {
 namespace {
@@ -77,17 +77,17 @@ std::vector<Method> AllMethods() {
   automatic.tolerance = kHullTolerances[0];
   automatic.name = engine::ContactModelName(engine::ContactModel::kAuto);
   methods.push_back(automatic);
-  for (engine::ContactModel model : {engine::ContactModel::kPlanar,
-                                     engine::ContactModel::kMultiPatch,
-                                     engine::ContactModel::kPoint}) {
+  for (engine::ContactModel model :
+       {engine::ContactModel::kPlanar, engine::ContactModel::kMultiPatch,
+        engine::ContactModel::kPoint}) {
     Method method;
     method.model = model;
     method.name = engine::ContactModelName(model);
     methods.push_back(method);
   }
-  for (baselines::ExternalEngine engine : {baselines::ExternalEngine::kMujoco,
-                                           baselines::ExternalEngine::kBullet,
-                                           baselines::ExternalEngine::kOde}) {
+  for (baselines::ExternalEngine engine :
+       {baselines::ExternalEngine::kMujoco, baselines::ExternalEngine::kBullet,
+        baselines::ExternalEngine::kOde}) {
     if (!baselines::IsAvailable(engine)) continue;
     for (baselines::FrictionSetting setting :
          {baselines::FrictionSetting::kDefault, baselines::FrictionSetting::kCoulomb}) {
@@ -95,9 +95,9 @@ std::vector<Method> AllMethods() {
       method.external = true;
       method.engine = engine;
       method.setting = setting;
-      method.name = fmt::format("{}-{}", baselines::ExternalEngineName(engine),
-                                setting == baselines::FrictionSetting::kDefault ? "default"
-                                                                                : "coulomb");
+      method.name =
+          fmt::format("{}-{}", baselines::ExternalEngineName(engine),
+                      setting == baselines::FrictionSetting::kDefault ? "default" : "coulomb");
       methods.push_back(method);
     }
   }

@@ -65,7 +65,8 @@ Scenario Spin() {
   const double alpha = mu * mass * kG * r_mean / plate.inertia(2, 2);  // rad/s²
   Scenario s;
   s.name = "spin";
-  s.description = "square plate spinning flat at 10 rad/s, mu = 0.3, uniform pressure (closed form)";
+  s.description =
+      "square plate spinning flat at 10 rad/s, mu = 0.3, uniform pressure (closed form)";
   s.scene = engine::MakeGroundScene({plate}, 0.01, CoulombFriction(mu, r_mean));
   s.scene.duration = 0.5;
   s.length = side / std::sqrt(2.0);
@@ -76,8 +77,8 @@ Scenario Spin() {
     const double tau = std::min(t, stop);
     engine::BodyState b;
     b.p_WB = p0;
-    b.Q_WB = Eigen::Quaterniond(Eigen::AngleAxisd(w0 * tau - 0.5 * alpha * tau * tau,
-                                                  Vector3d::UnitZ()));
+    b.Q_WB = Eigen::Quaterniond(
+        Eigen::AngleAxisd(w0 * tau - 0.5 * alpha * tau * tau, Vector3d::UnitZ()));
     b.w_WB = Vector3d(0, 0, w0 - alpha * tau);
     return b;
   };
@@ -165,9 +166,10 @@ Scenario Stack(const std::string& scenes_dir) {
 // scenes/push_box.yaml: the pusher's face reaches the box after gap / speed and from then on
 // carries it at its own speed (closed form: a sticking push at constant speed)
 Scenario PushBox(const std::string& scenes_dir) {
-  Scenario s = SceneScenario(scenes_dir, "push_box", "push_box.yaml", "box", kBodyScenarioDuration,
-                             0.15, "flat pusher at 0.1 m/s pushing a box through its CM, mu = "
-                                   "0.3 (closed form: the box at the pusher's speed)");
+  Scenario s =
+      SceneScenario(scenes_dir, "push_box", "push_box.yaml", "box", kBodyScenarioDuration, 0.15,
+                    "flat pusher at 0.1 m/s pushing a box through its CM, mu = "
+                    "0.3 (closed form: the box at the pusher's speed)");
   const engine::Body& pusher = s.scene.bodies[s.body == 0 ? 1 : 0];
   ECPSIM_DEMAND(pusher.IsKinematic());
   const engine::BodyState box = engine::InitialState(s.scene).bodies[s.body];
@@ -175,9 +177,11 @@ Scenario PushBox(const std::string& scenes_dir) {
   const Vector3d velocity = pusher.motion->StepTwist(0, s.scene.h).v;
   // the gap between the pusher's leading face and the box's back face along the push
   const Vector3d u = velocity.normalized();
-  const double pusher_front = u.dot(start.p) + u.dot(start.q * pusher.hull->Support(start.q.inverse() * u));
-  const double box_back = u.dot(box.p_WB) + u.dot(box.Q_WB * s.scene.bodies[s.body].hull->Support(
-                                                                 box.Q_WB.inverse() * -u));
+  const double pusher_front =
+      u.dot(start.p) + u.dot(start.q * pusher.hull->Support(start.q.inverse() * u));
+  const double box_back =
+      u.dot(box.p_WB) +
+      u.dot(box.Q_WB * s.scene.bodies[s.body].hull->Support(box.Q_WB.inverse() * -u));
   const double contact_time = (box_back - pusher_front) / velocity.norm();
   // pushed at constant speed, the box's friction on the ground is the whole push: μ m g
   s.pusher = s.body == 0 ? 1 : 0;
@@ -216,7 +220,8 @@ Scenario SceneScenario(const std::string& scenes_dir, const std::string& name,
     const auto found = std::find_if(bodies.begin(), bodies.end(),
                                     [&](const engine::Body& b) { return b.name == body; });
     if (found == bodies.end())
-      throw InputError(fmt::format("{}: no body '{}' (the {} scenario measures it)", path, body, name));
+      throw InputError(
+          fmt::format("{}: no body '{}' (the {} scenario measures it)", path, body, name));
     s.body = static_cast<int>(found - bodies.begin());
   }
   return s;
@@ -231,8 +236,8 @@ double MeanRadiusOfRectangle(double a, double b) {
 }
 
 std::vector<std::string> WorkPrecisionScenarioNames() {
-  return {"slide",    "spin",  "push_slide", "rest",    "desk",
-          "tbar",     "dumbbell", "stack",   "push_box", "tbar_push"};
+  return {"slide", "spin",     "push_slide", "rest",     "desk",
+          "tbar",  "dumbbell", "stack",      "push_box", "tbar_push"};
 }
 
 std::vector<Scenario> WorkPrecisionScenarios(const std::string& scenes_dir,
@@ -253,10 +258,10 @@ std::vector<Scenario> WorkPrecisionScenarios(const std::string& scenes_dir,
   scenarios.push_back(PushBox(scenes_dir));
   // the paper's motivating figure: a finger pushes and turns the T-bar on the table; no closed
   // form, the converged reference
-  const Scenario tbar_push = SceneScenario(scenes_dir, "tbar_push", "tbar_push.yaml", "tbar",
-                                     converged_duration, 0.25,
-                                     "a kinematic finger pushing and turning the T-bar on the "
-                                     "table (converged reference)");
+  const Scenario tbar_push =
+      SceneScenario(scenes_dir, "tbar_push", "tbar_push.yaml", "tbar", converged_duration, 0.25,
+                    "a kinematic finger pushing and turning the T-bar on the "
+                    "table (converged reference)");
   scenarios.push_back(tbar_push);
   return scenarios;
 }

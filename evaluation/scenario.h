@@ -25,8 +25,8 @@ struct Scenario {
   // the closed-form trajectory of the measured body (continuous time); empty: converged
   // reference
   std::function<engine::BodyState(double t)> analytic;
-  double stop_time = -1;          // s, when the motion ends in closed form (< 0: not measured)
-  bool planar_applies = false;    // flat on the ground throughout: the planar model applies
+  double stop_time = -1;        // s, when the motion ends in closed form (< 0: not measured)
+  bool planar_applies = false;  // flat on the ground throughout: the planar model applies
   // the body has convex `parts` (else the multi-patch model is the hull model once more)
   bool multipatch_applies = false;
   // contact modes are compared (not for a smooth hull: a tolerance band on a curved surface

@@ -46,8 +46,7 @@ Eigen::Vector3d SeededRandom::InBall() { return std::cbrt(Uniform(0, 1)) * UnitV
 Eigen::Quaterniond SeededRandom::Rotation() {
   const double u1 = Uniform(0, 1), u2 = Uniform(0, 2 * kPi), u3 = Uniform(0, 2 * kPi);
   const double a = std::sqrt(1 - u1), b = std::sqrt(u1);
-  return Eigen::Quaterniond(b * std::cos(u3), a * std::sin(u2), a * std::cos(u2),
-                            b * std::sin(u3));
+  return Eigen::Quaterniond(b * std::cos(u3), a * std::sin(u2), a * std::cos(u2), b * std::sin(u3));
 }
 
 std::uint64_t StableHash(const std::string& text) {

@@ -6,12 +6,12 @@
 
 #include <fmt/format.h>
 
+#include "common/errors.h"
 #include "engine/scene_io/scene_builders.h"
 #include "engine/scene_io/scene_yaml.h"
 #include "evaluation/csv_file.h"
 #include "geometry/convex_hull.h"
 #include "geometry/convex_shape.h"
-#include "common/errors.h"
 #include "geometry/paper_bodies.h"
 
 namespace ecpsim::evaluation {
@@ -25,10 +25,9 @@ constexpr double kDeg = kPi / 180;
 constexpr double kStartGap = 1e-3;   // m, lowest vertex above the ground at t = 0
 constexpr double kLateWindow = 0.5;  // s, the "at rest" window at the end of each run
 
-const std::vector<std::string> kHeader = {"map",         "method",          "h",
-                                          "value",       "outcome",         "max_penetration",
-                                          "energy_gain", "max_speed_late",  "drift_late",
-                                          "final_mode",  "failure"};
+const std::vector<std::string> kHeader = {
+    "map",         "method",         "h",          "value",      "outcome", "max_penetration",
+    "energy_gain", "max_speed_late", "drift_late", "final_mode", "failure"};
 
 // body 0 posed with orientation q, its lowest vertex kStartGap above z = 0, thrown with v
 Scenario Thrown(engine::Body body, const Eigen::Quaterniond& q, const Vector3d& v, double mu,
@@ -51,7 +50,8 @@ engine::Body TBarWithMassRatio(double ratio) {
   const geometry::TBarParams p;
   geometry::TriangleMesh mesh = geometry::MakeTBarMesh(p);
   double y_top = -INFINITY, z_bottom = INFINITY;
-  for (const Vector3d& v : mesh.vertices) y_top = std::max(y_top, v.y()), z_bottom = std::min(z_bottom, v.z());
+  for (const Vector3d& v : mesh.vertices)
+    y_top = std::max(y_top, v.y()), z_bottom = std::min(z_bottom, v.z());
   struct Box {
     Vector3d centre, size;
     double mass;
@@ -67,8 +67,8 @@ engine::Body TBarWithMassRatio(double ratio) {
   for (const Box& b : boxes) {
     const Vector3d s2 = b.size.cwiseProduct(b.size);
     const Vector3d r = b.centre - cm;
-    inertia += (b.mass / 12 * Vector3d(s2.y() + s2.z(), s2.x() + s2.z(), s2.x() + s2.y()))
-                   .asDiagonal();
+    inertia +=
+        (b.mass / 12 * Vector3d(s2.y() + s2.z(), s2.x() + s2.z(), s2.x() + s2.y())).asDiagonal();
     // parallel axis theorem
     inertia += b.mass * (r.squaredNorm() * Eigen::Matrix3d::Identity() - r * r.transpose());
   }
@@ -116,11 +116,13 @@ Scenario PushAtSpeed(const std::string& scenes_dir, double speed) {
 
 Outcome ParseOutcome(const CsvFile& file, size_t row, int column) {
   for (int k = 0; k < kOutcomeCount; ++k) {
-    if (file.rows[row][column] == OutcomeName(static_cast<Outcome>(k))) return static_cast<Outcome>(k);
+    if (file.rows[row][column] == OutcomeName(static_cast<Outcome>(k)))
+      return static_cast<Outcome>(k);
   }
-  throw InputError(fmt::format("{}:{}: outcome '{}': expected ok, solver_failure, penetration, "
-                               "energy_gain, wrong_mode, jitter or off_speed",
-                               file.path, row + 2, file.rows[row][column]));
+  throw InputError(
+      fmt::format("{}:{}: outcome '{}': expected ok, solver_failure, penetration, "
+                  "energy_gain, wrong_mode, jitter or off_speed",
+                  file.path, row + 2, file.rows[row][column]));
 }
 
 }  // namespace
@@ -189,7 +191,8 @@ std::vector<StabilityMapSpec> StabilityMaps(const std::string& scenes_dir) {
 
   StabilityMapSpec push;
   push.name = "push_speed";
-  push.description = "scenes/push_box.yaml: a flat pusher at constant speed pushing a box, mu = 0.3";
+  push.description =
+      "scenes/push_box.yaml: a flat pusher at constant speed pushing a box, mu = 0.3";
   push.value_label = "push speed (m/s)";
   push.values = {0.03, 0.1, 0.3, 1, 3};
   push.scenario = [scenes_dir](double speed) { return PushAtSpeed(scenes_dir, speed); };
@@ -216,8 +219,8 @@ Outcome ClassifyPush(const RunRecord& run, const Scenario& scenario,
 
 Outcome Classify(const RunRecord& run, double initial_kinetic) {
   // energy that grew before a failure is its cause (an overflowing spin ends as a failure)
-  const double gain = *std::max_element(run.energies.begin(), run.energies.end()) -
-                      run.energies.front();
+  const double gain =
+      *std::max_element(run.energies.begin(), run.energies.end()) - run.energies.front();
   if (gain > kEnergyGainFraction * initial_kinetic + 1e-6) return Outcome::kEnergyGain;
   if (run.failed) return Outcome::kSolverFailure;
   if (run.max_penetration > kPenetrationLimit) return Outcome::kPenetration;
@@ -226,11 +229,10 @@ Outcome Classify(const RunRecord& run, double initial_kinetic) {
   return Outcome::kOk;
 }
 
-std::vector<StabilityRow> RunStabilityMaps(const std::vector<StabilityMapSpec>& maps,
-                                           const std::vector<Method>& methods,
-                                           const std::vector<double>& steps, int shard_index,
-                                           int shard_count, double cpu_limit_s,
-                                           const std::function<void(const std::string&)>& progress) {
+std::vector<StabilityRow> RunStabilityMaps(
+    const std::vector<StabilityMapSpec>& maps, const std::vector<Method>& methods,
+    const std::vector<double>& steps, int shard_index, int shard_count, double cpu_limit_s,
+    const std::function<void(const std::string&)>& progress) {
   ECPSIM_DEMAND(shard_count >= 1 && shard_index >= 1 && shard_index <= shard_count);
   std::vector<StabilityRow> rows;
   int group = -1;
@@ -258,8 +260,8 @@ std::vector<StabilityRow> RunStabilityMaps(const std::vector<StabilityMapSpec>& 
           row.value = value;
           row.outcome = map.classify ? map.classify(run, scenario) : Classify(run, kinetic);
           row.max_penetration = run.max_penetration;
-          row.energy_gain = *std::max_element(run.energies.begin(), run.energies.end()) -
-                            run.energies.front();
+          row.energy_gain =
+              *std::max_element(run.energies.begin(), run.energies.end()) - run.energies.front();
           row.max_speed_late = run.max_speed_late;
           row.drift_late = run.drift_late;
           row.final_mode = ContactModeName(run.modes.back());
@@ -270,8 +272,8 @@ std::vector<StabilityRow> RunStabilityMaps(const std::vector<StabilityMapSpec>& 
         }
       }
       if (progress) {
-        progress(fmt::format("stability {} / {}: {} of {} runs ok", map.name, method.name, ok,
-                             cells));
+        progress(
+            fmt::format("stability {} / {}: {} of {} runs ok", map.name, method.name, ok, cells));
       }
     }
   }

@@ -16,20 +16,20 @@ namespace ecpsim::evaluation {
 /// a failure), then failure, penetration, mode and rest.
 enum class Outcome {
   kOk = 0,
-  kSolverFailure,   // the method threw (solver failure, invalid model) or its state blew up
-  kPenetration,     // a mesh vertex got deeper than kPenetrationLimit into the ground
-  kEnergyGain,      // energy rose above its start by more than kEnergyGainFraction of the KE
-  kWrongMode,       // not resting on a face at the end (the reference's final mode)
-  kJitter,          // still moving or drifting over the last 0.5 s, when it should rest
-  kOffSpeed,        // a pushed body not at the pusher's velocity over the last 0.5 s
+  kSolverFailure,  // the method threw (solver failure, invalid model) or its state blew up
+  kPenetration,    // a mesh vertex got deeper than kPenetrationLimit into the ground
+  kEnergyGain,     // energy rose above its start by more than kEnergyGainFraction of the KE
+  kWrongMode,      // not resting on a face at the end (the reference's final mode)
+  kJitter,         // still moving or drifting over the last 0.5 s, when it should rest
+  kOffSpeed,       // a pushed body not at the pusher's velocity over the last 0.5 s
 };
 constexpr int kOutcomeCount = 7;
 const char* OutcomeName(Outcome outcome);  // ok, solver_failure, penetration, energy_gain, …
 
-constexpr double kPenetrationLimit = 1e-3;     // m, the "penetration > 1 mm"
-constexpr double kEnergyGainFraction = 0.01;   // of the initial kinetic energy, + 1e-6 J
-constexpr double kJitterSpeed = 1e-2;          // m/s, |v| + length·|ω| in the last 0.5 s
-constexpr double kJitterDrift = 1e-3;          // m, |Δp| + length·|Δθ| in the last 0.5 s
+constexpr double kPenetrationLimit = 1e-3;    // m, the "penetration > 1 mm"
+constexpr double kEnergyGainFraction = 0.01;  // of the initial kinetic energy, + 1e-6 J
+constexpr double kJitterSpeed = 1e-2;         // m/s, |v| + length·|ω| in the last 0.5 s
+constexpr double kJitterDrift = 1e-3;         // m, |Δp| + length·|Δθ| in the last 0.5 s
 // relative to the pusher's speed: how far a pushed body's velocity may be from the pusher's at
 // the samples of the last 0.5 s. A steady push through the CM carries the box at the pusher's
 // speed exactly; 5 % is far above a converged solver's error and catches a contact that breaks
@@ -39,7 +39,7 @@ constexpr double kPushSpeedTolerance = 0.05;
 /// One map: a family of scenarios over `values` of a parameter; by default each must end resting
 /// on a face (Classify), else as `classify` says.
 struct StabilityMapSpec {
-  std::string name;         // impact, thin_plate, tbar_mass_ratio, push_speed
+  std::string name;  // impact, thin_plate, tbar_mass_ratio, push_speed
   std::string description;
   std::string value_label;  // the parameter with its unit, for the chart's y axis
   std::vector<double> values;

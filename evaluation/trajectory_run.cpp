@@ -7,11 +7,10 @@
 #include <fmt/format.h>
 
 #include "common/cpu_clock.h"
+#include "common/errors.h"
 #include "engine/report/penetration.h"
 #include "engine/step_report.h"
-#include "engine/step_report.h"
 #include "geometry/convex_shape.h"
-#include "common/errors.h"
 
 namespace ecpsim::evaluation {
 namespace {
@@ -33,8 +32,8 @@ double Energy(const engine::Scene& scene, int index, const engine::BodyState& b)
   const engine::Body& body = scene.bodies[index];
   const Eigen::Matrix3d R = b.Q_WB.toRotationMatrix();
   const Eigen::Matrix3d I_W = R * body.inertia * R.transpose();
-  const double energy = 0.5 * body.mass * b.v_WB.squaredNorm() +
-                        0.5 * b.w_WB.dot(I_W * b.w_WB) - body.mass * scene.gravity.dot(b.p_WB);
+  const double energy = 0.5 * body.mass * b.v_WB.squaredNorm() + 0.5 * b.w_WB.dot(I_W * b.w_WB) -
+                        body.mass * scene.gravity.dot(b.p_WB);
   // a spin growing without bound overflows the energy before the state: the largest double
   // keeps it comparable (and out of the CSV as "inf")
   return std::isfinite(energy) ? energy : std::numeric_limits<double>::max();
@@ -84,7 +83,8 @@ const char* ContactModeName(ContactMode mode) {
 ContactMode ModeOfPose(const engine::Scene& scene, int body, const engine::BodyState& state) {
   const Eigen::Matrix3d R = state.Q_WB.toRotationMatrix();
   std::vector<Vector3d> world;
-  for (const Vector3d& v : HullVertices(*scene.bodies[body].hull)) world.push_back(state.p_WB + R * v);
+  for (const Vector3d& v : HullVertices(*scene.bodies[body].hull))
+    world.push_back(state.p_WB + R * v);
   ContactMode deepest = ContactMode::kNone;
   for (const engine::ContactPair& pair : scene.contacts) {
     if (pair.body != body || pair.WithBody()) continue;
@@ -173,8 +173,7 @@ RunRecord RunTrajectory(const Method& method, const Scenario& scenario, double h
     const int iterations = stepper->iterations();
     iterations_sum += iterations;
     run.iterations_max = std::max(run.iterations_max, iterations);
-    run.max_penetration =
-        std::max(run.max_penetration, probe.MaxDepth(scene, state));
+    run.max_penetration = std::max(run.max_penetration, probe.MaxDepth(scene, state));
     const double speed = Speed(b, scenario.length);
     if (speed >= kStopSpeed) last_fast_t = state.t;
     if (k == steps - late_steps) late_start = b;

@@ -35,12 +35,12 @@ struct RunRecord {
   std::vector<double> energies;            // J, ½mv² + ½ωᵀI_Wω − m g·p at the same times
   long steps = 0;
   bool failed = false;
-  std::string failure;       // the exception's message when failed
-  double cpu_seconds = 0;    // thread CPU time spent in Step() calls
+  std::string failure;     // the exception's message when failed
+  double cpu_seconds = 0;  // thread CPU time spent in Step() calls
   // m, deepest mesh vertex in an obstacle, or hull vertex of a body in the hull of a body it is
   // paired with, after any step
   double max_penetration = 0;
-  double stop_time = -1;     // s, first step end after which the body stays below kStopSpeed
+  double stop_time = -1;      // s, first step end after which the body stays below kStopSpeed
   double max_speed_late = 0;  // m/s, max |v| + length·|ω| over the last `late_window` seconds
   double drift_late = 0;      // m, |Δp| + length·|Δθ| over that window
   int iterations_max = 0;

@@ -5,22 +5,34 @@
 
 #include <fmt/format.h>
 
+#include "common/errors.h"
 #include "evaluation/csv_file.h"
 #include "evaluation/error_metrics.h"
 #include "evaluation/trajectory_run.h"
-#include "common/errors.h"
 
 namespace ecpsim::evaluation {
 namespace {
 
-const std::vector<std::string> kHeader = {
-    "scenario",        "method",          "h",
-    "steps",           "failed",          "cpu_per_sim_s",
-    "error_state",     "error_position",  "error_angle",
-    "error_velocity",  "wrong_mode",      "stop_time_error",
-    "error_vs_hull",   "reference_uncertainty", "max_penetration",
-    "iterations_mean", "iterations_max",  "push_force_error",
-    "push_contact_breaks", "failure"};
+const std::vector<std::string> kHeader = {"scenario",
+                                          "method",
+                                          "h",
+                                          "steps",
+                                          "failed",
+                                          "cpu_per_sim_s",
+                                          "error_state",
+                                          "error_position",
+                                          "error_angle",
+                                          "error_velocity",
+                                          "wrong_mode",
+                                          "stop_time_error",
+                                          "error_vs_hull",
+                                          "reference_uncertainty",
+                                          "max_penetration",
+                                          "iterations_mean",
+                                          "iterations_max",
+                                          "push_force_error",
+                                          "push_contact_breaks",
+                                          "failure"};
 
 // The reference trajectories of one scenario, computed on first use.
 class References {
@@ -131,11 +143,11 @@ std::vector<WorkPrecisionRow> RunWorkPrecision(const std::vector<Scenario>& scen
       }
       if (options.progress) {
         const WorkPrecisionRow& last = rows.back();
-        options.progress(fmt::format("{} / {}: {} step sizes, at h = {} s error {:.3g} m, {:.3g} "
-                                     "CPU s per simulated s{}",
-                                     scenario.name, method.name, options.steps.size(), last.h,
-                                     last.error_state, last.cpu_per_sim_s,
-                                     last.failed ? " (failed: " + last.failure + ")" : ""));
+        options.progress(
+            fmt::format("{} / {}: {} step sizes, at h = {} s error {:.3g} m, {:.3g} "
+                        "CPU s per simulated s{}",
+                        scenario.name, method.name, options.steps.size(), last.h, last.error_state,
+                        last.cpu_per_sim_s, last.failed ? " (failed: " + last.failure + ")" : ""));
       }
     }
   }
@@ -147,14 +159,14 @@ std::string WorkPrecisionCsv(const std::vector<WorkPrecisionRow>& rows) {
   for (size_t i = 0; i < kHeader.size(); ++i) csv += (i ? "," : "") + kHeader[i];
   csv += "\n";
   for (const WorkPrecisionRow& r : rows) {
-    csv += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", r.scenario,
-                       r.method, Number(r.h), r.steps, r.failed ? 1 : 0, Number(r.cpu_per_sim_s),
-                       Number(r.error_state), Number(r.error_position), Number(r.error_angle),
-                       Number(r.error_velocity), Number(r.wrong_mode), Number(r.stop_time_error),
-                       Number(r.error_vs_hull), Number(r.reference_uncertainty),
-                       Number(r.max_penetration), Number(r.iterations_mean), r.iterations_max,
-                       Number(r.push_force_error), Number(r.push_contact_breaks),
-                       CsvField(r.failure));
+    csv +=
+        fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", r.scenario,
+                    r.method, Number(r.h), r.steps, r.failed ? 1 : 0, Number(r.cpu_per_sim_s),
+                    Number(r.error_state), Number(r.error_position), Number(r.error_angle),
+                    Number(r.error_velocity), Number(r.wrong_mode), Number(r.stop_time_error),
+                    Number(r.error_vs_hull), Number(r.reference_uncertainty),
+                    Number(r.max_penetration), Number(r.iterations_mean), r.iterations_max,
+                    Number(r.push_force_error), Number(r.push_contact_breaks), CsvField(r.failure));
   }
   return csv;
 }

@@ -16,27 +16,27 @@ namespace ecpsim::evaluation {
 struct WorkPrecisionRow {
   std::string scenario;
   std::string method;
-  double h = 0;                  // s
-  long steps = 0;                // steps completed
+  double h = 0;    // s
+  long steps = 0;  // steps completed
   bool failed = false;
-  double cpu_per_sim_s = 0;      // CPU seconds per simulated second (thread CPU time of Step())
-  double error_state = -1;       // m, vs the scenario's reference (TrajectoryErrors::state)
-  double error_position = -1;    // m
-  double error_angle = -1;       // rad
-  double error_velocity = -1;    // m/s
-  double wrong_mode = -1;        // fraction of samples in the wrong contact mode
-  double stop_time_error = -1;   // s
-  double error_vs_hull = -1;     // m, state error vs the hull model's converged solution
+  double cpu_per_sim_s = 0;     // CPU seconds per simulated second (thread CPU time of Step())
+  double error_state = -1;      // m, vs the scenario's reference (TrajectoryErrors::state)
+  double error_position = -1;   // m
+  double error_angle = -1;      // rad
+  double error_velocity = -1;   // m/s
+  double wrong_mode = -1;       // fraction of samples in the wrong contact mode
+  double stop_time_error = -1;  // s
+  double error_vs_hull = -1;    // m, state error vs the hull model's converged solution
   double reference_uncertainty = -1;  // m, converged reference at h_ref vs 2 h_ref (0: analytic)
-  double max_penetration = 0;    // m
-  double iterations_mean = 0;    // per step (Newton iterations or Lemke pivots; 0 external)
+  double max_penetration = 0;         // m
+  double iterations_mean = 0;         // per step (Newton iterations or Lemke pivots; 0 external)
   int iterations_max = 0;
   // a push (Scenario::pusher): the pusher's force after it settled (RunRecord::push_forces)
   // against the closed form's steady force F: max |f − F| / F over the steps, and the fraction
   // of steps in which the contact broke (f ≤ 0); −1 where there is no push or the run failed
   double push_force_error = -1;
   double push_contact_breaks = -1;
-  std::string failure;           // message of the failure (commas and newlines replaced)
+  std::string failure;  // message of the failure (commas and newlines replaced)
 };
 
 struct SweepOptions {
@@ -44,8 +44,8 @@ struct SweepOptions {
   // a converged reference runs the same method at min(steps) / reference_divisor and is
   // checked against a run at twice that step (WorkPrecisionRow::reference_uncertainty)
   double reference_divisor = 16;
-  double cpu_limit_s = 300;      // per run
-  int shard_index = 1;           // this process runs shard shard_index of shard_count (1-based)
+  double cpu_limit_s = 300;  // per run
+  int shard_index = 1;       // this process runs shard shard_index of shard_count (1-based)
   int shard_count = 1;
   std::function<void(const std::string& message)> progress;  // one line per finished group
 };

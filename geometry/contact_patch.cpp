@@ -10,8 +10,8 @@
 #include <unordered_set>
 #include <utility>
 
-#include "geometry/convex_hull.h"
 #include "common/errors.h"
+#include "geometry/convex_hull.h"
 
 namespace ecpsim::geometry {
 namespace {
@@ -31,7 +31,9 @@ struct PlaneBasis {
   Eigen::Vector3d origin;  // the foot point offset · n
 
   explicit PlaneBasis(const Plane& plane)
-      : n(plane.normal), u(plane.normal.unitOrthogonal()), v(plane.normal.cross(u)),
+      : n(plane.normal),
+        u(plane.normal.unitOrthogonal()),
+        v(plane.normal.cross(u)),
         origin(plane.offset * plane.normal) {}
   Eigen::Vector2d ToPlane(const Eigen::Vector3d& x) const {
     return {u.dot(x - origin), v.dot(x - origin)};
@@ -191,7 +193,8 @@ void Classify(const PlaneBasis& basis, double tolerance, ContactPatch& patch) {
       break;
     case HullKind::kSegment: {
       if (only_points) {
-        patch.mode = patch.points.size() == 2 ? ContactMode::kTwoPoint : ContactMode::kNonConvexLine;
+        patch.mode =
+            patch.points.size() == 2 ? ContactMode::kTwoPoint : ContactMode::kNonConvexLine;
         break;
       }
       // positions along the hull's line; every feature is an interval on it
@@ -216,14 +219,15 @@ void Classify(const PlaneBasis& basis, double tolerance, ContactPatch& patch) {
         intervals.emplace_back(std::min(a, b), std::max(a, b));
       }
       for (const Eigen::Vector3d& p : patch.points) intervals.emplace_back(along(p), along(p));
-      patch.mode = IntervalsConnected(std::move(intervals), tolerance) ? ContactMode::kLine
-                                                                       : ContactMode::kNonConvexLine;
+      patch.mode = IntervalsConnected(std::move(intervals), tolerance)
+                       ? ContactMode::kLine
+                       : ContactMode::kNonConvexLine;
       break;
     }
     case HullKind::kPolygon:
       if (!patch.polygons.empty()) {
-        const bool convex = std::abs(patch.area - patch.feature_area) <=
-                            kConvexAreaRelativeTolerance * patch.area;
+        const bool convex =
+            std::abs(patch.area - patch.feature_area) <= kConvexAreaRelativeTolerance * patch.area;
         patch.mode = convex ? ContactMode::kConvexPatch : ContactMode::kNonConvexPatch;
       } else {
         patch.mode = only_points ? ContactMode::kMultiPoint : ContactMode::kNonConvexPatch;
@@ -236,14 +240,22 @@ void Classify(const PlaneBasis& basis, double tolerance, ContactPatch& patch) {
 
 const char* ContactModeName(ContactMode mode) {
   switch (mode) {
-    case ContactMode::kNone: return "none";
-    case ContactMode::kPoint: return "point";
-    case ContactMode::kTwoPoint: return "two-point";
-    case ContactMode::kMultiPoint: return "multi-point";
-    case ContactMode::kLine: return "line";
-    case ContactMode::kNonConvexLine: return "non-convex line";
-    case ContactMode::kConvexPatch: return "convex patch";
-    case ContactMode::kNonConvexPatch: return "non-convex patch";
+    case ContactMode::kNone:
+      return "none";
+    case ContactMode::kPoint:
+      return "point";
+    case ContactMode::kTwoPoint:
+      return "two-point";
+    case ContactMode::kMultiPoint:
+      return "multi-point";
+    case ContactMode::kLine:
+      return "line";
+    case ContactMode::kNonConvexLine:
+      return "non-convex line";
+    case ContactMode::kConvexPatch:
+      return "convex patch";
+    case ContactMode::kNonConvexPatch:
+      return "non-convex patch";
   }
   ECPSIM_DEMAND(false && "unknown ContactMode");
   return "";
@@ -353,7 +365,8 @@ ContactPatch ExtractContactPatch(const TriangleMesh& mesh, const Eigen::Isometry
     }
     const Eigen::Vector2d& a = cluster_uv[touching_triangles[t][0]];
     patch.feature_area += std::abs(Cross2(cluster_uv[touching_triangles[t][1]] - a,
-                                          cluster_uv[touching_triangles[t][2]] - a)) / 2;
+                                          cluster_uv[touching_triangles[t][2]] - a)) /
+                          2;
   }
   std::unordered_map<int, std::vector<std::pair<int, int>>> boundary_of_group;
   for (const auto& [key, t] : first_triangle) {
@@ -411,9 +424,8 @@ ContactPatch ExtractContactPatch(const TriangleMesh& mesh, const Eigen::Isometry
   }
   const auto passes_through = [&](int c) {
     const std::vector<int>& around = segment_neighbors.at(c);
-    return around.size() == 2 &&
-           IsStraightThrough(cluster_uv[around[0]], cluster_uv[c], cluster_uv[around[1]],
-                             tolerance);
+    return around.size() == 2 && IsStraightThrough(cluster_uv[around[0]], cluster_uv[c],
+                                                   cluster_uv[around[1]], tolerance);
   };
   std::vector<int> segment_ends;
   for (const auto& entry : segment_neighbors) segment_ends.push_back(entry.first);
@@ -438,7 +450,8 @@ ContactPatch ExtractContactPatch(const TriangleMesh& mesh, const Eigen::Isometry
   // a closed chain of straight vertices (degenerate) keeps its edges as they are
   for (int a : segment_ends) {
     for (int b : segment_neighbors.at(a)) {
-      if (walked.insert(EdgeKey(a, b)).second) patch.segments.push_back({cluster_xyz[a], cluster_xyz[b]});
+      if (walked.insert(EdgeKey(a, b)).second)
+        patch.segments.push_back({cluster_xyz[a], cluster_xyz[b]});
     }
   }
 
@@ -508,8 +521,7 @@ bool PolygonHolds(const Polygon2& polygon, const Eigen::Vector2d& point, double 
 // the sub-intervals of the segment p → q inside `polygon` (any simple polygon), as parameters
 std::vector<std::pair<double, double>> SegmentInPolygon(const Eigen::Vector2d& p,
                                                         const Eigen::Vector2d& q,
-                                                        const Polygon2& polygon,
-                                                        double tolerance) {
+                                                        const Polygon2& polygon, double tolerance) {
   std::vector<double> cuts = {0, 1};
   const Eigen::Vector2d d = q - p;
   for (std::size_t k = 0; k < polygon.size(); ++k) {
@@ -591,7 +603,8 @@ ContactPatch IntersectContactPatches(const ContactPatch& patch, const ContactPat
         add_segment(p + lo * (q - p), p + hi * (q - p));
     }
     for (const Eigen::Vector3d& point : patch.points) {
-      if (DistanceToSegment(basis.ToPlane(point), p, q) <= tolerance) result.points.push_back(point);
+      if (DistanceToSegment(basis.ToPlane(point), p, q) <= tolerance)
+        result.points.push_back(point);
     }
   } else {
     // other touches at a point: it, where this touches too
@@ -616,8 +629,8 @@ ContactPatch IntersectContactPatches(const ContactPatch& patch, const ContactPat
 
 // The distance from `point` to the hull, a planar convex set in 3-D: the in-plane distance to the
 // polygon (zero inside), segment or point, combined with the height above the plane.
-bool PatchHullContains(const ContactPatch& patch, const Plane& plane,
-                       const Eigen::Vector3d& point, double tolerance) {
+bool PatchHullContains(const ContactPatch& patch, const Plane& plane, const Eigen::Vector3d& point,
+                       double tolerance) {
   if (patch.hull.empty()) return false;
   const PlaneBasis basis(plane);
   const Eigen::Vector2d p = basis.ToPlane(point);

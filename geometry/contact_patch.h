@@ -14,13 +14,13 @@ namespace ecpsim::geometry {
 
 enum class ContactMode {
   kNone,
-  kPoint,            // one isolated point
-  kTwoPoint,         // two separated points (a segment's ends but not the segment)
-  kMultiPoint,       // three or more isolated points, not all on one line
-  kLine,             // one segment (or touching collinear segments)
-  kNonConvexLine,    // collinear segments/points with gaps (the dumbbell's two rims)
-  kConvexPatch,      // faces whose union is convex (area = hull area)
-  kNonConvexPatch,   // faces (and possibly segments/points) whose hull is larger than their union
+  kPoint,           // one isolated point
+  kTwoPoint,        // two separated points (a segment's ends but not the segment)
+  kMultiPoint,      // three or more isolated points, not all on one line
+  kLine,            // one segment (or touching collinear segments)
+  kNonConvexLine,   // collinear segments/points with gaps (the dumbbell's two rims)
+  kConvexPatch,     // faces whose union is convex (area = hull area)
+  kNonConvexPatch,  // faces (and possibly segments/points) whose hull is larger than their union
 };
 
 /// "none", "point", "two-point", "multi-point", "line", "non-convex line", "convex patch",
@@ -35,12 +35,12 @@ struct Plane {
 
 /// The features of a mesh within a tolerance of the plane, in world coordinates on the plane.
 struct ContactPatch {
-  std::vector<std::vector<Eigen::Vector3d>> polygons;         // faces lying on the plane
-  std::vector<std::array<Eigen::Vector3d, 2>> segments;       // edges on the plane, not in a face
-  std::vector<Eigen::Vector3d> points;                        // vertices on it, not in an edge
-  std::vector<Eigen::Vector3d> hull;   // 2-D convex hull of all of the above, ccw about n
-  double area = 0;                     // m², of `hull` (0 for a point or a segment)
-  double feature_area = 0;             // m², of the union of `polygons`
+  std::vector<std::vector<Eigen::Vector3d>> polygons;    // faces lying on the plane
+  std::vector<std::array<Eigen::Vector3d, 2>> segments;  // edges on the plane, not in a face
+  std::vector<Eigen::Vector3d> points;                   // vertices on it, not in an edge
+  std::vector<Eigen::Vector3d> hull;  // 2-D convex hull of all of the above, ccw about n
+  double area = 0;                    // m², of `hull` (0 for a point or a segment)
+  double feature_area = 0;            // m², of the union of `polygons`
   ContactMode mode = ContactMode::kNone;
 };
 
@@ -73,7 +73,7 @@ ContactPatch ExtractContactPatch(const TriangleMesh& mesh, const Eigen::Isometry
                                  const Plane& plane);
 
 /// True if `point` (world, on the plane) lies in the patch's convex hull within `tolerance` metres.
-bool PatchHullContains(const ContactPatch& patch, const Plane& plane,
-                       const Eigen::Vector3d& point, double tolerance);
+bool PatchHullContains(const ContactPatch& patch, const Plane& plane, const Eigen::Vector3d& point,
+                       double tolerance);
 
 }  // namespace ecpsim::geometry

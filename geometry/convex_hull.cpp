@@ -11,11 +11,11 @@
 #include <utility>
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <boost/sort/spreadsort/float_sort.hpp>
 #include <CGAL/convex_hull_2.h>
 #include <CGAL/convex_hull_3.h>
-#include <Eigen/Geometry>
 #include <fmt/format.h>
+#include <Eigen/Geometry>
+#include <boost/sort/spreadsort/float_sort.hpp>
 
 #include "common/cpu_clock.h"
 #include "common/errors.h"
@@ -31,8 +31,9 @@ using Point2 = Kernel::Point_2;
 // building a Surface_mesh), with the traits it picks for a Surface_mesh: the exact, statically
 // filtered plane-side test (the documented overload that takes traits does not compile in
 // CGAL 5.5, its point type is not deducible)
-using HullTriangles = CGAL::Convex_hull_3::internal::Indexed_triangle_set<
-    std::vector<Point3>, std::vector<std::array<int, 3>>>;
+using HullTriangles =
+    CGAL::Convex_hull_3::internal::Indexed_triangle_set<std::vector<Point3>,
+                                                        std::vector<std::array<int, 3>>>;
 using HullTraits = CGAL::Convex_hull_traits_3<Kernel, HullTriangles, CGAL::Tag_true>;
 
 // the flatness test looks at the normals of this many of the largest hull triangles
@@ -47,8 +48,8 @@ void CheckFullDimensional(const std::vector<Point3>& points, const std::string& 
   while (second < n && points[second] == points[0]) ++second;
   if (second == n) {
     throw InputError(fmt::format(
-        "convex hull of {}: all {} points coincide (volume 0); a hull needs a 3-D point set", source,
-        n));
+        "convex hull of {}: all {} points coincide (volume 0); a hull needs a 3-D point set",
+        source, n));
   }
   std::size_t third = second + 1;
   while (third < n && CGAL::collinear(points[0], points[second], points[third])) ++third;
@@ -129,8 +130,8 @@ void CanonicalOrder(std::vector<Eigen::Vector3d>& points,
   for (std::array<int, 3>& triangle : triangles) {
     std::array<int, 3> labels;
     for (int k = 0; k < 3; ++k) labels[k] = vertex_label[triangle[k]];
-    const int first = static_cast<int>(std::min_element(labels.begin(), labels.end()) -
-                                       labels.begin());
+    const int first =
+        static_cast<int>(std::min_element(labels.begin(), labels.end()) - labels.begin());
     for (int k = 0; k < 3; ++k) triangle[k] = labels[(first + k) % 3];
   }
   std::sort(triangles.begin(), triangles.end());
@@ -199,8 +200,8 @@ TriangulatedHull ToTriangulatedHull(const std::vector<Point3>& points,
 // The boundary of a group of triangles as one loop, counter-clockwise seen from outside, appended
 // to `loop`; false if the group is not a disk (several loops or a pinched vertex).
 bool AppendBoundaryLoop(const TriangulatedHull& hull, const std::vector<int>& group_of,
-                        const int* first, const int* last,
-                        std::vector<std::pair<int, int>>& edges, std::vector<int>& loop) {
+                        const int* first, const int* last, std::vector<std::pair<int, int>>& edges,
+                        std::vector<int>& loop) {
   // a single triangle is its own loop
   if (last - first == 1) {
     loop.insert(loop.end(), hull.triangles[*first].begin(), hull.triangles[*first].end());
@@ -249,8 +250,8 @@ constexpr double kSupportSlack = 1e-12;  // dimensionless, × largest |coordinat
 // way CGAL triangulated them. Their corners (vertices on three exact faces or more: the extreme
 // points) and planes depend on the point set alone.
 struct ExactFaces {
-  std::vector<int> face_of;           // exact face of each triangle
-  std::vector<int> triangle_start;    // the triangles of each exact face (compressed rows)
+  std::vector<int> face_of;         // exact face of each triangle
+  std::vector<int> triangle_start;  // the triangles of each exact face (compressed rows)
   std::vector<int> triangles;
   std::vector<int> corner_start;      // the corners of each exact face, counter-clockwise seen
   std::vector<int> corners;           // from outside, starting at its smallest label
@@ -318,8 +319,7 @@ ExactFaces FindExactFaces(const TriangulatedHull& hull,
       // every edge takes the exact test (its static filter decides most at once): a cheaper
       // test on computed normals could misjudge a sliver whose normal is mostly round-off
       if (u < t) continue;
-      if (CGAL::orientation(point(tri[0]), point(tri[1]), point(tri[2]),
-                            point(hull.apex[t][k])) !=
+      if (CGAL::orientation(point(tri[0]), point(tri[1]), point(tri[2]), point(hull.apex[t][k])) !=
           CGAL::COPLANAR) {
         continue;
       }
@@ -382,8 +382,8 @@ constexpr int kSeedsAhead = 16;
 // one face. Returns the group of each exact face; `seed_rank` receives the place in `order` of
 // each group's seed (its largest exact face).
 std::vector<int> GrowCoplanarGroups(const TriangulatedHull& hull, const ExactFaces& faces,
-                                    const std::vector<int>& order, double tolerance,
-                                    double slack, std::vector<int>& seed_rank) {
+                                    const std::vector<int>& order, double tolerance, double slack,
+                                    std::vector<int>& seed_rank) {
   // what a seed needs in one record, filled in memory order (the seeds come scattered, in order
   // of area): its plane (a zero normal for a face whose area vector evaluates to zero) and its
   // triangles (the range in faces.triangles, the first of them)
@@ -450,10 +450,10 @@ std::vector<int> GrowCoplanarGroups(const TriangulatedHull& hull, const ExactFac
           // plane, else it stayed a face of its own without a normal
           const int g = faces.face_of[hull.across[t][k]];
           if (group_of[g] >= 0 || n.dot(faces.area[g]) < 0) continue;
-          const bool coplanar = std::all_of(
-              faces.corners.begin() + faces.corner_start[g],
-              faces.corners.begin() + faces.corner_start[g + 1],
-              [&](int v) { return std::abs(n.dot(hull.points[v]) - d) <= tolerance; });
+          const bool coplanar =
+              std::all_of(faces.corners.begin() + faces.corner_start[g],
+                          faces.corners.begin() + faces.corner_start[g + 1],
+                          [&](int v) { return std::abs(n.dot(hull.points[v]) - d) <= tolerance; });
           if (!coplanar) continue;
           group_of[g] = group;
           queue.push_back(g);
@@ -511,8 +511,8 @@ double MaxOverExtremePoints(const TriangulatedHull& hull, const std::vector<char
 
 }  // namespace
 
-ConvexHull ComputeConvexHull(const std::vector<Eigen::Vector3d>& points,
-                             const std::string& source, ConvexHullStageTimes* stage_times) {
+ConvexHull ComputeConvexHull(const std::vector<Eigen::Vector3d>& points, const std::string& source,
+                             ConvexHullStageTimes* stage_times) {
   // validate before any work
   if (points.size() < 4) {
     throw InputError(fmt::format(
@@ -537,8 +537,8 @@ ConvexHull ComputeConvexHull(const std::vector<Eigen::Vector3d>& points,
   CheckFullDimensional(cgal_points, source);
   const double diagonal = (upper - lower).norm();
   const double tolerance = kCoplanarTolerance * diagonal;
-  const double slack = kSupportSlack * std::max(lower.cwiseAbs().maxCoeff(),
-                                                upper.cwiseAbs().maxCoeff());
+  const double slack =
+      kSupportSlack * std::max(lower.cwiseAbs().maxCoeff(), upper.cwiseAbs().maxCoeff());
 
   // exact-predicate hull as outward triangles; the stages are timed only when asked
   const auto clock = [stage_times] { return stage_times != nullptr ? ThreadCpuSeconds() : 0.0; };
@@ -580,8 +580,7 @@ ConvexHull ComputeConvexHull(const std::vector<Eigen::Vector3d>& points,
         return boost::sort::spreadsort::float_mem_cast<double, std::int64_t>(x.first) >> offset;
       },
       [&](const std::pair<double, int>& a, const std::pair<double, int>& b) {
-        return a.first != b.first ? a.first < b.first
-                                  : first_edge(a.second) < first_edge(b.second);
+        return a.first != b.first ? a.first < b.first : first_edge(a.second) < first_edge(b.second);
       });
   std::vector<int> order(num_faces);
   std::vector<int> rank(num_faces);
@@ -654,9 +653,9 @@ ConvexHull ComputeConvexHull(const std::vector<Eigen::Vector3d>& points,
       // a corner has three distinct groups around it
       for (int v = 0; v < num_points; ++v) corner[v] = DistinctAround(exact, group_of, v) >= 3;
       for (int g = 0; g < num_groups; ++g) {
-        const auto corners = std::count_if(loops.begin() + loop_start[g],
-                                           loops.begin() + loop_start[g + 1],
-                                           [&](int v) { return corner[v] != 0; });
+        const auto corners =
+            std::count_if(loops.begin() + loop_start[g], loops.begin() + loop_start[g + 1],
+                          [&](int v) { return corner[v] != 0; });
         if (corners >= 3) continue;
         to_split.push_back(g);
         for (int j = loop_start[g]; j < loop_start[g + 1]; ++j) {
@@ -709,10 +708,10 @@ ConvexHull ComputeConvexHull(const std::vector<Eigen::Vector3d>& points,
     }
   }
 
-  // per face: corner polygon from its smallest corner, normal from that polygon, offset the largest n · v over the extreme points
-  // (canonical, unlike CGAL's extra vertices on faces and edges): over the group's boundary for
-  // a single exact face, whose plane supports the hull; searched over the hull for a merged face,
-  // whose corners may lie inside its plane
+  // per face: corner polygon from its smallest corner, normal from that polygon, offset the largest
+  // n · v over the extreme points (canonical, unlike CGAL's extra vertices on faces and edges):
+  // over the group's boundary for a single exact face, whose plane supports the hull; searched over
+  // the hull for a merged face, whose corners may lie inside its plane
   hull.faces.resize(num_groups);
   hull.normals.resize(num_groups);
   hull.offsets.resize(num_groups);
@@ -757,9 +756,9 @@ ConvexHull ComputeConvexHull(const std::vector<Eigen::Vector3d>& points,
     const int first_face = faces.face_of[group_triangles[group_start[g]]];
     const bool single = faces.triangle_start[first_face + 1] - faces.triangle_start[first_face] ==
                         group_start[g + 1] - group_start[g];
-    hull.offsets[f] = single ? offset
-                             : MaxOverExtremePoints(exact, faces.extreme, n, start, slack,
-                                                    visited, g, queue);
+    hull.offsets[f] =
+        single ? offset
+               : MaxOverExtremePoints(exact, faces.extreme, n, start, slack, visited, g, queue);
   }
 
   // adjacency from the polygons (in memory order, then sorted): each hull edge is walked once in

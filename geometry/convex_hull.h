@@ -13,11 +13,11 @@ namespace ecpsim::geometry {
 
 /// A convex polyhedron as both vertex/face lists and the half-space system n_i · y ≤ d_i.
 struct ConvexHull {
-  std::vector<Eigen::Vector3d> vertices;       // m
-  std::vector<std::vector<int>> faces;         // polygons, counter-clockwise seen from outside
-  std::vector<Eigen::Vector3d> normals;        // unit outward normal of each face
-  std::vector<double> offsets;                 // d_i: n_i · y ≤ d_i inside, m
-  std::vector<std::vector<int>> vertex_faces;  // faces incident to each vertex (≥ 3 each)
+  std::vector<Eigen::Vector3d> vertices;           // m
+  std::vector<std::vector<int>> faces;             // polygons, counter-clockwise seen from outside
+  std::vector<Eigen::Vector3d> normals;            // unit outward normal of each face
+  std::vector<double> offsets;                     // d_i: n_i · y ≤ d_i inside, m
+  std::vector<std::vector<int>> vertex_faces;      // faces incident to each vertex (≥ 3 each)
   std::vector<std::vector<int>> vertex_neighbors;  // vertices joined to each vertex by a hull edge
 };
 

@@ -29,8 +29,8 @@ void Support(const void* object, const ccd_vec3_t* direction, ccd_vec3_t* point)
 // GJK's first direction: the line of the shapes' origins, which for two boxes side by side is
 // the separating axis at once
 void FirstDirection(const void* a, const void* b, ccd_vec3_t* direction) {
-  const Eigen::Vector3d d = static_cast<const PosedShape*>(b)->p -
-                            static_cast<const PosedShape*>(a)->p;
+  const Eigen::Vector3d d =
+      static_cast<const PosedShape*>(b)->p - static_cast<const PosedShape*>(a)->p;
   if (d.squaredNorm() > 0) {
     ccdVec3Set(direction, d.x(), d.y(), d.z());
   } else {
@@ -61,7 +61,8 @@ AxisSeparation BestSeparatingAxis(const ConvexShape& a, const Eigen::Isometry3d&
   AxisSeparation best;
   const auto try_axis = [&](const Eigen::Vector3d& u) {
     if (!(u.squaredNorm() > 0)) return;
-    for (const Eigen::Vector3d& axis : {Eigen::Vector3d(u.normalized()), Eigen::Vector3d(-u.normalized())}) {
+    for (const Eigen::Vector3d& axis :
+         {Eigen::Vector3d(u.normalized()), Eigen::Vector3d(-u.normalized())}) {
       const AxisSeparation candidate = SeparationAlong(a, X_a, b, X_b, axis);
       if (candidate.separation > best.separation) best = candidate;
     }

@@ -5,8 +5,8 @@
 #include <string>
 #include <utility>
 
-#include <Eigen/Geometry>
 #include <fmt/format.h>
+#include <Eigen/Geometry>
 
 #include "common/errors.h"
 
@@ -37,8 +37,8 @@ void CheckPositive(double value, const char* what, const char* unit) {
 
 void CheckSegments(int segments, const char* shape) {
   if (segments < 3) {
-    throw InputError(fmt::format("{} tessellation: segments = {}: expected at least 3", shape,
-                                 segments));
+    throw InputError(
+        fmt::format("{} tessellation: segments = {}: expected at least 3", shape, segments));
   }
 }
 
@@ -168,8 +168,8 @@ class CylinderShape final : public ConvexShape {
     for (double s : {-half_length_, half_length_}) {
       for (int i = 0; i < segments; ++i) {
         const double phi = 2 * EIGEN_PI * i / segments;
-        mesh.vertices.push_back(frame * Eigen::Vector3d(radius_ * std::cos(phi),
-                                                        radius_ * std::sin(phi), s));
+        mesh.vertices.push_back(
+            frame * Eigen::Vector3d(radius_ * std::cos(phi), radius_ * std::sin(phi), s));
       }
     }
     const int bottom_centre = 2 * segments;
@@ -207,7 +207,8 @@ class CylinderShape final : public ConvexShape {
 class EllipsoidShape final : public ConvexShape {
  public:
   explicit EllipsoidShape(const Eigen::Vector3d& radii)
-      : radii_(radii), inverse_squared_(radii.cwiseAbs2().cwiseInverse()),
+      : radii_(radii),
+        inverse_squared_(radii.cwiseAbs2().cwiseInverse()),
         scale_(radii.minCoeff() / 2) {}
 
   int NumConstraints() const override { return 1; }
@@ -432,8 +433,8 @@ std::shared_ptr<PolyhedralShape> MakeBox(const Eigen::Vector3d& half_extents) {
   }
   std::vector<Eigen::Vector3d> corners;
   for (int k = 0; k < 8; ++k) {
-    corners.push_back(half_extents.cwiseProduct(
-        Eigen::Vector3d(k & 1 ? 1 : -1, k & 2 ? 1 : -1, k & 4 ? 1 : -1)));
+    corners.push_back(
+        half_extents.cwiseProduct(Eigen::Vector3d(k & 1 ? 1 : -1, k & 2 ? 1 : -1, k & 4 ? 1 : -1)));
   }
   return std::make_shared<PolyhedralShape>(ComputeConvexHull(corners, "box"));
 }
@@ -441,9 +442,10 @@ std::shared_ptr<PolyhedralShape> MakeBox(const Eigen::Vector3d& half_extents) {
 std::shared_ptr<PolyhedralShape> MakeHalfSpace(const Eigen::Vector3d& normal, double offset) {
   const double norm = normal.norm();
   if (!normal.allFinite() || !(norm > 0) || !std::isfinite(norm)) {
-    throw InputError(fmt::format("half-space normal = ({}, {}, {}): expected a finite, non-zero "
-                                 "vector",
-                                 normal.x(), normal.y(), normal.z()));
+    throw InputError(
+        fmt::format("half-space normal = ({}, {}, {}): expected a finite, non-zero "
+                    "vector",
+                    normal.x(), normal.y(), normal.z()));
   }
   if (!std::isfinite(offset)) {
     throw InputError(fmt::format("half-space offset = {}: expected a finite value in m", offset));
@@ -463,8 +465,7 @@ std::shared_ptr<ConvexShape> MakeCylinder(double radius, double length, int axis
   CheckPositive(radius, "cylinder radius", "m");
   CheckPositive(length, "cylinder length", "m");
   if (axis < 0 || axis > 2) {
-    throw InputError(
-        fmt::format("cylinder axis = {}: expected 0 (x), 1 (y) or 2 (z)", axis));
+    throw InputError(fmt::format("cylinder axis = {}: expected 0 (x), 1 (y) or 2 (z)", axis));
   }
   return std::make_shared<CylinderShape>(radius, length, axis);
 }

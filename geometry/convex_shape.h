@@ -76,7 +76,7 @@ class PolyhedralShape final : public ConvexShape {
   int LowestIndexMaximumNear(const Eigen::Vector3d& direction, int v, double best) const;
 
   ConvexHull hull_;
-  double radius_ = 0;                    // m, the largest |vertex|: the scale of near-ties
+  double radius_ = 0;  // m, the largest |vertex|: the scale of near-ties
   // hill-climbing start; a cache that never changes results. Atomic (relaxed): scenes are shared
   // by simulations on several threads, and any value it holds is a valid start
   mutable std::atomic<int> last_support_vertex_{0};

@@ -10,12 +10,12 @@
 namespace ecpsim::geometry {
 
 struct MassProperties {
-  double volume = 0;                   // m³
-  double mass = 0;                     // kg
-  Eigen::Vector3d center_of_mass;      // m, in the mesh frame
-  Eigen::Matrix3d inertia;             // kg·m², about the centre of mass, mesh-frame axes
-  Eigen::Vector3d principal_moments;   // kg·m², ascending
-  Eigen::Matrix3d principal_axes;      // columns: unit axes of principal_moments, right-handed
+  double volume = 0;                  // m³
+  double mass = 0;                    // kg
+  Eigen::Vector3d center_of_mass;     // m, in the mesh frame
+  Eigen::Matrix3d inertia;            // kg·m², about the centre of mass, mesh-frame axes
+  Eigen::Vector3d principal_moments;  // kg·m², ascending
+  Eigen::Matrix3d principal_axes;     // columns: unit axes of principal_moments, right-handed
 };
 
 /// Mass properties of the solid bounded by `mesh` (metres) at uniform `density` (kg/m³).

@@ -16,9 +16,9 @@
 #include <utility>
 #include <vector>
 
-#include <assimp/Exporter.hpp>
 #include <assimp/scene.h>
 #include <fmt/format.h>
+#include <assimp/Exporter.hpp>
 
 #include "common/atomic_file.h"
 #include "common/errors.h"

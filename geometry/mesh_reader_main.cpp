@@ -24,12 +24,12 @@
 #include <unordered_set>
 #include <vector>
 
-#include <Eigen/Core>
-#include <Eigen/LU>
-#include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 #include <fmt/format.h>
+#include <Eigen/Core>
+#include <Eigen/LU>
+#include <assimp/Importer.hpp>
 
 #include "geometry/mesh_stream.h"
 

@@ -11,10 +11,10 @@ namespace ecpsim::geometry {
 /// @throws InputError for non-positive sizes, feet wider than half the top, or
 ///         com_height ≤ top_thickness / 2.
 struct DeskParams {
-  double top_size = 0.5;      // m, top is top_size × top_size
-  double foot_size = 0.06;    // m, each foot is foot_size × foot_size
-  double top_thickness = 0.05;// m
-  double com_height = 0.45;   // m, the total height is solved for this
+  double top_size = 0.5;        // m, top is top_size × top_size
+  double foot_size = 0.06;      // m, each foot is foot_size × foot_size
+  double top_thickness = 0.05;  // m
+  double com_height = 0.45;     // m, the total height is solved for this
 };
 TriangleMesh MakeDeskMesh(const DeskParams& params = {});
 
@@ -22,11 +22,11 @@ TriangleMesh MakeDeskMesh(const DeskParams& params = {});
 /// so that its centre of mass is at (0, 0, thickness/2).
 /// @throws InputError for non-positive sizes or stem_width ≥ bar_length.
 struct TBarParams {
-  double bar_length = 0.4;    // m (along x)
-  double bar_width = 0.1;     // m
-  double stem_length = 0.3;   // m (along −y, below the bar)
-  double stem_width = 0.1;    // m
-  double thickness = 0.05;    // m
+  double bar_length = 0.4;   // m (along x)
+  double bar_width = 0.1;    // m
+  double stem_length = 0.3;  // m (along −y, below the bar)
+  double stem_width = 0.1;   // m
+  double thickness = 0.05;   // m
 };
 TriangleMesh MakeTBarMesh(const TBarParams& params = {});
 
@@ -37,11 +37,11 @@ TriangleMesh MakeTBarMesh(const TBarParams& params = {});
 /// @throws InputError for non-positive sizes, bar_length ≥ length, bar_radius ≥ radius or
 ///         segments < 3.
 struct DumbbellParams {
-  double length = 0.3;        // L, m, overall
-  double bar_length = 0.18;   // L_b, m
-  double radius = 0.1;        // R, m, end discs
-  double bar_radius = 0.05;   // R_b, m
-  int segments = 96;          // around the axis
+  double length = 0.3;       // L, m, overall
+  double bar_length = 0.18;  // L_b, m
+  double radius = 0.1;       // R, m, end discs
+  double bar_radius = 0.05;  // R_b, m
+  int segments = 96;         // around the axis
 };
 TriangleMesh MakeDumbbellMesh(const DumbbellParams& params = {});
 

@@ -23,14 +23,14 @@
 #include <pybind11/stl.h>
 
 #include "common/errors.h"
+#include "engine/report/trajectory_columns.h"
 #include "engine/scene_io/mesh_report.h"
 #include "engine/scene_io/mesh_scale.h"
 #include "engine/scene_io/scene_builders.h"
-#include "engine/scene_limits.h"
 #include "engine/scene_io/scene_validation.h"
 #include "engine/scene_io/scene_yaml.h"
+#include "engine/scene_limits.h"
 #include "engine/time_step.h"
-#include "engine/report/trajectory_columns.h"
 #include "geometry/convex_hull.h"
 #include "geometry/convex_shape.h"
 #include "geometry/mass_properties.h"
@@ -87,8 +87,8 @@ double ToDouble(const py::handle& value, const std::string& what) {
   try {
     return value.cast<double>();
   } catch (const py::cast_error&) {
-    throw InputError(fmt::format("{} = {}: expected a number", what,
-                                 py::repr(value).cast<std::string>()));
+    throw InputError(
+        fmt::format("{} = {}: expected a number", what, py::repr(value).cast<std::string>()));
   }
 }
 
@@ -138,7 +138,8 @@ Eigen::Quaterniond ToQuaternion(const py::object& quaternion, const std::string&
 std::string YamlText(const py::handle& value) {
   if (py::isinstance<py::bool_>(value)) return value.cast<bool>() ? "true" : "false";
   if (py::isinstance<py::int_>(value)) return py::str(value).cast<std::string>();
-  if (py::isinstance<py::float_>(value) || py::isinstance(value, py::module_::import("numpy").attr("floating"))) {
+  if (py::isinstance<py::float_>(value) ||
+      py::isinstance(value, py::module_::import("numpy").attr("floating"))) {
     const double x = value.cast<double>();
     if (std::isnan(x)) return ".nan";
     if (std::isinf(x)) return x > 0 ? ".inf" : "-.inf";
@@ -175,9 +176,10 @@ std::vector<std::string> Overrides(const py::object& overrides) {
     return result;
   }
   if (py::isinstance<py::str>(overrides)) {
-    throw InputError(fmt::format("overrides = {}: expected a dict {{\"key\": value}} or a list of "
-                                 "\"key=value\" strings",
-                                 py::repr(overrides).cast<std::string>()));
+    throw InputError(
+        fmt::format("overrides = {}: expected a dict {{\"key\": value}} or a list of "
+                    "\"key=value\" strings",
+                    py::repr(overrides).cast<std::string>()));
   }
   for (const auto& item : overrides) result.push_back(py::str(item).cast<std::string>());
   return result;
@@ -212,8 +214,8 @@ py::dict BodyDict(const engine::Body& body) {
 }
 
 std::string ContactName(const engine::Scene& scene, const engine::ContactPair& pair) {
-  const std::string& other = pair.WithBody() ? scene.bodies[pair.other_body].name
-                                             : scene.obstacles[pair.obstacle].name;
+  const std::string& other =
+      pair.WithBody() ? scene.bodies[pair.other_body].name : scene.obstacles[pair.obstacle].name;
   return scene.bodies[pair.body].name + "." + other;
 }
 
@@ -225,8 +227,8 @@ int FieldWidth(BodyField field) { return field == BodyField::kQuaternion ? 4 : 3
 
 py::array_t<double> BodyArray(const engine::State& state, BodyField field) {
   const int width = FieldWidth(field);
-  py::array_t<double> a({static_cast<py::ssize_t>(state.bodies.size()),
-                         static_cast<py::ssize_t>(width)});
+  py::array_t<double> a(
+      {static_cast<py::ssize_t>(state.bodies.size()), static_cast<py::ssize_t>(width)});
   auto out = a.mutable_unchecked<2>();
   for (size_t b = 0; b < state.bodies.size(); ++b) {
     const engine::BodyState& s = state.bodies[b];
@@ -238,7 +240,7 @@ py::array_t<double> BodyArray(const engine::State& state, BodyField field) {
       case BodyField::kQuaternion:
         // w, x, y, z: the CSV's qw qx qy qz
         out(i, 0) = s.Q_WB.w(), out(i, 1) = s.Q_WB.x(), out(i, 2) = s.Q_WB.y(),
-        out(i, 3) = s.Q_WB.z();
+               out(i, 3) = s.Q_WB.z();
         break;
       case BodyField::kVelocity:
         for (int k = 0; k < 3; ++k) out(i, k) = s.v_WB[k];
@@ -273,8 +275,8 @@ void SetBodyArray(const engine::Scene& scene, engine::State& state, BodyField fi
   const auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(value);
   const size_t n = state.bodies.size();
   if (!a || a.ndim() != 2 || a.shape(0) != static_cast<py::ssize_t>(n) || a.shape(1) != width) {
-    throw InputError(fmt::format("{}: expected an array of shape ({}, {})", FieldName(field), n,
-                                 width));
+    throw InputError(
+        fmt::format("{}: expected an array of shape ({}, {})", FieldName(field), n, width));
   }
   const auto in = a.unchecked<2>();
   std::vector<engine::BodyState> bodies = state.bodies;
@@ -284,9 +286,10 @@ void SetBodyArray(const engine::Scene& scene, engine::State& state, BodyField fi
     if (field == BodyField::kQuaternion) {
       const Eigen::Quaterniond q(in(i, 0), in(i, 1), in(i, 2), in(i, 3));
       if (!q.coeffs().allFinite() || q.norm() == 0) {
-        throw InputError(fmt::format("quaternions[{}] ({}): expected a finite, non-zero "
-                                     "quaternion (w, x, y, z)",
-                                     b, scene.bodies[b].name));
+        throw InputError(
+            fmt::format("quaternions[{}] ({}): expected a finite, non-zero "
+                        "quaternion (w, x, y, z)",
+                        b, scene.bodies[b].name));
       }
       s.Q_WB = q.normalized();
       continue;
@@ -306,9 +309,10 @@ void SetBodyArray(const engine::Scene& scene, engine::State& state, BodyField fi
     const bool same = now.p_WB == next.p_WB && now.Q_WB.coeffs() == next.Q_WB.coeffs() &&
                       now.v_WB == next.v_WB && now.w_WB == next.w_WB;
     if (scene.bodies[b].IsKinematic() && !same) {
-      throw InputError(fmt::format("{}[{}]: body '{}' is kinematic: expected its row unchanged "
-                                   "(set_kinematic_target moves it)",
-                                   FieldName(field), b, scene.bodies[b].name));
+      throw InputError(
+          fmt::format("{}[{}]: body '{}' is kinematic: expected its row unchanged "
+                      "(set_kinematic_target moves it)",
+                      FieldName(field), b, scene.bodies[b].name));
     }
   }
   state.bodies = std::move(bodies);
@@ -334,7 +338,8 @@ py::dict ReportDict(const engine::Scene& scene, const engine::StepReport& report
 const char* ContactMode(const engine::Scene& scene, const engine::State& state,
                         const engine::ContactPair& pair, const engine::ContactState& c) {
   const engine::Body& body = scene.bodies[pair.body];
-  const double velocity_scale = scene.gravity.norm() * scene.h + state.bodies[pair.body].v_WB.norm();
+  const double velocity_scale =
+      scene.gravity.norm() * scene.h + state.bodies[pair.body].v_WB.norm();
   if (c.p_n <= kSeparatedImpulseFraction * body.mass * velocity_scale) return "separated";
   return c.sigma > kSlidingSlipFraction * velocity_scale ? "sliding" : "sticking";
 }
@@ -349,8 +354,8 @@ py::list ContactList(const engine::Scene& scene, const engine::State& state,
     py::dict d;
     d["name"] = ContactName(scene, pair);
     d["body"] = scene.bodies[pair.body].name;
-    d["other"] = pair.WithBody() ? scene.bodies[pair.other_body].name
-                                 : scene.obstacles[pair.obstacle].name;
+    d["other"] =
+        pair.WithBody() ? scene.bodies[pair.other_body].name : scene.obstacles[pair.obstacle].name;
     d["other_is_body"] = pair.WithBody();
     d["a1"] = Array(c.a1);
     d["a2"] = Array(c.a2);
@@ -388,8 +393,7 @@ struct RenderCache {
 };
 
 struct PySimulation {
-  explicit PySimulation(SceneHandle scene_handle)
-      : scene(std::move(scene_handle)), sim(scene) {}
+  explicit PySimulation(SceneHandle scene_handle) : scene(std::move(scene_handle)), sim(scene) {}
   SceneHandle scene;
   Simulation sim;
   // one thread at a time in `sim` (stepping and rendering run without the GIL)
@@ -409,9 +413,10 @@ render::CameraSpec CameraOf(const engine::Scene& scene, const py::object& camera
     return spec;
   }
   if (!py::isinstance<py::dict>(camera)) {
-    throw InputError(fmt::format("camera = {}: expected None (the scene's camera) or a dict with "
-                                 "position, target, and optionally up and fov (degrees)",
-                                 py::repr(camera).cast<std::string>()));
+    throw InputError(
+        fmt::format("camera = {}: expected None (the scene's camera) or a dict with "
+                    "position, target, and optionally up and fov (degrees)",
+                    py::repr(camera).cast<std::string>()));
   }
   spec.automatic = false;
   spec.position = scene.output.camera_position;
@@ -428,8 +433,8 @@ render::CameraSpec CameraOf(const engine::Scene& scene, const py::object& camera
     } else if (key == "fov") {
       spec.fov_y_deg = item.second.cast<double>();
     } else {
-      throw InputError(fmt::format("camera.{}: unknown key; expected position, target, up or fov",
-                                   key));
+      throw InputError(
+          fmt::format("camera.{}: unknown key; expected position, target, up or fov", key));
     }
   }
   return spec;
@@ -463,8 +468,8 @@ py::array_t<std::uint8_t> Render(PySimulation& self, int width, int height,
     if (!cache.frames) {
       cache.frames = std::make_unique<render::SceneFrameBuilder>(self.sim.scene());
     }
-    render::FrameInput frame = cache.frames->Build(self.sim.state(), self.sim.last_report().iterations,
-                                                           self.sim.last_report().models);
+    render::FrameInput frame = cache.frames->Build(
+        self.sim.state(), self.sim.last_report().iterations, self.sim.last_report().models);
     frame.camera = spec;
     frame.show.hull = frame.show.inset = frame.show.text = frame.show.force_arrow = overlays;
     image = cache.renderer->Render(frame);
@@ -481,7 +486,8 @@ class DictReader {
  public:
   DictReader(const py::handle& value, std::string key) : key_(std::move(key)) {
     if (!py::isinstance<py::dict>(value)) {
-      throw InputError(fmt::format("{} = {}: expected a dict", key_, py::repr(value).cast<std::string>()));
+      throw InputError(
+          fmt::format("{} = {}: expected a dict", key_, py::repr(value).cast<std::string>()));
     }
     dict_ = value.cast<py::dict>();
   }
@@ -564,7 +570,8 @@ engine::Body ReadBody(const py::handle& value, const std::string& key,
   }
   body.p0 = d.Vector("position", Vector3d::Zero());
   if (d.Has("quaternion")) {
-    const auto q = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(d.Get("quaternion"));
+    const auto q =
+        py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(d.Get("quaternion"));
     if (!q || q.ndim() != 1 || q.shape(0) != 4) {
       throw InputError(fmt::format("{}: expected 4 numbers (w, x, y, z)", d.Key("quaternion")));
     }
@@ -636,10 +643,12 @@ std::shared_ptr<engine::Scene> MakeScene(const py::list& bodies, const py::objec
   scene.duration = duration;
   scene.gravity = ToVector3(gravity, "gravity");
   const engine::Friction ground_friction =
-      friction.is_none() ? engine::Friction{} : ReadFriction(friction, "friction", engine::Friction{});
+      friction.is_none() ? engine::Friction{}
+                         : ReadFriction(friction, "friction", engine::Friction{});
   // obstacles: half-spaces n · x ≤ offset; by default the ground z ≤ 0
   if (obstacles.is_none()) {
-    scene.obstacles.push_back({"ground", geometry::MakeHalfSpace(Vector3d::UnitZ(), 0), ground_friction});
+    scene.obstacles.push_back(
+        {"ground", geometry::MakeHalfSpace(Vector3d::UnitZ(), 0), ground_friction});
   } else {
     int i = 0;
     for (const auto& item : obstacles) {
@@ -653,8 +662,9 @@ std::shared_ptr<engine::Scene> MakeScene(const py::list& bodies, const py::objec
                                      d.Key("normal"), normal.x(), normal.y(), normal.z()));
       }
       obstacle.shape = geometry::MakeHalfSpace(normal.normalized(), d.Number("offset", 0));
-      obstacle.friction = d.Has("friction") ? ReadFriction(d.Get("friction"), d.Key("friction"), ground_friction)
-                                            : ground_friction;
+      obstacle.friction = d.Has("friction")
+                              ? ReadFriction(d.Get("friction"), d.Key("friction"), ground_friction)
+                              : ground_friction;
       d.Finish();
       scene.obstacles.push_back(obstacle);
     }
@@ -662,14 +672,15 @@ std::shared_ptr<engine::Scene> MakeScene(const py::list& bodies, const py::objec
   // bodies; each dynamic one touches every obstacle with the obstacle's friction under its own
   std::vector<py::object> own(bodies.size(), py::none());
   for (size_t b = 0; b < bodies.size(); ++b) {
-    scene.bodies.push_back(ReadBody(bodies[b], fmt::format("bodies[{}]", b),
-                                    scene.obstacles.empty() ? ground_friction : scene.obstacles[0].friction,
-                                    own[b]));
+    scene.bodies.push_back(
+        ReadBody(bodies[b], fmt::format("bodies[{}]", b),
+                 scene.obstacles.empty() ? ground_friction : scene.obstacles[0].friction, own[b]));
   }
   for (size_t b = 0; b < scene.bodies.size(); ++b) {
     if (scene.bodies[b].IsKinematic()) continue;
     for (size_t o = 0; o < scene.obstacles.size(); ++o) {
-      engine::ContactPair pair{static_cast<int>(b), static_cast<int>(o), scene.obstacles[o].friction};
+      engine::ContactPair pair{static_cast<int>(b), static_cast<int>(o),
+                               scene.obstacles[o].friction};
       if (!own[b].is_none()) {
         pair.friction = ReadFriction(own[b], fmt::format("bodies[{}].friction", b), pair.friction);
       }
@@ -679,14 +690,18 @@ std::shared_ptr<engine::Scene> MakeScene(const py::list& bodies, const py::objec
   engine::AddBodyPairs(scene);
   if (!loads.is_none()) {
     int i = 0;
-    for (const auto& item : loads) scene.loads.push_back(ReadLoad(scene, item, fmt::format("loads[{}]", i++)));
+    for (const auto& item : loads)
+      scene.loads.push_back(ReadLoad(scene, item, fmt::format("loads[{}]", i++)));
   }
   const std::map<std::string, engine::ContactModel> models = {
-      {"auto", engine::ContactModel::kAuto}, {"hull", engine::ContactModel::kHull},
+      {"auto", engine::ContactModel::kAuto},
+      {"hull", engine::ContactModel::kHull},
       {"planar", engine::ContactModel::kPlanar},
-      {"multipatch", engine::ContactModel::kMultiPatch}, {"point", engine::ContactModel::kPoint}};
+      {"multipatch", engine::ContactModel::kMultiPatch},
+      {"point", engine::ContactModel::kPoint}};
   if (models.count(model) == 0) {
-    throw InputError(fmt::format("model = {}: expected auto, hull, planar, multipatch or point", model));
+    throw InputError(
+        fmt::format("model = {}: expected auto, hull, planar, multipatch or point", model));
   }
   scene.model = models.at(model);
   // the checks every scene passes, a file's too (engine/scene_io/scene_validation.h)
@@ -723,8 +738,8 @@ py::dict Run(const SceneHandle& scene, const py::object& duration_arg, long ever
       // never a NaN in an output (as trajectory.csv's writer)
       for (size_t i = 0; i < row.size(); ++i) {
         if (!std::isfinite(row[i])) {
-          throw engine::SolverFailure(fmt::format("t = {} s: {} = {} is not finite", state.t,
-                                                  columns[i], row[i]));
+          throw engine::SolverFailure(
+              fmt::format("t = {} s: {} = {} is not finite", state.t, columns[i], row[i]));
         }
       }
       rows.insert(rows.end(), row.begin(), row.end());
@@ -758,12 +773,11 @@ py::dict Hull(const std::string& path, const std::optional<double>& scale,
               const std::optional<std::string>& units, const std::optional<double>& mass,
               const std::optional<double>& density) {
   if (mass && density) {
-    throw InputError(fmt::format("hull({}): mass = {} and density = {}: expected one of them",
-                                 path, *mass, *density));
+    throw InputError(fmt::format("hull({}): mass = {} and density = {}: expected one of them", path,
+                                 *mass, *density));
   }
-  for (const auto& [value, range, key] :
-       {std::tuple{mass, engine::kMassRange, "mass"},
-        std::tuple{density, engine::kDensityRange, "density"}}) {
+  for (const auto& [value, range, key] : {std::tuple{mass, engine::kMassRange, "mass"},
+                                          std::tuple{density, engine::kDensityRange, "density"}}) {
     if (value && !engine::OutOfRange(*value, range).empty()) {
       throw InputError(fmt::format("hull({}): {} = {}: expected {}", path, key, *value,
                                    engine::OutOfRange(*value, range)));
@@ -786,7 +800,8 @@ py::dict Hull(const std::string& path, const std::optional<double>& scale,
     for (int k = 0; k < 3; ++k) A.mutable_at(i, k) = body_hull.normals[i][k];
     b.mutable_at(i) = body_hull.offsets[i];
   }
-  py::array_t<double> vertices({static_cast<py::ssize_t>(body_hull.vertices.size()), py::ssize_t{3}});
+  py::array_t<double> vertices(
+      {static_cast<py::ssize_t>(body_hull.vertices.size()), py::ssize_t{3}});
   for (size_t i = 0; i < body_hull.vertices.size(); ++i) {
     for (int k = 0; k < 3; ++k) vertices.mutable_at(i, k) = body_hull.vertices[i][k];
   }
@@ -847,16 +862,19 @@ PYBIND11_MODULE(ecpsim, m) {
       m, "Scene",
       "An immutable, validated scene (bodies, obstacles, contacts, loads, settings). Make one with "
       "load_scene(); a Simulation steps it.")
-      .def_property_readonly("source", [](const engine::Scene& s) { return s.source; },
-                             "The file the scene was read from.")
-      .def_property_readonly("h", [](const engine::Scene& s) { return s.h; }, "Time step, s.")
-      .def_property_readonly("duration", [](const engine::Scene& s) { return s.duration; },
-                             "Duration of run(), s.")
-      .def_property_readonly("gravity", [](const engine::Scene& s) { return Array(s.gravity); },
-                             "Gravity (3,), m/s², world frame.")
-      .def_property_readonly("model",
-                             [](const engine::Scene& s) { return engine::ContactModelName(s.model); },
-                             "The contact model: auto, hull, planar, multipatch or point.")
+      .def_property_readonly(
+          "source", [](const engine::Scene& s) { return s.source; },
+          "The file the scene was read from.")
+      .def_property_readonly(
+          "h", [](const engine::Scene& s) { return s.h; }, "Time step, s.")
+      .def_property_readonly(
+          "duration", [](const engine::Scene& s) { return s.duration; }, "Duration of run(), s.")
+      .def_property_readonly(
+          "gravity", [](const engine::Scene& s) { return Array(s.gravity); },
+          "Gravity (3,), m/s², world frame.")
+      .def_property_readonly(
+          "model", [](const engine::Scene& s) { return engine::ContactModelName(s.model); },
+          "The contact model: auto, hull, planar, multipatch or point.")
       .def_property_readonly(
           "body_names",
           [](const engine::Scene& s) {
@@ -897,7 +915,7 @@ PYBIND11_MODULE(ecpsim, m) {
               d["jaws"] = py::make_tuple(s.bodies[g.jaws[0]].name, s.bodies[g.jaws[1]].name);
               d["axis"] = Array(g.axis);
               d["force"] = g.force.expression().empty() ? py::cast(g.force(0))
-                                                         : py::cast(g.force.expression());
+                                                        : py::cast(g.force.expression());
               list.append(d);
             }
             return list;
@@ -908,12 +926,14 @@ PYBIND11_MODULE(ecpsim, m) {
           "contact_names",
           [](const engine::Scene& s) {
             std::vector<std::string> names;
-            for (const engine::ContactPair& pair : s.contacts) names.push_back(ContactName(s, pair));
+            for (const engine::ContactPair& pair : s.contacts)
+              names.push_back(ContactName(s, pair));
             return names;
           },
           "Names 'body.other' of the potential contacts, in the order of Simulation.contacts().")
-      .def_property_readonly("warnings", [](const engine::Scene& s) { return s.warnings; },
-                             "Notes from loading that are no errors (a mesh of implausible size).")
+      .def_property_readonly(
+          "warnings", [](const engine::Scene& s) { return s.warnings; },
+          "Notes from loading that are no errors (a mesh of implausible size).")
       .def("__repr__", [](const engine::Scene& s) {
         return fmt::format("<ecpsim.Scene '{}': {} bodies, {} obstacles, h = {} s, model {}>",
                            s.source, s.bodies.size(), s.obstacles.size(), s.h,
@@ -938,25 +958,28 @@ PYBIND11_MODULE(ecpsim, m) {
       "A saved simulation state (Simulation.get_state()): time, poses, velocities and the "
       "contacts' solutions and warm starts. Simulation.set_state() continues from it bit for bit, "
       "also after copy.copy() or a pickle round trip (to another process or machine).")
-      .def_property_readonly("time", [](const engine::State& s) { return s.t; }, "s")
-      .def_property_readonly("steps", [](const engine::State& s) { return s.steps; },
-                             "Steps taken since t = 0.")
-      .def_property_readonly("positions",
-                             [](const engine::State& s) { return BodyArray(s, BodyField::kPosition); },
-                             "(n, 3) centres of mass, m.")
       .def_property_readonly(
-          "quaternions", [](const engine::State& s) { return BodyArray(s, BodyField::kQuaternion); },
+          "time", [](const engine::State& s) { return s.t; }, "s")
+      .def_property_readonly(
+          "steps", [](const engine::State& s) { return s.steps; }, "Steps taken since t = 0.")
+      .def_property_readonly(
+          "positions", [](const engine::State& s) { return BodyArray(s, BodyField::kPosition); },
+          "(n, 3) centres of mass, m.")
+      .def_property_readonly(
+          "quaternions",
+          [](const engine::State& s) { return BodyArray(s, BodyField::kQuaternion); },
           "(n, 4) orientations body → world, (w, x, y, z).")
-      .def_property_readonly("velocities",
-                             [](const engine::State& s) { return BodyArray(s, BodyField::kVelocity); },
-                             "(n, 3) m/s.")
+      .def_property_readonly(
+          "velocities", [](const engine::State& s) { return BodyArray(s, BodyField::kVelocity); },
+          "(n, 3) m/s.")
       .def_property_readonly(
           "angular_velocities",
           [](const engine::State& s) { return BodyArray(s, BodyField::kAngularVelocity); },
           "(n, 3) rad/s, world frame.")
       .def("__copy__", [](const engine::State& s) { return engine::State(s); })
-      .def("__deepcopy__", [](const engine::State& s, py::dict) { return engine::State(s); },
-           py::arg("memo"))
+      .def(
+          "__deepcopy__", [](const engine::State& s, py::dict) { return engine::State(s); },
+          py::arg("memo"))
       // pickle (multiprocessing, Dask): plain Python values, the doubles bit for bit
       .def(py::pickle(&StateToTuple, &StateFromTuple));
 
@@ -965,7 +988,8 @@ PYBIND11_MODULE(ecpsim, m) {
       "One simulation of a Scene, stepped from Python (MuJoCo's MjData with mj_step). Per-body "
       "arrays follow body_names; quaternions are (w, x, y, z) as in trajectory.csv. step() and "
       "render() release the GIL: separate Simulations run in parallel threads.");
-  sim.def(py::init([](SceneHandle scene) { return std::make_unique<PySimulation>(std::move(scene)); }),
+  sim.def(py::init(
+              [](SceneHandle scene) { return std::make_unique<PySimulation>(std::move(scene)); }),
           py::arg("scene"), "Starts at the scene's initial state.")
       .def(
           "step",
@@ -987,8 +1011,8 @@ PYBIND11_MODULE(ecpsim, m) {
             self.sim.Reset();
           },
           "Back to the initial state; pending wrenches and kinematic targets dropped.")
-      .def_property_readonly("scene", [](const PySimulation& self) { return self.scene; },
-                             "The Scene given.")
+      .def_property_readonly(
+          "scene", [](const PySimulation& self) { return self.scene; }, "The Scene given.")
       .def_property_readonly(
           "time",
           [](PySimulation& self) {
@@ -1017,7 +1041,8 @@ PYBIND11_MODULE(ecpsim, m) {
             const std::lock_guard<std::mutex> lock(self.mutex);
             return ReportDict(self.sim.scene(), self.sim.last_report());
           },
-          "The last step's {converged, iterations, residual, retries, substeps, models}: models maps "
+          "The last step's {converged, iterations, residual, retries, substeps, models}: models "
+          "maps "
           "each body's name to what solved its step (free, planar, hull, multipatch, point, "
           "kinematic).")
       .def(
@@ -1043,7 +1068,8 @@ PYBIND11_MODULE(ecpsim, m) {
             const std::lock_guard<std::mutex> lock(self.mutex);
             const int b = BodyIndex(self.sim.scene(), body, "apply_wrench");
             const std::optional<Vector3d> at_W =
-                at.is_none() ? std::nullopt : std::optional<Vector3d>(ToVector3(at, "apply_wrench: at"));
+                at.is_none() ? std::nullopt
+                             : std::optional<Vector3d>(ToVector3(at, "apply_wrench: at"));
             self.sim.ApplyWrench(b, ToVector3(force, "apply_wrench: force"),
                                  ToVector3(torque, "apply_wrench: torque"), at_W);
           },
@@ -1061,7 +1087,8 @@ PYBIND11_MODULE(ecpsim, m) {
             const int b = BodyIndex(self.sim.scene(), body, "set_kinematic_target");
             engine::KinematicPose pose;
             pose.p = ToVector3(position, "set_kinematic_target: position");
-            pose.q = ToQuaternion(quaternion, "set_kinematic_target", self.sim.state().bodies[b].Q_WB);
+            pose.q =
+                ToQuaternion(quaternion, "set_kinematic_target", self.sim.state().bodies[b].Q_WB);
             self.sim.SetKinematicTarget(b, pose);
           },
           py::arg("body"), py::arg("position"), py::arg("quaternion") = py::none(),

@@ -14,7 +14,9 @@
 namespace ecpsim::python {
 namespace {
 
-std::string Format(const Eigen::Vector3d& v) { return fmt::format("[{}, {}, {}]", v.x(), v.y(), v.z()); }
+std::string Format(const Eigen::Vector3d& v) {
+  return fmt::format("[{}, {}, {}]", v.x(), v.y(), v.z());
+}
 
 // a wrench's vector must be a number the engine's scales can square (scene_limits.h)
 void RequireMagnitude(const Eigen::Vector3d& v, const std::string& what) {
@@ -55,8 +57,8 @@ void RequireFittingWarmStart(const engine::Scene& scene, size_t k, const engine:
   if (static_cast<size_t>(hull->l.size()) != hull->window.size() ||
       static_cast<size_t>(hull->l_g.size()) != g_count ||
       !std::is_sorted(hull->window.begin(), hull->window.end())) {
-    const std::string& other = pair.WithBody() ? scene.bodies[pair.other_body].name
-                                               : scene.obstacles[pair.obstacle].name;
+    const std::string& other =
+        pair.WithBody() ? scene.bodies[pair.other_body].name : scene.obstacles[pair.obstacle].name;
     throw InputError(fmt::format(
         "set_state: contact {} ({}.{}): a hull warm start of {} multipliers for {} hull faces "
         "({}) and {} for G's constraints: expected as many as faces, sorted, and {} for G's (a "
@@ -148,9 +150,10 @@ void Simulation::ApplyWrench(int body, const Eigen::Vector3d& force, const Eigen
   const engine::Body& b = scene_.bodies[static_cast<size_t>(body)];
   const std::string where = fmt::format("apply_wrench(body '{}')", b.name);
   if (b.IsKinematic()) {
-    throw InputError(fmt::format("{}: a kinematic body: expected a dynamic body (a kinematic one "
-                                 "follows its motion; set_kinematic_target moves it)",
-                                 where));
+    throw InputError(
+        fmt::format("{}: a kinematic body: expected a dynamic body (a kinematic one "
+                    "follows its motion; set_kinematic_target moves it)",
+                    where));
   }
   RequireMagnitude(force, where + ": force");
   RequireMagnitude(torque, where + ": torque");
@@ -175,9 +178,10 @@ void Simulation::SetKinematicTarget(int body, const engine::KinematicPose& targe
   engine::Body& b = scene_.bodies[static_cast<size_t>(body)];
   const std::string where = fmt::format("set_kinematic_target(body '{}')", b.name);
   if (!b.IsKinematic()) {
-    throw InputError(fmt::format("{}: a dynamic body: expected a kinematic one (`kinematic: "
-                                 "true`); apply_wrench pushes a dynamic body",
-                                 where));
+    throw InputError(
+        fmt::format("{}: a dynamic body: expected a kinematic one (`kinematic: "
+                    "true`); apply_wrench pushes a dynamic body",
+                    where));
   }
   const engine::BodyState& s = state_.bodies[static_cast<size_t>(body)];
   b.motion = StepTo({s.p_WB, s.Q_WB}, target, state_, scene_.h, where);

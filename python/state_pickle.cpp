@@ -18,7 +18,7 @@ using Eigen::Vector3d;
 constexpr const char* kTag = "ecpsim.State";
 // the layout below; a change of it (say, a new field of State) takes the next number, so an
 // old pickle is refused by name rather than read wrongly
-constexpr int kVersion = 2;  // 2: a hull warm start's trend
+constexpr int kVersion = 2;             // 2: a hull warm start's trend
 constexpr size_t kBodyNumbers = 13;     // p (3), q (w, x, y, z), v (3), w (3)
 constexpr size_t kContactNumbers = 20;  // a1 (3), a2 (3), p_n p_t p_o p_r sigma, n t o (3 each)
 
@@ -38,8 +38,8 @@ Eigen::VectorXd ToEigen(const std::vector<double>& v) {
 std::vector<double> Numbers(const py::handle& value, size_t count, const std::string& what) {
   const auto numbers = value.cast<std::vector<double>>();
   if (numbers.size() != count) {
-    throw InputError(fmt::format("State pickle: {}: {} numbers: expected {}", what,
-                                 numbers.size(), count));
+    throw InputError(
+        fmt::format("State pickle: {}: {} numbers: expected {}", what, numbers.size(), count));
   }
   return numbers;
 }
@@ -47,10 +47,9 @@ std::vector<double> Numbers(const py::handle& value, size_t count, const std::st
 py::object WarmStartTuple(const engine::WarmStart& warm) {
   if (const auto* hull = std::get_if<engine::HullWarmStart>(&warm)) {
     const engine::SolutionTrend& trend = hull->trend;
-    return py::make_tuple("hull", hull->s, ToStd(hull->l_g), hull->window, ToStd(hull->l),
-                          hull->other_window,
-                          py::make_tuple(trend.h, trend.steps, ToStd(trend.first),
-                                         ToStd(trend.second)));
+    return py::make_tuple(
+        "hull", hull->s, ToStd(hull->l_g), hull->window, ToStd(hull->l), hull->other_window,
+        py::make_tuple(trend.h, trend.steps, ToStd(trend.first), ToStd(trend.second)));
   }
   if (const auto* patches = std::get_if<engine::MultiPatchWarmStart>(&warm)) {
     std::vector<std::vector<double>> parts;
@@ -72,8 +71,8 @@ engine::SolutionTrend TrendFromTuple(const py::handle& value, size_t contact) {
   trend.h = t[0].cast<double>();
   trend.steps = t[1].cast<int>();
   if (trend.steps < 0 || trend.steps > 2) {
-    throw InputError(fmt::format("State pickle: {}: steps = {}: expected 0, 1 or 2", what,
-                                 trend.steps));
+    throw InputError(
+        fmt::format("State pickle: {}: steps = {}: expected 0, 1 or 2", what, trend.steps));
   }
   const size_t size = engine::SolutionTrend::kSize;
   const std::vector<double> first = Numbers(t[2], size, what + " first");
@@ -104,9 +103,10 @@ engine::WarmStart WarmStartFromTuple(const py::handle& value, size_t contact) {
     }
     return patches;
   }
-  throw InputError(fmt::format("State pickle: contacts[{}] warm start: expected None, ('hull', "
-                               "s, l_g, window, l, other_window, trend) or ('multipatch', parts)",
-                               contact));
+  throw InputError(
+      fmt::format("State pickle: contacts[{}] warm start: expected None, ('hull', "
+                  "s, l_g, window, l, other_window, trend) or ('multipatch', parts)",
+                  contact));
 }
 
 }  // namespace
@@ -139,9 +139,10 @@ engine::State StateFromTuple(const py::tuple& data) {
   if (data.size() != 6 || !py::isinstance<py::str>(data[0]) ||
       data[0].cast<std::string>() != kTag || !py::isinstance<py::int_>(data[1]) ||
       data[1].cast<int>() != kVersion) {
-    throw InputError(fmt::format("State pickle {}: expected ('{}', {}, t, steps, bodies, contacts) "
-                                 "as pickled by this version of ecpsim",
-                                 py::repr(data[0]).cast<std::string>(), kTag, kVersion));
+    throw InputError(
+        fmt::format("State pickle {}: expected ('{}', {}, t, steps, bodies, contacts) "
+                    "as pickled by this version of ecpsim",
+                    py::repr(data[0]).cast<std::string>(), kTag, kVersion));
   }
   engine::State state;
   state.t = data[2].cast<double>();

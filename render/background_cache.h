@@ -36,7 +36,7 @@ class BackgroundCache {
 
  private:
   const RenderTarget& target_;
-  bool valid_ = false;          // the saved buffers hold the background of key_
+  bool valid_ = false;  // the saved buffers hold the background of key_
   std::vector<double> key_;
   std::vector<double> last_drawn_;
   unsigned fbo_ = 0, color_ = 0, depth_ = 0;

@@ -30,7 +30,9 @@ constexpr double kFarMargin = 1.25;
 // a point at most this fraction of its distance in front of the eye plane counts as behind it
 constexpr double kBehindEye = 1e-12;
 
-std::string Format(const Eigen::Vector3d& v) { return fmt::format("({}, {}, {})", v.x(), v.y(), v.z()); }
+std::string Format(const Eigen::Vector3d& v) {
+  return fmt::format("({}, {}, {})", v.x(), v.y(), v.z());
+}
 
 }  // namespace
 
@@ -50,13 +52,13 @@ Camera MakeCamera(const CameraSpec& spec, const std::vector<BoundingSphere>& sph
                   int height) {
   if (!spec.position.allFinite() || !spec.target.allFinite() || !spec.up.allFinite() ||
       !std::isfinite(spec.fov_y_deg)) {
-    throw InputError(fmt::format("camera: position {}, target {}, up {}, fov {}: expected finite values",
-                                 Format(spec.position), Format(spec.target), Format(spec.up),
-                                 spec.fov_y_deg));
+    throw InputError(
+        fmt::format("camera: position {}, target {}, up {}, fov {}: expected finite values",
+                    Format(spec.position), Format(spec.target), Format(spec.up), spec.fov_y_deg));
   }
   if (!(spec.fov_y_deg > 1 && spec.fov_y_deg < 170)) {
-    throw InputError(fmt::format("camera: fov = {}: expected a vertical field of view in (1, 170) degrees",
-                                 spec.fov_y_deg));
+    throw InputError(fmt::format(
+        "camera: fov = {}: expected a vertical field of view in (1, 170) degrees", spec.fov_y_deg));
   }
   Eigen::Vector3d direction = spec.position - spec.target;  // target → eye
   if (!(direction.norm() > kSameEyeAndTarget * (spec.position.norm() + spec.target.norm()))) {
@@ -64,8 +66,10 @@ Camera MakeCamera(const CameraSpec& spec, const std::vector<BoundingSphere>& sph
                                  Format(spec.position), Format(spec.target)));
   }
   if (spec.up.cross(direction).norm() < kMinUpSine * spec.up.norm() * direction.norm()) {
-    throw InputError(fmt::format("camera: up {} is parallel to the viewing direction {}: expected a "
-                                 "different up vector", Format(spec.up), Format(direction)));
+    throw InputError(
+        fmt::format("camera: up {} is parallel to the viewing direction {}: expected a "
+                    "different up vector",
+                    Format(spec.up), Format(direction)));
   }
 
   const double fov_y = spec.fov_y_deg * M_PI / 180;

@@ -46,8 +46,8 @@ void UseMeshProgram(const ShaderProgram& program, const DrawContext& context) {
   glUniform3fv(program.Uniform("u_light_dir"), 1, kLightDirection.data());
 }
 
-void DrawPosedMesh(const ShaderProgram& program, const GpuMesh& mesh,
-                   const Eigen::Isometry3d& X_WB, const Rgba& colour) {
+void DrawPosedMesh(const ShaderProgram& program, const GpuMesh& mesh, const Eigen::Isometry3d& X_WB,
+                   const Rgba& colour) {
   SetMatrix(program, "u_model", X_WB.matrix());
   const Eigen::Matrix3f R = X_WB.linear().cast<float>();
   glUniformMatrix3fv(program.Uniform("u_normal_matrix"), 1, GL_FALSE, R.data());
@@ -67,8 +67,8 @@ Eigen::Vector3d PlaneAxis(const Eigen::Vector3d& n) {
 const Eigen::Vector3f kSheetColour(0.86f, 0.87f, 0.89f);
 const Eigen::Vector3f kMinorColour(0.74f, 0.76f, 0.80f);
 const Eigen::Vector3f kMajorColour(0.52f, 0.55f, 0.62f);
-constexpr double kMinorWidth = 1.0;    // pixels
-constexpr double kMajorWidth = 1.8;    // pixels
+constexpr double kMinorWidth = 1.0;  // pixels
+constexpr double kMajorWidth = 1.8;  // pixels
 // the grid is metric at every scale: major lines every power of ten of metres not above this
 // many camera distances (0.2 to 2 distances: 1 m for the paper's bodies framed from 1–5 m),
 // minor lines every tenth of that
@@ -91,8 +91,8 @@ double PowerOfTenBelow(double limit) { return std::pow(10.0, std::floor(std::log
 class GroundMesh {
  public:
   void Vertex(const Eigen::Vector3d& p, const Eigen::Vector3f& rgb, float alpha) {
-    data_.insert(data_.end(), {float(p.x()), float(p.y()), float(p.z()), rgb.x(), rgb.y(),
-                               rgb.z(), alpha});
+    data_.insert(data_.end(),
+                 {float(p.x()), float(p.y()), float(p.z()), rgb.x(), rgb.y(), rgb.z(), alpha});
   }
   const std::vector<float>& data() const { return data_; }
 
@@ -148,9 +148,9 @@ void DrawPlanes(const FrameInput& frame, DrawContext& context) {
   const double pixel_per_distance = 2.0 / (camera.projection(1, 1) * camera.height);
   const double target_distance = (camera.target - camera.eye).norm();
   const double pixel_at_target = context.pixel_scale * target_distance * pixel_per_distance;  // m
-  const double major_spacing = PowerOfTenBelow(kMajorSpacingDistances * target_distance);  // m
-  const double minor_spacing = major_spacing / kMinorPerMajor;                             // m
-  const double R = GroundHalfExtent(camera);  // m
+  const double major_spacing = PowerOfTenBelow(kMajorSpacingDistances * target_distance);     // m
+  const double minor_spacing = major_spacing / kMinorPerMajor;                                // m
+  const double R = GroundHalfExtent(camera);                                                  // m
   for (const PlaneVisual& visual : frame.planes) {
     const Eigen::Vector3d n = visual.plane.normal.normalized();
     const Eigen::Vector3d u = PlaneAxis(n);
@@ -158,8 +158,7 @@ void DrawPlanes(const FrameInput& frame, DrawContext& context) {
     // the sheet is centred under the camera target; grid lines are anchored at the world
     // origin's projection so the grid stays fixed in space
     const Eigen::Vector3d origin = visual.plane.offset * n;
-    const Eigen::Vector3d centre =
-        camera.target - (n.dot(camera.target) - visual.plane.offset) * n;
+    const Eigen::Vector3d centre = camera.target - (n.dot(camera.target) - visual.plane.offset) * n;
     const auto point = [&](double a, double b) { return Eigen::Vector3d(centre + a * u + b * v); };
     const auto fade = [&](const Eigen::Vector3d& p) {
       const double r2 = (p - centre).squaredNorm() / (R * R);
@@ -217,8 +216,8 @@ void DrawPlanes(const FrameInput& frame, DrawContext& context) {
           const auto alpha = [&](const Eigen::Vector3d& q) {
             double opacity = 1 - fade(q);
             if (minor) {
-              const double spacing_px = spacing / ((q - camera.eye).norm() * pixel_per_distance *
-                                                   context.pixel_scale);
+              const double spacing_px =
+                  spacing / ((q - camera.eye).norm() * pixel_per_distance * context.pixel_scale);
               opacity *= std::clamp(
                   (spacing_px - kMinorFadeEnd) / (kMinorFadeStart - kMinorFadeEnd), 0.0, 1.0);
             }

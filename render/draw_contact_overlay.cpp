@@ -63,8 +63,7 @@ void DrawContacts(const std::vector<const ContactVisual*>& contacts, const ToPix
       if (pixels.size() >= 3) faces.push_back(std::move(pixels));
     }
   }
-  context.overlay.FillPolygons(faces, palette::kPatchFace, depth_tested, kHiddenAlpha,
-                               alpha_scale);
+  context.overlay.FillPolygons(faces, palette::kPatchFace, depth_tested, kHiddenAlpha, alpha_scale);
 
   // patch edges, points and hull
   OverlayBatch features;
@@ -187,8 +186,7 @@ void DrawContactInset(const FrameInput& frame, DrawContext& context) {
   std::vector<const ContactVisual*> contacts;
   for (const ContactVisual& contact : frame.contacts) {
     if ((contact.plane.normal.normalized() - n).norm() < kSamePlaneNormal &&
-        std::abs(contact.plane.offset - first->plane.offset) <
-            kSamePlaneOffset * camera_distance) {
+        std::abs(contact.plane.offset - first->plane.offset) < kSamePlaneOffset * camera_distance) {
       contacts.push_back(&contact);
     }
   }
@@ -208,7 +206,8 @@ void DrawContactInset(const FrameInput& frame, DrawContext& context) {
     hi = hi.cwiseMax(q);
   };
   for (const ContactVisual* contact : contacts) {
-    for (const auto& polygon : contact->patch.polygons) for (const auto& p : polygon) extend(p);
+    for (const auto& polygon : contact->patch.polygons)
+      for (const auto& p : polygon) extend(p);
     for (const auto& segment : contact->patch.segments) {
       extend(segment[0]);
       extend(segment[1]);
@@ -241,8 +240,10 @@ void DrawContactInset(const FrameInput& frame, DrawContext& context) {
 
   // border, scale bar and labels
   OverlayBatch shapes, text;
-  shapes.Outline({{x0 + 0.5, y0 + 0.5, 0}, {x0 + side - 0.5, y0 + 0.5, 0},
-                  {x0 + side - 0.5, y0 + side - 0.5, 0}, {x0 + 0.5, y0 + side - 0.5, 0}},
+  shapes.Outline({{x0 + 0.5, y0 + 0.5, 0},
+                  {x0 + side - 0.5, y0 + 0.5, 0},
+                  {x0 + side - 0.5, y0 + side - 0.5, 0},
+                  {x0 + 0.5, y0 + side - 0.5, 0}},
                  s, palette::kPanelBorder);
   const double bar = NiceLength(0.3 * side / scale);
   const double bar_y = y0 + side - 0.5 * line - 3 * s;

@@ -25,14 +25,15 @@ void DrawTextOverlay(const FrameInput& frame, DrawContext& context) {
   if (!frame.contacts.empty()) {
     std::string modes;
     for (const ContactVisual& contact : frame.contacts) {
-      modes += (modes.empty() ? "" : ", ") + std::string(geometry::ContactModeName(contact.patch.mode));
+      modes +=
+          (modes.empty() ? "" : ", ") + std::string(geometry::ContactModeName(contact.patch.mode));
     }
     lines.push_back("contact: " + modes);
   }
   if (!frame.model.empty()) lines.push_back("model: " + frame.model);
   if (frame.iterations >= 0) {
-    lines.push_back(fmt::format("solver: {} iteration{}", frame.iterations,
-                                frame.iterations == 1 ? "" : "s"));
+    lines.push_back(
+        fmt::format("solver: {} iteration{}", frame.iterations, frame.iterations == 1 ? "" : "s"));
   }
 
   // a light panel behind the lines keeps them legible over the grid

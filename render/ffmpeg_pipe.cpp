@@ -2,8 +2,8 @@
 
 #include <cerrno>
 #include <charconv>
-#include <csignal>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -15,12 +15,12 @@
 #include <vector>
 
 #include <fcntl.h>
+#include <fmt/format.h>
 #include <pthread.h>
 #include <spawn.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
-#include <fmt/format.h>
 
 #include "common/errors.h"
 
@@ -39,7 +39,8 @@ constexpr int kPipeBytes = 1 << 20;
 
 bool IsExecutable(const std::string& path) {
   struct stat info;
-  return ::stat(path.c_str(), &info) == 0 && S_ISREG(info.st_mode) && ::access(path.c_str(), X_OK) == 0;
+  return ::stat(path.c_str(), &info) == 0 && S_ISREG(info.st_mode) &&
+         ::access(path.c_str(), X_OK) == 0;
 }
 
 // execvp's own search, done beforehand so that a missing program is a clear error, not a child
@@ -167,16 +168,16 @@ int Spawn(const std::vector<std::string>& args, int stdin_fd, int stdout_fd, int
   posix_spawn_file_actions_destroy(&actions);
   posix_spawnattr_destroy(&attributes);
   if (error != 0) {
-    throw std::runtime_error(fmt::format("{}: cannot start {}: {}", what, args.front(),
-                                         std::strerror(error)));
+    throw std::runtime_error(
+        fmt::format("{}: cannot start {}: {}", what, args.front(), std::strerror(error)));
   }
   return pid;
 }
 
 struct ProgramResult {
-  int status = 0;       // waitpid's
-  std::string output;   // standard output
-  std::string log;      // the tail of the error output (ReadTail)
+  int status = 0;      // waitpid's
+  std::string output;  // standard output
+  std::string log;     // the tail of the error output (ReadTail)
   bool ok() const { return WIFEXITED(status) && WEXITSTATUS(status) == 0; }
 };
 
@@ -229,9 +230,10 @@ std::string ConcatLine(const std::string& path) {
 }
 
 std::string MissingProgram(const std::string& video_path, const std::string& program) {
-  return fmt::format("cannot write video '{}': the program '{}' is not on PATH; install the "
-                     "Debian package ffmpeg (PNG frames do not need it)",
-                     video_path, program);
+  return fmt::format(
+      "cannot write video '{}': the program '{}' is not on PATH; install the "
+      "Debian package ffmpeg (PNG frames do not need it)",
+      video_path, program);
 }
 
 }  // namespace
@@ -242,9 +244,10 @@ void RequireVideoProgram(const std::string& video_path, const std::string& progr
 
 int CountVideoFrames(const std::string& path, const std::string& program) {
   if (!FindProgram(program)) {
-    throw InputError(fmt::format("cannot read video '{}': the program '{}' is not on PATH; "
-                                 "install the Debian package ffmpeg",
-                                 path, program));
+    throw InputError(
+        fmt::format("cannot read video '{}': the program '{}' is not on PATH; "
+                    "install the Debian package ffmpeg",
+                    path, program));
   }
   const std::string what = fmt::format("video '{}'", path);
   const ProgramResult probe =
@@ -264,11 +267,10 @@ int CountVideoFrames(const std::string& path, const std::string& program) {
 
 FfmpegPipe::FfmpegPipe(const std::string& path, int width, int height, double fps,
                        const std::string& program, VideoStart start, ChannelOrder order)
-    : path_(path), program_(program), start_(start), order_(order), width_(width),
-      height_(height) {
+    : path_(path), program_(program), start_(start), order_(order), width_(width), height_(height) {
   if (width <= 0 || height <= 0) {
-    throw InputError(fmt::format("video '{}': frame size {}x{}: expected positive sizes", path,
-                                 width, height));
+    throw InputError(
+        fmt::format("video '{}': frame size {}x{}: expected positive sizes", path, width, height));
   }
   if (!std::isfinite(fps) || fps <= 0 || fps > kMaxFps) {
     throw InputError(fmt::format("video '{}': fps = {}: expected a frame rate in (0, {}] frames/s",
@@ -282,21 +284,19 @@ FfmpegPipe::FfmpegPipe(const std::string& path, int width, int height, double fp
   }
   file_.emplace(path);
   if (start == VideoStart::kAppend && !std::filesystem::is_regular_file(path)) {
-    throw InputError(fmt::format("cannot continue video '{}': there is no video to continue",
-                                 path));
+    throw InputError(
+        fmt::format("cannot continue video '{}': there is no video to continue", path));
   }
   // ffmpeg's error output goes to a private temporary file, read back for messages
   TempFile log(fmt::format("video '{}'", path));
 
   const std::vector<std::string> args = {
-      program, "-hide_banner", "-loglevel", "error", "-y",
-      "-f", "rawvideo", "-pix_fmt", order == ChannelOrder::kBgr ? "bgr24" : "rgb24",
-      "-s", fmt::format("{}x{}", width, height),
+      program, "-hide_banner", "-loglevel", "error", "-y", "-f", "rawvideo", "-pix_fmt",
+      order == ChannelOrder::kBgr ? "bgr24" : "rgb24", "-s", fmt::format("{}x{}", width, height),
       "-framerate", fmt::format("{}", fps), "-i", "pipe:0",
       // yuv420p halves the chroma resolution, so both sides must be even
-      "-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2",
-      "-c:v", "libx264", "-preset", "veryfast", "-crf", "18", "-pix_fmt", "yuv420p",
-      "-movflags", "+faststart", "-f", "mp4", file_->temp_path()};
+      "-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2", "-c:v", "libx264", "-preset", "veryfast", "-crf",
+      "18", "-pix_fmt", "yuv420p", "-movflags", "+faststart", "-f", "mp4", file_->temp_path()};
   int fds[2] = {-1, -1};
   const int null_fd = ::open("/dev/null", O_WRONLY | O_CLOEXEC);
   if (null_fd < 0 || ::pipe2(fds, O_CLOEXEC) != 0) {
@@ -387,8 +387,8 @@ void FfmpegPipe::Fail(const std::string& what) {
   pid_ = -1;
   const std::string log = ReadTail(log_path_);
   file_.reset();  // removes the temporary video
-  throw std::runtime_error(fmt::format("video '{}': {} ({}): {}", path_, what, ExitText(status),
-                                       log));
+  throw std::runtime_error(
+      fmt::format("video '{}': {} ({}): {}", path_, what, ExitText(status), log));
 }
 
 void FfmpegPipe::Write(Image frame) {
@@ -441,8 +441,8 @@ void FfmpegPipe::Finish() {
   if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
     const std::string log = ReadTail(log_path_);
     file_.reset();  // removes the temporary video
-    throw std::runtime_error(fmt::format("video '{}': ffmpeg failed ({}): {}", path_,
-                                         ExitText(status), log));
+    throw std::runtime_error(
+        fmt::format("video '{}': ffmpeg failed ({}): {}", path_, ExitText(status), log));
   }
   try {
     if (start_ == VideoStart::kAppend) {
@@ -467,15 +467,15 @@ void FfmpegPipe::JoinOntoEarlierVideo() {
   }
   list.Close();
   AtomicFile joined(path_);
-  const ProgramResult join =
-      RunProgram({program_, "-hide_banner", "-loglevel", "error", "-y", "-f", "concat", "-safe",
-                  "0", "-i", list.path(), "-c", "copy", "-movflags", "+faststart", "-f", "mp4",
-                  joined.temp_path()},
-                 what);
+  const ProgramResult join = RunProgram(
+      {program_, "-hide_banner", "-loglevel", "error", "-y", "-f", "concat", "-safe", "0", "-i",
+       list.path(), "-c", "copy", "-movflags", "+faststart", "-f", "mp4", joined.temp_path()},
+      what);
   if (!join.ok()) {
-    throw std::runtime_error(fmt::format("{}: joining the earlier video and the {} new frames "
-                                         "failed ({}): {}",
-                                         what, frames_, ExitText(join.status), join.log));
+    throw std::runtime_error(
+        fmt::format("{}: joining the earlier video and the {} new frames "
+                    "failed ({}): {}",
+                    what, frames_, ExitText(join.status), join.log));
   }
   joined.Commit();
   file_.reset();  // the new frames' own video, now part of `path`

@@ -34,9 +34,10 @@ FontAtlas::FontAtlas(const std::string& font_path, int pixel_size) {
   FreeType ft;
   if (FT_Init_FreeType(&ft.library) != 0) throw std::runtime_error("FreeType failed to initialize");
   if (FT_New_Face(ft.library, font_path.c_str(), 0, &ft.face) != 0) {
-    throw InputError(fmt::format("font '{}': cannot be opened as a TrueType/OpenType font; install "
-                                 "the Debian package fonts-dejavu-core or give another font file",
-                                 font_path));
+    throw InputError(
+        fmt::format("font '{}': cannot be opened as a TrueType/OpenType font; install "
+                    "the Debian package fonts-dejavu-core or give another font file",
+                    font_path));
   }
   FT_Set_Pixel_Sizes(ft.face, 0, static_cast<FT_UInt>(pixel_size));
   ascender_ = static_cast<int>(ft.face->size->metrics.ascender >> 6);
@@ -109,8 +110,8 @@ double FontAtlas::AddText(OverlayBatch& batch, const std::string& text, double x
     const Glyph& g = glyphs_[c - kFirst];
     if (g.w > 0 && g.h > 0) {
       const double x0 = pen + g.left, y0 = base - g.top;
-      batch.Rectangle(x0, y0, x0 + g.w, y0 + g.h, colour,
-                      static_cast<double>(g.x) / atlas_width_, static_cast<double>(g.y) / atlas_height_,
+      batch.Rectangle(x0, y0, x0 + g.w, y0 + g.h, colour, static_cast<double>(g.x) / atlas_width_,
+                      static_cast<double>(g.y) / atlas_height_,
                       static_cast<double>(g.x + g.w) / atlas_width_,
                       static_cast<double>(g.y + g.h) / atlas_height_);
     }

@@ -29,7 +29,7 @@ class FontAtlas {
   double TextWidth(const std::string& text) const;
 
   unsigned texture() const { return texture_; }
-  int ascender() const { return ascender_; }      // pixels above the baseline
+  int ascender() const { return ascender_; }        // pixels above the baseline
   int line_height() const { return line_height_; }  // pixels between baselines
 
  private:

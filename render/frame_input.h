@@ -42,8 +42,8 @@ HullGeometry MakeHullGeometry(const geometry::ConvexShape& shape, int segments =
 /// A body to draw. The meshes are shared and treated as immutable while the renderer keeps them:
 /// their GPU buffers are made once per mesh object and reused while it is alive.
 struct BodyVisual {
-  std::shared_ptr<const geometry::TriangleMesh> mesh;  // body frame, m
-  std::shared_ptr<const HullGeometry> hull;            // body frame; null: no hull overlay
+  std::shared_ptr<const geometry::TriangleMesh> mesh;      // body frame, m
+  std::shared_ptr<const HullGeometry> hull;                // body frame; null: no hull overlay
   Eigen::Isometry3d X_WB = Eigen::Isometry3d::Identity();  // body → world
   Eigen::Vector3f colour = Eigen::Vector3f(0.80f, 0.62f, 0.42f);  // RGB in [0, 1], as displayed
   bool fixed = false;  // an obstacle: drawn, but not followed by automatic framing
@@ -71,7 +71,7 @@ struct CameraSpec {
   Eigen::Vector3d position = Eigen::Vector3d(1.2, -1.8, 1.1);  // m, world
   Eigen::Vector3d target = Eigen::Vector3d::Zero();            // m, world
   Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
-  double fov_y_deg = 35;                                       // vertical field of view
+  double fov_y_deg = 35;  // vertical field of view
 };
 
 /// What to show besides the bodies.
@@ -88,11 +88,11 @@ struct FrameInput {
   std::vector<ContactVisual> contacts;
   CameraSpec camera;
   DisplayToggles show;
-  double force_scale = 0;   // m of arrow per N of contact force; 0 hides the arrows
-  double time = 0;          // s, shown in the text overlay
-  int iterations = -1;      // solver iterations of the last step; < 0: not shown
-  std::string model;        // what solved the last step ("planar", "hull 2, free 1"); "": none
-  std::string title;        // first text line (e.g. the scene name); empty: none
+  double force_scale = 0;  // m of arrow per N of contact force; 0 hides the arrows
+  double time = 0;         // s, shown in the text overlay
+  int iterations = -1;     // solver iterations of the last step; < 0: not shown
+  std::string model;       // what solved the last step ("planar", "hull 2, free 1"); "": none
+  std::string title;       // first text line (e.g. the scene name); empty: none
 };
 
 }  // namespace ecpsim::render

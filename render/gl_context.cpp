@@ -18,12 +18,18 @@ constexpr int kMinMinor = 3;
 
 OSMesaContext CreateContext(bool core, bool* got_core) {
   // core profile first: Mesa ≥ 11.2 offers it through the attribute-list entry point
-  const int attributes[] = {OSMESA_FORMAT, OSMESA_RGBA,
-                            OSMESA_DEPTH_BITS, 24,
-                            OSMESA_STENCIL_BITS, 8,
-                            OSMESA_PROFILE, core ? OSMESA_CORE_PROFILE : OSMESA_COMPAT_PROFILE,
-                            OSMESA_CONTEXT_MAJOR_VERSION, kMinMajor,
-                            OSMESA_CONTEXT_MINOR_VERSION, kMinMinor,
+  const int attributes[] = {OSMESA_FORMAT,
+                            OSMESA_RGBA,
+                            OSMESA_DEPTH_BITS,
+                            24,
+                            OSMESA_STENCIL_BITS,
+                            8,
+                            OSMESA_PROFILE,
+                            core ? OSMESA_CORE_PROFILE : OSMESA_COMPAT_PROFILE,
+                            OSMESA_CONTEXT_MAJOR_VERSION,
+                            kMinMajor,
+                            OSMESA_CONTEXT_MINOR_VERSION,
+                            kMinMinor,
                             0};
   OSMesaContext context = OSMesaCreateContextAttribs(attributes, nullptr);
   *got_core = core && context != nullptr;

@@ -26,7 +26,8 @@ class GlContext {
 
   /// True if the context is a core profile (false: the compatibility fallback).
   bool core_profile() const { return core_profile_; }
-  /// GL_RENDERER and GL_VERSION strings, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)", "4.5 (Core Profile) Mesa 22.3.6".
+  /// GL_RENDERER and GL_VERSION strings, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)", "4.5 (Core
+  /// Profile) Mesa 22.3.6".
   const std::string& renderer() const { return renderer_; }
   const std::string& version() const { return version_; }
 

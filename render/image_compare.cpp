@@ -23,17 +23,17 @@ void CheckBuffer(const Image& image, const char* which) {
 
 std::string ImageComparison::Summary(const CompareTolerance& tolerance) const {
   if (!same_size) return "the images differ in size";
-  return fmt::format("{} of {} pixels ({:.3f}%) differ by more than {} levels (max {}); limit {:g}%",
-                     differing_pixels, total_pixels, 100 * differing_fraction,
-                     tolerance.channel_threshold, max_channel_difference,
-                     100 * tolerance.max_fraction);
+  return fmt::format(
+      "{} of {} pixels ({:.3f}%) differ by more than {} levels (max {}); limit {:g}%",
+      differing_pixels, total_pixels, 100 * differing_fraction, tolerance.channel_threshold,
+      max_channel_difference, 100 * tolerance.max_fraction);
 }
 
 ImageComparison CompareImages(const Image& expected, const Image& actual,
                               const CompareTolerance& tolerance) {
   if (tolerance.channel_threshold < 0 || tolerance.channel_threshold > 255) {
-    throw InputError(fmt::format("threshold = {}: expected 0 to 255 levels",
-                                 tolerance.channel_threshold));
+    throw InputError(
+        fmt::format("threshold = {}: expected 0 to 255 levels", tolerance.channel_threshold));
   }
   if (!std::isfinite(tolerance.max_fraction) || tolerance.max_fraction < 0 ||
       tolerance.max_fraction > 1) {

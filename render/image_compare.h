@@ -13,8 +13,8 @@ namespace ecpsim::render {
 /// coverage samples flipping on a different CPU or Mesa build) and catch a marker moved by 2 pixels
 /// in a 320×240 frame; see docs/rendering.md for the numbers.
 struct CompareTolerance {
-  int channel_threshold = 24;   // levels of 255
-  double max_fraction = 0.0005; // of all pixels
+  int channel_threshold = 24;    // levels of 255
+  double max_fraction = 0.0005;  // of all pixels
 };
 
 struct ImageComparison {
@@ -28,7 +28,8 @@ struct ImageComparison {
   /// pixels differing within the threshold in orange. Empty for different sizes.
   Image diff;
 
-  /// One line, e.g. "412 of 76800 pixels (0.536%) differ by more than 24 levels (max 255); limit 0.05%".
+  /// One line, e.g. "412 of 76800 pixels (0.536%) differ by more than 24 levels (max 255); limit
+  /// 0.05%".
   std::string Summary(const CompareTolerance& tolerance) const;
 };
 

@@ -70,7 +70,8 @@ GpuMesh::GpuMesh(const geometry::TriangleMesh& mesh) {
         const double length_g = face_normals[g].norm();
         if (length_g > 0 && face_normals[g].dot(n_f) > kCreaseCos * length_g) n += face_normals[g];
       }
-      const Eigen::Vector3f normal = (n.norm() > 0 ? Eigen::Vector3d(n.normalized()) : n_f).cast<float>();
+      const Eigen::Vector3f normal =
+          (n.norm() > 0 ? Eigen::Vector3d(n.normalized()) : n_f).cast<float>();
       auto& candidates = emitted[T[f][k]];
       const auto same = std::find_if(candidates.begin(), candidates.end(),
                                      [&](const auto& c) { return c.first == normal; });
@@ -159,7 +160,8 @@ const GpuMesh& MeshCache::Get(const std::shared_ptr<const geometry::TriangleMesh
 
 void MeshCache::EndFrame() {
   for (auto it = entries_.begin(); it != entries_.end();) {
-    const bool stale = it->second.owner.expired() || frame_ - it->second.last_used >= kMaxIdleFrames;
+    const bool stale =
+        it->second.owner.expired() || frame_ - it->second.last_used >= kMaxIdleFrames;
     it = stale ? entries_.erase(it) : std::next(it);
   }
   ++frame_;

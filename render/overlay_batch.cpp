@@ -20,8 +20,8 @@ constexpr int kMaxCircleSegments = 96;
 constexpr double kMaxBevelError = 0.02;  // pixels
 
 int CircleSegments(double radius) {
-  const int n = static_cast<int>(std::ceil(M_PI / std::acos(std::max(0.0, 1 - kMaxChordError /
-                                                                             std::max(radius, 1e-3)))));
+  const int n = static_cast<int>(
+      std::ceil(M_PI / std::acos(std::max(0.0, 1 - kMaxChordError / std::max(radius, 1e-3)))));
   return std::clamp(n, kMinCircleSegments, kMaxCircleSegments);
 }
 
@@ -29,20 +29,17 @@ int CircleSegments(double radius) {
 
 void OverlayBatch::Vertex(const Pixel& p, const Rgba& colour, double u, double v) {
   data_.insert(data_.end(), {static_cast<float>(p.x()), static_cast<float>(p.y()),
-                             static_cast<float>(p.z()), colour[0],
-                             colour[1], colour[2], colour[3], static_cast<float>(u),
-                             static_cast<float>(v)});
+                             static_cast<float>(p.z()), colour[0], colour[1], colour[2], colour[3],
+                             static_cast<float>(u), static_cast<float>(v)});
 }
 
-void OverlayBatch::Triangle(const Pixel& a, const Pixel& b,
-                            const Pixel& c, const Rgba& colour) {
+void OverlayBatch::Triangle(const Pixel& a, const Pixel& b, const Pixel& c, const Rgba& colour) {
   Vertex(a, colour);
   Vertex(b, colour);
   Vertex(c, colour);
 }
 
-void OverlayBatch::Segment(const Pixel& a, const Pixel& b, double width,
-                           const Rgba& colour) {
+void OverlayBatch::Segment(const Pixel& a, const Pixel& b, double width, const Rgba& colour) {
   Eigen::Vector2d along = (b - a).head<2>();
   const double length = along.norm();
   along = length > 1e-9 ? Eigen::Vector2d(along / length) : Eigen::Vector2d::UnitX();
@@ -53,8 +50,7 @@ void OverlayBatch::Segment(const Pixel& a, const Pixel& b, double width,
   Triangle(p0, p2, p3, colour);
 }
 
-void OverlayBatch::Outline(const std::vector<Pixel>& polygon, double width,
-                           const Rgba& colour) {
+void OverlayBatch::Outline(const std::vector<Pixel>& polygon, double width, const Rgba& colour) {
   const size_t n = polygon.size();
   // each edge's unit direction (zero for a degenerate edge)
   std::vector<Eigen::Vector2d> along(n, Eigen::Vector2d::Zero());
@@ -107,8 +103,8 @@ void OverlayBatch::Disc(const Pixel& centre, double radius, const Rgba& colour,
   }
 }
 
-void OverlayBatch::Arrow(const Pixel& tail, const Pixel& head, double width,
-                         double head_size, const Rgba& colour) {
+void OverlayBatch::Arrow(const Pixel& tail, const Pixel& head, double width, double head_size,
+                         const Rgba& colour) {
   const Eigen::Vector2d along = (head - tail).head<2>();
   const double length = along.norm();
   if (length < 1e-9) return;

@@ -22,8 +22,7 @@ class OverlayBatch {
   void Clear() { data_.clear(); }
   bool empty() const { return data_.empty(); }
 
-  void Triangle(const Pixel& a, const Pixel& b, const Pixel& c,
-                const Rgba& colour);
+  void Triangle(const Pixel& a, const Pixel& b, const Pixel& c, const Rgba& colour);
   /// A segment `width` pixels wide with square ends extended by `width`/2 (so joined segments and
   /// dots meet without gaps).
   void Segment(const Pixel& a, const Pixel& b, double width, const Rgba& colour);
@@ -31,11 +30,10 @@ class OverlayBatch {
   /// two differ by less than 0.02 pixels).
   void Outline(const std::vector<Pixel>& polygon, double width, const Rgba& colour);
   /// A filled disc; a ring when `inner_radius` > 0.
-  void Disc(const Pixel& centre, double radius, const Rgba& colour,
-            double inner_radius = 0);
+  void Disc(const Pixel& centre, double radius, const Rgba& colour, double inner_radius = 0);
   /// An arrow from `tail` to `head` with a triangular head `head_size` pixels long.
-  void Arrow(const Pixel& tail, const Pixel& head, double width,
-             double head_size, const Rgba& colour);
+  void Arrow(const Pixel& tail, const Pixel& head, double width, double head_size,
+             const Rgba& colour);
   /// An axis-aligned rectangle [x0, x1] × [y0, y1] with texture coordinates [u0, u1] × [v0, v1].
   void Rectangle(double x0, double y0, double x1, double y1, const Rgba& colour, double u0 = 0,
                  double v0 = 0, double u1 = 0, double v1 = 0);

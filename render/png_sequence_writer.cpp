@@ -23,9 +23,10 @@ PngSequenceWriter::PngSequenceWriter(const std::string& directory, int threads, 
       compression_(compression),
       next_index_(first_index) {
   if (threads < 1 || threads > kMaxThreads || max_queued < 1 || first_index < 0) {
-    throw InputError(fmt::format("frames '{}': {} threads, {} queued, first frame {}: expected 1 "
-                                 "to {} threads, at least 1 queued frame and a first frame >= 0",
-                                 directory, threads, max_queued, first_index, kMaxThreads));
+    throw InputError(
+        fmt::format("frames '{}': {} threads, {} queued, first frame {}: expected 1 "
+                    "to {} threads, at least 1 queued frame and a first frame >= 0",
+                    directory, threads, max_queued, first_index, kMaxThreads));
   }
   std::error_code error;
   std::filesystem::create_directories(directory, error);
@@ -52,9 +53,8 @@ std::string PngSequenceWriter::FramePath(int index) const {
 std::string PngSequenceWriter::Add(Image frame) {
   std::unique_lock<std::mutex> lock(mutex_);
   RethrowFirstError();
-  space_ready_.wait(lock, [this] {
-    return static_cast<int>(queue_.size()) < max_queued_ || first_error_;
-  });
+  space_ready_.wait(
+      lock, [this] { return static_cast<int>(queue_.size()) < max_queued_ || first_error_; });
   RethrowFirstError();
   const int index = next_index_++;
   queue_.emplace_back(index, std::move(frame));

@@ -157,8 +157,7 @@ void DownsampleThreeHalves(const std::uint8_t* bottom_up, int drawing_width, int
       const Tap t = ThreeHalvesTap(w - 1);
       for (int c = 0; c < 3; ++c) {
         dst[3 * (w - 1) + c] = static_cast<std::uint8_t>(
-            (t.first_weight * v[4 * t.first + c] + t.second_weight * v[4 * t.second + c] + 4) /
-            9);
+            (t.first_weight * v[4 * t.first + c] + t.second_weight * v[4 * t.second + c] + 4) / 9);
       }
     }
   }
@@ -222,14 +221,15 @@ RenderTarget::RenderTarget(int width, int height, int samples, double supersampl
   if (width < 1 || height < 1 || draw_width_ > max_size || draw_height_ > max_size) {
     throw std::runtime_error(fmt::format(
         "image size {}x{} with {}x supersampling is not supported: expected 1..{} drawing "
-        "pixels per side", width, height, supersample, max_size));
+        "pixels per side",
+        width, height, supersample, max_size));
   }
   // from here on the buffers have the drawing size
   width = draw_width_;
   height = draw_height_;
   if (samples < 1 || samples > max_samples) {
-    throw std::runtime_error(fmt::format(
-        "{} samples per pixel are not supported: expected 1..{}", samples, max_samples));
+    throw std::runtime_error(fmt::format("{} samples per pixel are not supported: expected 1..{}",
+                                         samples, max_samples));
   }
 
   // the multisampled buffer every frame is drawn into
@@ -247,8 +247,7 @@ RenderTarget::RenderTarget(int width, int height, int samples, double supersampl
   glGenRenderbuffers(1, &draw_depth_);
   glBindRenderbuffer(GL_RENDERBUFFER, draw_depth_);
   if (samples > 1) {
-    glRenderbufferStorageMultisample(GL_RENDERBUFFER, samples, GL_DEPTH24_STENCIL8, width,
-                                     height);
+    glRenderbufferStorageMultisample(GL_RENDERBUFFER, samples, GL_DEPTH24_STENCIL8, width, height);
   } else {
     glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH24_STENCIL8, width, height);
   }
@@ -262,8 +261,7 @@ RenderTarget::RenderTarget(int width, int height, int samples, double supersampl
   glGenRenderbuffers(1, &resolve_color_);
   glBindRenderbuffer(GL_RENDERBUFFER, resolve_color_);
   glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, width, height);
-  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER,
-                            resolve_color_);
+  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, resolve_color_);
   CheckComplete("resolve", width, height, 1);
   Bind();
 }

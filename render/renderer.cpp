@@ -54,8 +54,8 @@ void CheckFrame(const FrameInput& frame) {
     for (const auto& p : c.patch.hull) CheckFinite(p, where + ".patch.hull");
   }
   if (!std::isfinite(frame.force_scale) || frame.force_scale < 0) {
-    throw InputError(fmt::format("frame: force_scale = {}: expected a finite value ≥ 0 m/N",
-                                 frame.force_scale));
+    throw InputError(
+        fmt::format("frame: force_scale = {}: expected a finite value ≥ 0 m/N", frame.force_scale));
   }
   if (!std::isfinite(frame.time)) {
     throw InputError(fmt::format("frame: time = {}: expected a finite time", frame.time));
@@ -70,8 +70,8 @@ const RenderSettings& Checked(const RenderSettings& settings) {
   }
   const double s = settings.supersample;
   if (s != 1 && s != 1.5 && s != 2 && s != 3 && s != 4) {
-    throw InputError(fmt::format(
-        "supersample = {}: expected 1 (no anti-aliasing), 1.5, 2, 3 or 4", settings.supersample));
+    throw InputError(fmt::format("supersample = {}: expected 1 (no anti-aliasing), 1.5, 2, 3 or 4",
+                                 settings.supersample));
   }
   if (settings.samples < 1 || settings.samples > kMaxSamples) {
     throw InputError(fmt::format("samples = {}: expected 1 (no anti-aliasing) to {}",
@@ -89,8 +89,8 @@ double PixelScale(const RenderSettings& settings) {
 // pixels, the overlay scale and the planes; equal keys draw identical backgrounds
 std::vector<double> BackgroundKey(const Camera& camera, double pixel_scale,
                                   const std::vector<PlaneVisual>& planes) {
-  std::vector<double> key = {static_cast<double>(camera.width),
-                             static_cast<double>(camera.height), pixel_scale};
+  std::vector<double> key = {static_cast<double>(camera.width), static_cast<double>(camera.height),
+                             pixel_scale};
   const auto append = [&key](const auto& matrix) {
     key.insert(key.end(), matrix.data(), matrix.data() + matrix.size());
   };
@@ -117,8 +117,7 @@ struct Renderer::Impl {
         vertex_lit_program(MakeVertexLitProgram()),
         ground_program(MakeGroundProgram()),
         overlay_program(MakeOverlayProgram()),
-        font(settings.font_path,
-             static_cast<int>(std::lround(kFontPixels * PixelScale(settings)))),
+        font(settings.font_path, static_cast<int>(std::lround(kFontPixels * PixelScale(settings)))),
         background(target) {}
 
   RenderSettings settings;

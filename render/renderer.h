@@ -14,13 +14,13 @@
 namespace ecpsim::render {
 
 struct RenderSettings {
-  int width = 1280;     // pixels
-  int height = 720;     // pixels
+  int width = 1280;  // pixels
+  int height = 720;  // pixels
   // anti-aliasing by drawing at this multiple of the width and height and box-filtering down:
   // 1 (off), 1.5, 2, 3 or 4. 1.5 (2.25 drawing pixels per image pixel) is the default: on
   // llvmpipe it costs ~0.6× the fill of 2 and keeps edges smooth (see docs/rendering.md)
   double supersample = 1.5;
-  int samples = 1;      // MSAA samples per drawing pixel (1 = off; slow on llvmpipe)
+  int samples = 1;  // MSAA samples per drawing pixel (1 = off; slow on llvmpipe)
   // the byte order of the rendered images: kBgr for frames that go only into a video (ffmpeg
   // converts bgr24 to yuv420p ~3× faster than rgb24); the pixels are the same either way
   ChannelOrder channel_order = ChannelOrder::kRgb;

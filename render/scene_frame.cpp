@@ -20,14 +20,17 @@ std::string ModelLine(const std::vector<engine::StepModel>& models) {
     const auto model = static_cast<engine::StepModel>(m);
     if (model == engine::StepModel::kKinematic) continue;
     const long count = std::count(models.begin(), models.end(), model);
-    if (count > 0) line += fmt::format("{}{} {}", line.empty() ? "" : ", ", engine::StepModelName(model), count);
+    if (count > 0)
+      line += fmt::format("{}{} {}", line.empty() ? "" : ", ", engine::StepModelName(model), count);
   }
   return line;
 }
 
 // body colours, cycled: warm wood, steel blue, grey, plum, sage
-const Eigen::Vector3f kBodyColours[] = {{0.80f, 0.62f, 0.42f}, {0.55f, 0.70f, 0.85f},
-                                        {0.62f, 0.62f, 0.66f}, {0.70f, 0.55f, 0.75f},
+const Eigen::Vector3f kBodyColours[] = {{0.80f, 0.62f, 0.42f},
+                                        {0.55f, 0.70f, 0.85f},
+                                        {0.62f, 0.62f, 0.66f},
+                                        {0.70f, 0.55f, 0.75f},
                                         {0.60f, 0.75f, 0.55f}};
 const Eigen::Vector3f kObstacleColour(0.70f, 0.70f, 0.72f);
 // kinematic bodies (fingers, pushers: prescribed motion) in one signal orange, none of the above
@@ -55,9 +58,9 @@ SceneFrameBuilder::SceneFrameBuilder(const engine::Scene& scene) : scene_(scene)
   const double g = scene.gravity.norm() > 0 ? scene.gravity.norm() : kStandardGravity;
   for (const engine::Body& body : scene.bodies) {
     meshes_.push_back(std::make_shared<const geometry::TriangleMesh>(body.mesh));
-    hulls_.push_back(body.hull ? std::make_shared<const HullGeometry>(
-                                     MakeHullGeometry(*body.hull, kSegments))
-                               : nullptr);
+    hulls_.push_back(
+        body.hull ? std::make_shared<const HullGeometry>(MakeHullGeometry(*body.hull, kSegments))
+                  : nullptr);
     double radius = 0;
     for (const auto& v : body.mesh.vertices) radius = std::max(radius, v.norm());
     // a kinematic body's mass is nominal: the force scale follows the pushed bodies' weights
@@ -143,8 +146,8 @@ FrameInput SceneFrameBuilder::Build(const engine::State& state, int iterations,
     const engine::ContactPair& pair = scene_.contacts[k];
     // the scene loader checked the indices
     ECPSIM_DEMAND(pair.body >= 0 && pair.body < static_cast<int>(scene_.bodies.size()));
-    ECPSIM_DEMAND(pair.WithBody() ||
-                  (pair.obstacle >= 0 && pair.obstacle < static_cast<int>(scene_.obstacles.size())));
+    ECPSIM_DEMAND(pair.WithBody() || (pair.obstacle >= 0 &&
+                                      pair.obstacle < static_cast<int>(scene_.obstacles.size())));
     const engine::ContactState& c = state.contacts[k];
     const Eigen::Isometry3d& X_WB = frame.bodies[pair.body].X_WB;
     ContactVisual contact;

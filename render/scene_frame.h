@@ -44,7 +44,7 @@ class SceneFrameBuilder {
   std::vector<std::shared_ptr<const HullGeometry>> hulls_;             // per body, body frame
   std::vector<std::optional<geometry::Plane>> planes_;                 // per obstacle
   std::vector<std::shared_ptr<const geometry::TriangleMesh>> obstacle_meshes_;  // non-planes
-  double force_scale_ = 0;     // m/N
+  double force_scale_ = 0;                                                      // m/N
 };
 
 }  // namespace ecpsim::render

@@ -28,20 +28,20 @@ void main() {
 
 // a key light with a soft specular, a fill from the camera, and ambient; two-sided so that the
 // inside of a translucent hull is lit too (shared by the per-pixel and per-vertex programs)
-#define ECPSIM_SHADE_FUNCTION \
-  "uniform vec4 u_color;\n"                                                      \
-  "uniform vec3 u_eye;\n"                                                        \
-  "uniform vec3 u_light_dir;\n"                                                  \
-  "vec4 Shade(vec3 normal, vec3 world) {\n"                                      \
-  "  vec3 n = normalize(normal);\n"                                              \
-  "  vec3 v = normalize(u_eye - world);\n"                                       \
-  "  if (dot(n, v) < 0.0) n = -n;\n"                                             \
-  "  float key = max(dot(n, u_light_dir), 0.0);\n"                               \
-  "  float fill = max(dot(n, v), 0.0);\n"                                        \
-  "  vec3 h = normalize(u_light_dir + v);\n"                                     \
-  "  float specular = 0.18 * pow(max(dot(n, h), 0.0), 40.0);\n"                  \
+#define ECPSIM_SHADE_FUNCTION                                                      \
+  "uniform vec4 u_color;\n"                                                        \
+  "uniform vec3 u_eye;\n"                                                          \
+  "uniform vec3 u_light_dir;\n"                                                    \
+  "vec4 Shade(vec3 normal, vec3 world) {\n"                                        \
+  "  vec3 n = normalize(normal);\n"                                                \
+  "  vec3 v = normalize(u_eye - world);\n"                                         \
+  "  if (dot(n, v) < 0.0) n = -n;\n"                                               \
+  "  float key = max(dot(n, u_light_dir), 0.0);\n"                                 \
+  "  float fill = max(dot(n, v), 0.0);\n"                                          \
+  "  vec3 h = normalize(u_light_dir + v);\n"                                       \
+  "  float specular = 0.18 * pow(max(dot(n, h), 0.0), 40.0);\n"                    \
   "  vec3 c = u_color.rgb * (0.28 + 0.52 * key + 0.25 * fill) + vec3(specular);\n" \
-  "  return vec4(min(c, vec3(1.0)), u_color.a);\n"                               \
+  "  return vec4(min(c, vec3(1.0)), u_color.a);\n"                                 \
   "}\n"
 
 constexpr const char* kMeshFragment =
@@ -90,7 +90,6 @@ void main() {
   gl_Position = u_view_projection * vec4(a_position, 1.0);
 }
 )";
-
 
 constexpr const char* kOverlayVertex = R"(#version 330 core
 layout(location = 0) in vec3 a_pixel;
@@ -173,9 +172,7 @@ ShaderProgram MakeMeshProgram() { return ShaderProgram("mesh", kMeshVertex, kMes
 ShaderProgram MakeVertexLitProgram() {
   return ShaderProgram("vertex-lit", kVertexLitVertex, kColorFragment);
 }
-ShaderProgram MakeGroundProgram() {
-  return ShaderProgram("ground", kGroundVertex, kColorFragment);
-}
+ShaderProgram MakeGroundProgram() { return ShaderProgram("ground", kGroundVertex, kColorFragment); }
 ShaderProgram MakeOverlayProgram() {
   return ShaderProgram("overlay", kOverlayVertex, kOverlayFragment);
 }

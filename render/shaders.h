@@ -23,8 +23,9 @@ class ShaderProgram {
   unsigned id_ = 0;
 };
 
-/// Lit meshes: attributes 0 = position (model frame), 1 = normal; uniforms u_model, u_normal_matrix,
-/// u_view_projection, u_color (RGBA), u_eye, u_light_dir (unit, towards the light, world).
+/// Lit meshes: attributes 0 = position (model frame), 1 = normal; uniforms u_model,
+/// u_normal_matrix, u_view_projection, u_color (RGBA), u_eye, u_light_dir (unit, towards the light,
+/// world).
 ShaderProgram MakeMeshProgram();
 
 /// Meshes lit per vertex (the mesh program's lighting, interpolated across each triangle), for

@@ -37,9 +37,8 @@ class CliTest : public ::testing::Test {
   /// environment prefix such as "PATH=/nonexistent".
   CliResult Run(const std::string& arguments, const std::string& environment = "") {
     const std::filesystem::path log = dir_ / "log.txt";
-    const std::string command = fmt::format("cd '{}' && {} '{}' {} > '{}' 2>&1",
-                                            ECPSIM_SOURCE_DIR, environment, binary_.string(),
-                                            arguments, log.string());
+    const std::string command = fmt::format("cd '{}' && {} '{}' {} > '{}' 2>&1", ECPSIM_SOURCE_DIR,
+                                            environment, binary_.string(), arguments, log.string());
     const int status = std::system(command.c_str());
     CliResult result;
     result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;

@@ -9,8 +9,8 @@
 
 namespace ecpsim::engine {
 
-std::vector<int> SelectWindow(const geometry::ConvexShape& hull,
-                              const Eigen::Vector3d& direction_B, int rings, bool use_window) {
+std::vector<int> SelectWindow(const geometry::ConvexShape& hull, const Eigen::Vector3d& direction_B,
+                              int rings, bool use_window) {
   const auto* polyhedron = hull.AsPolyhedron();
   if (polyhedron == nullptr || !use_window || rings < 0) {
     std::vector<int> all(hull.NumConstraints());
@@ -36,9 +36,8 @@ bool ForEachViolatedNeighbour(const geometry::ConvexHull& h, int face, const Eig
 
 }  // namespace
 
-std::vector<int> WindowViolations(const geometry::ConvexShape& hull,
-                                  const std::vector<int>& window, int active,
-                                  const Eigen::Vector3d& y_B, double tolerance) {
+std::vector<int> WindowViolations(const geometry::ConvexShape& hull, const std::vector<int>& window,
+                                  int active, const Eigen::Vector3d& y_B, double tolerance) {
   const auto* polyhedron = hull.AsPolyhedron();
   if (polyhedron == nullptr || static_cast<int>(window.size()) == hull.NumConstraints()) return {};
   std::vector<int> violated;

@@ -15,8 +15,8 @@ namespace ecpsim::engine {
 /// for a polyhedron the faces incident to the support vertex and to `rings` rings of its
 /// neighbours (every face when `use_window` is false or rings < 0); for a smooth primitive all
 /// its constraints.
-std::vector<int> SelectWindow(const geometry::ConvexShape& hull,
-                              const Eigen::Vector3d& direction_B, int rings, bool use_window);
+std::vector<int> SelectWindow(const geometry::ConvexShape& hull, const Eigen::Vector3d& direction_B,
+                              int rings, bool use_window);
 
 /// The hull constraints left out of `window` that the point y_B (body frame) violates by more than
 /// `tolerance` (m), among the faces incident to the vertices of window constraint `active` — the
@@ -29,9 +29,8 @@ std::vector<int> SelectWindow(const geometry::ConvexShape& hull,
 /// the hull's size), and a solution at a vertex where three merged planes meet sits that far off
 /// the polygon while being a genuine solution. Cost O(face size × vertex degree), independent of
 /// the hull's size. Smooth primitives and full windows leave nothing out: empty.
-std::vector<int> WindowViolations(const geometry::ConvexShape& hull,
-                                  const std::vector<int>& window, int active,
-                                  const Eigen::Vector3d& y_B, double tolerance);
+std::vector<int> WindowViolations(const geometry::ConvexShape& hull, const std::vector<int>& window,
+                                  int active, const Eigen::Vector3d& y_B, double tolerance);
 
 /// Whether y_B (body frame), taken to lie on the plane of face `face`, is on its facet: no face
 /// incident to the facet's vertices but `face` itself is violated by more than `tolerance` (m),

@@ -41,8 +41,8 @@ struct Constraints {
   Vector3d force0, moment0, force1, moment1;
 };
 
-Constraints Evaluate(const IslandGripper& g, const std::vector<BodyProblem>& bodies,
-                     const Rows& r, const VectorXd& z) {
+Constraints Evaluate(const IslandGripper& g, const std::vector<BodyProblem>& bodies, const Rows& r,
+                     const VectorXd& z) {
   const BodyProblem& jaw0 = bodies[g.jaws[0]];
   const BodyProblem& jaw1 = bodies[g.jaws[1]];
   const Vector3d v0 = z.segment<3>(r.force0), w0 = z.segment<3>(r.moment0);

@@ -18,7 +18,7 @@ namespace ecpsim::engine {
 
 /// One gripper over one step, in island body indices and world coordinates.
 struct IslandGripper {
-  std::array<int, 2> jaws = {-1, -1};  // island bodies: jaws[0] closes along +axis
+  std::array<int, 2> jaws = {-1, -1};               // island bodies: jaws[0] closes along +axis
   Eigen::Vector3d axis = Eigen::Vector3d::UnitX();  // world, unit, the frame's at the step's end
   // m/s: each jaw's velocity that takes its CM onto the frame's path at the step's end (its
   // component along the axis unused)

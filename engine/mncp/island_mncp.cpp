@@ -17,8 +17,8 @@ using Eigen::VectorXd;
 using Other = IslandContact::Other;
 
 ContactSides Sides(const IslandContact& cp) {
-  return {cp.hull, &cp.window, cp.other_shape, &cp.other_window, cp.friction,
-          cp.tangent_reference, cp.stick_creep};
+  return {cp.hull,     &cp.window,           cp.other_shape, &cp.other_window,
+          cp.friction, cp.tangent_reference, cp.stick_creep};
 }
 
 // the kinematic bodies' motions over the step: prescribed, no unknowns
@@ -108,10 +108,10 @@ CreepRoundOff CreepFrictionRoundOff(const IslandProblem& problem, const IslandLa
 // dynamic G's ν⁺ (6), then its free block (a1, a2, s, p_t, p_o, p_r; on a plane a1, p_t, p_o,
 // p_r) and its complementarity block (l, l_G, p_n, σ), each contiguous in the island's layout too
 struct LocalContact {
-  std::vector<int> global;    // local index → index in the island's z
-  MncpLayout::Contact L;      // the contact's layout in local indices
-  int other_column = -1;      // local column of a dynamic G's ν⁺
-  int num_body_rows = 6;      // the Newton–Euler rows first: 6, or 12 with a dynamic G
+  std::vector<int> global;  // local index → index in the island's z
+  MncpLayout::Contact L;    // the contact's layout in local indices
+  int other_column = -1;    // local column of a dynamic G's ν⁺
+  int num_body_rows = 6;    // the Newton–Euler rows first: 6, or 12 with a dynamic G
 };
 
 LocalContact MakeLocalContact(const IslandContact& cp, const MncpLayout::Contact& L) {
@@ -163,8 +163,8 @@ IslandLayout MakeIslandLayout(const IslandProblem& problem) {
     for (int j : cp.other_window) ECPSIM_DEMAND(j >= 0 && j < cp.other_shape->NumConstraints());
     // a fixed half-space's contact in the plane form (MncpLayout), without a2, s and l_G
     const bool plane = cp.other_kind == Other::kFixed && cp.other_shape->IsHalfSpace();
-    counts.push_back({static_cast<int>(cp.window.size()),
-                      plane ? 0 : static_cast<int>(cp.other_window.size())});
+    counts.push_back(
+        {static_cast<int>(cp.window.size()), plane ? 0 : static_cast<int>(cp.other_window.size())});
   }
   // each jaw of at most one gripper (checked only where there are grippers: this runs every solve)
   if (!problem.grippers.empty()) {
@@ -185,8 +185,8 @@ IslandLayout MakeIslandLayout(const IslandProblem& problem) {
   return layout;
 }
 
-void EvaluateIslandMncp(const IslandProblem& problem, const IslandLayout& layout,
-                        const VectorXd& z, VectorXd* F, MatrixXd* J, bool jacobian_is_zero) {
+void EvaluateIslandMncp(const IslandProblem& problem, const IslandLayout& layout, const VectorXd& z,
+                        VectorXd* F, MatrixXd* J, bool jacobian_is_zero) {
   F->setZero(layout.size);
   if (J && jacobian_is_zero) {
     ECPSIM_DEMAND(J->rows() == layout.size && J->cols() == layout.size);
@@ -295,8 +295,8 @@ double IslandMncpResidual(const IslandProblem& problem, const IslandLayout& layo
       const double angular = 1 / row_scale[col + 3];  // N·m·s
       const double arm = (z.segment<3>(L.a1) - problem.bodies[b].c).norm();
       force_factor(b) = std::max(force_factor(b), creep.force / (units.tolerance * impulse));
-      moment_factor(b) = std::max(
-          moment_factor(b), (creep.force * arm + creep.torque) / (units.tolerance * angular));
+      moment_factor(b) = std::max(moment_factor(b),
+                                  (creep.force * arm + creep.torque) / (units.tolerance * angular));
     }
   }
   for (int b = 0; b < layout.num_bodies; ++b) {
@@ -326,8 +326,8 @@ double IslandStepEnergyGain(const IslandProblem& problem, const IslandLayout& la
   const std::vector<StepMotion> kinematic = KinematicMotions(problem);
   for (size_t k = 0; k < problem.contacts.size(); ++k) {
     const IslandContact& cp = problem.contacts[k];
-    const bool other_drives = cp.other_kind == Other::kKinematic ||
-                              (cp.other_kind == Other::kBody && jaw[cp.other]);
+    const bool other_drives =
+        cp.other_kind == Other::kKinematic || (cp.other_kind == Other::kBody && jaw[cp.other]);
     const bool body_drives = jaw[cp.body];
     // a driver against a driver, or against a fixed obstacle, moves no body of the balance
     if (body_drives == other_drives || (body_drives && cp.other_kind != Other::kBody)) continue;
@@ -341,8 +341,8 @@ double IslandStepEnergyGain(const IslandProblem& problem, const IslandLayout& la
       other.v = z.segment<3>(col);
       other.w = z.segment<3>(col + 3);
     }
-    const ContactFrame frame = MakeContactFrame(
-        ContactNormalCombination(Sides(cp), L, &other, z), cp.tangent_reference);
+    const ContactFrame frame =
+        MakeContactFrame(ContactNormalCombination(Sides(cp), L, &other, z), cp.tangent_reference);
     const Vector3d force = frame.n * z[L.p_n] + frame.t * z[L.p_t] + frame.o * z[L.p_o];
     if (other_drives) {
       const Vector3d r_other = z.segment<3>(L.a2) - other.end.c;

@@ -29,10 +29,10 @@ namespace ecpsim::engine {
 /// dynamic body's. A fixed obstacle is the special case v = ω = 0 at the identity pose, but is
 /// given as IslandContact::Other::kFixed (world-frame shape, no pose), as today.
 struct KinematicBody {
-  Eigen::Vector3d c = Eigen::Vector3d::Zero();  // m, origin of its shape's frame at the start
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();      // m, origin of its shape's frame at the start
   Eigen::Matrix3d R = Eigen::Matrix3d::Identity();  // shape frame → world at the start
-  Eigen::Vector3d v = Eigen::Vector3d::Zero();  // m/s, velocity of c over the step (world)
-  Eigen::Vector3d w = Eigen::Vector3d::Zero();  // rad/s, spatial angular velocity (world)
+  Eigen::Vector3d v = Eigen::Vector3d::Zero();      // m/s, velocity of c over the step (world)
+  Eigen::Vector3d w = Eigen::Vector3d::Zero();      // rad/s, spatial angular velocity (world)
 };
 
 /// One contact of the island: the hull of dynamic body `body` (the F side; its ECP a1 and the
@@ -45,11 +45,11 @@ struct IslandContact {
     kKinematic,  // G is problem.kinematic[other]: `other_shape` in its frame
     kBody,       // G is island body `other` ≠ `body`: `other_shape` in its body frame
   };
-  int body = 0;                                      // island index of F
+  int body = 0;  // island index of F
   Other other_kind = Other::kFixed;
-  int other = -1;                                    // see Other
-  const geometry::ConvexShape* hull = nullptr;       // F's hull, body frame (origin at the CM)
-  std::vector<int> window;                           // F's constraints in the MNCP
+  int other = -1;                               // see Other
+  const geometry::ConvexShape* hull = nullptr;  // F's hull, body frame (origin at the CM)
+  std::vector<int> window;                      // F's constraints in the MNCP
   const geometry::ConvexShape* other_shape = nullptr;
   // G's constraints in the MNCP; for a fixed G all of them in order 0 … n−1 is today's MNCP. A
   // window that leaves some out is exact only if those hold at the solution (the caller checks,

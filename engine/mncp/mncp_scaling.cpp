@@ -117,7 +117,7 @@ GuessLadder RestartLadder(bool have_warm_start, bool was_in_contact, bool moving
 }
 
 GuessLadder RestartLadder(bool have_warm_start, const std::vector<ContactState>& contacts,
-                                 const BodyState& state, const Scales& scales) {
+                          const BodyState& state, const Scales& scales) {
   const bool was_in_contact = std::any_of(contacts.begin(), contacts.end(),
                                           [](const ContactState& c) { return c.p_n > 0; });
   return RestartLadder(have_warm_start, was_in_contact, IsMoving(state, scales));

@@ -70,7 +70,7 @@ GuessLadder RestartLadder(bool have_warm_start, bool was_in_contact, bool moving
 /// The same for a body in `state` whose contacts ended the last step as `contacts`: in contact
 /// if any carried a normal impulse, moving as IsMoving says.
 GuessLadder RestartLadder(bool have_warm_start, const std::vector<ContactState>& contacts,
-                                 const BodyState& state, const Scales& scales);
+                          const BodyState& state, const Scales& scales);
 
 /// A sliding guess's friction on contact L: for the slip (v_t, v_o, v_r) at the ECP (m/s, m/s,
 /// rad/s) the slip multiplier σ = ‖(e_t v_t, e_o v_o, e_r v_r)‖ and the impulses that oppose it on

@@ -5,8 +5,8 @@
 #include <cmath>
 #include <type_traits>
 
-#include <Eigen/Cholesky>
 #include <fmt/format.h>
+#include <Eigen/Cholesky>
 
 #include "common/errors.h"
 #include "engine/loads.h"
@@ -123,8 +123,7 @@ MncpLayout LayOutContacts(int first, const std::vector<std::array<int, 2>>& coun
   return layout;
 }
 
-BodyProblem StartOfStep(const Scene& scene, int body, const BodyState& state, double t,
-                        double h) {
+BodyProblem StartOfStep(const Scene& scene, int body, const BodyState& state, double t, double h) {
   const Body& model = scene.bodies[body];
   BodyProblem p;
   p.h = h;
@@ -165,14 +164,15 @@ EndPose PoseAfterStep(const Vector3d& c, const Matrix3d& R, double h, const Vect
 
 double StepEnergyGain(const BodyProblem& problem, const Vector3d& v, const Vector3d& w) {
   const EndPose end = PoseAfterStep(problem, v, w);
-  const Matrix3d inertia_end = end.R * problem.R.transpose() * problem.inertia_world *
-                               problem.R * end.R.transpose();
-  const double kinetic_start =
-      0.5 * problem.mass * problem.v.squaredNorm() + 0.5 * problem.w.dot(problem.inertia_world * problem.w);
+  const Matrix3d inertia_end =
+      end.R * problem.R.transpose() * problem.inertia_world * problem.R * end.R.transpose();
+  const double kinetic_start = 0.5 * problem.mass * problem.v.squaredNorm() +
+                               0.5 * problem.w.dot(problem.inertia_world * problem.w);
   const double kinetic_end = 0.5 * problem.mass * v.squaredNorm() + 0.5 * w.dot(inertia_end * w);
   const double potential_change = -problem.p_gravity.dot(v);
-  const double loads_work = (problem.p_ext.head<3>() - problem.p_gravity).dot(0.5 * (problem.v + v)) +
-                            problem.p_ext.tail<3>().dot(0.5 * (problem.w + w));
+  const double loads_work =
+      (problem.p_ext.head<3>() - problem.p_gravity).dot(0.5 * (problem.v + v)) +
+      problem.p_ext.tail<3>().dot(0.5 * (problem.w + w));
   return kinetic_end - kinetic_start + potential_change - loads_work;
 }
 
@@ -360,9 +360,9 @@ double SetFrictionRows(const Friction& fr, double p_n, double v_t, double v_o, d
   return p_hat;
 }
 
-void AddContactRows(const ContactSides& sides, const MncpLayout::Contact& L,
-                    const StepMotion& body, const StepMotion* other, double h,
-                    const Eigen::VectorXd& z, Eigen::VectorXd& F, Eigen::MatrixXd* J_out) {
+void AddContactRows(const ContactSides& sides, const MncpLayout::Contact& L, const StepMotion& body,
+                    const StepMotion* other, double h, const Eigen::VectorXd& z, Eigen::VectorXd& F,
+                    Eigen::MatrixXd* J_out) {
   const bool with_jacobian = J_out != nullptr;
   // on a plane a2, s and l_G are left out (MncpLayout): a2 and s follow from a1, N is constant
   const bool plane = L.on_plane();
@@ -401,7 +401,7 @@ void AddContactRows(const ContactSides& sides, const MncpLayout::Contact& L,
 
   // contact constraints (paper eqs. re_contact_multiple_1..4, normalized on G's side)
   const Vector3d y = R_end.transpose() * r;  // a1 in the body frame at q⁺
-  Vector3d cone = N;                          // N + Σ l_i ∇f_i(a1)
+  Vector3d cone = N;                         // N + Σ l_i ∇f_i(a1)
   for (int i = 0; i < L.l_count; ++i) {
     const int face = (*sides.window)[i];
     const Vector3d grad_world = R_end * sides.hull->Gradient(face, y);
@@ -560,9 +560,8 @@ void AddContactRows(const ContactSides& sides, const MncpLayout::Contact& L,
     J.block<1, 3>(row.index, col) += scale * axis_t * dvc_dv;
     J.block<1, 3>(row.index, col + 3) += scale * axis_t * dvc_dw;
     J.block<1, 3>(row.index, L.a1) += scale * axis_t * dvc_da1;
-    add_through_N(row.index, [&] {
-      return RowVector3d(scale * v_contact.transpose() * *row.daxis_dN);
-    });
+    add_through_N(row.index,
+                  [&] { return RowVector3d(scale * v_contact.transpose() * *row.daxis_dN); });
     J(row.index, L.p_n) += row.e2 * fr.mu * row.speed;
     J(row.index, row.index) += slip;  // ∂/∂p_t (or p_o): the row index equals the unknown's
     J(row.index, L.sigma) += row.p;
@@ -576,8 +575,7 @@ void AddContactRows(const ContactSides& sides, const MncpLayout::Contact& L,
   }
   const double scale_r = er2 * fr.mu * p_n;
   J.block<1, 3>(L.p_r, col + 3) += scale_r * n.transpose();
-  add_through_N(L.p_r,
-                [&] { return RowVector3d(scale_r * w_relative.transpose() * d.dn_dN); });
+  add_through_N(L.p_r, [&] { return RowVector3d(scale_r * w_relative.transpose() * d.dn_dN); });
   J(L.p_r, L.p_n) += er2 * fr.mu * v_r;
   J(L.p_r, L.p_r) += slip;
   J(L.p_r, L.sigma) += p_r;
@@ -608,8 +606,8 @@ void EvaluateMncp(const BodyProblem& problem, const MncpLayout& layout, const Ei
   const StepMotion body = AddBodyRows(problem, 0, z, *F_out, J_out);
   for (size_t k = 0; k < problem.contacts.size(); ++k) {
     const ContactProblem& cp = problem.contacts[k];
-    const ContactSides sides{cp.hull, &cp.window, cp.obstacle, nullptr, cp.friction,
-                             cp.tangent_reference};
+    const ContactSides sides{cp.hull, &cp.window,  cp.obstacle,
+                             nullptr, cp.friction, cp.tangent_reference};
     AddContactRows(sides, layout.contacts[k], body, nullptr, problem.h, z, *F_out, J_out);
   }
 }

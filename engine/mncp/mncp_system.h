@@ -22,7 +22,7 @@ namespace ecpsim::engine {
 struct ContactProblem {
   const geometry::ConvexShape* hull = nullptr;      // body frame, origin at the CM
   const geometry::ConvexShape* obstacle = nullptr;  // world frame
-  std::vector<int> window;           // hull constraints that enter the MNCP (all, or a window)
+  std::vector<int> window;  // hull constraints that enter the MNCP (all, or a window)
   Friction friction;
   Eigen::Vector3d tangent_reference = Eigen::Vector3d::UnitX();  // fixed during the step
 };
@@ -34,12 +34,12 @@ struct FreeFlight {
 
 /// Everything one body's MNCP needs from the start of the step.
 struct BodyProblem {
-  double h = 0.01;                      // s
-  double mass = 1;                      // kg
-  Eigen::Matrix3d inertia_world;        // kg·m², R I_B Rᵀ at the start of the step
-  Eigen::Vector3d c, v, w;              // CM position, velocity, spatial angular velocity
-  Eigen::Matrix3d R;                    // body → world at the start of the step
-  Eigen::Matrix<double, 6, 1> p_ext;    // N·s, N·m·s: gravity + applied loads over the step
+  double h = 0.01;                    // s
+  double mass = 1;                    // kg
+  Eigen::Matrix3d inertia_world;      // kg·m², R I_B Rᵀ at the start of the step
+  Eigen::Vector3d c, v, w;            // CM position, velocity, spatial angular velocity
+  Eigen::Matrix3d R;                  // body → world at the start of the step
+  Eigen::Matrix<double, 6, 1> p_ext;  // N·s, N·m·s: gravity + applied loads over the step
   Eigen::Vector3d p_gravity = Eigen::Vector3d::Zero();  // N·s: gravity's part of p_ext, h m g
   // the step's velocities without contact: m (v⁺ − v) = p_ext,f and
   // I_w (ω⁺ − ω) + h ω⁺ × I_w ω⁺ = p_ext,τ (solved once here: every guess starts from it)
@@ -250,9 +250,9 @@ double SetFrictionRows(const Friction& fr, double p_n, double v_t, double v_o, d
 /// to the Newton–Euler rows of F (`body`) and, when G is a dynamic body (`other` with a column),
 /// the opposite wrench to G's: the equations of EvaluateIslandMncp (island_mncp.h). `other` is G's
 /// motion (fixed G: null, then these are EvaluateMncp's rows to the bit).
-void AddContactRows(const ContactSides& sides, const MncpLayout::Contact& L,
-                    const StepMotion& body, const StepMotion* other, double h,
-                    const Eigen::VectorXd& z, Eigen::VectorXd& F, Eigen::MatrixXd* J);
+void AddContactRows(const ContactSides& sides, const MncpLayout::Contact& L, const StepMotion& body,
+                    const StepMotion* other, double h, const Eigen::VectorXd& z, Eigen::VectorXd& F,
+                    Eigen::MatrixXd* J);
 
 /// N = Σ_j l_G,j ∇g_j of contact L at z in world coordinates (|N| ≈ 1 at a solution), G at
 /// `other`'s end pose (null: fixed); the contact frame is MakeContactFrame(N, …).

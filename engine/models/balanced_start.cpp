@@ -44,7 +44,7 @@ Carrying CarryingFaces(const MncpLayout::Contact& L, double active_fraction, con
 }
 
 ContactSides SidesOf(const IslandContact& cp) {
-  return {cp.hull,     &cp.window,          cp.other_shape, &cp.other_window,
+  return {cp.hull,     &cp.window,           cp.other_shape, &cp.other_window,
           cp.friction, cp.tangent_reference, cp.stick_creep};
 }
 
@@ -203,12 +203,9 @@ StartBalance BalanceSlidingStart(const IslandProblem& problem, const IslandLayou
   const Friction& fr = problem.contacts[0].friction;
   const ContactFrame frame = PlaneFrame(problem, layout, z);  // one for every sweep
   const int col = IslandLayout::Velocity(0);
-  SlidingBalance balance{z.segment<3>(col),
-                         z.segment<3>(col + 3),
-                         z.segment<3>(L.a1),
-                         Vector3d(z[L.p_t], z[L.p_o], z[L.p_r]),
-                         z[L.p_n],
-                         z[L.sigma]};
+  SlidingBalance balance{z.segment<3>(col),  z.segment<3>(col + 3),
+                         z.segment<3>(L.a1), Vector3d(z[L.p_t], z[L.p_o], z[L.p_r]),
+                         z[L.p_n],           z[L.sigma]};
   // a start its friction already agrees with is left as it is: exact where the motion is (a
   // uniform deceleration, which the trend extrapolates exactly), and the sweeps would only move
   // it by their own tolerance

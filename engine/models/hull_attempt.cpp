@@ -93,8 +93,8 @@ bool GrowViolatedWindows(IslandProblem& problem, const IslandLayout& layout, con
     const MncpLayout::Contact& L = layout.contacts[k];
     IslandContact& cp = problem.contacts[k];
     const int col = IslandLayout::Velocity(cp.body);
-    const EndPose end = PoseAfterStep(problem.bodies[cp.body], z.segment<3>(col),
-                                      z.segment<3>(col + 3));
+    const EndPose end =
+        PoseAfterStep(problem.bodies[cp.body], z.segment<3>(col), z.segment<3>(col + 3));
     const double tolerance = kWindowCheckRelTol * scales.bodies[cp.body].length;
     int active = 0;
     z.segment(L.l, L.l_count).maxCoeff(&active);
@@ -110,8 +110,8 @@ bool GrowViolatedWindows(IslandProblem& problem, const IslandLayout& layout, con
     int active_g = 0;
     z.segment(L.l_g, L.l_g_count).maxCoeff(&active_g);
     const Vector3d y_g = other.R.transpose() * (z.segment<3>(L.a2) - other.c);
-    const std::vector<int> violated_g = WindowViolations(
-        *cp.other_shape, cp.other_window, cp.other_window[active_g], y_g, tolerance);
+    const std::vector<int> violated_g = WindowViolations(*cp.other_shape, cp.other_window,
+                                                         cp.other_window[active_g], y_g, tolerance);
     if (!violated_g.empty()) {
       cp.other_window = GrowWindow(*cp.other_shape, cp.other_window, violated_g);
       grown = true;
@@ -141,9 +141,8 @@ void CommitSolution(const IslandProblem& problem, const IslandLayout& layout, co
     c.p_n = std::max(z[L.p_n], 0.0);
     // without a normal impulse any σ ≥ 0 solves the MNCP (trap 2); report the canonical 0
     c.sigma = c.p_n > 0 ? std::max(z[L.sigma], 0.0) : 0.0;
-    const ContactFrame frame =
-        MakeContactFrame(IslandContactNormal(problem, layout, z, static_cast<int>(k)),
-                         cp.tangent_reference);
+    const ContactFrame frame = MakeContactFrame(
+        IslandContactNormal(problem, layout, z, static_cast<int>(k)), cp.tangent_reference);
     c.n = frame.n;
     c.t = frame.t;
     c.o = frame.o;

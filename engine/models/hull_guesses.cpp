@@ -60,11 +60,9 @@ bool AnyBodyMoving(const IslandState& state, const IslandScales& scales) {
 GuessLadder HullLadder(const IslandProblem& problem, const IslandState& state,
                        const IslandScales& scales, bool moving) {
   const bool have_warm_start =
-      state.contacts.empty() ||
-      std::holds_alternative<HullWarmStart>(state.contacts[0].warm_start);
-  const bool was_in_contact =
-      std::any_of(state.contacts.begin(), state.contacts.end(),
-                  [](const ContactState& c) { return c.p_n > 0; });
+      state.contacts.empty() || std::holds_alternative<HullWarmStart>(state.contacts[0].warm_start);
+  const bool was_in_contact = std::any_of(state.contacts.begin(), state.contacts.end(),
+                                          [](const ContactState& c) { return c.p_n > 0; });
   GuessLadder ladder = RestartLadder(have_warm_start, was_in_contact, moving);
   // a body landing on another feature of its hull: the sliding guess first
   if (moving && ladder.front() == Guess::kWarm && Lands(problem, state, scales)) {
@@ -99,8 +97,8 @@ bool MayFlyFree(const IslandProblem& problem, const IslandState& state) {
   return true;
 }
 
-bool AllContactsApart(const IslandProblem& problem, const IslandLayout& layout,
-                      const VectorXd& z, const IslandState& state) {
+bool AllContactsApart(const IslandProblem& problem, const IslandLayout& layout, const VectorXd& z,
+                      const IslandState& state) {
   for (size_t k = 0; k < problem.contacts.size(); ++k) {
     const IslandContact& cp = problem.contacts[k];
     const MncpLayout::Contact& L = layout.contacts[k];
@@ -114,8 +112,7 @@ bool AllContactsApart(const IslandProblem& problem, const IslandLayout& layout,
   return true;
 }
 
-bool Lands(const IslandProblem& problem, const IslandState& state,
-           const IslandScales& scales) {
+bool Lands(const IslandProblem& problem, const IslandState& state, const IslandScales& scales) {
   if (problem.bodies.size() != 1 || problem.contacts.size() != 1) return false;
   const IslandContact& cp = problem.contacts[0];
   const ContactState& last = state.contacts[0];
@@ -148,8 +145,8 @@ bool Predictable(const IslandProblem& problem, const IslandState& state,
 }
 
 VectorXd MakeGuess(Guess guess, const Vector3d& gravity, IslandProblem& problem,
-                   const IslandLayout& layout,
-                   const IslandState& state, const IslandScales& scales) {
+                   const IslandLayout& layout, const IslandState& state,
+                   const IslandScales& scales) {
   VectorXd z = VectorXd::Zero(layout.size);
   // free-flight velocities as the starting point of a fresh guess; the last ones for warm starts
   const bool from_last = guess == Guess::kWarm || guess == Guess::kPredicted;
@@ -221,8 +218,8 @@ VectorXd MakeGuess(Guess guess, const Vector3d& gravity, IslandProblem& problem,
       a2 = separated ? top : Vector3d(a1 - n * n.dot(a1 - top));
       const Vector3d y_g = other.R.transpose() * (a2 - other.c);
       // G's window constraint whose world normal is most aligned with n carries its cone
-      const int best_g = MostOpposedWindowConstraint(*cp.other_shape, cp.other_window,
-                                                     other.R, y_g, -n);
+      const int best_g =
+          MostOpposedWindowConstraint(*cp.other_shape, cp.other_window, other.R, y_g, -n);
       z[L.l_g + best_g] = 1;
       N = other.R * cp.other_shape->Gradient(cp.other_window[best_g], y_g);
       if (cp.other_kind == Other::kKinematic) {
@@ -230,7 +227,8 @@ VectorXd MakeGuess(Guess guess, const Vector3d& gravity, IslandProblem& problem,
         v_other = g.v + g.w.cross(a2 - other.c);
       } else {
         const int other_col = IslandLayout::Velocity(cp.other);
-        v_other = z.segment<3>(other_col) + Vector3d(z.segment<3>(other_col + 3)).cross(a2 - other.c);
+        v_other =
+            z.segment<3>(other_col) + Vector3d(z.segment<3>(other_col + 3)).cross(a2 - other.c);
       }
     }
     z.segment<3>(L.a1) = a1;
@@ -260,8 +258,8 @@ VectorXd MakeGuess(Guess guess, const Vector3d& gravity, IslandProblem& problem,
       if (cp.other_kind == Other::kBody) {
         const double m_g = problem.bodies[cp.other].mass;
         const int other_col = IslandLayout::Velocity(cp.other);
-        v_common = (body.mass * n.dot(z.segment<3>(col)) +
-                    m_g * n.dot(z.segment<3>(other_col))) / (body.mass + m_g);
+        v_common = (body.mass * n.dot(z.segment<3>(col)) + m_g * n.dot(z.segment<3>(other_col))) /
+                   (body.mass + m_g);
         const Vector3d v_g = z.segment<3>(other_col);
         z.segment<3>(other_col) = v_g - n * (n.dot(v_g) - v_common);
       }
@@ -284,8 +282,7 @@ VectorXd MakeGuess(Guess guess, const Vector3d& gravity, IslandProblem& problem,
 }
 
 StartBalance BalanceGuess(Guess guess, bool moving, const IslandProblem& problem,
-                          const IslandLayout& layout, const IslandScales& scales,
-                          VectorXd& z) {
+                          const IslandLayout& layout, const IslandScales& scales, VectorXd& z) {
   if (guess == Guess::kPredicted)
     FitCarryingMultipliers(problem, layout, kDegenerateActiveFraction, z);
   if (moving) {

@@ -82,9 +82,9 @@ class LadderRun {
           StallIterations(guess, p == 0, pass.plain_newton, problem_.bodies.size());
       if (TryGuess(guess, p, pass, far_stall)) return true;
     }
-    return far_stall && ReSolveStall(far_stall->first, MakeIslandLayout(far_stall->first),
-                                     far_stall->second, options_, scales_, ejection_energy_,
-                                     state_, result_);
+    return far_stall &&
+           ReSolveStall(far_stall->first, MakeIslandLayout(far_stall->first), far_stall->second,
+                        options_, scales_, ejection_energy_, state_, result_);
   }
 
  private:
@@ -196,8 +196,7 @@ AdvanceResult AdvanceIsland(const Scene& scene, const Island& island, double t, 
   // in contact (or about to be): the warm start, then the guesses that fit the bodies' motion
   const bool moving = AnyBodyMoving(state, scales);
   const GuessLadder ladder = HullLadder(problem, state, scales, moving);
-  LadderRun run(scene, problem, std::move(layout), scales, ejection_energy, moving, state,
-                result);
+  LadderRun run(scene, problem, std::move(layout), scales, ejection_energy, moving, state, result);
   const bool last_resort = effort == Effort::kLastResort;
   const int first_pass = last_resort ? kLastResortPass : 0;
   const int end_pass = last_resort ? kPassCount : kLastResortPass;

@@ -182,10 +182,9 @@ void SelectWindows(const SolverSettings& settings, const IslandState& state,
     // will go, and a root found in too small a window is solved again once it has grown
     const bool first = cp.other_kind == Other::kFixed &&
                        !std::holds_alternative<HullWarmStart>(state.contacts[k].warm_start);
-    const int rings =
-        std::max(settings.window_rings - (flat ? 1 : 0), 0) + (first ? 1 : 0);
-    cp.window = SelectWindow(*cp.hull, PredictedRotation(problem, cp.body).transpose() * -n,
-                             rings, settings.use_window);
+    const int rings = std::max(settings.window_rings - (flat ? 1 : 0), 0) + (first ? 1 : 0);
+    cp.window = SelectWindow(*cp.hull, PredictedRotation(problem, cp.body).transpose() * -n, rings,
+                             settings.use_window);
     if (cp.other_kind != Other::kFixed) {
       cp.other_window =
           SelectWindow(*cp.other_shape, PredictedOtherRotation(problem, cp).transpose() * n,
@@ -211,8 +210,8 @@ std::pair<Eigen::Isometry3d, Eigen::Isometry3d> StartPoses(const IslandProblem& 
   return {pose(body.c, body.R), pose(g.c, g.R)};
 }
 
-void SeparatePairs(const IslandProblem& problem, const IslandScales& scales,
-                   IslandState& state, std::vector<double>& overlaps) {
+void SeparatePairs(const IslandProblem& problem, const IslandScales& scales, IslandState& state,
+                   std::vector<double>& overlaps) {
   overlaps.assign(problem.contacts.size(), 0.0);
   for (size_t k = 0; k < problem.contacts.size(); ++k) {
     const IslandContact& cp = problem.contacts[k];
@@ -255,8 +254,8 @@ double EjectionEnergy(const IslandProblem& problem, const IslandState& state,
     const double length = scales.bodies[cp.body].length;
     if (pair_depth > kNegligibleDepthRel * length) {
       const auto [X_F, X_G] = StartPoses(problem, cp);
-      pair_depth = std::min(pair_depth, geometry::PenetrationDepth(*cp.hull, X_F, *cp.other_shape,
-                                                                   X_G, length));
+      pair_depth = std::min(
+          pair_depth, geometry::PenetrationDepth(*cp.hull, X_F, *cp.other_shape, X_G, length));
     }
     depth = std::max(depth, pair_depth);
   }
@@ -275,9 +274,8 @@ void CarryByFace(const std::vector<int>& from_window, const VectorXd& from, int 
   }
 }
 
-VectorXd RemapWindows(const IslandProblem& from, const IslandLayout& from_layout,
-                      const VectorXd& z, const IslandProblem& to,
-                      const IslandLayout& to_layout) {
+VectorXd RemapWindows(const IslandProblem& from, const IslandLayout& from_layout, const VectorXd& z,
+                      const IslandProblem& to, const IslandLayout& to_layout) {
   VectorXd out = VectorXd::Zero(to_layout.size);
   out.head(IslandLayout::Velocity(to_layout.num_bodies)) =
       z.head(IslandLayout::Velocity(from_layout.num_bodies));
@@ -287,8 +285,7 @@ VectorXd RemapWindows(const IslandProblem& from, const IslandLayout& from_layout
     // the free block (a1 … p_r: 10 unknowns, 6 on a plane) and G's multipliers (none on a plane)
     out.segment(B.a1, B.p_r + 1 - B.a1) = z.segment(A.a1, A.p_r + 1 - A.a1);
     if (B.l_g_count > 0)
-      CarryByFace(from.contacts[k].other_window, z, A.l_g, to.contacts[k].other_window, out,
-                  B.l_g);
+      CarryByFace(from.contacts[k].other_window, z, A.l_g, to.contacts[k].other_window, out, B.l_g);
     out[B.p_n] = z[A.p_n];
     out[B.sigma] = z[A.sigma];
     CarryByFace(from.contacts[k].window, z, A.l, to.contacts[k].window, out, B.l);

@@ -24,8 +24,8 @@ bool SolveAlongEdgeOf(int stalled, const IslandProblem& problem, const IslandLay
   if (carrying.size() != 2) return false;
   // the edge's direction in F's end-of-step frame, and the hull's extent along it
   const int col = IslandLayout::Velocity(cp.body);
-  const EndPose end = PoseAfterStep(problem.bodies[cp.body], z.segment<3>(col),
-                                    z.segment<3>(col + 3));
+  const EndPose end =
+      PoseAfterStep(problem.bodies[cp.body], z.segment<3>(col), z.segment<3>(col + 3));
   const Vector3d y = end.R.transpose() * (z.segment<3>(L.a1) - end.c);
   const Vector3d edge_body = cp.hull->Gradient(cp.window[carrying[0]], y)
                                  .cross(cp.hull->Gradient(cp.window[carrying[1]], y));
@@ -33,7 +33,8 @@ bool SolveAlongEdgeOf(int stalled, const IslandProblem& problem, const IslandLay
   const Vector3d e = edge_body.normalized();
   const double from = (cp.hull->Support(-e) - y).dot(e), to = (cp.hull->Support(e) - y).dot(e);
   std::vector<double> shifts;
-  for (int i = 0; i < kEdgeStarts; ++i) shifts.push_back(from + (to - from) * (i + 0.5) / kEdgeStarts);
+  for (int i = 0; i < kEdgeStarts; ++i)
+    shifts.push_back(from + (to - from) * (i + 0.5) / kEdgeStarts);
   std::sort(shifts.begin(), shifts.end(),
             [](double a, double b) { return std::abs(a) < std::abs(b); });
   // the starts' bases: the stalled iterate and each carrying face's own root
@@ -54,7 +55,8 @@ bool SolveAlongEdgeOf(int stalled, const IslandProblem& problem, const IslandLay
       VectorXd start = base;
       start.segment<3>(L.a1) += shift * e_world;
       if (!L.on_plane()) start.segment<3>(L.a2) += shift * e_world;
-      const Attempt attempt = SolveAttempt(problem, layout, start, options, scales, ejection_energy, result);
+      const Attempt attempt =
+          SolveAttempt(problem, layout, start, options, scales, ejection_energy, result);
       if (AcceptReduced(problem, layout, start, attempt, scales, state, result)) return true;
     }
   }
@@ -87,8 +89,8 @@ std::vector<int> Carrying(const VectorXd& z, int first, int count) {
   return carrying;
 }
 
-int StalledContact(const IslandProblem& problem, const IslandLayout& layout,
-                   const VectorXd& z, const IslandScales& scales) {
+int StalledContact(const IslandProblem& problem, const IslandLayout& layout, const VectorXd& z,
+                   const IslandScales& scales) {
   VectorXd F;
   EvaluateIslandMncp(problem, layout, z, &F, nullptr);
   const VectorXd row_scale = IslandRowScales(problem, layout, scales);
@@ -108,8 +110,7 @@ int StalledContact(const IslandProblem& problem, const IslandLayout& layout,
 
 bool SolveOnCarryingFaces(const IslandProblem& problem, const IslandLayout& layout,
                           const VectorXd& z, McpOptions& options, const IslandScales& scales,
-                          double ejection_energy, IslandState& state,
-                          AdvanceResult& result) {
+                          double ejection_energy, IslandState& state, AdvanceResult& result) {
   if (!z.allFinite()) return false;
   IslandProblem reduced = problem;
   bool cut = false;
@@ -176,14 +177,13 @@ bool SolveAtDegenerateVertex(const IslandProblem& problem, const IslandLayout& l
 
 bool SolveAlongCarryingEdge(const IslandProblem& problem, const IslandLayout& layout,
                             const VectorXd& z, McpOptions& options, const IslandScales& scales,
-                            double ejection_energy, IslandState& state,
-                            AdvanceResult& result) {
+                            double ejection_energy, IslandState& state, AdvanceResult& result) {
   if (!z.allFinite()) return false;
   const int stalled = layout.num_bodies > 1 ? StalledContact(problem, layout, z, scales) : -1;
   for (size_t k = 0; k < problem.contacts.size(); ++k) {
     if (stalled >= 0 && static_cast<int>(k) != stalled) continue;
-    if (SolveAlongEdgeOf(static_cast<int>(k), problem, layout, z, options, scales,
-                         ejection_energy, state, result)) {
+    if (SolveAlongEdgeOf(static_cast<int>(k), problem, layout, z, options, scales, ejection_energy,
+                         state, result)) {
       return true;
     }
   }

@@ -10,13 +10,13 @@
 
 #include <fmt/format.h>
 
-#include "engine/models/balanced_start.h"
-#include "engine/solver/complementarity_solver.h"
+#include "common/errors.h"
 #include "engine/mncp/mncp_scaling.h"
+#include "engine/models/balanced_start.h"
 #include "engine/models/multipatch_balance.h"
 #include "engine/obstacle_queries.h"
 #include "engine/rotation.h"
-#include "common/errors.h"
+#include "engine/solver/complementarity_solver.h"
 
 namespace ecpsim::engine {
 namespace {
@@ -189,8 +189,7 @@ class MultiPatchStepper {
     const VectorXd var_scale = VariableScales(problem.body, layout, scales);
     options.measure = [&](const VectorXd& zz, const VectorXd& F) {
       return MncpResidual(layout, zz, F, row_scale, var_scale,
-                                {scales.length, options.tolerance,
-                                 problem.body.c.cwiseAbs().maxCoeff()});
+                          {scales.length, options.tolerance, problem.body.c.cwiseAbs().maxCoeff()});
     };
     // the ladder as it is, then once more with iterates kept in the orthant of the
     // complementarity unknowns, as the hull model (engine/README.md, "Impacts")
@@ -215,10 +214,9 @@ class MultiPatchStepper {
           result.solved = true;
           return result;
         }
-        result.tried.push_back({std::string(GuessName(guess)) + (project ? " (projected)" : ""),
-                                h,
-                                fmt::format("residual {:.3g} after {} iterations",
-                                            solve.residual, solve.iterations)});
+        result.tried.push_back(
+            {std::string(GuessName(guess)) + (project ? " (projected)" : ""), h,
+             fmt::format("residual {:.3g} after {} iterations", solve.residual, solve.iterations)});
         ++result.retries;
       }
     }
@@ -568,8 +566,8 @@ void AddProximalTerms(const MultiPatchProblem& problem, const MncpLayout& layout
 }
 
 // (no last resort: every effort is the usual one)
-AdvanceResult MultiPatchModel::Advance(const Island& island, double t, double h,
-                                       IslandState& state, Effort) const {
+AdvanceResult MultiPatchModel::Advance(const Island& island, double t, double h, IslandState& state,
+                                       Effort) const {
   return AdvanceOneBody<MultiPatchStepper>(scene_, island, t, h, state);
 }
 

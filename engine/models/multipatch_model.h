@@ -46,8 +46,8 @@ ContactFrame MultiPatchFrame(const ContactProblem& cp);
 /// A part's friction moment about a point `d` (m, world) away from its own ECP along the
 /// plane: p_rE = p_r + n · (d × (t p_t + o p_o)) = p_r − p_t o·d + p_o t·d (N·m·s), with d =
 /// a1_i − a1 the part's equivalent moment about the combined ECP a1.
-double EquivalentMoment(const ContactFrame& frame, const Eigen::Vector3d& d, double p_t,
-                        double p_o, double p_r);
+double EquivalentMoment(const ContactFrame& frame, const Eigen::Vector3d& d, double p_t, double p_o,
+                        double p_r);
 
 /// The combined ECP of group `g`: a1 = Σ w_i a1_i / Σ w_i over the group's blocks, w_i =
 /// max(p_n_i, 0) + weight_floor (world frame, m). With `which_a2` the same mean of the a2_i (on
@@ -62,7 +62,8 @@ Eigen::Vector3d CombinedEcp(const MultiPatchProblem& problem, const MncpLayout& 
 /// v_t = t·v_c, v_o = o·v_c, v_r = n·ω⁺, and the equivalent moment about a1
 /// p_rE,i = p_r,i + n · ((a1_i − a1) × (t p_t,i + o p_o,i)):
 ///     e_t² μ p_n,i v_t + p_t,i σ_i = 0,  e_o² μ p_n,i v_o + p_o,i σ_i = 0,
-///     e_r² μ p_n,i v_r + p_rE,i σ_i = 0,  0 ≤ σ_i ⊥ μ p_n,i − ‖(p_t,i/e_t, p_o,i/e_o, p_rE,i/e_r)‖ ≥ 0.
+///     e_r² μ p_n,i v_r + p_rE,i σ_i = 0,  0 ≤ σ_i ⊥ μ p_n,i − ‖(p_t,i/e_t, p_o,i/e_o, p_rE,i/e_r)‖
+///     ≥ 0.
 /// `jacobian_is_zero` as EvaluateMncp's.
 void EvaluateMultiPatch(const MultiPatchProblem& problem, const MncpLayout& layout,
                         const Eigen::VectorXd& z, Eigen::VectorXd* F, Eigen::MatrixXd* J,

@@ -5,13 +5,13 @@
 
 #include <fmt/format.h>
 
-#include "engine/solver/complementarity_solver.h"
+#include "common/errors.h"
 #include "engine/mncp/contact_window.h"
 #include "engine/mncp/mncp_scaling.h"
 #include "engine/mncp/mncp_system.h"
 #include "engine/obstacle_queries.h"
 #include "engine/rotation.h"
-#include "common/errors.h"
+#include "engine/solver/complementarity_solver.h"
 
 namespace ecpsim::engine {
 namespace {
@@ -124,7 +124,8 @@ PlanarStep SolvePlanarStep(const Scene& scene, const Island& island, double t, d
   const Vector3d lowest = b.p_WB + R * hull->hull().vertices[support_vertex];
   const double height = plane.Value(0, b.p_WB) - plane.Value(0, lowest);
   if (std::abs(plane.Value(0, lowest)) > support_tolerance) {
-    step.invalid = fmt::format("its lowest point is {:.3g} m off the plane", plane.Value(0, lowest));
+    step.invalid =
+        fmt::format("its lowest point is {:.3g} m off the plane", plane.Value(0, lowest));
     return step;
   }
 
@@ -169,9 +170,9 @@ PlanarStep SolvePlanarStep(const Scene& scene, const Island& island, double t, d
   const auto residual = [&](const VectorXd& z, VectorXd* F, Eigen::MatrixXd* J) {
     const Kinematics k = kinematics(z);
     const double sigma = z[3];
-    const double p_hat = std::sqrt(z[0] * z[0] / (fr.e_t * fr.e_t) +
-                                   z[1] * z[1] / (fr.e_o * fr.e_o) +
-                                   z[2] * z[2] / (fr.e_r * fr.e_r));
+    const double p_hat =
+        std::sqrt(z[0] * z[0] / (fr.e_t * fr.e_t) + z[1] * z[1] / (fr.e_o * fr.e_o) +
+                  z[2] * z[2] / (fr.e_r * fr.e_r));
     F->resize(4);
     (*F) << A * k.vt + z[0] * sigma, B * k.vo + z[1] * sigma, C * k.w + z[2] * sigma,
         fr.mu * p_n - p_hat;
@@ -220,9 +221,9 @@ PlanarStep SolvePlanarStep(const Scene& scene, const Island& island, double t, d
   result.model = StepModel::kPlanar;
   McpResult solve = SolveMcp(f, 3, row_scale, var_scale, z, options);
   if (!solve.converged) {
-    result.tried.push_back({"warm start", h,
-                            fmt::format("residual {:.3g} after {} iterations", solve.residual,
-                                        solve.iterations)});
+    result.tried.push_back(
+        {"warm start", h,
+         fmt::format("residual {:.3g} after {} iterations", solve.residual, solve.iterations)});
     ++result.retries;
     result.iterations += solve.iterations;
     z << 0, 0, 0, speed;
@@ -231,9 +232,9 @@ PlanarStep SolvePlanarStep(const Scene& scene, const Island& island, double t, d
   result.iterations += solve.iterations;
   result.residual = solve.residual;
   if (!solve.converged) {
-    result.tried.push_back({"sliding guess", h,
-                            fmt::format("residual {:.3g} after {} iterations", solve.residual,
-                                        solve.iterations)});
+    result.tried.push_back(
+        {"sliding guess", h,
+         fmt::format("residual {:.3g} after {} iterations", solve.residual, solve.iterations)});
     return step;
   }
 
@@ -254,8 +255,10 @@ PlanarStep SolvePlanarStep(const Scene& scene, const Island& island, double t, d
   const Vector3d a1 = next.p_WB + frame.ToWorld(Vector3d(kin.rx, kin.ry, -height));
   const Vector3d y = next.Q_WB.toRotationMatrix().transpose() * (a1 - next.p_WB);
   if (!OnFaceFacet(*hull, face, y, support_tolerance)) {
-    step.invalid = fmt::format("the ECP ({:.4g}, {:.4g}, {:.4g}) m left the support face (it "
-                               "would tip)", a1.x(), a1.y(), a1.z());
+    step.invalid = fmt::format(
+        "the ECP ({:.4g}, {:.4g}, {:.4g}) m left the support face (it "
+        "would tip)",
+        a1.x(), a1.y(), a1.z());
     state.bodies[0] = b;
     return step;
   }
@@ -275,14 +278,15 @@ PlanarStep SolvePlanarStep(const Scene& scene, const Island& island, double t, d
 }
 
 // (no last resort: every effort is the usual one)
-AdvanceResult PlanarModel::Advance(const Island& island, double t, double h,
-                                   IslandState& state, Effort) const {
-  const PlanarStep step =
-      SolvePlanarStep(scene_, island, t, h, {kFlatTolerance, kSupportRelTolerance, INFINITY, {}}, state);
+AdvanceResult PlanarModel::Advance(const Island& island, double t, double h, IslandState& state,
+                                   Effort) const {
+  const PlanarStep step = SolvePlanarStep(
+      scene_, island, t, h, {kFlatTolerance, kSupportRelTolerance, INFINITY, {}}, state);
   if (!step.invalid.empty()) {
-    throw ModelInvalid(fmt::format("planar model invalid at t = {:.6g} s on body '{}': {}; use "
-                                   "--model hull", t, scene_.bodies[island.bodies[0]].name,
-                                   step.invalid));
+    throw ModelInvalid(
+        fmt::format("planar model invalid at t = {:.6g} s on body '{}': {}; use "
+                    "--model hull",
+                    t, scene_.bodies[island.bodies[0]].name, step.invalid));
   }
   return step.result;
 }

@@ -15,9 +15,9 @@ namespace ecpsim::engine {
 /// How strictly a planar step checks the model's assumptions (relative to the body's length
 /// L = √(tr I / m), in rad for angles).
 struct PlanarChecks {
-  double flat_angle;       // rad: the support face's normal within this of −N
-  double support_length;   // of L: the lowest point on the plane, the ECP on the support face
-  double max_rotation;     // rad: the largest turn h|ω⁺| of the step (beyond: not solved)
+  double flat_angle;      // rad: the support face's normal within this of −N
+  double support_length;  // of L: the lowest point on the plane, the ECP on the support face
+  double max_rotation;    // rad: the largest turn h|ω⁺| of the step (beyond: not solved)
   // relative: when set, the body must already move in the plane and turn about its normal
   // (|v · N| and |ω × N| L within this of its velocity scale) and N be a principal axis of its
   // inertia (|I_w N × N| within this of N · I_w N), as `model: auto` needs (engine/README.md);

@@ -5,15 +5,15 @@
 #include <string>
 #include <vector>
 
-#include <Eigen/Cholesky>
 #include <fmt/format.h>
+#include <Eigen/Cholesky>
 
+#include "common/errors.h"
+#include "engine/mncp/mncp_system.h"
+#include "engine/obstacle_queries.h"
+#include "engine/rotation.h"
 #include "engine/solver/complementarity_solver.h"
 #include "engine/solver/lemke_solver.h"
-#include "engine/mncp/mncp_system.h"
-#include "engine/rotation.h"
-#include "engine/obstacle_queries.h"
-#include "common/errors.h"
 
 namespace ecpsim::engine {
 namespace {
@@ -55,8 +55,7 @@ constexpr double kLcpNewtonRegularization = 1e-12;
 constexpr int kDirections = kPointContactFrictionDirections;
 
 std::vector<Vector3d> HullVertices(const geometry::ConvexShape& hull) {
-  if (const auto* polyhedron = hull.AsPolyhedron())
-    return polyhedron->hull().vertices;
+  if (const auto* polyhedron = hull.AsPolyhedron()) return polyhedron->hull().vertices;
   return hull.Tessellate(kSmoothHullSegments).vertices;
 }
 
@@ -110,15 +109,15 @@ LcpResult SolveLcpNewton(const MatrixXd& M, const VectorXd& q, int m) {
 // One end of a contact pair: a dynamic body of the island (velocities unknown), a kinematic body
 // (its prescribed twist) or a fixed obstacle (world-frame shape, at rest).
 struct Side {
-  int island_body = -1;                          // ≥ 0: index into the island's bodies
-  const geometry::ConvexShape* shape = nullptr;  // in the frame (c, R)
-  const std::vector<Vector3d>* vertices = nullptr;  // hull vertices (bodies only)
-  Vector3d c = Vector3d::Zero();                 // m, world: frame origin (a body's CM)
-  Matrix3d R = Matrix3d::Identity();             // frame → world at the start of the step
+  int island_body = -1;                                 // ≥ 0: index into the island's bodies
+  const geometry::ConvexShape* shape = nullptr;         // in the frame (c, R)
+  const std::vector<Vector3d>* vertices = nullptr;      // hull vertices (bodies only)
+  Vector3d c = Vector3d::Zero();                        // m, world: frame origin (a body's CM)
+  Matrix3d R = Matrix3d::Identity();                    // frame → world at the start of the step
   Vector3d v = Vector3d::Zero(), w = Vector3d::Zero();  // known twist (kinematic), else 0
-  double radius = 0;                             // m, largest vertex distance from c
-  double speed = 0;                              // m/s, bound on a point's speed in the step
-  EndPose end;                                   // the pose at the end of the step
+  double radius = 0;                                    // m, largest vertex distance from c
+  double speed = 0;                                     // m/s, bound on a point's speed in the step
+  EndPose end;                                          // the pose at the end of the step
 
   bool Dynamic() const { return island_body >= 0; }
   // the world velocity of the side's material point at x with its known twist
@@ -127,14 +126,14 @@ struct Side {
 
 // one contact point: a hull vertex of F near G, or of G near F, at the start of the step
 struct ContactPoint {
-  int pair = 0;          // index into the island's contact list
-  bool on_f = true;      // the vertex is F's (else G's)
-  Vector3d y;            // the vertex in its body's frame, m
-  Vector3d x;            // world, start of the step, m
-  Vector3d n;            // unit normal from G into F (world)
-  double psi = 0;        // gap along n, m (negative: penetration)
-  double mu = 0;         // Coulomb coefficient
-  double mass = 0;       // kg, the impulse scale's mass: the lighter dynamic body's
+  int pair = 0;                      // index into the island's contact list
+  bool on_f = true;                  // the vertex is F's (else G's)
+  Vector3d y;                        // the vertex in its body's frame, m
+  Vector3d x;                        // world, start of the step, m
+  Vector3d n;                        // unit normal from G into F (world)
+  double psi = 0;                    // gap along n, m (negative: penetration)
+  double mu = 0;                     // Coulomb coefficient
+  double mass = 0;                   // kg, the impulse scale's mass: the lighter dynamic body's
   Vector3d directions[kDirections];  // unit tangents at equal angles
 };
 
@@ -214,9 +213,9 @@ class PointIslandStepper {
       const ContactPair& pair = scene_.contacts[island_.contacts[k]];
       const Side& f = f_sides[k];
       const Side& g = g_sides[k];
-      const double mass = g.Dynamic() ? std::min(problems[f.island_body].mass,
-                                                 problems[g.island_body].mass)
-                                      : problems[f.island_body].mass;
+      const double mass = g.Dynamic()
+                              ? std::min(problems[f.island_body].mass, problems[g.island_body].mass)
+                              : problems[f.island_body].mass;
       const double activation =
           pair.WithBody()
               ? std::max(kActivationRel * std::max(f.radius, g.radius),
@@ -225,8 +224,8 @@ class PointIslandStepper {
       double lowest_gap = INFINITY;
       for (const Vector3d& y : *f.vertices) {
         const Vector3d x = f.c + f.R * y;
-        const FaceGap gap = pair.WithBody() ? GapToBody(g, x, f.c - g.c)
-                                            : GapToObstacle(*g.shape, x);
+        const FaceGap gap =
+            pair.WithBody() ? GapToBody(g, x, f.c - g.c) : GapToObstacle(*g.shape, x);
         if (gap.psi < lowest_gap) {
           lowest_gap = gap.psi;
           lowest[k] = y;
@@ -250,9 +249,10 @@ class PointIslandStepper {
     const int k = static_cast<int>(points.size());
     constexpr int d = kDirections;
     VectorXd impulses = VectorXd::Zero((1 + d) * k);  // (p_n, β), N·s
-    VectorXd lambda = VectorXd::Zero(k);               // m/s
-    VectorXd nu(6 * num_bodies);                       // (v⁺, ω⁺) per island body
-    for (int i = 0; i < num_bodies; ++i) nu.segment<6>(6 * i) << problems[i].free.v, problems[i].free.w;
+    VectorXd lambda = VectorXd::Zero(k);              // m/s
+    VectorXd nu(6 * num_bodies);                      // (v⁺, ω⁺) per island body
+    for (int i = 0; i < num_bodies; ++i)
+      nu.segment<6>(6 * i) << problems[i].free.v, problems[i].free.w;
     double lcp_residual = 0;
     if (k > 0) {
       // wrench columns: N (k), then D (d per point); the impulse acts on F at x and its opposite
@@ -378,8 +378,8 @@ class PointIslandStepper {
  private:
   // body `b` of the scene at the start of the step: an island body (its StartOfStep problem) or
   // a kinematic one at its prescribed pose and twist over [t, t + h]
-  Side BodySide(int b, const std::vector<BodyProblem>& problems, const IslandState& state,
-                double t, double h) const {
+  Side BodySide(int b, const std::vector<BodyProblem>& problems, const IslandState& state, double t,
+                double h) const {
     const Body& body = scene_.bodies[b];
     Side side;
     side.shape = body.hull.get();
@@ -458,8 +458,7 @@ class PointIslandStepper {
     }
     // G's shape in its own frame at its end pose (a fixed obstacle's frame is the world's)
     const Vector3d a1_G = g.end.R.transpose() * (state.a1 - g.end.c);
-    if (!(p_n > 0) || !(normal.norm() > 0))
-      normal = g.end.R * ObstacleNormalToward(*g.shape, a1_G);
+    if (!(p_n > 0) || !(normal.norm() > 0)) normal = g.end.R * ObstacleNormalToward(*g.shape, a1_G);
     const ContactFrame frame = MakeContactFrame(normal, TangentReference(normal.normalized()));
     // torsion: the moment of the points' friction impulses about a1 along n
     double p_r = 0;
@@ -493,8 +492,8 @@ PointModel::PointModel(const Scene& scene) : scene_(scene) {
 }
 
 // (no last resort: every effort is the usual one)
-AdvanceResult PointModel::Advance(const Island& island, double t, double h,
-                                         IslandState& state, Effort) const {
+AdvanceResult PointModel::Advance(const Island& island, double t, double h, IslandState& state,
+                                  Effort) const {
   return PointIslandStepper(scene_, vertices_, island).Advance(t, h, state);
 }
 

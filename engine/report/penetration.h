@@ -30,11 +30,11 @@ class PenetrationProbe {
 
   /// m, ≥ 0: how deep bodies a and b overlap: the smallest overlap of their projections over
   /// the separating-axis candidates — the face normals of both polyhedral hulls, the line of
-  /// their reference points, the world axes and `normal` if given (a contact's solved normal) — using the
-  /// half-space vertex sets below (a primitive's display mesh). 0 when any candidate separates
-  /// them; the exact penetration depth when the deepest overlap is a vertex or a face against a
-  /// face (stacked and pushed bodies); never below it (an upper bound) when two edges cross,
-  /// and then also possibly > 0 for hulls that touch or are a hair apart along an edge–edge
+  /// their reference points, the world axes and `normal` if given (a contact's solved normal) —
+  /// using the half-space vertex sets below (a primitive's display mesh). 0 when any candidate
+  /// separates them; the exact penetration depth when the deepest overlap is a vertex or a face
+  /// against a face (stacked and pushed bodies); never below it (an upper bound) when two edges
+  /// cross, and then also possibly > 0 for hulls that touch or are a hair apart along an edge–edge
   /// axis (which the solved contact normal is, during a run).
   double BodyDepth(const Scene& scene, const State& state, int a, int b,
                    const Eigen::Vector3d* normal = nullptr) const;

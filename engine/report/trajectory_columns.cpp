@@ -9,8 +9,8 @@ namespace {
 
 const char* const kBodyColumns[] = {"px", "py", "pz", "qw", "qx", "qy", "qz",
                                     "vx", "vy", "vz", "wx", "wy", "wz"};
-const char* const kContactColumns[] = {"a1x", "a1y", "a1z", "a2x", "a2y", "a2z", "pn", "pt",
-                                       "po",  "pr",  "sigma", "fn", "ft", "fo", "fr"};
+const char* const kContactColumns[] = {"a1x", "a1y", "a1z",   "a2x", "a2y", "a2z", "pn", "pt",
+                                       "po",  "pr",  "sigma", "fn",  "ft",  "fo",  "fr"};
 const char* const kWrenchColumns[] = {"fx", "fy", "fz", "mx", "my", "mz"};
 
 // the contacts whose G side is kinematic body b, in scene order
@@ -22,8 +22,8 @@ std::vector<int> SensedContacts(const Scene& scene, int b) {
 }
 
 void AppendWrench(const Wrench& w, std::vector<double>& values) {
-  values.insert(values.end(), {w.force.x(), w.force.y(), w.force.z(), w.moment.x(),
-                               w.moment.y(), w.moment.z()});
+  values.insert(values.end(),
+                {w.force.x(), w.force.y(), w.force.z(), w.moment.x(), w.moment.y(), w.moment.z()});
 }
 
 }  // namespace
@@ -37,13 +37,12 @@ std::vector<std::string> TrajectoryColumns(const Scene& scene) {
   }
   const bool several_contacts = scene.contacts.size() > 1;
   for (const ContactPair& pair : scene.contacts) {
-    const std::string prefix =
-        several_contacts
-            ? scene.bodies[pair.body].name + "." +
-                  (pair.WithBody() ? scene.bodies[pair.other_body].name
-                                   : scene.obstacles[pair.obstacle].name) +
-                  "."
-            : "";
+    const std::string prefix = several_contacts
+                                   ? scene.bodies[pair.body].name + "." +
+                                         (pair.WithBody() ? scene.bodies[pair.other_body].name
+                                                          : scene.obstacles[pair.obstacle].name) +
+                                         "."
+                                   : "";
     for (const char* c : kContactColumns) columns.push_back(prefix + c);
   }
   for (size_t b = 0; b < scene.bodies.size(); ++b) {
@@ -94,9 +93,9 @@ std::vector<double> TrajectoryValues(const Scene& scene, const State& state,
                                  b.w_WB.x(), b.w_WB.y(), b.w_WB.z()});
   }
   for (const ContactState& c : state.contacts) {
-    values.insert(values.end(), {c.a1.x(), c.a1.y(), c.a1.z(), c.a2.x(), c.a2.y(), c.a2.z(),
-                                 c.p_n, c.p_t, c.p_o, c.p_r, c.sigma, c.p_n / scene.h,
-                                 c.p_t / scene.h, c.p_o / scene.h, c.p_r / scene.h});
+    values.insert(values.end(), {c.a1.x(), c.a1.y(), c.a1.z(), c.a2.x(), c.a2.y(), c.a2.z(), c.p_n,
+                                 c.p_t, c.p_o, c.p_r, c.sigma, c.p_n / scene.h, c.p_t / scene.h,
+                                 c.p_o / scene.h, c.p_r / scene.h});
   }
   for (size_t b = 0; b < scene.bodies.size(); ++b) {
     if (!scene.bodies[b].IsKinematic()) continue;
@@ -113,8 +112,8 @@ std::vector<double> TrajectoryValues(const Scene& scene, const State& state,
     // the opening: the jaws' centres apart along the frame's closing axis at t; the force of the
     // step that ended at t (the initial row: the first step's)
     const Eigen::Vector3d axis = ClosingAxis(gripper, gripper.motion->PoseAt(state.t));
-    values.push_back(axis.dot(state.bodies[gripper.jaws[1]].p_WB -
-                              state.bodies[gripper.jaws[0]].p_WB));
+    values.push_back(
+        axis.dot(state.bodies[gripper.jaws[1]].p_WB - state.bodies[gripper.jaws[0]].p_WB));
     values.push_back(gripper.force(state.steps > 0 ? state.t - scene.h : 0.0));
   }
   values.push_back(report.iterations);

@@ -5,12 +5,12 @@
 #include <cmath>
 #include <filesystem>
 
+#include "common/errors.h"
 #include "engine/scene_io/mesh_scale.h"
-#include "engine/scene_limits.h"
 #include "engine/scene_io/scene_validation.h"
+#include "engine/scene_limits.h"
 #include "geometry/convex_hull.h"
 #include "geometry/convex_shape.h"
-#include "common/errors.h"
 #include "geometry/mass_properties.h"
 
 namespace ecpsim::engine {

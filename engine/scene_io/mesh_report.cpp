@@ -6,8 +6,8 @@
 
 namespace ecpsim::engine {
 
-MeshReport ReportMesh(ScaledMesh scaled, const std::string& path,
-                      const std::optional<double>& mass, const std::optional<double>& density) {
+MeshReport ReportMesh(ScaledMesh scaled, const std::string& path, const std::optional<double>& mass,
+                      const std::optional<double>& density) {
   MeshReport report;
   report.scaled = std::move(scaled);
   const geometry::TriangleMesh& mesh = report.scaled.mesh;

@@ -5,8 +5,8 @@
 #include <cmath>
 #include <limits>
 
-#include "engine/scene_limits.h"
 #include "common/errors.h"
+#include "engine/scene_limits.h"
 #include "geometry/mesh_io.h"
 
 namespace ecpsim::engine {

@@ -18,8 +18,8 @@ Body MakeBoxBody(const Eigen::Vector3d& size, double mass, const std::string& na
   body.mesh = hull->Tessellate();
   body.mass = mass;
   const Eigen::Vector3d s2 = size.cwiseProduct(size);
-  body.inertia = (mass / 12 * Eigen::Vector3d(s2.y() + s2.z(), s2.x() + s2.z(), s2.x() + s2.y()))
-                     .asDiagonal();
+  body.inertia =
+      (mass / 12 * Eigen::Vector3d(s2.y() + s2.z(), s2.x() + s2.z(), s2.x() + s2.y())).asDiagonal();
   return body;
 }
 
@@ -48,7 +48,8 @@ Scene MakeGroundScene(std::vector<Body> bodies, double h, const Friction& fricti
   scene.obstacles.push_back(ground);
   for (size_t b = 0; b < bodies.size(); ++b) {
     // a kinematic body is never pushed: no contact with the ground
-    if (!bodies[b].IsKinematic()) scene.contacts.push_back(ContactPair{static_cast<int>(b), 0, friction});
+    if (!bodies[b].IsKinematic())
+      scene.contacts.push_back(ContactPair{static_cast<int>(b), 0, friction});
   }
   scene.bodies = std::move(bodies);
   return scene;

@@ -6,8 +6,8 @@
 #include <cmath>
 #include <utility>
 
-#include "engine/scene_io/mesh_scale.h"
 #include "engine/report/penetration.h"
+#include "engine/scene_io/mesh_scale.h"
 #include "engine/scene_limits.h"
 #include "engine/state.h"
 #include "geometry/convex_shape.h"
@@ -346,8 +346,9 @@ void CheckGrippers(const Scene& scene) {
       CheckBodyIndex(scene, key, b);
       const Body& jaw = scene.bodies[b];
       if (jaw.IsKinematic()) {
-        Fail({key}, fmt::format("\"{}\"", jaw.name),
-             "a dynamic body (a kinematic body's motion is prescribed; the gripper moves its jaws)");
+        Fail(
+            {key}, fmt::format("\"{}\"", jaw.name),
+            "a dynamic body (a kinematic body's motion is prescribed; the gripper moves its jaws)");
       }
       if (jaw_of[b] >= 0) {
         Fail({key}, fmt::format("\"{}\"", jaw.name),
@@ -369,8 +370,7 @@ void CheckGrippers(const Scene& scene) {
     if (!(gripper.axis.allFinite() && std::abs(gripper.axis.norm() - 1) < 1e-12)) {
       Fail({at + ".axis"}, Show(gripper.axis), "a unit closing axis (frame coordinates)");
     }
-    const double spread =
-        gripper.axis.dot(gripper.jaw_in_frame[1].p - gripper.jaw_in_frame[0].p);
+    const double spread = gripper.axis.dot(gripper.jaw_in_frame[1].p - gripper.jaw_in_frame[0].p);
     if (!(spread > 0)) {
       Fail({at + ".axis", at + ".jaws"}, Show(gripper.axis),
            fmt::format("an axis from jaw \"{}\" towards jaw \"{}\" (their centres are {:.3g} m "
@@ -385,7 +385,8 @@ void CheckGrippers(const Scene& scene) {
            "them)");
     }
   }
-  for (size_t b = 0; b < scene.bodies.size(); ++b) ECPSIM_DEMAND(scene.bodies[b].gripper == jaw_of[b]);
+  for (size_t b = 0; b < scene.bodies.size(); ++b)
+    ECPSIM_DEMAND(scene.bodies[b].gripper == jaw_of[b]);
 }
 
 // ---- settings --------------------------------------------------------------------------------
@@ -460,8 +461,8 @@ void CheckInitialPenetration(const Scene& scene) {
                        "smaller body's size {:.3g} m); move one of them, exclude the pair "
                        "(pairs: [{{bodies: [{}, {}], exclude: true}}]), or allow it with "
                        "{}.allow_initial_penetration: true",
-                       a.name, b.name, depth, tolerance, kInitialPenetrationTolerance, size,
-                       a.name, b.name, at));
+                       a.name, b.name, depth, tolerance, kInitialPenetrationTolerance, size, a.name,
+                       b.name, at));
     }
   }
 }

@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
-#include "engine/scene.h"
 #include "common/errors.h"
+#include "engine/scene.h"
 
 namespace ecpsim::engine {
 

@@ -137,7 +137,8 @@ void AddBodyPairs(const Context& ctx, const MapNode& map, Scene& scene) {
   if (map.Has("pairs")) {
     const YAML::Node list = map.Get("pairs");
     if (!list.IsSequence()) {
-      Fail(ctx, list, "pairs", "a list of `- {bodies: [A, B], friction: {...}}` or `exclude: true`");
+      Fail(ctx, list, "pairs",
+           "a list of `- {bodies: [A, B], friction: {...}}` or `exclude: true`");
     }
     for (size_t k = 0; k < list.size(); ++k) {
       const std::string key = Index("pairs", k);
@@ -164,8 +165,8 @@ void AddBodyPairs(const Context& ctx, const MapNode& map, Scene& scene) {
     for (size_t j = i + 1; j < n; ++j) {
       if (scene.bodies[i].IsKinematic() && scene.bodies[j].IsKinematic()) continue;
       if (settings[i][j].exclude) continue;
-      scene.contacts.push_back(BodyPair(scene, static_cast<int>(i), static_cast<int>(j),
-                                        settings[i][j].friction));
+      scene.contacts.push_back(
+          BodyPair(scene, static_cast<int>(i), static_cast<int>(j), settings[i][j].friction));
     }
   }
 }
@@ -225,9 +226,9 @@ Scene ReadScene(const Context& ctx, const YAML::Node& root) {
   for (size_t b = 0; b < scene.bodies.size(); ++b) {
     // the body's own friction, for its contacts with bodies: its overrides on the ground's
     const Friction base = scene.obstacles.empty() ? Friction{} : scene.obstacles[0].friction;
-    scene.bodies[b].friction =
-        extras[b].friction ? yaml::ReadFriction(ctx, *extras[b].friction, extras[b].friction_key, base)
-                           : base;
+    scene.bodies[b].friction = extras[b].friction ? yaml::ReadFriction(ctx, *extras[b].friction,
+                                                                       extras[b].friction_key, base)
+                                                  : base;
     if (scene.bodies[b].IsKinematic()) continue;
     for (size_t o = 0; o < scene.obstacles.size(); ++o) {
       ContactPair pair;

@@ -172,11 +172,28 @@ constexpr double kKinematicDensity = 1000;
 Body ReadBody(const Context& ctx, const YAML::Node& node, const std::string& key,
               const std::string& default_name, BodyExtras& extras,
               std::vector<std::string>& warnings) {
-  const MapNode map(
-      ctx, node, key,
-      {"name", "mesh", "scale", "units", "shape", "hull", "mass", "density", "inertia", "position",
-       "quaternion", "rpy", "lowest_point_height", "on_ground", "allow_initial_penetration",
-       "velocity", "angular_velocity", "friction", "parts", "kinematic", "motion"});
+  const MapNode map(ctx, node, key,
+                    {"name",
+                     "mesh",
+                     "scale",
+                     "units",
+                     "shape",
+                     "hull",
+                     "mass",
+                     "density",
+                     "inertia",
+                     "position",
+                     "quaternion",
+                     "rpy",
+                     "lowest_point_height",
+                     "on_ground",
+                     "allow_initial_penetration",
+                     "velocity",
+                     "angular_velocity",
+                     "friction",
+                     "parts",
+                     "kinematic",
+                     "motion"});
   Body body;
   body.name = map.Has("name") ? ReadName(ctx, map.Get("name"), map.Key("name")) : default_name;
 
@@ -184,9 +201,9 @@ Body ReadBody(const Context& ctx, const YAML::Node& node, const std::string& key
   const bool kinematic =
       map.Has("kinematic") && ReadBool(ctx, map.Get("kinematic"), map.Key("kinematic"));
   if (kinematic) {
-    for (const char* k : {"mass", "density", "inertia", "position", "quaternion", "rpy",
-                          "lowest_point_height", "on_ground", "allow_initial_penetration",
-                          "velocity", "angular_velocity", "parts"}) {
+    for (const char* k :
+         {"mass", "density", "inertia", "position", "quaternion", "rpy", "lowest_point_height",
+          "on_ground", "allow_initial_penetration", "velocity", "angular_velocity", "parts"}) {
       if (map.Has(k)) {
         map.FailAt(k, fmt::format("no `{}` on a kinematic body (its `motion` gives its pose)", k));
       }

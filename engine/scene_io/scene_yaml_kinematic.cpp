@@ -27,22 +27,22 @@ PoseExpressions ReadExpressions(const Context& ctx, const YAML::Node& node,
                                 const std::string& key) {
   const MapNode map(ctx, node, key, {"position", "rpy", "axis_angle"});
   PoseExpressions expressions;
-  const YAML::Node position = map.Require(
-      "position", "[x, y, z] (m, world frame), each a number or an expression of t");
+  const YAML::Node position =
+      map.Require("position", "[x, y, z] (m, world frame), each a number or an expression of t");
   expressions.position =
       ReadTimeFunctions3(ctx, position, map.Key("position"), "[x, y, z] in m, world frame");
   if (map.Has("rpy") && map.Has("axis_angle")) {
     map.FailAt("axis_angle", "either `rpy` or `axis_angle`, not both");
   }
   if (map.Has("rpy")) {
-    expressions.rpy_deg = ReadTimeFunctions3(ctx, map.Get("rpy"), map.Key("rpy"),
-                                             "[roll, pitch, yaw] in degrees");
+    expressions.rpy_deg =
+        ReadTimeFunctions3(ctx, map.Get("rpy"), map.Key("rpy"), "[roll, pitch, yaw] in degrees");
   } else if (map.Has("axis_angle")) {
     const MapNode axis_angle(ctx, map.Get("axis_angle"), map.Key("axis_angle"), {"axis", "angle"});
     expressions.orientation = PoseExpressions::Orientation::kAxisAngle;
-    expressions.axis = ReadVector3(
-        ctx, axis_angle.Require("axis", "[x, y, z], the world axis of the turn"),
-        axis_angle.Key("axis"), "a direction, world frame");
+    expressions.axis =
+        ReadVector3(ctx, axis_angle.Require("axis", "[x, y, z], the world axis of the turn"),
+                    axis_angle.Key("axis"), "a direction, world frame");
     if (expressions.axis.norm() < kMinRotationAxisLength) {
       axis_angle.FailAt("axis", "a non-zero axis [x, y, z] (it is normalized)");
     }
@@ -151,7 +151,8 @@ Gripper ReadGripper(const Context& ctx, const YAML::Node& node, const std::strin
     map.FailAt("axis", "a non-zero axis [x, y, z] (it is normalized)");
   }
   gripper.force = ReadTimeFunction(
-      ctx, map.Require("force", "the closing force on each jaw (N), a number or an expression of t"),
+      ctx,
+      map.Require("force", "the closing force on each jaw (N), a number or an expression of t"),
       map.Key("force"));
   return gripper;
 }

@@ -14,10 +14,10 @@
 #include <string>
 #include <vector>
 
+#include "common/errors.h"
 #include "engine/kinematic_motion.h"
 #include "engine/scene.h"
 #include "engine/scene_limits.h"
-#include "common/errors.h"
 
 namespace ecpsim::engine::yaml {
 

@@ -349,8 +349,10 @@ class WorkspaceLease {
  public:
   explicit WorkspaceLease(int n) : shared_was_taken_(shared_taken_) {
     // (built only when used: its thirty-odd members are not free to build and destroy per solve)
-    if (shared_taken_ || n > kMaxSharedSize) own_.emplace();
-    else shared_taken_ = true;
+    if (shared_taken_ || n > kMaxSharedSize)
+      own_.emplace();
+    else
+      shared_taken_ = true;
   }
   ~WorkspaceLease() { shared_taken_ = shared_was_taken_; }
   WorkspaceLease(const WorkspaceLease&) = delete;
@@ -387,10 +389,11 @@ namespace {
 
 // SolveMcp with the Newton matrix's linear algebra `Algebra` (dense or sparse)
 template <typename Algebra>
-McpResult SolveMcpWith(
-    const std::function<void(const Eigen::VectorXd&, Eigen::VectorXd*, typename Algebra::Matrix*)>& f,
-    int num_free, const Eigen::VectorXd& row_scale, const Eigen::VectorXd& var_scale,
-    Eigen::VectorXd& z, const McpOptions& options) {
+McpResult SolveMcpWith(const std::function<void(const Eigen::VectorXd&, Eigen::VectorXd*,
+                                                typename Algebra::Matrix*)>& f,
+                       int num_free, const Eigen::VectorXd& row_scale,
+                       const Eigen::VectorXd& var_scale, Eigen::VectorXd& z,
+                       const McpOptions& options) {
   using Matrix = typename Algebra::Matrix;
   const int n = static_cast<int>(z.size());
   WorkspaceLease<Algebra> lease(n);

@@ -30,7 +30,7 @@ using SparseMcpFunction =
 using McpMeasure = std::function<double(const Eigen::VectorXd& z, const Eigen::VectorXd& F)>;
 
 struct McpOptions {
-  double tolerance = 1e-10;    // on the measure: dimensionless for the default McpResidual
+  double tolerance = 1e-10;  // on the measure: dimensionless for the default McpResidual
   int max_iterations = 60;
   double fb_lambda = 0.9;      // penalized FB weight (Chen–Chen–Kanzow); 1 is plain FB
   int nonmonotone_memory = 5;  // Armijo reference = max of the last few merit values

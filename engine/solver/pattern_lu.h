@@ -27,8 +27,8 @@ namespace ecpsim::engine {
 /// also goes the dense way. Matrices larger than kMaxUnblockedSize go to Eigen's blocked
 /// PartialPivLU (faster there). The replay pays from a few dozen unknowns (the desk's 82-unknown
 /// multi-patch MNCP: 3.5 × fewer instructions); at the 25 of one contact its index lists cost
-/// about what the dense sweep's zero tests save. An exactly zero pivot is kept, so that SolveInPlace returns a
-/// non-finite x the caller rejects, as Eigen's PartialPivLU does.
+/// about what the dense sweep's zero tests save. An exactly zero pivot is kept, so that
+/// SolveInPlace returns a non-finite x the caller rejects, as Eigen's PartialPivLU does.
 class PatternLu {
  public:
   /// The dense elimination's instruction set for matrices of 32 unknowns or more: the widest the
@@ -94,7 +94,7 @@ class PatternLu {
   // the schedules kept (a few layouts: a window that grows, an island that splits)
   static constexpr int kMaxSchedules = 4;
 
-  bool wide_;  // the AVX2 version of the dense elimination (of large matrices)
+  bool wide_;               // the AVX2 version of the dense elimination (of large matrices)
   std::vector<int> order_;  // the elimination order (empty: A's)
   std::vector<Run> runs_;   // that order as runs of consecutive positions
   mutable Eigen::VectorXd permuted_x_;

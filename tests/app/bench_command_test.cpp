@@ -59,15 +59,14 @@ TEST_F(BenchCommandTest, ShardsMergeIntoTheWholeSweep) {
     // a shard draws no charts: they would show a part of the sweep
     EXPECT_FALSE(fs::exists(dir_ / fmt::format("s{}", shard) / "work_precision_slide.png"));
   }
-  const CliResult merged = Run(fmt::format("bench --merge '{}' '{}' -o '{}'",
-                                           (dir_ / "s1").string(), (dir_ / "s2").string(),
-                                           (dir_ / "all").string()));
+  const CliResult merged =
+      Run(fmt::format("bench --merge '{}' '{}' -o '{}'", (dir_ / "s1").string(),
+                      (dir_ / "s2").string(), (dir_ / "all").string()));
   ASSERT_EQ(merged.exit_code, 0) << merged.output;
   EXPECT_EQ(evaluation::ReadWorkPrecisionCsv((dir_ / "all" / "work_precision.csv").string()).size(),
             8u);
   EXPECT_TRUE(fs::exists(dir_ / "all" / "stability_impact.png"));
-  EXPECT_NE(merged.output.find("merged 8 work-precision rows"), std::string::npos)
-      << merged.output;
+  EXPECT_NE(merged.output.find("merged 8 work-precision rows"), std::string::npos) << merged.output;
 }
 
 TEST_F(BenchCommandTest, DropSweepShardsMergeIntoOneTable) {
@@ -81,9 +80,9 @@ TEST_F(BenchCommandTest, DropSweepShardsMergeIntoOneTable) {
                                         (dir_ / fmt::format("s{}", shard)).string()));
     ASSERT_EQ(r.exit_code, 0) << r.output;
   }
-  const CliResult merged = Run(fmt::format("bench --merge '{}' '{}' -o '{}'",
-                                           (dir_ / "s1").string(), (dir_ / "s2").string(),
-                                           (dir_ / "all").string()));
+  const CliResult merged =
+      Run(fmt::format("bench --merge '{}' '{}' -o '{}'", (dir_ / "s1").string(),
+                      (dir_ / "s2").string(), (dir_ / "all").string()));
   ASSERT_EQ(merged.exit_code, 0) << merged.output;
   // 2 kinds × 1 seed + 1 file × 1 pose, each at the fixed and the scaled step
   const auto rows = evaluation::ReadDropSweepCsv((dir_ / "all" / "drop_sweep.csv").string());
@@ -114,8 +113,7 @@ TEST_F(BenchCommandTest, BadInputIsNamed) {
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.output.find("'nosuch' is neither a mesh kind nor a file"), std::string::npos)
       << r.output;
-  r = Run("bench --no-work-precision --no-stability --drop-kinds cube -o " +
-          (dir_ / "x").string());
+  r = Run("bench --no-work-precision --no-stability --drop-kinds cube -o " + (dir_ / "x").string());
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.output.find("drop sweep kind 'cube': expected one of convex"), std::string::npos)
       << r.output;

@@ -31,10 +31,15 @@ using ::testing::HasSubstr;
 // on changing contact modes, with warm starts and hull windows to carry over; a row every 7 steps,
 // so the interrupt's own row (off that cadence) must be dropped on resume; 21 small frames as PNGs
 // and a video
-const std::vector<std::string> kTbarRun = {
-    "run", "scenes/tbar.yaml", "--dt", "1e-5", "--duration", "1", "--set", "output.every=7",
-    "--frames", "--video", "--fps", "20", "--width", "64", "--height", "48"};
-constexpr int kTbarFrames = 21;  // t = 0, 0.05, …, 1 s
+const std::vector<std::string> kTbarRun = {"run",        "scenes/tbar.yaml",
+                                           "--dt",       "1e-5",
+                                           "--duration", "1",
+                                           "--set",      "output.every=7",
+                                           "--frames",   "--video",
+                                           "--fps",      "20",
+                                           "--width",    "64",
+                                           "--height",   "48"};
+constexpr int kTbarFrames = 21;                     // t = 0, 0.05, …, 1 s
 constexpr size_t kTbarRows = 1 + (100000 + 6) / 7;  // t = 0, every 7th step and the last one
 
 // frames of the same state drawn by a renderer with another history (a fresh one after the
@@ -68,8 +73,8 @@ class CheckpointTest : public testing::RunFixture {
     fs::copy_file(fs::path(ECPSIM_SOURCE_DIR) / "scenes" / "slide.yaml", dir_ / "slide.yaml");
     const fs::path out = dir_ / "slide_out";
     const testing::ChildExit exit = InterruptAfterRows(
-        {"run", (dir_ / "slide.yaml").string(), "-o", out.string(), "--duration", "1e4"}, out,
-        20, {SIGINT});
+        {"run", (dir_ / "slide.yaml").string(), "-o", out.string(), "--duration", "1e4"}, out, 20,
+        {SIGINT});
     EXPECT_EQ(exit.exit_code, 130) << log_;
     EXPECT_TRUE(fs::exists(out / "checkpoint.json"));
     return out;
@@ -78,13 +83,12 @@ class CheckpointTest : public testing::RunFixture {
 
 TEST_F(CheckpointTest, AResumedRunIsBitIdenticalToOneThatNeverStopped) {
   const fs::path whole = dir_ / "whole", parts = dir_ / "parts";
-  ASSERT_EQ(Run(fmt::format("{} -o '{}'", fmt::join(kTbarRun, " "), whole.string())).exit_code,
-            0);
+  ASSERT_EQ(Run(fmt::format("{} -o '{}'", fmt::join(kTbarRun, " "), whole.string())).exit_code, 0);
   ASSERT_EQ(ReadLines(whole / "trajectory.csv").size(), 1 + kTbarRows);
 
   // stopped about half-way, then resumed from its checkpoint alone
-  const testing::ChildExit exit = InterruptAfterRows(With(kTbarRun, parts), parts, kTbarRows / 2,
-                                                     {SIGINT});
+  const testing::ChildExit exit =
+      InterruptAfterRows(With(kTbarRun, parts), parts, kTbarRows / 2, {SIGINT});
   ASSERT_EQ(exit.exit_code, 130) << log_;
   const nlohmann::json stopped = ReadJson(parts / "summary.json");
   EXPECT_EQ(stopped["interrupted"], true);
@@ -98,9 +102,9 @@ TEST_F(CheckpointTest, AResumedRunIsBitIdenticalToOneThatNeverStopped) {
   EXPECT_TRUE(Read(whole / "trajectory.csv") == Read(parts / "trajectory.csv"));
   // the summary: the same counts and extremes over the whole run
   const nlohmann::json a = ReadJson(whole / "summary.json"), b = ReadJson(parts / "summary.json");
-  for (const char* key : {"steps", "rows", "t_end", "retries", "iterations_mean",
-                          "iterations_max", "residual_max", "substeps_max", "max_penetration",
-                          "converged", "interrupted"}) {
+  for (const char* key :
+       {"steps", "rows", "t_end", "retries", "iterations_mean", "iterations_max", "residual_max",
+        "substeps_max", "max_penetration", "converged", "interrupted"}) {
     EXPECT_EQ(a[key], b[key]) << key;
   }
   EXPECT_EQ(b["resumed_from_step"], stopped["steps"]);
@@ -152,8 +156,7 @@ TEST_F(CheckpointTest, AResumeWhoseVideoCannotBeJoinedStaysResumable) {
 // segment of the video, and the resumed video holds every frame of the run once, in order
 TEST_F(CheckpointTest, AVideoAloneStoppedTwiceHoldsEveryFrameOnceInOrder) {
   const fs::path whole = dir_ / "whole", parts = dir_ / "parts";
-  ASSERT_EQ(Run(fmt::format("{} -o '{}'", fmt::join(kTbarRun, " "), whole.string())).exit_code,
-            0);
+  ASSERT_EQ(Run(fmt::format("{} -o '{}'", fmt::join(kTbarRun, " "), whole.string())).exit_code, 0);
   std::vector<std::string> alone = kTbarRun;
   alone.erase(std::find(alone.begin(), alone.end(), "--frames"));
 
@@ -165,14 +168,13 @@ TEST_F(CheckpointTest, AVideoAloneStoppedTwiceHoldsEveryFrameOnceInOrder) {
             static_cast<size_t>(std::floor(t_stop * 20 + 1e-5 * 20 / 2)) + 1);
   // resumed and stopped again at two thirds (the video then joins its two segments), resumed to
   // the end with its own command line
-  ASSERT_EQ(InterruptAfterRows({"run", "--resume", parts.string()}, parts, 2 * kTbarRows / 3,
-                               {SIGINT})
-                .exit_code,
-            130)
+  ASSERT_EQ(
+      InterruptAfterRows({"run", "--resume", parts.string()}, parts, 2 * kTbarRows / 3, {SIGINT})
+          .exit_code,
+      130)
       << log_;
-  const testing::CliResult resumed =
-      Run(fmt::format("{} -o '{}' --resume '{}'", fmt::join(alone, " "), parts.string(),
-                      parts.string()));
+  const testing::CliResult resumed = Run(fmt::format(
+      "{} -o '{}' --resume '{}'", fmt::join(alone, " "), parts.string(), parts.string()));
   ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
   EXPECT_TRUE(Read(whole / "trajectory.csv") == Read(parts / "trajectory.csv"));
   EXPECT_FALSE(fs::exists(parts / "frames"));
@@ -189,8 +191,10 @@ TEST_F(CheckpointTest, AVideoAloneStoppedTwiceHoldsEveryFrameOnceInOrder) {
   std::vector<render::Image> pngs;
   double reference_error = 0;  // levels: the one-go video's worst frame against its PNG
   for (int k = 0; k < kTbarFrames; ++k) {
-    pngs.push_back(render::ReadPng((whole / "frames" / fmt::format("frame_{:06d}.png", k)).string()));
-    reference_error = std::max(reference_error, testing::MeanLevelDifference(reference[k], pngs[k]));
+    pngs.push_back(
+        render::ReadPng((whole / "frames" / fmt::format("frame_{:06d}.png", k)).string()));
+    reference_error =
+        std::max(reference_error, testing::MeanLevelDifference(reference[k], pngs[k]));
   }
   for (int k = 0; k < kTbarFrames; ++k) {
     EXPECT_EQ(testing::NearestImage(segmented[k], pngs), k) << "frame " << k;
@@ -203,9 +207,9 @@ TEST_F(CheckpointTest, AVideoAloneStoppedTwiceHoldsEveryFrameOnceInOrder) {
 TEST_F(CheckpointTest, AVideoAloneWithoutItsEarlierFramesIsNotResumed) {
   // a video that lost frames (replaced by a shorter one) cannot be continued into the whole run's
   const fs::path out = dir_ / "out";
-  const std::vector<std::string> run = {"run", "scenes/slide.yaml", "-o", out.string(),
-                                        "--duration", "1e4", "--video", "--fps", "100",
-                                        "--width", "64", "--height", "48"};
+  const std::vector<std::string> run = {
+      "run", "scenes/slide.yaml", "-o", out.string(), "--duration", "1e4", "--video", "--fps",
+      "100", "--width",           "64", "--height",   "48"};
   ASSERT_EQ(InterruptAfterRows(run, out, 20, {SIGINT}).exit_code, 130) << log_;
   fs::remove(out / "video.mp4");
   const testing::CliResult missing = Run(fmt::format("run --resume '{}'", out.string()));
@@ -221,8 +225,8 @@ TEST_F(CheckpointTest, AVideoAloneWithoutItsEarlierFramesIsNotResumed) {
 // in the first step after the resume (as did the gripper's and the dominoes')
 TEST_F(CheckpointTest, AResumedPushIsBitIdenticalToOneThatNeverStopped) {
   // 10^4 steps (half a second of CPU) of the pusher carrying the box, a row every 10
-  const std::vector<std::string> push = {"run", "scenes/push_box.yaml", "--dt", "1e-4",
-                                         "--duration", "1", "--set", "output.every=10"};
+  const std::vector<std::string> push = {
+      "run", "scenes/push_box.yaml", "--dt", "1e-4", "--duration", "1", "--set", "output.every=10"};
   const fs::path whole = dir_ / "whole", parts = dir_ / "parts";
   ASSERT_EQ(Run(fmt::format("{} -o '{}'", fmt::join(push, " "), whole.string())).exit_code, 0);
   const size_t rows = ReadLines(whole / "trajectory.csv").size() - 1;
@@ -289,10 +293,10 @@ TEST_F(CheckpointTest, TheRunsOwnCommandLineIsAccepted) {
   // the same command line again, with --resume: it continues (and is stopped again at once)
   const fs::path out = InterruptedSlide();
   const long first_stop = ReadJson(out / "summary.json")["steps"].get<long>();
-  const testing::ChildExit exit = InterruptAfterRows(
-      {"run", (dir_ / "slide.yaml").string(), "-o", out.string(), "--duration", "1e4",
-       "--resume", out.string()},
-      out, first_stop + 20, {SIGTERM});
+  const testing::ChildExit exit =
+      InterruptAfterRows({"run", (dir_ / "slide.yaml").string(), "-o", out.string(), "--duration",
+                          "1e4", "--resume", out.string()},
+                         out, first_stop + 20, {SIGTERM});
   EXPECT_EQ(exit.exit_code, 143) << log_;
   const nlohmann::json summary = ReadJson(out / "summary.json");
   EXPECT_EQ(summary["resumed_from_step"].get<long>(), first_stop);
@@ -303,14 +307,13 @@ TEST_F(CheckpointTest, TheRunsOwnCommandLineIsAccepted) {
 TEST_F(CheckpointTest, AnInterruptedDropIsResumedToo) {
   // `ecpsim run --resume` rebuilds a drop's scene from its stored options
   const fs::path out = dir_ / "drop";
-  const std::vector<std::string> drop = {"drop",     "tests/fixtures/meshes/box.obj",
-                                         "-o",       out.string(),
-                                         "--height", "0.05",
-                                         "--duration", "1e4"};
+  const std::vector<std::string> drop = {
+      "drop", "tests/fixtures/meshes/box.obj", "-o", out.string(), "--height", "0.05", "--duration",
+      "1e4"};
   ASSERT_EQ(InterruptAfterRows(drop, out, 20, {SIGINT}).exit_code, 130) << log_;
   const long first_stop = ReadJson(out / "summary.json")["steps"].get<long>();
-  const testing::ChildExit exit = InterruptAfterRows({"run", "--resume", out.string()}, out,
-                                                     first_stop + 20, {SIGINT});
+  const testing::ChildExit exit =
+      InterruptAfterRows({"run", "--resume", out.string()}, out, first_stop + 20, {SIGINT});
   EXPECT_EQ(exit.exit_code, 130) << log_;
   EXPECT_EQ(ReadJson(out / "summary.json")["resumed_from_step"].get<long>(), first_stop);
   ExpectConsistentInterruptedRun(out, "SIGINT");
@@ -338,8 +341,7 @@ TEST_F(CheckpointTest, ResumingAFailedRunReproducesTheFailureAtOnce) {
 
 TEST_F(CheckpointTest, ANewRunIntoTheFolderRemovesTheCheckpoint) {
   const fs::path out = InterruptedSlide();
-  const testing::CliResult result =
-      Run(fmt::format("run scenes/slide.yaml -o '{}'", out.string()));
+  const testing::CliResult result = Run(fmt::format("run scenes/slide.yaml -o '{}'", out.string()));
   ASSERT_EQ(result.exit_code, 0) << result.output;
   EXPECT_FALSE(fs::exists(out / "checkpoint.json"));
 }

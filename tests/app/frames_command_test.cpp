@@ -82,9 +82,9 @@ TEST_F(FramesCommandTest, AVideoAloneShowsTheFramesOfTheVideoWithPngFrames) {
   // slide.yaml: 0.5 s at 20 frames/s = 11 frames, t = 0 to 0.5
   const fs::path both = dir_ / "both", alone = dir_ / "alone";
   const std::string options = "--fps 20 --width 64 --height 48";
-  ASSERT_EQ(Run(fmt::format("run scenes/slide.yaml -o '{}' --frames --video {}", both.string(),
-                            options)),
-            0)
+  ASSERT_EQ(
+      Run(fmt::format("run scenes/slide.yaml -o '{}' --frames --video {}", both.string(), options)),
+      0)
       << log_;
   ASSERT_EQ(Run(fmt::format("run scenes/slide.yaml -o '{}' --video {}", alone.string(), options)),
             0)
@@ -205,8 +205,9 @@ TEST_F(FramesCommandTest, ARerunRemovesTheEarlierRunsFramesAndVideoOnly) {
     names.insert(entry.path().filename().string());
   }
   const std::set<std::string> expected = {
-      "frame_000000.png", "frame_000001.png", "frame_000002.png", "frame_000003.png",
-      "frame_000004.png", "frame_000005.png", "frame_000020.png", "notes.txt", running};
+      "frame_000000.png", "frame_000001.png", "frame_000002.png",
+      "frame_000003.png", "frame_000004.png", "frame_000005.png",
+      "frame_000020.png", "notes.txt",        running};
   EXPECT_EQ(names, expected);
   EXPECT_TRUE(fs::is_symlink(out / "frames" / "frame_000020.png"));
   EXPECT_FALSE(fs::exists(out / "video.mp4"));  // the earlier run's video is not this run's

@@ -33,9 +33,9 @@ class MainTest : public testing::CliTest {
 };
 
 TEST_F(MainTest, UnknownCommandListsTheCommands) {
-  ExpectOneLineError("frobnicate scenes/slide.yaml",
-                     fmt::format("unknown command 'frobnicate'; expected one of: {}",
-                                 kCommandList));
+  ExpectOneLineError(
+      "frobnicate scenes/slide.yaml",
+      fmt::format("unknown command 'frobnicate'; expected one of: {}", kCommandList));
 }
 
 TEST_F(MainTest, MissingCommandListsTheCommands) {

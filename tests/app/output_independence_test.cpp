@@ -38,9 +38,8 @@ class OutputIndependenceTest : public testing::CliTest {
   // the trajectory.csv lines of `ecpsim run kScene` with `options`, in a folder of its own
   std::vector<std::string> Trajectory(const std::string& options) {
     const fs::path out = dir_ / fmt::format("run{}", runs_++);
-    const testing::CliResult result =
-        Run(fmt::format("run {} -o '{}' --duration {} {}", kScene, out.string(), kDuration,
-                        options));
+    const testing::CliResult result = Run(
+        fmt::format("run {} -o '{}' --duration {} {}", kScene, out.string(), kDuration, options));
     EXPECT_EQ(result.exit_code, 0) << options << ":\n" << result.output;
     return Lines(out / "trajectory.csv");
   }

@@ -37,8 +37,8 @@ class PlotCommandTest : public testing::CliTest {
   fs::path RunScene(const std::string& name, double duration) {
     const fs::path out = dir_ / name;
     const std::string scene = std::string(ECPSIM_SOURCE_DIR) + "/scenes/" + name + ".yaml";
-    const testing::CliResult run = Run(fmt::format("run '{}' -o '{}' --duration {}", scene, out.string(),
-                                       duration));
+    const testing::CliResult run =
+        Run(fmt::format("run '{}' -o '{}' --duration {}", scene, out.string(), duration));
     EXPECT_EQ(run.exit_code, 0) << run.output;
     return out;
   }
@@ -62,7 +62,6 @@ class PlotCommandTest : public testing::CliTest {
           << "left behind: " << entry.path();
     }
   }
-
 };
 
 TEST_F(PlotCommandTest, DumbbellRunGivesCmPlotAndPatchSnapshots) {
@@ -142,7 +141,8 @@ TEST_F(PlotCommandTest, MissingTrajectoryIsAOneLineError) {
 TEST_F(PlotCommandTest, BadCsvFieldIsNamed) {
   fs::create_directories(dir_ / "bad");
   std::ofstream(dir_ / "bad" / "trajectory.csv") << "t,px\n0,0\n0.01,nan\n";
-  const testing::CliResult plot = Run(fmt::format("plot '{}' --scene generic", (dir_ / "bad").string()));
+  const testing::CliResult plot =
+      Run(fmt::format("plot '{}' --scene generic", (dir_ / "bad").string()));
   EXPECT_EQ(plot.exit_code, 1);
   EXPECT_THAT(plot.output, HasSubstr("trajectory.csv:3: px = \"nan\": expected a finite number"));
 }

@@ -32,7 +32,7 @@ using ::testing::HasSubstr;
 // (1e-12 on the residual) bounds the error far below 1e-8 m/s
 constexpr double kMuG = 0.22 * 9.8;
 constexpr double kVelocityTolerance = 1e-8;  // m/s
-constexpr double kWeight = 15 * 9.8;           // N, the slide's box
+constexpr double kWeight = 15 * 9.8;         // N, the slide's box
 // relative: impulse / h in floating point against the column's value (a few roundings)
 constexpr double kForceRoundOff = 1e-14;
 // relative: the step's force balance holds to the solver's tolerance (1e-12, relative to the
@@ -67,7 +67,6 @@ class RunCommandTest : public testing::RunFixture {
       }
     }
   }
-
 };
 
 TEST_F(RunCommandTest, SlideWritesTheTrajectoryAndSummary) {
@@ -80,9 +79,9 @@ TEST_F(RunCommandTest, SlideWritesTheTrajectoryAndSummary) {
   EXPECT_THAT(Leftovers(out), ::testing::IsEmpty());
   // one body and one contact: no name prefixes
   const std::vector<std::string> expected = {
-      "t",   "px",  "py",  "pz",  "qw", "qx", "qy", "qz", "vx",    "vy",    "vz",      "wx", "wy",
-      "wz",  "a1x", "a1y", "a1z", "a2x", "a2y", "a2z", "pn", "pt",  "po",    "pr",      "sigma",
-      "fn",  "ft",  "fo",  "fr",  "iters", "residual", "model"};
+      "t",  "px", "py",    "pz",  "qw",  "qx",  "qy",  "qz",    "vx",       "vy",   "vz",
+      "wx", "wy", "wz",    "a1x", "a1y", "a1z", "a2x", "a2y",   "a2z",      "pn",   "pt",
+      "po", "pr", "sigma", "fn",  "ft",  "fo",  "fr",  "iters", "residual", "model"};
   ASSERT_FALSE(rows.empty());
   EXPECT_EQ(rows[0], expected);
   // 0.5 s / 0.01 s = 50 steps plus the initial state
@@ -91,7 +90,6 @@ TEST_F(RunCommandTest, SlideWritesTheTrajectoryAndSummary) {
   // model: auto (the default) slides the flat box with the planar model, every step
   EXPECT_EQ(rows[1].back(), "initial");
   for (size_t r = 2; r < rows.size(); ++r) EXPECT_EQ(rows[r].back(), "planar") << "row " << r;
-
 
   // the closed form: v(t) = max(0, v0 − μ g t), the box stays flat at pz = 0.05 m
   for (size_t r = 1; r < rows.size(); ++r) {
@@ -114,9 +112,9 @@ TEST_F(RunCommandTest, SlideWritesTheTrajectoryAndSummary) {
   }
 
   const nlohmann::json summary = ReadJson(out / "summary.json");
-  for (const char* key : {"steps", "failures", "retries", "iterations_mean", "iterations_max",
-                          "max_penetration", "wall_s", "median_step_us", "scene", "h", "duration",
-                          "converged"}) {
+  for (const char* key :
+       {"steps", "failures", "retries", "iterations_mean", "iterations_max", "max_penetration",
+        "wall_s", "median_step_us", "scene", "h", "duration", "converged"}) {
     EXPECT_TRUE(summary.contains(key)) << key;
   }
   EXPECT_EQ(summary["steps"], 50);
@@ -136,9 +134,10 @@ TEST_F(RunCommandTest, SlideWritesTheTrajectoryAndSummary) {
 
 TEST_F(RunCommandTest, OverridesChangeStepAndOutputCadence) {
   const fs::path out = dir_ / "coarse";
-  const testing::CliResult result = Run(fmt::format("run '{}/scenes/slide.yaml' -o '{}' --dt 0.02 --set "
-                                        "output.every=10 --set bodies.0.velocity=[0.25,0,0]",
-                                        ECPSIM_SOURCE_DIR, out.string()));
+  const testing::CliResult result =
+      Run(fmt::format("run '{}/scenes/slide.yaml' -o '{}' --dt 0.02 --set "
+                      "output.every=10 --set bodies.0.velocity=[0.25,0,0]",
+                      ECPSIM_SOURCE_DIR, out.string()));
   ASSERT_EQ(result.exit_code, 0) << result.output;
   const auto rows = ReadCsv(out / "trajectory.csv");
   // 25 steps of 0.02 s; rows at steps 0, 10, 20 and the last, 25
@@ -164,9 +163,10 @@ TEST_F(RunCommandTest, BadSceneExitsWithOneAndALocatedMessage) {
 TEST_F(RunCommandTest, SolverFailureExitsWithThreeAndLeavesValidFiles) {
   // one Newton iteration cannot solve the first contact step from a cold start
   const fs::path out = dir_ / "fail";
-  const testing::CliResult result = Run(fmt::format("run '{}/scenes/tilted_box.yaml' -o '{}' --set "
-                                        "solver.max_iterations=1",
-                                        ECPSIM_SOURCE_DIR, out.string()));
+  const testing::CliResult result =
+      Run(fmt::format("run '{}/scenes/tilted_box.yaml' -o '{}' --set "
+                      "solver.max_iterations=1",
+                      ECPSIM_SOURCE_DIR, out.string()));
   EXPECT_EQ(result.exit_code, 3) << result.output;
   EXPECT_THAT(result.output, HasSubstr("solver failure"));
   EXPECT_THAT(Leftovers(out), ::testing::IsEmpty());
@@ -204,8 +204,7 @@ TEST_F(RunCommandTest, AFifoOrSymlinkAtAnOutputIsRefusedBeforeTheRunAndLeftAlone
   const fs::path out = dir_ / "out";
   fs::create_directories(out);
   ASSERT_EQ(::mkfifo((out / "summary.json").c_str(), 0600), 0);
-  testing::CliResult result =
-      Run(fmt::format("run scenes/slide.yaml -o '{}'", out.string()));
+  testing::CliResult result = Run(fmt::format("run scenes/slide.yaml -o '{}'", out.string()));
   EXPECT_EQ(result.exit_code, 1) << result.output;
   EXPECT_THAT(result.output, HasSubstr("summary.json: a FIFO (named pipe) is there; expected a "
                                        "regular file or nothing"));
@@ -235,11 +234,11 @@ TEST_F(RunCommandTest, NumericOptionsAreCheckedBeforeAnyWork) {
            {"--dt nan", "--dt = nan: expected a finite time > 0 s"},
            {"--dt 1e-300", "--dt = 1e-300: expected a time in [1e-150, 1e+150] s"},
            {"--duration 1e20",
-            "--set duration=1e+20: duration = 1e+20: expected at most 4503599627370496 steps per run"},
+            "--set duration=1e+20: duration = 1e+20: expected at most 4503599627370496 steps per "
+            "run"},
            {"--fps -1", "--fps = -1: expected a finite value > 0"},
            {"--width 100000", "--width = 100000: expected an integer in [16, 8192]"}}) {
-    const testing::CliResult result =
-        Run(fmt::format("run {} -o '{}' {}", slide, out, options));
+    const testing::CliResult result = Run(fmt::format("run {} -o '{}' {}", slide, out, options));
     EXPECT_EQ(result.exit_code, 1) << options << ": " << result.output;
     EXPECT_THAT(result.output, HasSubstr(message)) << options;
   }
@@ -247,9 +246,9 @@ TEST_F(RunCommandTest, NumericOptionsAreCheckedBeforeAnyWork) {
 }
 
 TEST_F(RunCommandTest, InitialPenetrationIsABadInputNamingThePosition) {
-  const testing::CliResult result = Run(fmt::format(
-      "run '{}/scenes/slide.yaml' -o '{}' --set 'bodies.0.position=[0, 0, -0.35]'",
-      ECPSIM_SOURCE_DIR, (dir_ / "o").string()));
+  const testing::CliResult result =
+      Run(fmt::format("run '{}/scenes/slide.yaml' -o '{}' --set 'bodies.0.position=[0, 0, -0.35]'",
+                      ECPSIM_SOURCE_DIR, (dir_ / "o").string()));
   EXPECT_EQ(result.exit_code, 1);
   EXPECT_THAT(result.output,
               HasSubstr("slide.yaml: --set bodies.0.position=[0, 0, -0.35]: bodies[0].position = "
@@ -265,8 +264,8 @@ TEST_F(RunCommandTest, DropWarnsAboutAMeshInTheWrongUnit) {
   ASSERT_EQ(result.exit_code, 0) << result.output;
   EXPECT_THAT(result.output, ::testing::Not(HasSubstr("warning")));
   // scaled to 374 m: a warning on stderr, and the run goes on
-  result = Run(fmt::format("drop '{}' -o '{}' --scale 100 --duration 0.02", box,
-                           (dir_ / "b").string()));
+  result =
+      Run(fmt::format("drop '{}' -o '{}' --scale 100 --duration 0.02", box, (dir_ / "b").string()));
   ASSERT_EQ(result.exit_code, 0) << result.output;
   EXPECT_THAT(result.output, HasSubstr(fmt::format("ecpsim: warning: {} is 374 m across; if it "
                                                    "is in metres use --units m (or --scale 1)",

@@ -50,8 +50,8 @@ constexpr int kTimeoutSeconds = 30;
 // round-off) of an integer is that integer
 constexpr double kStepCountSlack = 1e-9;
 
-const char* const kScenes[] = {"desk", "dumbbell", "slide", "tbar", "tilted_box", "stack", "push_box",
-                                "tbar_push", "gripper"};
+const char* const kScenes[] = {"desk",  "dumbbell", "slide",     "tbar",   "tilted_box",
+                               "stack", "push_box", "tbar_push", "gripper"};
 
 // values a mutated number takes: zero, negative, overflowing, underflowing, non-finite, integers
 // beyond int and long, and a few ordinary ones
@@ -219,8 +219,8 @@ class SceneFuzzTest : public testing::CliTest, public ::testing::WithParamInterf
       for (std::string name; std::getline(header, name, ',');)
         text_column.push_back(engine::IsModelColumn(name));
     }
-    const std::set<std::string> models = {"initial", "free", "planar", "hull", "multipatch",
-                                          "point", "kinematic"};
+    const std::set<std::string> models = {"initial",    "free",  "planar",   "hull",
+                                          "multipatch", "point", "kinematic"};
     data_rows = 0;
     while (std::getline(in, line)) {
       ++data_rows;
@@ -229,7 +229,8 @@ class SceneFuzzTest : public testing::CliTest, public ::testing::WithParamInterf
       for (std::string field; std::getline(stream, field, ','); ++column) {
         if (column < text_column.size() && text_column[column]) {
           if (models.count(field) == 0)
-            return fmt::format("trajectory.csv row {} column {}: \"{}\" is no model", data_rows, column, field);
+            return fmt::format("trajectory.csv row {} column {}: \"{}\" is no model", data_rows,
+                               column, field);
           continue;
         }
         char* end = nullptr;
@@ -353,7 +354,9 @@ TEST_P(SceneFuzzTest, EveryMutationEndsWithADefinedOutcome) {
 
 INSTANTIATE_TEST_SUITE_P(ShippedScenes, SceneFuzzTest,
                          ::testing::Range(0, static_cast<int>(std::size(kScenes))),
-                         [](const auto& param_info) { return std::string(kScenes[param_info.param]); });
+                         [](const auto& param_info) {
+                           return std::string(kScenes[param_info.param]);
+                         });
 
 }  // namespace
 }  // namespace ecpsim

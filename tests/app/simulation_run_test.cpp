@@ -72,10 +72,10 @@ TEST_F(SimulationRunTest, SigintFinishesTheStepAndWritesCompleteOutputs) {
   // a box dropped for 10^4 s: 10^6 steps, far more than the test waits for; a second SIGINT
   // while the outputs are finished is ignored
   const fs::path out = dir_ / "out";
-  const testing::ChildExit exit = InterruptAfterRows(
-      {"drop", "tests/fixtures/meshes/box.obj", "-o", out.string(), "--duration", "1e4",
-       "--height", "0.05"},
-      out, 20, {SIGINT, SIGINT});
+  const testing::ChildExit exit =
+      InterruptAfterRows({"drop", "tests/fixtures/meshes/box.obj", "-o", out.string(), "--duration",
+                          "1e4", "--height", "0.05"},
+                         out, 20, {SIGINT, SIGINT});
   EXPECT_EQ(exit.exit_code, 130) << log_;
   EXPECT_THAT(log_, ::testing::HasSubstr("interrupted by SIGINT at t = "));
   ExpectConsistentInterruptedRun(out, "SIGINT");
@@ -83,10 +83,10 @@ TEST_F(SimulationRunTest, SigintFinishesTheStepAndWritesCompleteOutputs) {
 
 TEST_F(SimulationRunTest, SigtermFinishesTheFramesAndTheVideoSoFar) {
   const fs::path out = dir_ / "out";
-  const testing::ChildExit exit = InterruptAfterRows(
-      {"run", "scenes/slide.yaml", "-o", out.string(), "--duration", "1e4", "--frames", "--video",
-       "--fps", "100", "--width", "64", "--height", "48"},
-      out, 20, {SIGTERM});
+  const testing::ChildExit exit =
+      InterruptAfterRows({"run", "scenes/slide.yaml", "-o", out.string(), "--duration", "1e4",
+                          "--frames", "--video", "--fps", "100", "--width", "64", "--height", "48"},
+                         out, 20, {SIGTERM});
   EXPECT_EQ(exit.exit_code, 143) << log_;
   ExpectConsistentInterruptedRun(out, "SIGTERM");
   // the frames up to t_end, each complete, and the video of the same frames
@@ -104,10 +104,10 @@ TEST_F(SimulationRunTest, SigtermFinishesTheFramesAndTheVideoSoFar) {
 
 TEST_F(SimulationRunTest, SigtermFinishesAVideoAloneSoFar) {
   const fs::path out = dir_ / "out";
-  const testing::ChildExit exit = InterruptAfterRows(
-      {"run", "scenes/slide.yaml", "-o", out.string(), "--duration", "1e4", "--video", "--fps",
-       "100", "--width", "64", "--height", "48"},
-      out, 20, {SIGTERM});
+  const testing::ChildExit exit =
+      InterruptAfterRows({"run", "scenes/slide.yaml", "-o", out.string(), "--duration", "1e4",
+                          "--video", "--fps", "100", "--width", "64", "--height", "48"},
+                         out, 20, {SIGTERM});
   EXPECT_EQ(exit.exit_code, 143) << log_;
   ExpectConsistentInterruptedRun(out, "SIGTERM");  // no temporary file either
   EXPECT_FALSE(fs::exists(out / "frames"));
@@ -119,10 +119,10 @@ TEST_F(SimulationRunTest, TenBillionStepsStartWithoutAllocatingPerStep) {
   // duration / h = 10^10: a run that reserved a double per step asked for 80 GB and died of
   // std::bad_alloc (exit code 4); now it starts, and is interrupted once it has begun
   const fs::path out = dir_ / "out";
-  const testing::ChildExit exit = InterruptAfterRows(
-      {"run", "scenes/slide.yaml", "-o", out.string(), "--dt", "1e-10", "--duration", "1",
-       "--set", "output.every=1000000"},
-      out, 1, {SIGTERM});
+  const testing::ChildExit exit =
+      InterruptAfterRows({"run", "scenes/slide.yaml", "-o", out.string(), "--dt", "1e-10",
+                          "--duration", "1", "--set", "output.every=1000000"},
+                         out, 1, {SIGTERM});
   EXPECT_EQ(exit.exit_code, 143) << log_;
   EXPECT_LT(exit.max_rss_kb, kMaxRssKb);
   const nlohmann::json summary = ReadJson(out / "summary.json");

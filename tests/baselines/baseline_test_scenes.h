@@ -8,19 +8,19 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "../engine/test_bodies.h"
 #include "baselines/external_simulation.h"
 #include "engine/scene.h"
 #include "engine/state.h"
 #include "geometry/paper_bodies.h"
-#include "../engine/test_bodies.h"
 
 namespace ecpsim::baselines::testing {
 
 /// The test box: 0.2 × 0.2 × 0.1 m, 1 kg, lying on its large face on z = 0.
 inline const Eigen::Vector3d kBoxSize(0.2, 0.2, 0.1);  // m
-constexpr double kBoxMass = 1;                           // kg
-constexpr double kSlideMu = 0.3;                         // the sliding tests' μ
-constexpr double kG = 9.8;                               // m/s², the scenes' |g|
+constexpr double kBoxMass = 1;                         // kg
+constexpr double kSlideMu = 0.3;                       // the sliding tests' μ
+constexpr double kG = 9.8;                             // m/s², the scenes' |g|
 
 /// The box on the ground with μ = kSlideMu, at rest unless `v0` (m/s, world) is given.
 inline engine::Scene BoxOnGroundScene(const Eigen::Vector3d& v0 = Eigen::Vector3d::Zero()) {

@@ -12,9 +12,9 @@
 
 #include "baseline_test_scenes.h"
 #include "baselines/external_simulation.h"
+#include "common/errors.h"
 #include "engine/scene_io/scene_yaml.h"
 #include "engine/time_step.h"
-#include "common/errors.h"
 
 namespace ecpsim::baselines {
 namespace {
@@ -30,8 +30,8 @@ using testing::kSlideMu;
 /// measures 5e-14 m (Gauss–Seidel residual of 50 sweeps, in double precision).
 constexpr double kRestTolerance = 1e-9;
 
-std::unique_ptr<ExternalSimulation> RunBullet(FrictionSetting setting,
-                                              const engine::Scene& scene, int steps) {
+std::unique_ptr<ExternalSimulation> RunBullet(FrictionSetting setting, const engine::Scene& scene,
+                                              int steps) {
   auto sim = MakeExternalSimulation(ExternalEngine::kBullet, setting, scene);
   for (int i = 0; i < steps; ++i) sim->Step();
   return sim;
@@ -149,9 +149,10 @@ TEST(BulletSimulation, RejectsAnObstacleThatIsNotAHalfSpace) {
   engine::Scene scene = BoxOnGroundScene();
   scene.obstacles[0].name = "fixture";
   scene.obstacles[0].shape = geometry::MakeBox(Eigen::Vector3d(1, 1, 0.1));
-  EXPECT_THAT([&] { MakeExternalSimulation(ExternalEngine::kBullet, FrictionSetting::kDefault, scene); },
-              ::testing::ThrowsMessage<InputError>(::testing::AllOf(
-                  ::testing::HasSubstr("fixture"), ::testing::HasSubstr("half-spaces only"))));
+  EXPECT_THAT(
+      [&] { MakeExternalSimulation(ExternalEngine::kBullet, FrictionSetting::kDefault, scene); },
+      ::testing::ThrowsMessage<InputError>(::testing::AllOf(
+          ::testing::HasSubstr("fixture"), ::testing::HasSubstr("half-spaces only"))));
 }
 
 }  // namespace

@@ -10,10 +10,10 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "common/errors.h"
 #include "engine/report/penetration.h"
 #include "engine/scene_io/scene_yaml.h"
 #include "engine/time_step.h"
-#include "common/errors.h"
 #include "tests/baselines/baseline_test_scenes.h"
 
 #ifdef ECPSIM_HAVE_MUJOCO
@@ -91,8 +91,9 @@ TEST_P(MujocoSettingTest, SlidingBoxStopsAtTheCoulombDistance) {
 INSTANTIATE_TEST_SUITE_P(BothSettings, MujocoSettingTest,
                          ::testing::Values(FrictionSetting::kDefault, FrictionSetting::kCoulomb),
                          [](const auto& param_info) {
-                           return std::string(param_info.param == FrictionSetting::kDefault ? "Default"
-                                                                                      : "Coulomb");
+                           return std::string(param_info.param == FrictionSetting::kDefault
+                                                  ? "Default"
+                                                  : "Coulomb");
                          });
 
 engine::Scene PushedBoxScene(double force) {
@@ -184,8 +185,8 @@ constexpr double kImpactMu = 0.5;
 
 TEST(MujocoImpactTest, FlatDropSinksTheSoftContactDepth) {
   // the box face-down touching the ground, all four corners hitting it at v0 = 1 m/s
-  const double v0 = 1;      // m/s
-  const double h = 1e-3;    // s, τ/20
+  const double v0 = 1;    // m/s
+  const double h = 1e-3;  // s, τ/20
   engine::Body box = engine::testing::MakeBoxBody(kImpactBoxSize, kBoxMass);
   box.p0 = Vector3d(0, 0, kImpactBoxSize.z() / 2);
   box.v0 = Vector3d(0, 0, -v0);

@@ -12,9 +12,9 @@
 
 #include "baseline_test_scenes.h"
 #include "baselines/external_simulation.h"
+#include "common/errors.h"
 #include "engine/scene_io/scene_yaml.h"
 #include "engine/time_step.h"
-#include "common/errors.h"
 
 namespace ecpsim::baselines {
 namespace {
@@ -151,9 +151,10 @@ TEST(OdeSimulation, RejectsAnObstacleThatIsNotAHalfSpace) {
   engine::Scene scene = BoxOnGroundScene();
   scene.obstacles[0].name = "fixture";
   scene.obstacles[0].shape = geometry::MakeBox(Eigen::Vector3d(1, 1, 0.1));
-  EXPECT_THAT([&] { MakeExternalSimulation(ExternalEngine::kOde, FrictionSetting::kDefault, scene); },
-              ::testing::ThrowsMessage<InputError>(::testing::AllOf(
-                  ::testing::HasSubstr("fixture"), ::testing::HasSubstr("half-spaces only"))));
+  EXPECT_THAT(
+      [&] { MakeExternalSimulation(ExternalEngine::kOde, FrictionSetting::kDefault, scene); },
+      ::testing::ThrowsMessage<InputError>(::testing::AllOf(
+          ::testing::HasSubstr("fixture"), ::testing::HasSubstr("half-spaces only"))));
 }
 
 TEST(OdeSimulation, AnInternalErrorOfOdeIsASolverFailureNotAnAbort) {

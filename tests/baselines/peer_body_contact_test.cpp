@@ -68,8 +68,9 @@ engine::Scene Scene(const char* file) {
 TEST(PeerBodyContact, StackOfThreeBoxesForTenSeconds) {
   const engine::Scene scene = Scene("stack.yaml");
   const int steps = static_cast<int>(std::lround(scene.duration / scene.h));
-  std::printf("peer             first-step drop (mm) bottom/middle/top  top drift 10 s (mm): "
-              "horizontal, vertical, max  speed in the last 1 s (m/s)\n");
+  std::printf(
+      "peer             first-step drop (mm) bottom/middle/top  top drift 10 s (mm): "
+      "horizontal, vertical, max  speed in the last 1 s (m/s)\n");
   for (const Peer& peer : AvailablePeers()) {
     auto sim = MakeExternalSimulation(peer.engine, peer.setting, scene);
     const engine::State start = sim->state();
@@ -81,7 +82,8 @@ TEST(PeerBodyContact, StackOfThreeBoxesForTenSeconds) {
         for (int b = 0; b < 3; ++b) drop[b] = start.bodies[b].p_WB.z() - s.bodies[b].p_WB.z();
       max_drift = std::max(max_drift, (s.bodies[2].p_WB - start.bodies[2].p_WB).norm());
       if (s.t > scene.duration - 1)
-        for (const engine::BodyState& b : s.bodies) late_speed = std::max(late_speed, b.v_WB.norm());
+        for (const engine::BodyState& b : s.bodies)
+          late_speed = std::max(late_speed, b.v_WB.norm());
     }
     const Vector3d drift = sim->state().bodies[2].p_WB - start.bodies[2].p_WB;
     std::printf("%-16s %.3f / %.3f / %.3f (g h² = %.3f)  %.2f, %.3f, %.2f  %.3g\n",
@@ -97,8 +99,9 @@ TEST(PeerBodyContact, FlatPusherAtATenthOfAMeterPerSecond) {
   const int steps = static_cast<int>(std::lround(scene.duration / scene.h));
   const engine::KinematicMotion& motion = *scene.bodies[1].motion;
   const double speed = 0.1;
-  std::printf("peer             box speed t > 0.5 s (m/s): mean, min, max  gap t > 0.5 s (mm): "
-              "mean, max  deepest overlap (mm)  lateral drift (mm)\n");
+  std::printf(
+      "peer             box speed t > 0.5 s (m/s): mean, min, max  gap t > 0.5 s (mm): "
+      "mean, max  deepest overlap (mm)  lateral drift (mm)\n");
   for (const Peer& peer : AvailablePeers()) {
     auto sim = MakeExternalSimulation(peer.engine, peer.setting, scene);
     double sum = 0, lowest = INFINITY, highest = -INFINITY, overlap = 0, late_sum = 0;

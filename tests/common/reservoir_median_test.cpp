@@ -77,8 +77,11 @@ TEST(ReservoirMedian, ContinuesExactlyFromASavedSample) {
 }
 
 TEST(ReservoirMedian, RejectsASampleThatDoesNotFitItsCount) {
-  EXPECT_THAT([] { ReservoirMedian({1.0, 2.0}, 3); },
-              ::testing::ThrowsMessage<InputError>(::testing::HasSubstr("2 values after 3")));
+  EXPECT_THAT(
+      [] {
+        ReservoirMedian({1.0, 2.0}, 3);
+      },
+      ::testing::ThrowsMessage<InputError>(::testing::HasSubstr("2 values after 3")));
 }
 
 }  // namespace

@@ -12,10 +12,10 @@
 namespace ecpsim::engine::testing {
 
 struct AutoHullComparison {
-  double difference = 0;                               // largest over bodies, steps, quantities
-  std::array<long, engine::kNumStepModels> models{};   // auto's body-steps per model
-  long steps = 0;                                      // steps both completed
-  long auto_failed_at = -1, hull_failed_at = -1;       // step of a SolverFailure, −1: none
+  double difference = 0;                              // largest over bodies, steps, quantities
+  std::array<long, engine::kNumStepModels> models{};  // auto's body-steps per model
+  long steps = 0;                                     // steps both completed
+  long auto_failed_at = -1, hull_failed_at = -1;      // step of a SolverFailure, −1: none
 };
 
 /// Runs `scene` with model auto and with model hull side by side for `steps` steps, or until one
@@ -53,10 +53,10 @@ inline AutoHullComparison CompareAutoWithHull(engine::Scene scene, long steps,
     for (size_t b = 0; b < a.bodies.size(); ++b) {
       const engine::BodyState& x = a.bodies[b];
       const engine::BodyState& y = h.bodies[b];
-      result.difference = std::max({result.difference, (x.p_WB - y.p_WB).cwiseAbs().maxCoeff(),
-                                    x.Q_WB.angularDistance(y.Q_WB),
-                                    (x.v_WB - y.v_WB).cwiseAbs().maxCoeff(),
-                                    (x.w_WB - y.w_WB).cwiseAbs().maxCoeff()});
+      result.difference =
+          std::max({result.difference, (x.p_WB - y.p_WB).cwiseAbs().maxCoeff(),
+                    x.Q_WB.angularDistance(y.Q_WB), (x.v_WB - y.v_WB).cwiseAbs().maxCoeff(),
+                    (x.w_WB - y.w_WB).cwiseAbs().maxCoeff()});
     }
   }
   return result;

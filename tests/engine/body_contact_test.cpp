@@ -143,8 +143,7 @@ TEST(CollisionTest, TwoFreeCubesExchangeMomentumExactlyAndNeverGainKineticEnergy
     // r = a1 − c⁺), so with a1 = a2 the angular momentum about the origin changes by exactly
     // −h (v_a⁺ − v_b⁺) × J for the impulse J on a (the torsion p_r n is a pure couple pair)
     const Vector3d J = c.p_n * c.n + c.p_t * c.t + c.p_o * c.o;
-    const Vector3d expected =
-        -scene.h * (state.bodies[0].v_WB - state.bodies[1].v_WB).cross(J);
+    const Vector3d expected = -scene.h * (state.bodies[0].v_WB - state.bodies[1].v_WB).cross(J);
     EXPECT_NEAR((after.angular - before.angular - expected).norm(), 0, kMomentumTol)
         << "t = " << state.t;
     // the implicit step and the contact only dissipate

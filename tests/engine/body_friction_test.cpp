@@ -146,8 +146,7 @@ TEST(BoxOnBoxTest, AboveTheFrictionLimitTheTopBoxSlidesAtFOverMMinusMuGAndTheBot
     // the sliding friction between them is μ p_n under the weight
     const ContactState& c = state.contacts[kBetween];
     EXPECT_NEAR(c.p_n, kTopMass * kG * h, kSlideTol * kTopMass) << "step " << k;
-    EXPECT_NEAR(std::hypot(c.p_t, c.p_o), kMuBetween * c.p_n, kSlideTol * kTopMass)
-        << "step " << k;
+    EXPECT_NEAR(std::hypot(c.p_t, c.p_o), kMuBetween * c.p_n, kSlideTol * kTopMass) << "step " << k;
     // the bottom box stays: the ground holds the friction μ m_top g, a fraction of its limit
     // μ_ground (m_top + m_bottom) g, so it only creeps at that fraction of ε = 1e-5 V (V grows
     // with the top box's speed: the bar uses this step's, the largest so far); twice for margin
@@ -234,10 +233,10 @@ struct Push {
 };
 
 struct PushReference {
-  double w_quasi_static = 0;  // rad/s: the limit surface's ω at the pressure centre below
-  double w = 0;               // rad/s: with the first-order inertia and step terms
-  double w_inertia = 0;       // rad/s: the inertia term's part of w
-  double w_without_shift = 0; // rad/s: the limit surface's ω with r from the CM
+  double w_quasi_static = 0;         // rad/s: the limit surface's ω at the pressure centre below
+  double w = 0;                      // rad/s: with the first-order inertia and step terms
+  double w_inertia = 0;              // rad/s: the inertia term's part of w
+  double w_without_shift = 0;        // rad/s: the limit surface's ω with r from the CM
   Vector2d v_cm = Vector2d::Zero();  // m/s: the CM's velocity that goes with w
   Vector2d pressure_centre = Vector2d::Zero();  // m, world
   Vector2d r = Vector2d::Zero();                // m: P − pressure centre
@@ -286,7 +285,7 @@ class LimitSurfaceTest : public ::testing::TestWithParam<Push> {};
 
 TEST_P(LimitSurfaceTest, AFlatBoxPushedSlowlyOffItsCentreTurnsAsTheEllipsoidsLimitSurfaceSays) {
   const Push push = GetParam();
-  const double mass = 1, speed = 0.02;  // kg, m/s
+  const double mass = 1, speed = 0.02;    // kg, m/s
   const Friction ground{0.3, 1, 1, 0.1};  // the paper's e_r = 0.1 m
   // a 2 cm thick plate, pushed at its mid-height (z_p = z_c: the shift carries no inertia term)
   Body box = MakeBoxBody(Vector3d(0.2, 0.2, 0.02), mass, "plate");
@@ -320,8 +319,8 @@ TEST_P(LimitSurfaceTest, AFlatBoxPushedSlowlyOffItsCentreTurnsAsTheEllipsoidsLim
     const PushReference ref = PushReferenceAt(box, x, s, push.radius, v_p, ground, scene.h);
     // rad/s: the left-out share of the inertia term (above), plus the sticking creep's slip
     // ε |F| / (μ_pusher |F_n|) ≤ ε at V = g h (the island's scale), over the lever |r|
-    const double share = (push.radius + (ref.pressure_centre - x.p_WB.head<2>()).norm()) /
-                         ref.r.norm();
+    const double share =
+        (push.radius + (ref.pressure_centre - x.p_WB.head<2>()).norm()) / ref.r.norm();
     const double creep = kStickCreepFraction * kG * scene.h;
     const double kTwistTol = 2 * share * std::abs(ref.w_inertia) + creep / ref.r.norm();
     EXPECT_NEAR(x.w_WB.z(), ref.w, kTwistTol) << "t = " << state.t;
@@ -345,8 +344,7 @@ TEST_P(LimitSurfaceTest, AFlatBoxPushedSlowlyOffItsCentreTurnsAsTheEllipsoidsLim
     push_height_effect =
         std::max(push_height_effect, std::abs(ref.w_without_shift - ref.w) / std::abs(ref.w));
     inertia_term = std::max(inertia_term, std::abs(ref.w_inertia / ref.w));
-    step_term = std::max(
-        step_term, std::abs((ref.w - ref.w_quasi_static - ref.w_inertia) / ref.w));
+    step_term = std::max(step_term, std::abs((ref.w - ref.w_quasi_static - ref.w_inertia) / ref.w));
   }
   RecordProperty("largest_relative_twist_error", fmt::format("{:.3g}", largest_error));
   RecordProperty("largest_relative_twist_tolerance", fmt::format("{:.3g}", largest_tolerance));

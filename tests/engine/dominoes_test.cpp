@@ -74,7 +74,9 @@ double TotalEnergy(const Scene& scene, const State& state) {
 class CheckedRun {
  public:
   explicit CheckedRun(const Scene& scene)
-      : scene_(scene), state_(InitialState(scene)), probe_(scene),
+      : scene_(scene),
+        state_(InitialState(scene)),
+        probe_(scene),
         energy_(TotalEnergy(scene, state_)) {}
   // false (with a failure recorded) if the step did not converge; Step throws SolverFailure
   // where no guess solves it

@@ -5,8 +5,8 @@
 #include <cmath>
 #include <string>
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 #include "engine/scene_io/scene_builders.h"
 #include "engine/step_report.h"

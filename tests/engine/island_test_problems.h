@@ -41,8 +41,8 @@ inline RandomBodyCase MakeRandomBodyCase(const geometry::ConvexShape& hull,
   p.mass = 2 + u(rng);
   p.R = Eigen::Quaterniond(Eigen::Vector4d(u(rng), u(rng), u(rng), u(rng)).normalized())
             .toRotationMatrix();
-  p.inertia_world = p.R * (Eigen::Vector3d(0.05, 0.06, 0.07) + vector(0.02)).asDiagonal() *
-                    p.R.transpose();
+  p.inertia_world =
+      p.R * (Eigen::Vector3d(0.05, 0.06, 0.07) + vector(0.02)).asDiagonal() * p.R.transpose();
   p.c = vector(far ? 1e3 : 0.5);
   p.v = vector(1);
   p.w = vector(3);

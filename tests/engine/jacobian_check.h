@@ -5,8 +5,8 @@
 #include <cmath>
 #include <functional>
 
-#include <Eigen/Core>
 #include <gtest/gtest.h>
+#include <Eigen/Core>
 
 namespace ecpsim::engine::testing {
 

@@ -5,10 +5,10 @@
 #include <string>
 #include <vector>
 
-#include <Eigen/Geometry>
 #include <fmt/format.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 #include "common/errors.h"
 #include "engine/rotation.h"
@@ -108,10 +108,10 @@ TEST(KinematicMotionTest, ConstantTwistRefusesAHalfTurnPerStep) {
   const double h = 0.01;
   c.w = Eigen::Vector3d(0, 0, M_PI / h);
   const KinematicMotion half_turn(c, kWhere);
-  EXPECT_THAT([&] { half_turn.StepTwist(0.5, h); },
-              ThrowsMessage<InputError>(AllOf(HasSubstr(kWhere + ": the step from t = 0.5 s"),
-                                              HasSubstr("h = 0.01 s"),
-                                              HasSubstr("use a smaller h"))));
+  EXPECT_THAT(
+      [&] { half_turn.StepTwist(0.5, h); },
+      ThrowsMessage<InputError>(AllOf(HasSubstr(kWhere + ": the step from t = 0.5 s"),
+                                      HasSubstr("h = 0.01 s"), HasSubstr("use a smaller h"))));
   c.w = Eigen::Vector3d(0, 0, 0.99 * M_PI / h);
   const KinematicMotion below(c, kWhere);
   EXPECT_EQ(below.StepTwist(0.5, h).w, c.w);
@@ -131,10 +131,10 @@ TEST(KinematicMotionTest, ConstantTwistRejectsBadNumbers) {
 // ---- expressions -----------------------------------------------------------------------------
 
 // a point on a circle of radius r at Ω rad/s, turning with it (yaw Ω t, given in degrees)
-constexpr double kRadius = 0.3;  // m
-constexpr double kOmega = 2;     // rad/s
+constexpr double kRadius = 0.3;   // m
+constexpr double kOmega = 2;      // rad/s
 constexpr double kHeight = 0.05;  // m
-constexpr double kStep = 0.01;   // s
+constexpr double kStep = 0.01;    // s
 
 KinematicMotion Circle() {
   return KinematicMotion(
@@ -189,8 +189,7 @@ TEST(KinematicMotionTest, EngineUpdateReproducesTheCircleWithoutDrift) {
 TEST(KinematicMotionTest, EngineUpdateReproducesATumbleWithoutDrift) {
   // all three angles moving, so the rotation axis turns from step to step
   const KinematicMotion tumble(
-      Expressions({"0.2*t", "0.1*sin(3*t)", "0.05+0.02*t*t"},
-                  {"20*sin(t)", "10*t", "30*cos(2*t)"}),
+      Expressions({"0.2*t", "0.1*sin(3*t)", "0.05+0.02*t*t"}, {"20*sin(t)", "10*t", "30*cos(2*t)"}),
       kWhere);
   ExpectEngineUpdateFollowsPoses(tumble, 1000, kStep, 3.0);  // |p| ≤ 2.9 m up to t = 10 s
 
@@ -326,10 +325,10 @@ TEST(KinematicMotionTest, WaypointSegmentIsOneConstantTwist) {
   }
   // a step across the waypoint at 3 s: the chord from the first segment's pose to the second's
   const double t = 2.995;
-  const Eigen::Vector3d from = waypoints[0].pose.p + (1.995 / 2) * (waypoints[1].pose.p -
-                                                                     waypoints[0].pose.p);
-  const Eigen::Vector3d to = waypoints[1].pose.p + 0.005 * (waypoints[2].pose.p -
-                                                             waypoints[1].pose.p);
+  const Eigen::Vector3d from =
+      waypoints[0].pose.p + (1.995 / 2) * (waypoints[1].pose.p - waypoints[0].pose.p);
+  const Eigen::Vector3d to =
+      waypoints[1].pose.p + 0.005 * (waypoints[2].pose.p - waypoints[1].pose.p);
   EXPECT_LT((motion.StepTwist(t, kStep).v - (to - from) / kStep).norm(), 8 * kEps / kStep);
 }
 

@@ -2,9 +2,9 @@
 
 #include <cmath>
 
-#include <Eigen/Geometry>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 #include "common/errors.h"
 
@@ -29,9 +29,7 @@ TEST(TimeFunctionTest, EvaluatesThePaperDeskForce) {
   EXPECT_EQ(f.expression(), "22.5*sin(2*pi*t)+22.5");
 }
 
-TEST(TimeFunctionTest, PiIsTheDoubleClosestToPi) {
-  EXPECT_EQ(TimeFunction("pi", "here")(0), M_PI);
-}
+TEST(TimeFunctionTest, PiIsTheDoubleClosestToPi) { EXPECT_EQ(TimeFunction("pi", "here")(0), M_PI); }
 
 TEST(TimeFunctionTest, ConstantIgnoresTime) {
   const TimeFunction c(3.5);
@@ -54,10 +52,9 @@ TEST(TimeFunctionTest, CopiesEvaluateIndependentlyOfTheOriginal) {
 
 TEST(TimeFunctionTest, SyntaxErrorNamesWhereExpressionAndMuparserMessage) {
   EXPECT_THAT([] { TimeFunction("2*(t", "s.yaml:4:7: loads[1].torque[2]"); },
-              ThrowsMessage<InputError>(AllOf(HasSubstr("s.yaml:4:7: loads[1].torque[2]"),
-                                              HasSubstr("\"2*(t\""),
-                                              HasSubstr("Missing parenthesis"),
-                                              HasSubstr("expected an expression of t"))));
+              ThrowsMessage<InputError>(AllOf(
+                  HasSubstr("s.yaml:4:7: loads[1].torque[2]"), HasSubstr("\"2*(t\""),
+                  HasSubstr("Missing parenthesis"), HasSubstr("expected an expression of t"))));
 }
 
 TEST(TimeFunctionTest, UnknownVariableIsAnError) {

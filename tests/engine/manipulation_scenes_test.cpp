@@ -8,8 +8,8 @@
 
 #include <gtest/gtest.h>
 
-#include "engine/report/contact_wrench.h"
 #include "engine/models/hull_model.h"
+#include "engine/report/contact_wrench.h"
 #include "engine/report/penetration.h"
 #include "engine/scene.h"
 #include "engine/scene_io/scene_yaml.h"
@@ -69,8 +69,7 @@ TEST(TbarPushSceneTest, TheFingerPushesAndTurnsTheTFlatOnTheTableAndOnlyEverPush
     finger_work -= on_finger.force.dot(state.bodies[finger].v_WB) * scene.h;
     const double kinetic = 0.5 * scene.bodies[tbar].mass * T.v_WB.squaredNorm();
     // (to the solver's tolerance of the energy of a resting body's velocity scale g h)
-    const double energy_floor =
-        kSolvedRel * scene.bodies[tbar].mass * std::pow(kG * scene.h, 2);
+    const double energy_floor = kSolvedRel * scene.bodies[tbar].mass * std::pow(kG * scene.h, 2);
     ASSERT_GE(finger_work, kinetic * (1 - kSolvedRel) - energy_floor) << "t = " << state.t;
   }
   // pushed along +x 10 cm to the left (+y) of its CM line, the T went forward and turned

@@ -160,7 +160,7 @@ constexpr double kLyingAxisTol = 1e-9;
 // R sin(π/96) = 3.3e-3 m to the side of the cylinder's contact line. The mesh patch is taken
 // with the sagitta (+ 1e-6 m) as tolerance, and the ECP is compared with its hull laterally
 // within the vertex lines' offset
-const double kFacetSagitta = kDumbbellRadius * (1 - std::cos(kPi / 96));          // m
+const double kFacetSagitta = kDumbbellRadius * (1 - std::cos(kPi / 96));         // m
 const double kFacetLateralOffset = kDumbbellRadius * std::sin(kPi / 96) + 1e-6;  // m
 // the ECP on the exact contact line of the cylinder, to the solver's precision
 constexpr double kContactLineTol = 1e-8;  // m
@@ -242,17 +242,17 @@ TEST(PaperScenesTest, DumbbellToppledRollsOnTwoSegmentsAtHeightR) {
   EXPECT_LT(landing_time, 0.5);
   EXPECT_GE(point_steps_before_landing, 3);  // 5 in the current run
   EXPECT_GE(two_segment_steps, 50);
-  EXPECT_GT(roll_angle, 2 * kPi);              // more than one full turn rolling
-  EXPECT_GT(heading_max - heading_min, 0.3);   // and turned by more than 17°
+  EXPECT_GT(roll_angle, 2 * kPi);             // more than one full turn rolling
+  EXPECT_GT(heading_max - heading_min, 0.3);  // and turned by more than 17°
 }
 
 // --- desk ------------------------------------------------------------------------------------
 
 // sliding flat with the CM 0.45 m up and the feet on the ground: no tilt beyond the solver's
 // precision (an orientation error of 1e-9 rad moves a foot by 2.5e-10 m)
-constexpr double kTiltTol = 1e-9;              // rad
-constexpr double kDeskHalfSupport = 0.25;      // m: the feet span the 0.5 × 0.5 m top
-constexpr double kSupportSquareTol = 1e-12;    // m, round-off of the frame change
+constexpr double kTiltTol = 1e-9;            // rad
+constexpr double kDeskHalfSupport = 0.25;    // m: the feet span the 0.5 × 0.5 m top
+constexpr double kSupportSquareTol = 1e-12;  // m, round-off of the frame change
 
 TEST(PaperScenesTest, DeskSlidesWithoutTippingAndItsEcpStaysInTheSupportSquare) {
   const Scene scene = LoadScene(ScenePath("desk.yaml"));
@@ -291,11 +291,11 @@ TEST(PaperScenesTest, DeskSlidesWithoutTippingAndItsEcpStaysInTheSupportSquare) 
 // the last step's ECP on an edge or rim — stalls far from the solution (residual 4e-3 … 2e-2),
 // the first pass gives it up after kWarmStartStallIterations = 15 iterations without halving
 // its residual (one or two halvings before), and its next guess converges in 8 … 23: 38 at
-// most (26 on the dumbbell). 45 is that with margin. With the warm start's full stall window (kStallIterations = 45)
-// the landings took 53 … 62; before the near-solution re-solves were kept to stalls near a
-// solution, each such stall ran them too (the faces that carry the contact, faces left out,
-// starts along an edge: 100 … 260 more iterations, 160 … 309 in the step, engine/README.md,
-// "Which stalls are re-solved")
+// most (26 on the dumbbell). 45 is that with margin. With the warm start's full stall window
+// (kStallIterations = 45) the landings took 53 … 62; before the near-solution re-solves were kept
+// to stalls near a solution, each such stall ran them too (the faces that carry the contact, faces
+// left out, starts along an edge: 100 … 260 more iterations, 160 … 309 in the step,
+// engine/README.md, "Which stalls are re-solved")
 constexpr int kMaxLandingIterations = 45;
 
 TEST(PaperScenesTest, LandingsAfterATiltCostNoReSolvesOfFarStalls) {

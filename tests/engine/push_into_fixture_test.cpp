@@ -69,7 +69,7 @@ bodies:
 loads:
   - {{body: tbar, force: [10, 0, 0], at: [0, 0.05, 0]}}
 )yaml",
-                                                                   ECPSIM_SOURCE_DIR));
+                                                             ECPSIM_SOURCE_DIR));
   State state = InitialState(scene);
   RunWithoutPenetration(scene, state);
   const BodyState& T = state.bodies[0];

@@ -9,8 +9,8 @@ namespace ecpsim::engine {
 namespace {
 
 TEST(RotationTest, ExpMapMatchesAngleAxis) {
-  for (const Eigen::Vector3d& phi : {Eigen::Vector3d(0.3, -1.2, 0.7), Eigen::Vector3d(1e-8, 0, 2e-8),
-                                    Eigen::Vector3d(0, 0, 3.0)}) {
+  for (const Eigen::Vector3d& phi : {Eigen::Vector3d(0.3, -1.2, 0.7),
+                                     Eigen::Vector3d(1e-8, 0, 2e-8), Eigen::Vector3d(0, 0, 3.0)}) {
     const Eigen::Matrix3d expected =
         phi.norm() > 0 ? Eigen::AngleAxisd(phi.norm(), phi.normalized()).toRotationMatrix()
                        : Eigen::Matrix3d::Identity();
@@ -23,7 +23,8 @@ TEST(RotationTest, LeftJacobianMatchesFiniteDifferences) {
   // ∂/∂φ (Exp(φ) x) = −[Exp(φ) x]× J_l(φ); central differences with step 1e-6 are accurate to
   // ~1e-11 for this smooth map
   const Eigen::Vector3d x(0.4, -0.2, 0.9);
-  for (const Eigen::Vector3d& phi : {Eigen::Vector3d(0.3, -1.2, 0.7), Eigen::Vector3d(1e-7, 2e-7, 0)}) {
+  for (const Eigen::Vector3d& phi :
+       {Eigen::Vector3d(0.3, -1.2, 0.7), Eigen::Vector3d(1e-7, 2e-7, 0)}) {
     const Eigen::Matrix3d analytic = -Skew(ExpMap(phi) * x) * LeftJacobian(phi);
     for (int k = 0; k < 3; ++k) {
       const double eps = 1e-6;

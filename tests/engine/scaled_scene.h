@@ -7,14 +7,14 @@
 #include <regex>
 #include <string>
 
-#include <Eigen/Core>
 #include <fmt/format.h>
+#include <Eigen/Core>
 
+#include "common/errors.h"
 #include "engine/loads.h"
 #include "engine/scene.h"
 #include "engine/state.h"
 #include "geometry/convex_shape.h"
-#include "common/errors.h"
 
 namespace ecpsim::engine::testing {
 
@@ -24,8 +24,8 @@ namespace ecpsim::engine::testing {
 /// equations, the discrete step (h × √L) and the contact conditions are all invariant.
 struct FroudeUnits {
   explicit FroudeUnits(double L) : length(L), time(std::sqrt(L)) {}
-  double length;                                  // m per unit
-  double time;                                    // s per unit
+  double length;                                     // m per unit
+  double time;                                       // s per unit
   double velocity() const { return length / time; }  // m/s per unit
   double mass() const { return length * length * length; }
   double force() const { return mass() * length / (time * time); }
@@ -46,8 +46,8 @@ inline std::shared_ptr<const geometry::ConvexShape> ScaledPolyhedron(
 
 /// `f` of the scaled scene: the original's value × `factor` at the original's time t / time.
 inline TimeFunction ScaledFunction(const TimeFunction& f, double factor, double time) {
-  const std::string expression = std::regex_replace(
-      f.expression(), std::regex(R"(\bt\b)"), fmt::format("(t/{:.17g})", time));
+  const std::string expression =
+      std::regex_replace(f.expression(), std::regex(R"(\bt\b)"), fmt::format("(t/{:.17g})", time));
   return TimeFunction(fmt::format("({})*{:.17g}", expression, factor), "scaled load");
 }
 

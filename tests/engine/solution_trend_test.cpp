@@ -25,7 +25,8 @@ Point QuadraticAt(double t) {
 // the trend after steps of length h ending at t = 0, h, …, (steps − 1) h
 SolutionTrend TrendOver(int steps, double h) {
   SolutionTrend trend = NextTrend(nullptr, Point::Zero(), QuadraticAt(0), h);
-  for (int i = 1; i < steps; ++i) trend = NextTrend(&trend, QuadraticAt((i - 1) * h), QuadraticAt(i * h), h);
+  for (int i = 1; i < steps; ++i)
+    trend = NextTrend(&trend, QuadraticAt((i - 1) * h), QuadraticAt(i * h), h);
   return trend;
 }
 

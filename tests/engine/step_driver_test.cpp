@@ -26,7 +26,8 @@ using testing::MakeGroundScene;
 // under test, with the outcome known in advance.
 class SubstepModel final : public ContactModelStepper {
  public:
-  explicit SubstepModel(const Scene& scene, double largest_h) : scene_(scene), largest_h_(largest_h) {}
+  explicit SubstepModel(const Scene& scene, double largest_h)
+      : scene_(scene), largest_h_(largest_h) {}
   AdvanceResult Advance(const Island& island, double, double h, IslandState& state,
                         Effort) const override {
     AdvanceResult result;

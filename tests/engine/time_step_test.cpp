@@ -105,7 +105,7 @@ TEST(FreeFlightTest, QuaternionStaysUnitAndMomentumIsSensible) {
 // explicit term gained energy without bound at h|ω| ≈ 4 (a 30 m/s corner impact, ecpsim bench).
 TEST(FreeFlightTest, FastTumbleNeverGainsRotationalEnergy) {
   Body box = MakeBoxBody(Vector3d(0.3, 0.2, 0.1), 2);
-  box.p0 = Vector3d(0, 0, 1e4);  // no contact during the flight
+  box.p0 = Vector3d(0, 0, 1e4);    // no contact during the flight
   box.w0 = Vector3d(30, 200, 10);  // near the intermediate axis, h|ω| ≈ 4
   Scene scene = MakeGroundScene({box}, 0.02);
   State state = InitialState(scene);
@@ -321,7 +321,8 @@ TEST(WindowTest, SameTrajectoryAsFullHull) {
     ASSERT_TRUE(Step(windowed, a).converged);
     ASSERT_TRUE(Step(full, b).converged);
     expect_same(a.bodies[0], b.bodies[0], 1e-11, a.t);
-    ASSERT_LT(std::get<HullWarmStart>(a.contacts[0].warm_start).window.size(), static_cast<size_t>(hull->NumConstraints()));
+    ASSERT_LT(std::get<HullWarmStart>(a.contacts[0].warm_start).window.size(),
+              static_cast<size_t>(hull->NumConstraints()));
   }
   // whole trajectories through the landing and the first facet switches: the tumbling faceted
   // body amplifies round-off differences (≈ 1e-13 per step) by roughly 10× per 0.1 s, so the
@@ -360,7 +361,8 @@ TEST(WindowTest, FineUvSphereDropKeepsASmallWindow) {
   for (int i = 0; i < 100; ++i) {
     const StepReport report = Step(scene, state);
     ASSERT_TRUE(report.converged) << "t = " << state.t;
-    largest_window = std::max(largest_window, std::get<HullWarmStart>(state.contacts[0].warm_start).window.size());
+    largest_window = std::max(largest_window,
+                              std::get<HullWarmStart>(state.contacts[0].warm_start).window.size());
   }
   // it landed and rolls on the ground
   EXPECT_GT(state.contacts[0].p_n, 0);
@@ -391,9 +393,9 @@ TEST(WindowTest, UvSphereWindowedStepsEqualFullHullSteps) {
     ASSERT_TRUE(Step(windowed, a).converged) << "t = " << a.t;
     ASSERT_TRUE(Step(full, b).converged) << "t = " << b.t;
     ASSERT_LE((a.bodies[0].p_WB - b.bodies[0].p_WB).norm(), kWindowedAgreement) << "t = " << a.t;
-    ASSERT_LE((a.bodies[0].v_WB - b.bodies[0].v_WB).norm() +
-                  (a.bodies[0].w_WB - b.bodies[0].w_WB).norm(),
-              kWindowedAgreement)
+    ASSERT_LE(
+        (a.bodies[0].v_WB - b.bodies[0].v_WB).norm() + (a.bodies[0].w_WB - b.bodies[0].w_WB).norm(),
+        kWindowedAgreement)
         << "t = " << a.t;
   }
   EXPECT_GT(a.contacts[0].p_n, 0);

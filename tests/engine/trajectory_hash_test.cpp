@@ -50,8 +50,8 @@ class TrajectoryHash : public ::testing::TestWithParam<TrajectoryCase> {};
 
 TEST_P(TrajectoryHash, MatchesTable) {
   const std::vector<std::string> expected = TableLinesOf(GetParam());
-  ASSERT_FALSE(expected.empty()) << "no lines for '" << CasePrefix(GetParam())
-                                 << "' in " << kTablePath
+  ASSERT_FALSE(expected.empty()) << "no lines for '" << CasePrefix(GetParam()) << "' in "
+                                 << kTablePath
                                  << ": a new scene? bash scripts/bless_trajectory_hashes.sh";
   const std::vector<std::string> actual = TrajectoryRecord(kScenesDir, GetParam());
   // the first line that differs says at which step the trajectory left the table's
@@ -64,8 +64,8 @@ TEST_P(TrajectoryHash, MatchesTable) {
 }
 
 std::string CaseName(const ::testing::TestParamInfo<TrajectoryCase>& info) {
-  std::string name = info.param.scene.substr(0, info.param.scene.find('.')) + "_" +
-                     info.param.model;
+  std::string name =
+      info.param.scene.substr(0, info.param.scene.find('.')) + "_" + info.param.model;
   for (char& c : name) {
     if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
   }

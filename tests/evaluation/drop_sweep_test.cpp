@@ -16,8 +16,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include "engine/scene_io/scene_yaml.h"
 #include "common/errors.h"
+#include "engine/scene_io/scene_yaml.h"
 #include "geometry/mass_properties.h"
 #include "geometry/mesh_io.h"
 
@@ -33,8 +33,8 @@ class DropSweepTest : public ::testing::Test {
  protected:
   void SetUp() override {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           fmt::format("ecpsim_drop_sweep_{}_{}", getpid(), info->name());
+    dir_ =
+        fs::temp_directory_path() / fmt::format("ecpsim_drop_sweep_{}_{}", getpid(), info->name());
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
@@ -197,7 +197,8 @@ TEST_F(DropSweepTest, CgalDemoMeshesThatStalledOnAnEdgeComeToRest) {
   // moment balance along the edge (engine/README.md, "Stalls on an edge")
   const std::string archive = "/usr/share/doc/libcgal-dev/data.tar.gz";  // libcgal-demo
   if (!fs::exists(archive)) GTEST_SKIP() << archive << " is missing (scripts/setup.sh installs it)";
-  ASSERT_TRUE(ExtractFromArchive(archive, {"data/meshes/knot.off", "data/meshes/retinal.off"}, dir_));
+  ASSERT_TRUE(
+      ExtractFromArchive(archive, {"data/meshes/knot.off", "data/meshes/retinal.off"}, dir_));
   DropSweepOptions options;
   options.only = {(dir_ / "data/meshes/knot.off").string() + ":2",
                   (dir_ / "data/meshes/retinal.off").string() + ":0"};

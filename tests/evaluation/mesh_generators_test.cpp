@@ -8,9 +8,9 @@
 #include <set>
 #include <utility>
 
-#include <Eigen/Geometry>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 #include "geometry/convex_hull.h"
 #include "geometry/mass_properties.h"
@@ -86,9 +86,9 @@ TEST_P(EveryKind, ClosedOutwardUnitSizedSolids) {
     EXPECT_NO_THROW(geometry::ComputeMassProperties(g.mesh, 1000));
     EXPECT_NEAR(Extent(g.mesh).norm(), 1, kRoundOff);
     // no two vertices so close that loading the mesh from a file would weld them
-    EXPECT_EQ(geometry::WeldVertices(g.mesh, geometry::DefaultWeldTolerance(g.mesh))
-                  .vertices.size(),
-              g.mesh.vertices.size());
+    EXPECT_EQ(
+        geometry::WeldVertices(g.mesh, geometry::DefaultWeldTolerance(g.mesh)).vertices.size(),
+        g.mesh.vertices.size());
     EXPECT_FALSE(g.description.empty());
     EXPECT_EQ(g.description.find(','), std::string::npos) << "descriptions go into CSV fields";
   }
@@ -120,7 +120,9 @@ TEST_P(EveryKind, OneComponentOfTheRightGenusOrSeparateParts) {
 }
 
 INSTANTIATE_TEST_SUITE_P(MeshGenerators, EveryKind, ::testing::ValuesIn(AllMeshKinds()),
-                         [](const auto& param_info) { return std::string(MeshKindName(param_info.param)); });
+                         [](const auto& param_info) {
+                           return std::string(MeshKindName(param_info.param));
+                         });
 
 TEST(MeshGeneratorsTest, ConvexPolytopesAreTheirOwnHulls) {
   for (int seed = 0; seed < kSeedsPerKind; ++seed) {

@@ -121,8 +121,8 @@ TEST(SceneScenarioTest, NamesTheFileAndTheMissingBody) {
                              "nobody", 1, 0.1, "x"),
                InputError);
   try {
-    SceneScenario(std::string(ECPSIM_SOURCE_DIR) + "/scenes", "x", "stack.yaml", "nobody", 1,
-                  0.1, "x");
+    SceneScenario(std::string(ECPSIM_SOURCE_DIR) + "/scenes", "x", "stack.yaml", "nobody", 1, 0.1,
+                  "x");
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("stack.yaml: no body 'nobody'"), std::string::npos)
         << e.what();

@@ -33,8 +33,8 @@ TEST(StabilityMapAutoTest, AutoReachesTheHullModelsOutcomeAndTrajectoryOnEveryMa
         const bool coupled = map.name == "push_speed";
         const engine::testing::AutoHullComparison c =
             engine::testing::CompareAutoWithHull(scenario.scene, steps, coupled);
-        const std::string where = map.name + " " + std::to_string(value) + " h = " +
-                                  std::to_string(h);
+        const std::string where =
+            map.name + " " + std::to_string(value) + " h = " + std::to_string(h);
         EXPECT_EQ(c.auto_failed_at, c.hull_failed_at) << where;
         EXPECT_LE(c.difference, kAgreement) << where;
         if (!coupled && c.hull_failed_at < 0) {

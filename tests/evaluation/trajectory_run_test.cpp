@@ -5,11 +5,11 @@
 
 #include <gtest/gtest.h>
 
+#include "common/errors.h"
 #include "engine/scene_io/scene_builders.h"
 #include "evaluation/error_metrics.h"
 #include "evaluation/method.h"
 #include "evaluation/scenario.h"
-#include "common/errors.h"
 
 namespace ecpsim::evaluation {
 namespace {
@@ -50,8 +50,8 @@ TEST(RunTrajectoryTest, HullSlideSamplesAreTheDiscreteSchemeAndItsErrorIsFirstOr
       // the hull model solves each step to 1e-12: the samples are the scheme's to round-off
       EXPECT_NEAR((run.samples[k].p_WB - slide.scene.bodies[0].p0).dot(u), x, 1e-12) << k;
       const double t = k * slide.sample_interval;
-      expected_error = std::max(expected_error, std::abs(x - (slide.analytic(t).p_WB -
-                                                              slide.scene.bodies[0].p0).dot(u)));
+      expected_error = std::max(
+          expected_error, std::abs(x - (slide.analytic(t).p_WB - slide.scene.bodies[0].p0).dot(u)));
       EXPECT_EQ(run.modes[k], ContactMode::kFace);
     }
     const TrajectoryErrors e = CompareTrajectories(run, AnalyticTrajectory(slide), slide.length);
@@ -78,8 +78,8 @@ TEST(RunTrajectoryTest, RejectsAStepThatDoesNotDivideTheSampleInterval) {
 
 class ModeOfPoseTest : public ::testing::Test {
  protected:
-  engine::Scene scene_ = engine::MakeGroundScene(
-      {engine::MakeBoxBody(Vector3d(0.2, 0.1, 0.05), 1)}, 0.01, engine::Friction{});
+  engine::Scene scene_ = engine::MakeGroundScene({engine::MakeBoxBody(Vector3d(0.2, 0.1, 0.05), 1)},
+                                                 0.01, engine::Friction{});
   // the box turned by q with its lowest vertex at `gap` above z = 0
   engine::BodyState Posed(const Eigen::Quaterniond& q, double gap) {
     double lowest = INFINITY;
@@ -103,8 +103,9 @@ TEST_F(ModeOfPoseTest, FaceEdgeVertexAndNone) {
   EXPECT_EQ(ModeOfPose(scene_, 0, Posed(flat, -0.5 * kContactDistance)), ContactMode::kFace);
   EXPECT_EQ(ModeOfPose(scene_, 0, Posed(flat, 2 * kContactDistance)), ContactMode::kNone);
   // a tilt of 1e-5 rad lifts the far edge 1e-6 m < kModeSpread: still a face
-  EXPECT_EQ(ModeOfPose(scene_, 0, Posed(Eigen::Quaterniond(AngleAxisd(1e-5, Vector3d::UnitX())), 0)),
-            ContactMode::kFace);
+  EXPECT_EQ(
+      ModeOfPose(scene_, 0, Posed(Eigen::Quaterniond(AngleAxisd(1e-5, Vector3d::UnitX())), 0)),
+      ContactMode::kFace);
 }
 
 }  // namespace

@@ -5,9 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include "common/errors.h"
 #include "engine/models/hull_model.h"
 #include "evaluation/stability_map.h"
-#include "common/errors.h"
 
 namespace ecpsim::evaluation {
 namespace {
@@ -59,8 +59,8 @@ TEST(WorkPrecisionTest, ShardsPartitionTheSweepAndReproduceItsErrors) {
 TEST(WorkPrecisionTest, PlanarAndHullAgreeWhereBothApply) {
   SweepOptions options;
   options.steps = {0.01};
-  const auto rows = RunWorkPrecision(CheapScenarios(), {FindMethod("hull"), FindMethod("planar")},
-                                     options);
+  const auto rows =
+      RunWorkPrecision(CheapScenarios(), {FindMethod("hull"), FindMethod("planar")}, options);
   for (size_t i = 0; i < rows.size(); i += 2) {
     // the same implicit scheme on a flat body: the models agree to the solver tolerance
     EXPECT_NEAR(rows[i].error_state, rows[i + 1].error_state, 1e-10) << rows[i].scenario;
@@ -116,8 +116,8 @@ TEST(WorkPrecisionTest, CsvRoundTripKeepsNineDigits) {
 
 TEST(WorkPrecisionTest, MalformedCsvNamesFileLineAndColumn) {
   const std::string header = WorkPrecisionCsv({}).substr(0, WorkPrecisionCsv({}).find('\n'));
-  const std::string path = WriteTemporary(
-      "bad.csv", header + "\nslide,hull,abc,1,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,\n");
+  const std::string path =
+      WriteTemporary("bad.csv", header + "\nslide,hull,abc,1,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,\n");
   try {
     ReadWorkPrecisionCsv(path);
     ADD_FAILURE() << "no error";

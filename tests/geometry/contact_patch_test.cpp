@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 #include "geometry/paper_bodies.h"
 #include "tests/geometry/test_meshes.h"
@@ -39,7 +39,8 @@ Eigen::Isometry3d RestOnGround(const TriangleMesh& mesh, const Eigen::Matrix3d& 
 
 // The desk on its four feet: four 0.06 m squares, their hull the 0.5 m top outline.
 TEST(ContactPatchTest, DeskFlatIsFourSquaresInASquareHull) {
-  const ContactPatch patch = ExtractContactPatch(MakeDeskMesh(), Eigen::Isometry3d::Identity(), kGround);
+  const ContactPatch patch =
+      ExtractContactPatch(MakeDeskMesh(), Eigen::Isometry3d::Identity(), kGround);
   ASSERT_EQ(patch.polygons.size(), 4u);
   for (const auto& foot : patch.polygons) {
     EXPECT_EQ(foot.size(), 4u);
@@ -94,7 +95,8 @@ TEST(ContactPatchTest, BoxFlatOnEdgeAndOnCorner) {
   EXPECT_EQ(flat.mode, ContactMode::kConvexPatch);
 
   // on the edge x ∈ [−0.1, 0.1] after a 45° roll about x
-  const Eigen::Matrix3d roll = Eigen::AngleAxisd(0.25 * EIGEN_PI, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  const Eigen::Matrix3d roll =
+      Eigen::AngleAxisd(0.25 * EIGEN_PI, Eigen::Vector3d::UnitX()).toRotationMatrix();
   const ContactPatch edge = ExtractContactPatch(box, RestOnGround(box, roll), kGround);
   EXPECT_TRUE(edge.polygons.empty());
   ASSERT_EQ(edge.segments.size(), 1u);
@@ -112,8 +114,10 @@ TEST(ContactPatchTest, BoxFlatOnEdgeAndOnCorner) {
   EXPECT_EQ(corner.hull.size(), 1u);
   EXPECT_EQ(corner.mode, ContactMode::kPoint);
   EXPECT_TRUE(PatchHullContains(corner, kGround, corner.points[0], 1e-9));
-  EXPECT_FALSE(PatchHullContains(corner, kGround, corner.points[0] + Eigen::Vector3d(2e-6, 0, 0), 1e-6));
-  EXPECT_FALSE(PatchHullContains(corner, kGround, corner.points[0] + Eigen::Vector3d(0, 0, 2e-6), 1e-6));
+  EXPECT_FALSE(
+      PatchHullContains(corner, kGround, corner.points[0] + Eigen::Vector3d(2e-6, 0, 0), 1e-6));
+  EXPECT_FALSE(
+      PatchHullContains(corner, kGround, corner.points[0] + Eigen::Vector3d(0, 0, 2e-6), 1e-6));
 }
 
 // The T-bar flat is its T outline (area 0.4 × 0.1 + 0.3 × 0.1 = 0.07) in a hexagonal hull
@@ -210,8 +214,8 @@ TEST(ContactPatchTest, ScaledBoxGivesTheSamePatches) {
   // relative: the patch's area from a few products of coordinates scaled by L
   constexpr double kAreaRoundOff = 1e-12;
   for (const double L : {1e-4, 1e-2, 1.0, 1e2, 1e3}) {
-    const TriangleMesh box = MakeBoxMesh(Eigen::Vector3d(-0.1, -0.2, -0.15) * L,
-                                         Eigen::Vector3d(0.1, 0.2, 0.15) * L);
+    const TriangleMesh box =
+        MakeBoxMesh(Eigen::Vector3d(-0.1, -0.2, -0.15) * L, Eigen::Vector3d(0.1, 0.2, 0.15) * L);
     for (size_t k = 0; k < tilts.size(); ++k) {
       Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
       X.rotate(tilts[k]);
@@ -314,7 +318,8 @@ TEST(ContactPatchTest, BoxOnBoxIsTheOverlapOfTheirFaces) {
   const ContactPatch small_bottom = ExtractContactPatch(small, I, kGround, tolerance);
   const ContactPatch large_top = ExtractContactPatch(large, I, below, tolerance);
   ASSERT_EQ(large_top.mode, ContactMode::kConvexPatch);
-  const ContactPatch on_large = IntersectContactPatches(small_bottom, large_top, kGround, tolerance);
+  const ContactPatch on_large =
+      IntersectContactPatches(small_bottom, large_top, kGround, tolerance);
   EXPECT_EQ(on_large.mode, ContactMode::kConvexPatch);
   EXPECT_NEAR(on_large.area, 0.04, 1e-15);
   EXPECT_NEAR(on_large.feature_area, 0.04, 1e-15);

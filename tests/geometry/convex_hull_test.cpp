@@ -8,9 +8,9 @@
 #include <utility>
 #include <vector>
 
-#include <Eigen/Geometry>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 #include "common/errors.h"
 #include "geometry/mesh_io.h"
@@ -93,7 +93,8 @@ void ExpectTheSameHullInEveryOrder(std::vector<Eigen::Vector3d> points, const Co
   }
 }
 
-std::vector<Eigen::Vector3d> BoxCorners(const Eigen::Vector3d& centre, const Eigen::Vector3d& half) {
+std::vector<Eigen::Vector3d> BoxCorners(const Eigen::Vector3d& centre,
+                                        const Eigen::Vector3d& half) {
   std::vector<Eigen::Vector3d> corners;
   for (int k = 0; k < 8; ++k) {
     corners.push_back(centre + half.cwiseProduct(Eigen::Vector3d(k & 1 ? 1 : -1, k & 2 ? 1 : -1,
@@ -351,8 +352,7 @@ TEST(ConvexHullTest, SamePointsGiveTheSameArraysOnEveryCall) {
   // and the labels follow the coordinates: vertices in lexicographic order
   EXPECT_TRUE(std::is_sorted(first.vertices.begin(), first.vertices.end(),
                              [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-                               return std::tie(a.x(), a.y(), a.z()) <
-                                      std::tie(b.x(), b.y(), b.z());
+                               return std::tie(a.x(), a.y(), a.z()) < std::tie(b.x(), b.y(), b.z());
                              }));
 }
 
@@ -424,8 +424,7 @@ TEST(ConvexHullTest, MergedFacesGiveTheSameHullInEveryOrder) {
   const Eigen::Matrix3d R = (Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitX()) *
                              Eigen::AngleAxisd(-0.9, Eigen::Vector3d::UnitZ()))
                                 .toRotationMatrix();
-  const std::vector<Eigen::Vector3d> points =
-      FloatRoundedCubeGrid(R, Eigen::Vector3d::Zero(), 6);
+  const std::vector<Eigen::Vector3d> points = FloatRoundedCubeGrid(R, Eigen::Vector3d::Zero(), 6);
   const ConvexHull first = ComputeConvexHull(points, "float cube");
   ASSERT_EQ(first.faces.size(), 6u);
   ExpectValidHull(first, points);
@@ -453,7 +452,8 @@ TEST(ConvexHullTest, DegenerateInputsThrowNamingTheSource) {
   EXPECT_THAT([&] { ComputeConvexHull(same, "dots"); },
               ThrowsMessage<InputError>(HasSubstr("all 6 points coincide")));
 
-  std::vector<Eigen::Vector3d> with_nan = BoxCorners(Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones());
+  std::vector<Eigen::Vector3d> with_nan =
+      BoxCorners(Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones());
   with_nan[5].y() = std::nan("");
   EXPECT_THAT([&] { ComputeConvexHull(with_nan, "bad.obj"); },
               ThrowsMessage<InputError>(HasSubstr("bad.obj: point 5 = (1, nan, 1) is not finite")));
@@ -536,7 +536,7 @@ TEST(ConvexHullTest, TrianglesOfZeroComputedAreaJoinANeighbouringFace) {
 }
 
 TEST(ConvexHull2DTest, SquareWithInteriorAndEdgePointsGivesItsCornersCounterClockwise) {
-  const std::vector<Eigen::Vector2d> points = {{0, 0},   {1, 0}, {0.5, 0}, {1, 1},
+  const std::vector<Eigen::Vector2d> points = {{0, 0},     {1, 0}, {0.5, 0}, {1, 1},
                                                {0.3, 0.4}, {0, 1}, {0, 0.5}, {1, 1}};
   const std::vector<Eigen::Vector2d> hull = ComputeConvexHull2D(points);
   ASSERT_EQ(hull.size(), 4u);

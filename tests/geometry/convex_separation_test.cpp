@@ -2,8 +2,8 @@
 
 #include <cmath>
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 namespace ecpsim::geometry {
 namespace {
@@ -49,7 +49,8 @@ TEST(ConvexSeparationTest, OverlappingBoxesPenetrateByTheirOverlapAtAnyScaleAndP
       const auto a = MakeBox(unit * half);
       const auto b = MakeBox(unit * half);
       const Eigen::Vector3d origin(far * unit, -far * unit, 0);
-      const Eigen::Isometry3d X_a = At(origin), X_b = At(origin + unit * Eigen::Vector3d(0.9, 0.1, 0));
+      const Eigen::Isometry3d X_a = At(origin),
+                              X_b = At(origin + unit * Eigen::Vector3d(0.9, 0.1, 0));
       const double depth = PenetrationDepth(*a, X_a, *b, X_b, unit);
       EXPECT_NEAR(depth, 0.1 * unit, kDepthRel * unit) << unit << " " << far;
       const AxisSeparation best = BestSeparatingAxis(*a, X_a, *b, X_b);

@@ -7,9 +7,9 @@
 #include <utility>
 #include <vector>
 
-#include <Eigen/Geometry>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 #include "common/errors.h"
 #include "geometry/paper_bodies.h"
@@ -33,7 +33,8 @@ void ExpectDerivativesMatchFiniteDifferences(const ConvexShape& shape, const Eig
       const Eigen::Vector3d e = kStep * Eigen::Vector3d::Unit(k);
       const double df = (shape.Value(i, y + e) - shape.Value(i, y - e)) / (2 * kStep);
       EXPECT_NEAR(gradient[k], df, kFiniteDiff) << "constraint " << i << " component " << k;
-      const Eigen::Vector3d dg = (shape.Gradient(i, y + e) - shape.Gradient(i, y - e)) / (2 * kStep);
+      const Eigen::Vector3d dg =
+          (shape.Gradient(i, y + e) - shape.Gradient(i, y - e)) / (2 * kStep);
       EXPECT_LT((hessian.col(k) - dg).norm(), kFiniteDiff) << "constraint " << i << " column " << k;
     }
     EXPECT_LT((hessian - hessian.transpose()).norm(), 1e-15);
@@ -228,7 +229,8 @@ TEST(ConvexShapeTest, SupportVertexDoesNotDependOnEarlierQueries) {
     directions.push_back(-Eigen::Vector3d::UnitZ());
     for (size_t f = 0; f < hull.normals.size(); ++f) directions.push_back(hull.normals[f]);
     for (size_t v = 0; v < hull.vertices.size(); ++v) {
-      for (int w : hull.vertex_neighbors[v]) directions.push_back(hull.vertices[v] - hull.vertices[w]);
+      for (int w : hull.vertex_neighbors[v])
+        directions.push_back(hull.vertices[v] - hull.vertices[w]);
     }
     for (const Eigen::Vector3d& d : directions) {
       const int expected = BruteForceSupportVertex(hull, d);
@@ -251,28 +253,17 @@ TEST(ConvexShapeTest, SupportVertexDoesNotDependOnEarlierQueries) {
 // These are its hull's vertices (mesh frame, m) and the direction of that query.
 TEST(ConvexShapeTest, Issue14_SupportClimbsAcrossANearlyPlanarMergedFace) {
   const std::vector<Eigen::Vector3d> points = {
-      {-17.288187, 17.4667664, -8.6953783},
-      {-17.2881851, 17.4667645, 8.58876991},
-      {-17.2881813, -17.4667664, 8.58876514},
-      {-17.2881813, -17.4667625, -8.69538498},
-      {-17.2801151, 17.4567509, 8.92438126},
-      {-17.2801151, 17.4567528, -8.92438507},
-      {-17.2801113, -17.4471588, 8.92438126},
-      {-17.2801094, -17.4471569, -8.92438507},
-      {-16.6169586, 17.4667645, 8.58876991},
-      {-16.6169567, 17.4667664, -8.6953783},
-      {-16.6169529, -17.4667664, 8.58876514},
-      {-16.6169529, -17.4667625, -8.69538498},
-      {16.6104584, -17.4666462, 8.58876991},
-      {16.6104603, -17.4666462, -8.6953783},
-      {16.6107292, 17.464819, -8.69537735},
-      {16.6107292, 17.464819, 8.58876991},
-      {17.2776146, -17.4533863, 8.58876705},
-      {17.2776165, -17.4533863, -8.69538021},
-      {17.2881794, 17.4567566, 8.92438507},
-      {17.2881813, 17.4567585, -8.92438126},
-      {17.2881851, -17.447155, 8.92438507},
-      {17.288187, -17.447155, -8.92438126}};
+      {-17.288187, 17.4667664, -8.6953783},   {-17.2881851, 17.4667645, 8.58876991},
+      {-17.2881813, -17.4667664, 8.58876514}, {-17.2881813, -17.4667625, -8.69538498},
+      {-17.2801151, 17.4567509, 8.92438126},  {-17.2801151, 17.4567528, -8.92438507},
+      {-17.2801113, -17.4471588, 8.92438126}, {-17.2801094, -17.4471569, -8.92438507},
+      {-16.6169586, 17.4667645, 8.58876991},  {-16.6169567, 17.4667664, -8.6953783},
+      {-16.6169529, -17.4667664, 8.58876514}, {-16.6169529, -17.4667625, -8.69538498},
+      {16.6104584, -17.4666462, 8.58876991},  {16.6104603, -17.4666462, -8.6953783},
+      {16.6107292, 17.464819, -8.69537735},   {16.6107292, 17.464819, 8.58876991},
+      {17.2776146, -17.4533863, 8.58876705},  {17.2776165, -17.4533863, -8.69538021},
+      {17.2881794, 17.4567566, 8.92438507},   {17.2881813, 17.4567585, -8.92438126},
+      {17.2881851, -17.447155, 8.92438507},   {17.288187, -17.447155, -8.92438126}};
   const PolyhedralShape shape(ComputeConvexHull(points));
   const ConvexHull& hull = shape.hull();
   const Eigen::Vector3d d(5.7213119149523983e-05, 0.99999995011541043, -0.00031063778910533912);
@@ -318,17 +309,25 @@ TEST(ConvexShapeTest, HalfSpaceHasOneConstraintAFootPointAndADisplaySlab) {
 }
 
 TEST(ConvexShapeTest, BadParametersThrow) {
-  EXPECT_THAT([] { MakeSphere(-1); },
-              ThrowsMessage<InputError>(HasSubstr("sphere radius = -1: expected a finite value > 0")));
+  EXPECT_THAT(
+      [] { MakeSphere(-1); },
+      ThrowsMessage<InputError>(HasSubstr("sphere radius = -1: expected a finite value > 0")));
   EXPECT_THAT([] { MakeSphere(std::nan("")); }, ThrowsMessage<InputError>(HasSubstr("nan")));
   EXPECT_THAT([] { MakeCylinder(0.1, 0, 2); },
               ThrowsMessage<InputError>(HasSubstr("cylinder length = 0")));
-  EXPECT_THAT([] { MakeCylinder(0.1, 0.3, 3); },
-              ThrowsMessage<InputError>(HasSubstr("cylinder axis = 3: expected 0 (x), 1 (y) or 2 (z)")));
-  EXPECT_THAT([] { MakeEllipsoid({0.1, 0, 0.2}); },
-              ThrowsMessage<InputError>(HasSubstr("ellipsoid radii = (0.1, 0, 0.2)")));
-  EXPECT_THAT([] { MakeBox({0.1, -0.1, 0.2}); },
-              ThrowsMessage<InputError>(HasSubstr("box half extents = (0.1, -0.1, 0.2)")));
+  EXPECT_THAT(
+      [] { MakeCylinder(0.1, 0.3, 3); },
+      ThrowsMessage<InputError>(HasSubstr("cylinder axis = 3: expected 0 (x), 1 (y) or 2 (z)")));
+  EXPECT_THAT(
+      [] {
+        MakeEllipsoid({0.1, 0, 0.2});
+      },
+      ThrowsMessage<InputError>(HasSubstr("ellipsoid radii = (0.1, 0, 0.2)")));
+  EXPECT_THAT(
+      [] {
+        MakeBox({0.1, -0.1, 0.2});
+      },
+      ThrowsMessage<InputError>(HasSubstr("box half extents = (0.1, -0.1, 0.2)")));
   EXPECT_THAT([] { MakeHalfSpace(Eigen::Vector3d::Zero(), 0); },
               ThrowsMessage<InputError>(HasSubstr("half-space normal = (0, 0, 0)")));
   EXPECT_THAT([] { MakeSphere(1)->Tessellate(2); },

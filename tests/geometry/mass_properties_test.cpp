@@ -2,9 +2,9 @@
 
 #include <cmath>
 
-#include <Eigen/Geometry>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 #include "common/errors.h"
 #include "tests/geometry/test_meshes.h"

@@ -15,8 +15,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include "geometry/convex_hull.h"
 #include "common/errors.h"
+#include "geometry/convex_hull.h"
 #include "geometry/mass_properties.h"
 #include "geometry/mesh_bounds.h"
 #include "geometry/mesh_io.h"

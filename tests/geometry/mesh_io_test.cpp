@@ -4,8 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
 #include <filesystem>
+#include <numeric>
 #include <string>
 #include <vector>
 
@@ -114,7 +114,8 @@ TEST(MeshIoTest, MirroringNodeTransformKeepsTrianglesFacingOutward) {
     const Eigen::Matrix3d expected = Eigen::Vector3d(13.0, 37.0, 32.0).asDiagonal();
     EXPECT_LE((p.inertia - expected).norm(), kCornerRoundOff * expected.norm()) << file;
     // each box by itself encloses +6 m³: both face outward
-    for (const double volume : testing::ComponentVolumes(mesh)) EXPECT_NEAR(volume, 6.0, kCornerRoundOff);
+    for (const double volume : testing::ComponentVolumes(mesh))
+      EXPECT_NEAR(volume, 6.0, kCornerRoundOff);
   }
 }
 

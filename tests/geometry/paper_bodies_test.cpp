@@ -5,9 +5,9 @@
 #include <string>
 #include <vector>
 
-#include <Eigen/Geometry>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 #include "common/errors.h"
 #include "geometry/mass_properties.h"

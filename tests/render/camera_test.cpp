@@ -18,12 +18,13 @@ using ::testing::ThrowsMessage;
 
 constexpr int kWidth = 320, kHeight = 240;  // pixels
 // pixel coordinates of the same scene at two scales agree up to the rounding of the matrices
-constexpr double kPixelRounding = 1e-9;  // pixels
+constexpr double kPixelRounding = 1e-9;   // pixels
 constexpr double kDepthRounding = 1e-12;  // NDC
 
 // a body's bounding sphere and a fixed camera at the scale `L` (m)
 std::vector<BoundingSphere> Spheres(double L) {
-  return {{L * Eigen::Vector3d(0.1, -0.2, 0.3), 0.4 * L}, {L * Eigen::Vector3d(-0.5, 0, 0.2), 0.1 * L}};
+  return {{L * Eigen::Vector3d(0.1, -0.2, 0.3), 0.4 * L},
+          {L * Eigen::Vector3d(-0.5, 0, 0.2), 0.1 * L}};
 }
 
 CameraSpec FixedSpec(double L) {
@@ -72,9 +73,8 @@ TEST(Camera, FarPlaneHoldsTheGroundSheetAndEveryBody) {
     const Eigen::Vector3d foot(camera.target.x(), camera.target.y(), 0);
     const double R = GroundHalfExtent(camera);
     int in_front = 0;  // corners behind the eye are clipped by the near plane anyway
-    for (const Eigen::Vector3d& corner :
-         {Eigen::Vector3d(R, R, 0), Eigen::Vector3d(R, -R, 0), Eigen::Vector3d(-R, R, 0),
-          Eigen::Vector3d(-R, -R, 0)}) {
+    for (const Eigen::Vector3d& corner : {Eigen::Vector3d(R, R, 0), Eigen::Vector3d(R, -R, 0),
+                                          Eigen::Vector3d(-R, R, 0), Eigen::Vector3d(-R, -R, 0)}) {
       Eigen::Vector3d pixel;
       if (camera.ToPixel(foot + corner, &pixel)) {
         ++in_front;

@@ -176,7 +176,7 @@ inline FrameInput TBarFlatWithForce() {
   contact.a1 = *contact.cm_projection + X.linear() * Eigen::Vector3d(0.04, 0.03, 0);
   contact.force = Eigen::Vector3d(4.0, -2.0, 29.4);  // N: weight of 3 kg plus friction
   frame.contacts.push_back(contact);
-  frame.force_scale = 0.25 / 29.4;                   // m/N: the weight is a 25 cm arrow
+  frame.force_scale = 0.25 / 29.4;  // m/N: the weight is a 25 cm arrow
   frame.show.hull = false;
   return frame;
 }

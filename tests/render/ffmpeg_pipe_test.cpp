@@ -35,7 +35,8 @@ Image Frame(int width, int height, int k) {
   image.width = width;
   image.height = height;
   image.pixels.resize(static_cast<size_t>(width) * height * 3);
-  for (size_t i = 0; i < image.pixels.size(); ++i) image.pixels[i] = static_cast<std::uint8_t>(i * 7 + k);
+  for (size_t i = 0; i < image.pixels.size(); ++i)
+    image.pixels[i] = static_cast<std::uint8_t>(i * 7 + k);
   return image;
 }
 
@@ -153,7 +154,8 @@ TEST(FfmpegPipe, AppendedFramesFollowTheEarlierOnesLosslessly) {
 
 // `image` with its red and blue bytes swapped, marked as holding `order`
 Image SwapRedBlue(Image image, ChannelOrder order) {
-  for (size_t i = 0; i < image.pixels.size(); i += 3) std::swap(image.pixels[i], image.pixels[i + 2]);
+  for (size_t i = 0; i < image.pixels.size(); i += 3)
+    std::swap(image.pixels[i], image.pixels[i + 2]);
   image.order = order;
   return image;
 }

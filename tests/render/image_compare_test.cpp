@@ -68,10 +68,16 @@ TEST(CompareImages, DifferentSizesDoNotMatch) {
 }
 
 TEST(CompareImages, OutOfRangeToleranceIsAnInputError) {
-  EXPECT_THAT([] { CompareImages(Flat(1, 1, 0), Flat(1, 1, 0), {300, 0.0}); },
-              ThrowsMessage<InputError>(HasSubstr("threshold = 300")));
-  EXPECT_THAT([] { CompareImages(Flat(1, 1, 0), Flat(1, 1, 0), {0, 1.5}); },
-              ThrowsMessage<InputError>(HasSubstr("max fraction = 1.5")));
+  EXPECT_THAT(
+      [] {
+        CompareImages(Flat(1, 1, 0), Flat(1, 1, 0), {300, 0.0});
+      },
+      ThrowsMessage<InputError>(HasSubstr("threshold = 300")));
+  EXPECT_THAT(
+      [] {
+        CompareImages(Flat(1, 1, 0), Flat(1, 1, 0), {0, 1.5});
+      },
+      ThrowsMessage<InputError>(HasSubstr("max fraction = 1.5")));
 }
 
 }  // namespace

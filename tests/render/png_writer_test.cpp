@@ -95,8 +95,9 @@ TEST(PngWriter, WriteLeavesNoTemporaryFile) {
 }
 
 TEST(PngWriter, MissingDirectoryIsAnInputError) {
-  EXPECT_THAT([] { WritePng("/nonexistent/dir/frame.png", Gradient()); },
-              ThrowsMessage<InputError>(HasSubstr("cannot write PNG '/nonexistent/dir/frame.png'")));
+  EXPECT_THAT(
+      [] { WritePng("/nonexistent/dir/frame.png", Gradient()); },
+      ThrowsMessage<InputError>(HasSubstr("cannot write PNG '/nonexistent/dir/frame.png'")));
 }
 
 TEST(PngWriter, MismatchedBufferIsAnInputError) {

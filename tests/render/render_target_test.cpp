@@ -182,8 +182,8 @@ void FillWithRectangles(const std::vector<RenderTarget*>& targets) {
   for (int i = 0; i < 100; ++i) {
     const int x = static_cast<int>(next(width)), y = static_cast<int>(next(height));
     const int w = 1 + static_cast<int>(next(4)), h = 1 + static_cast<int>(next(4));
-    const std::array<float, 4> colour = {next(256) / 255.0f, next(256) / 255.0f,
-                                         next(256) / 255.0f, 1};
+    const std::array<float, 4> colour = {next(256) / 255.0f, next(256) / 255.0f, next(256) / 255.0f,
+                                         1};
     for (RenderTarget* t : targets) {
       t->ClearRect(x, y, std::min(w, width - x), std::min(h, height - y), colour);
     }

@@ -3,14 +3,15 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
-#include <string>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include <fmt/format.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "common/errors.h"
 #include "engine/scene.h"
 #include "engine/scene_io/scene_builders.h"
 #include "engine/scene_io/scene_yaml.h"
@@ -18,7 +19,6 @@
 #include "engine/time_step.h"
 #include "geometry/convex_hull.h"
 #include "geometry/convex_shape.h"
-#include "common/errors.h"
 #include "geometry/mass_properties.h"
 #include "geometry/paper_bodies.h"
 #include "render/image_compare.h"
@@ -46,7 +46,8 @@ engine::Scene DeskScene(double scale = 1) {
   scene.h = kH;
   engine::Body body;
   body.name = "desk";
-  body.hull = std::make_shared<geometry::PolyhedralShape>(geometry::ComputeConvexHull(mesh.vertices));
+  body.hull =
+      std::make_shared<geometry::PolyhedralShape>(geometry::ComputeConvexHull(mesh.vertices));
   body.mesh = std::move(mesh);
   body.mass = kMass;
   body.p0 = cm;
@@ -87,9 +88,10 @@ TEST(SceneFrameBuilder, RestingDeskHasFourFeetTheEcpAndItsWeight) {
   EXPECT_EQ(contact.patch.polygons.size(), 4u);
   ASSERT_TRUE(contact.cm_projection && contact.a1 && contact.force);
   // the CM lies above the centre of the feet: its projection is (x, y, 0) of p_WB
-  EXPECT_NEAR((*contact.cm_projection - Eigen::Vector3d(scene.bodies[0].p0.x(),
-                                                        scene.bodies[0].p0.y(), 0)).norm(),
-              0, 1e-12);
+  EXPECT_NEAR(
+      (*contact.cm_projection - Eigen::Vector3d(scene.bodies[0].p0.x(), scene.bodies[0].p0.y(), 0))
+          .norm(),
+      0, 1e-12);
   // p_n / h = m g = 147 N straight up
   EXPECT_NEAR((*contact.force - Eigen::Vector3d(0, 0, kMass * 9.8)).norm(), 0, 1e-9);
   EXPECT_EQ(frame.iterations, 3);
@@ -115,7 +117,8 @@ TEST(SceneFrameBuilder, AStackShowsEachBoxsFaceOnTheOneBelow) {
     const ContactVisual& contact = frame.contacts[k];
     // the upper box of the pair is the smaller: its bottom face, 0.2 m or 0.1 m square
     const int upper = scene.bodies[pair.body].p0.z() > scene.bodies[pair.other_body].p0.z()
-                          ? pair.body : pair.other_body;
+                          ? pair.body
+                          : pair.other_body;
     const double side = upper == 1 ? 0.2 : 0.1;
     EXPECT_EQ(contact.patch.mode, geometry::ContactMode::kConvexPatch) << k;
     EXPECT_NEAR(contact.patch.area, side * side, 1e-9) << k;
@@ -143,8 +146,9 @@ TEST(SceneFrameBuilder, MismatchedStateIsAnInputError) {
   const engine::Scene scene = DeskScene();
   engine::State state = RestingState(scene);
   state.contacts.clear();
-  EXPECT_THAT([&] { SceneFrameBuilder(scene).Build(state); },
-              ThrowsMessage<InputError>(HasSubstr("desk.yaml: state with 1 bodies and 0 contacts")));
+  EXPECT_THAT(
+      [&] { SceneFrameBuilder(scene).Build(state); },
+      ThrowsMessage<InputError>(HasSubstr("desk.yaml: state with 1 bodies and 0 contacts")));
 }
 
 // Bit-for-bit equality of two body states (positions, orientations, velocities).
@@ -152,7 +156,8 @@ bool BitIdentical(const engine::BodyState& a, const engine::BodyState& b) {
   const auto same = [](const double* x, const double* y, size_t n) {
     return std::memcmp(x, y, n * sizeof(double)) == 0;
   };
-  return same(a.p_WB.data(), b.p_WB.data(), 3) && same(a.Q_WB.coeffs().data(), b.Q_WB.coeffs().data(), 4) &&
+  return same(a.p_WB.data(), b.p_WB.data(), 3) &&
+         same(a.Q_WB.coeffs().data(), b.Q_WB.coeffs().data(), 4) &&
          same(a.v_WB.data(), b.v_WB.data(), 3) && same(a.w_WB.data(), b.w_WB.data(), 3);
 }
 
@@ -268,19 +273,20 @@ TippedBox MakeTippedBox(double L) {
   constexpr double kG = 9.8;         // m/s²
   const Eigen::Vector3d size = L * Eigen::Vector3d(1, 0.6, 0.4);
   TippedBox box;
-  box.scene = engine::MakeGroundScene(
-      {engine::MakeBoxBody(size, kDensity * size.prod(), "box")}, kH, engine::Friction{});
+  box.scene = engine::MakeGroundScene({engine::MakeBoxBody(size, kDensity * size.prod(), "box")},
+                                      kH, engine::Friction{});
   const engine::Body& body = box.scene.bodies[0];
   engine::BodyState pose;
   pose.Q_WB = Eigen::Quaterniond(Eigen::AngleAxisd(25 * M_PI / 180, Eigen::Vector3d::UnitX()));
   double lowest = 0;
-  for (const Eigen::Vector3d& v : body.mesh.vertices) lowest = std::min(lowest, (pose.Q_WB * v).z());
+  for (const Eigen::Vector3d& v : body.mesh.vertices)
+    lowest = std::min(lowest, (pose.Q_WB * v).z());
   pose.p_WB = Eigen::Vector3d(0.1 * L, -0.05 * L, -lowest);
   box.state = engine::InitialState(box.scene);
   box.state.bodies[0] = pose;
   engine::ContactState& contact = box.state.contacts[0];
-  const Eigen::Vector3d on_edge = pose.p_WB + pose.Q_WB * (0.5 * size.cwiseProduct(
-                                                              Eigen::Vector3d(0.4, -1, -1)));
+  const Eigen::Vector3d on_edge =
+      pose.p_WB + pose.Q_WB * (0.5 * size.cwiseProduct(Eigen::Vector3d(0.4, -1, -1)));
   contact.a1 = Eigen::Vector3d(on_edge.x(), on_edge.y(), 0);
   contact.a2 = contact.a1;
   contact.p_n = body.mass * kG * kH;  // N·s: the weight over one step

@@ -1,7 +1,7 @@
-// Grippers (engine/mncp/island_gripper.h, issue 13): the jaws' closing motion against its closed form,
-// the jaws following the frame across the axis and in orientation, and a box held on the table:
-// dragged at the frame's speed with the table's friction μ m g carried by the pads, left behind
-// when the grip is too weak for that, and lifted off the table.
+// Grippers (engine/mncp/island_gripper.h, issue 13): the jaws' closing motion against its closed
+// form, the jaws following the frame across the axis and in orientation, and a box held on the
+// table: dragged at the frame's speed with the table's friction μ m g carried by the pads, left
+// behind when the grip is too weak for that, and lifted off the table.
 #include <algorithm>
 #include <cmath>
 #include <memory>
@@ -36,7 +36,7 @@ constexpr double kCreepSlipBars = 10;
 // the jaws: pads 1 cm thick, 4 cm wide, 3 cm tall, of different masses (the coupling must not
 // assume equal ones)
 constexpr double kJaw0Mass = 0.05, kJaw1Mass = 0.08;  // kg
-const Vector3d kPadSize(0.01, 0.04, 0.03);              // m
+const Vector3d kPadSize(0.01, 0.04, 0.03);            // m
 
 Body Jaw(const std::string& name, double mass, const Vector3d& position) {
   Body jaw = MakeBoxBody(kPadSize, mass, name);
@@ -45,8 +45,7 @@ Body Jaw(const std::string& name, double mass, const Vector3d& position) {
 }
 
 // a gripper whose frame moves by `motion`, its jaws bodies 0 and 1 of `scene`, closing along x
-void AddHand(Scene& scene, KinematicMotion motion, TimeFunction force, int jaw0 = 0,
-             int jaw1 = 1) {
+void AddHand(Scene& scene, KinematicMotion motion, TimeFunction force, int jaw0 = 0, int jaw1 = 1) {
   Gripper gripper;
   gripper.name = "hand";
   gripper.jaws = {jaw0, jaw1};

@@ -121,9 +121,9 @@ TEST(IslandReductionTest, OneBodyWithFixedContactsIsTodaysMncpWithPlanesEliminat
           if (!plane) column[a.s] = row[a.s] = b.s;
           for (int j = 0; j < a.l_g_count; ++j) column[a.l_g + j] = row[a.l_g + j] = b.l_g + j;
           for (int i = 0; i < a.l_count; ++i) column[a.l + i] = row[a.l + i] = b.l + i;
-          for (auto [x, y] : {std::pair{a.p_t, b.p_t}, std::pair{a.p_o, b.p_o},
-                              std::pair{a.p_r, b.p_r}, std::pair{a.p_n, b.p_n},
-                              std::pair{a.sigma, b.sigma}})
+          for (auto [x, y] :
+               {std::pair{a.p_t, b.p_t}, std::pair{a.p_o, b.p_o}, std::pair{a.p_r, b.p_r},
+                std::pair{a.p_n, b.p_n}, std::pair{a.sigma, b.sigma}})
             column[x] = row[x] = y;
           if (!plane) continue;
           any_plane = true;
@@ -172,9 +172,9 @@ TEST(IslandReductionTest, OneBodyWithFixedContactsIsTodaysMncpWithPlanesEliminat
         const VectorXd island_var_scale = IslandVariableScales(island, layout, scales);
         EXPECT_EQ(FirstDifference(island_row_scale, VectorXd(row_scale(row))), -1);
         EXPECT_EQ(FirstDifference(island_var_scale, VectorXd(var_scale(column))), -1);
-        const double measure = MncpResidual(
-            c.layout, c.z, F_body, row_scale, var_scale,
-            {c.scales.length, kTolerance, c.problem.c.cwiseAbs().maxCoeff()});
+        const double measure =
+            MncpResidual(c.layout, c.z, F_body, row_scale, var_scale,
+                         {c.scales.length, kTolerance, c.problem.c.cwiseAbs().maxCoeff()});
         const double island_measure =
             IslandMncpResidual(island, layout, z, F_island, island_row_scale, island_var_scale,
                                MakeIslandResidualUnits(island, scales, kTolerance));
@@ -339,7 +339,9 @@ SparseDifference SparseAgainstDense(const IslandCase& c) {
   EvaluateIslandMncp(c.problem, c.layout, c.z, &F_dense, &J_dense);
   EvaluateIslandMncpSparse(c.problem, c.layout, c.z, &F_sparse, &J_sparse);
   SparseDifference d;
-  const auto relative = [](double a, double b) { return std::abs(a - b) / std::max(1.0, std::abs(a)); };
+  const auto relative = [](double a, double b) {
+    return std::abs(a - b) / std::max(1.0, std::abs(a));
+  };
   for (int i = 0; i < c.layout.size; ++i) {
     d.F = std::max(d.F, relative(F_dense[i], F_sparse[i]));
     for (int j = 0; j < c.layout.size; ++j)
@@ -405,11 +407,10 @@ TEST(IslandJacobianTest, KinematicTurntableAndSphere) {
                             Vector3d(0, 0.1, -0.3), Vector3d(1, 1, -1))});
   const auto platform = geometry::MakeBox(Vector3d(1, 1, 0.1));
   const auto ball = geometry::MakeSphere(1);
-  c.problem.kinematic = {
-      {Vector3d(0, 0, 0.1), Rotation(0.3, Vector3d::UnitZ()).toRotationMatrix(),
-       Vector3d(0.1, -0.2, 0.05), Vector3d(0.1, -0.2, 1.5)},
-      {Vector3d(2, 0, 0), Rotation(0.4, Vector3d(1, 1, 1)).toRotationMatrix(),
-       Vector3d(-0.2, 0, 0.1), Vector3d(0.5, 2, -1)}};
+  c.problem.kinematic = {{Vector3d(0, 0, 0.1), Rotation(0.3, Vector3d::UnitZ()).toRotationMatrix(),
+                          Vector3d(0.1, -0.2, 0.05), Vector3d(0.1, -0.2, 1.5)},
+                         {Vector3d(2, 0, 0), Rotation(0.4, Vector3d(1, 1, 1)).toRotationMatrix(),
+                          Vector3d(-0.2, 0, 0.1), Vector3d(0.5, 2, -1)}};
   c.Add(0, Other::kKinematic, 0, platform.get());
   c.Add(1, Other::kKinematic, 1, ball.get());
   c.Randomize({Vector3d(0.2, 0.1, 0.2), Vector3d(2, 0, 1.05)}, 6);
@@ -428,8 +429,8 @@ TEST(IslandJacobianTest, StackOfThreeOnAConveyorWithAWall) {
                             Vector3d(0.3, -0.2, 0.1), Vector3d(3, 0.5, -0.5))});
   const auto belt = geometry::MakeBox(Vector3d(2, 0.5, 0.05));
   const auto wall = geometry::MakeBox(Vector3d(0.1, 1, 1));
-  c.problem.kinematic = {{Vector3d(0, 0, 0.05), Matrix3d::Identity(), Vector3d(0.5, 0, 0),
-                          Vector3d::Zero()}};
+  c.problem.kinematic = {
+      {Vector3d(0, 0, 0.05), Matrix3d::Identity(), Vector3d(0.5, 0, 0), Vector3d::Zero()}};
   c.Add(0, Other::kKinematic, 0, belt.get());
   c.Add(1, Other::kBody, 0, c.hull(0));
   c.Add(2, Other::kBody, 1, c.hull(1));
@@ -438,7 +439,8 @@ TEST(IslandJacobianTest, StackOfThreeOnAConveyorWithAWall) {
   c.Randomize({Vector3d(0, 0, 0.1), Vector3d(0.05, 0, 0.3), Vector3d(0.1, 0.05, 0.5),
                Vector3d(0.1, 0.05, 0.3), Vector3d(0.3, 0, 0.4)},
               7);
-  EXPECT_LT(c.JacobianError(), kJacobianTolerance);  // the sparse assembly too (IslandSparseJacobianTest)
+  EXPECT_LT(c.JacobianError(),
+            kJacobianTolerance);  // the sparse assembly too (IslandSparseJacobianTest)
   const SparseDifference d = SparseAgainstDense(c);
   EXPECT_LE(d.F, kRoundOffRelative);
   EXPECT_LE(d.J, kRoundOffRelative);
@@ -620,12 +622,11 @@ double Measure(const IslandCase& c) {
 // stack's centre of mass (its moment balance), m0 c0 + m1 c1 over m0 + m1 in x and y.
 IslandCase StackAtRest(double a0, double m0, double a1, double m1) {
   const Vector3d c0(0.1 * a0, -0.2 * a0, a0 / 2), c1(0.25 * a0, -0.1 * a0, a0 + a1 / 2);
-  IslandCase c({MakeBoxBody(Vector3d::Constant(a0), m0, "bottom"),
-                MakeBoxBody(Vector3d::Constant(a1), m1, "top")},
-               {MovingState(c0, Rotation(0.2, Vector3d::UnitZ()), Vector3d::Zero(),
-                            Vector3d::Zero()),
-                MovingState(c1, Rotation(-0.4, Vector3d::UnitZ()), Vector3d::Zero(),
-                            Vector3d::Zero())});
+  IslandCase c(
+      {MakeBoxBody(Vector3d::Constant(a0), m0, "bottom"),
+       MakeBoxBody(Vector3d::Constant(a1), m1, "top")},
+      {MovingState(c0, Rotation(0.2, Vector3d::UnitZ()), Vector3d::Zero(), Vector3d::Zero()),
+       MovingState(c1, Rotation(-0.4, Vector3d::UnitZ()), Vector3d::Zero(), Vector3d::Zero())});
   c.Add(0, Other::kFixed, -1, c.scene.obstacles[0].shape.get());
   c.Add(1, Other::kBody, 0, c.hull(0));
   c.Layout();
@@ -635,8 +636,8 @@ IslandCase StackAtRest(double a0, double m0, double a1, double m1) {
   const int down = FaceWithNormal(*c.hull(0), -Vector3d::UnitZ());
   const int up = FaceWithNormal(*c.hull(0), Vector3d::UnitZ());
   SetContact(c, 0, Vector3d(stack_cm.x(), stack_cm.y(), 0), down, 0, p_both, 0, 0, 0, 0);
-  SetContact(c, 1, Vector3d(c1.x(), c1.y(), a0), FaceWithNormal(*c.hull(1), -Vector3d::UnitZ()),
-             up, p_top, 0, 0, 0, 0);
+  SetContact(c, 1, Vector3d(c1.x(), c1.y(), a0), FaceWithNormal(*c.hull(1), -Vector3d::UnitZ()), up,
+             p_top, 0, 0, 0, 0);
   return c;
 }
 
@@ -655,12 +656,11 @@ TEST(IslandExactSolutionTest, CubeSlidesOnACubeThatSlidesOnIce) {
   const double h = 0.01, m0 = 3, m1 = 2;
   const Friction friction{0.3, 0.8, 0.8, 0.1};
   const Vector3d c0(0, 0, 0.5), c1(0.2, 0, 1.5);
-  IslandCase c({MakeBoxBody(Vector3d::Ones(), m0, "bottom"),
-                MakeBoxBody(Vector3d::Ones(), m1, "top")},
-               {MovingState(c0, Quaterniond::Identity(), Vector3d(0.1, 0, 0), Vector3d::Zero()),
-                MovingState(c1, Rotation(0.3, Vector3d::UnitZ()), Vector3d(0.5, 0, 0),
-                            Vector3d::Zero())},
-               h);
+  IslandCase c(
+      {MakeBoxBody(Vector3d::Ones(), m0, "bottom"), MakeBoxBody(Vector3d::Ones(), m1, "top")},
+      {MovingState(c0, Quaterniond::Identity(), Vector3d(0.1, 0, 0), Vector3d::Zero()),
+       MovingState(c1, Rotation(0.3, Vector3d::UnitZ()), Vector3d(0.5, 0, 0), Vector3d::Zero())},
+      h);
   c.Add(0, Other::kFixed, -1, c.scene.obstacles[0].shape.get(), Friction{0, 1, 1, 0.1});
   c.Add(1, Other::kBody, 0, c.hull(0), friction);
   c.Layout();
@@ -693,12 +693,11 @@ TEST(IslandExactSolutionTest, SpinningCubeTwistsTheCubeBelow) {
   const double h = 0.01, m0 = 3, m1 = 2;
   const Friction friction{0.4, 1, 1, 0.05};
   const Vector3d c0(0.1, 0.2, 0.5), c1(0.1, 0.2, 1.5);
-  IslandCase c({MakeBoxBody(Vector3d::Ones(), m0), MakeBoxBody(Vector3d::Ones(), m1)},
-               {MovingState(c0, Rotation(0.1, Vector3d::UnitZ()), Vector3d::Zero(),
-                            Vector3d(0, 0, 1)),
-                MovingState(c1, Rotation(0.6, Vector3d::UnitZ()), Vector3d::Zero(),
-                            Vector3d(0, 0, 3))},
-               h);
+  IslandCase c(
+      {MakeBoxBody(Vector3d::Ones(), m0), MakeBoxBody(Vector3d::Ones(), m1)},
+      {MovingState(c0, Rotation(0.1, Vector3d::UnitZ()), Vector3d::Zero(), Vector3d(0, 0, 1)),
+       MovingState(c1, Rotation(0.6, Vector3d::UnitZ()), Vector3d::Zero(), Vector3d(0, 0, 3))},
+      h);
   c.Add(0, Other::kFixed, -1, c.scene.obstacles[0].shape.get(), Friction{0, 1, 1, 0.1});
   c.Add(1, Other::kBody, 0, c.hull(0), friction);
   c.Layout();
@@ -724,13 +723,12 @@ TEST(IslandExactSolutionTest, ConveyorBeltDragsABoxAndOnlyTakesTheWorkItGives) {
   const double h = 0.01, m = 2, V = 1;
   const Friction friction{0.4, 0.9, 0.9, 0.1};
   const Vector3d c0(0.2, 0.3, 0.5);
-  IslandCase c({MakeBoxBody(Vector3d::Ones(), m)},
-               {MovingState(c0, Rotation(0.5, Vector3d::UnitZ()), Vector3d::Zero(),
-                            Vector3d::Zero())},
-               h);
+  IslandCase c(
+      {MakeBoxBody(Vector3d::Ones(), m)},
+      {MovingState(c0, Rotation(0.5, Vector3d::UnitZ()), Vector3d::Zero(), Vector3d::Zero())}, h);
   const auto belt = geometry::MakeBox(Vector3d(2, 2, 0.1));
-  c.problem.kinematic = {{Vector3d(0, 0, -0.1), Matrix3d::Identity(), Vector3d(V, 0, 0),
-                          Vector3d::Zero()}};
+  c.problem.kinematic = {
+      {Vector3d(0, 0, -0.1), Matrix3d::Identity(), Vector3d(V, 0, 0), Vector3d::Zero()}};
   c.Add(0, Other::kKinematic, 0, belt.get(), friction);
   c.Layout();
   const double p_n = m * kG * h, p_t = friction.e_t * friction.mu * p_n, u = p_t / m;

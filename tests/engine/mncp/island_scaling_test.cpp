@@ -2,7 +2,6 @@
 
 #include <gtest/gtest.h>
 
-
 namespace ecpsim::engine {
 namespace {
 
@@ -28,8 +27,8 @@ struct TwoBodies {
       body.p_ext.setZero();
       problem.bodies.push_back(body);
     }
-    problem.kinematic.push_back({Vector3d(0, -70, 0), Eigen::Matrix3d::Identity(),
-                                 Vector3d(1, 0, 0), Vector3d::Zero()});
+    problem.kinematic.push_back(
+        {Vector3d(0, -70, 0), Eigen::Matrix3d::Identity(), Vector3d(1, 0, 0), Vector3d::Zero()});
     scales.bodies = {{2.0, 0.1, 50.0}, {0.1, 3.0, 0.3}};  // {length m, velocity m/s, impulse N·s}
     const auto add = [&](int body, Other kind, int other) {
       IslandContact cp;

@@ -82,8 +82,8 @@ const auto kGround = geometry::MakeHalfSpace(Vector3d::UnitZ(), 0);
 
 TEST(MncpJacobianTest, FaceContactOnGround) {
   const auto box = geometry::MakeBox(Vector3d(0.25, 0.25, 0.05));
-  EXPECT_LT(JacobianError(MakeFixture(box, kGround, Eigen::Quaterniond::Identity(),
-                                      Vector3d(0, 0, 0.05), 1)),
+  EXPECT_LT(JacobianError(
+                MakeFixture(box, kGround, Eigen::Quaterniond::Identity(), Vector3d(0, 0, 0.05), 1)),
             1e-7);
 }
 

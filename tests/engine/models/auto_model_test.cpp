@@ -54,8 +54,8 @@ TEST_P(ShippedSceneAutoTest, AutoIsTheHullModelToTheTolerance) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Scenes, ShippedSceneAutoTest,
-                         ::testing::Values("desk", "dumbbell", "push_box", "slide", "stack",
-                                           "tbar", "tilted_box"));
+                         ::testing::Values("desk", "dumbbell", "push_box", "slide", "stack", "tbar",
+                                           "tilted_box"));
 
 // Where bodies touch bodies the hull model's own answer is determined only to about 1e-5 of the
 // friction (engine/README.md, "Bodies and contacts": the creep that makes sticking unique is
@@ -81,7 +81,8 @@ TEST(AutoModelTest, ABoxDroppedTiltedFliesFreeThenTheHullThenLiesFlat) {
   // a 0.4 × 0.3 × 0.1 m box rolled 25° with its low edge 0.2 m above the ground
   Body box = MakeBoxBody(Vector3d(0.4, 0.3, 0.1), 5);
   box.q0 = Eigen::Quaterniond(Eigen::AngleAxisd(25 * M_PI / 180, Vector3d::UnitX()));
-  box.p0 = Vector3d(0, 0, 0.2 + 0.15 * std::sin(25 * M_PI / 180) + 0.05 * std::cos(25 * M_PI / 180));
+  box.p0 =
+      Vector3d(0, 0, 0.2 + 0.15 * std::sin(25 * M_PI / 180) + 0.05 * std::cos(25 * M_PI / 180));
   const Comparison c = CompareAutoWithHull(testing::MakeGroundScene({box}), 150);
   // in the air, the impact and the fall onto the face, then at rest flat on it
   EXPECT_GT(Count(c, StepModel::kFree), 0);
@@ -110,7 +111,8 @@ Scene BoxOnIncline(double slope, double speed, double mu) {
 TEST(AutoModelTest, OnAnInclineThePlanarStepIsTheHullStep) {
   // 15° with μ = 0.5 > tan 15°: the box slides, slows down and sticks; 25° with μ = 0.3 < tan
   // 25°: it accelerates down the slope
-  for (const auto& [slope, mu] : {std::pair{15 * M_PI / 180, 0.5}, std::pair{25 * M_PI / 180, 0.3}}) {
+  for (const auto& [slope, mu] :
+       {std::pair{15 * M_PI / 180, 0.5}, std::pair{25 * M_PI / 180, 0.3}}) {
     const Comparison c = CompareAutoWithHull(BoxOnIncline(slope, 0.4, mu), 100);
     EXPECT_EQ(Count(c, StepModel::kPlanar), 100) << slope;
     EXPECT_LE(c.difference, kAgreement) << slope;

@@ -1,5 +1,5 @@
-// The hull model's starts balanced (engine/models/balanced_start.h): a box sliding and turning flat on
-// the ground, whose step is solved to round-off first, then started off by the errors of a
+// The hull model's starts balanced (engine/models/balanced_start.h): a box sliding and turning flat
+// on the ground, whose step is solved to round-off first, then started off by the errors of a
 // trend's extrapolation and balanced back; a box resting under loads that changed since its warm
 // start; and a box rocking on an edge, whose carrying faces' multipliers are refitted to its
 // turned pose.
@@ -8,14 +8,14 @@
 #include <cmath>
 #include <memory>
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
-#include "engine/solver/complementarity_solver.h"
 #include "engine/mncp/island_mncp.h"
 #include "engine/mncp/island_scaling.h"
 #include "engine/mncp/mncp_system.h"
 #include "engine/models/balanced_start.h"
+#include "engine/solver/complementarity_solver.h"
 #include "geometry/convex_shape.h"
 
 namespace ecpsim::engine {
@@ -24,7 +24,7 @@ namespace {
 using Eigen::Vector3d;
 using Eigen::VectorXd;
 
-constexpr double kG = 9.8;           // m/s²
+constexpr double kG = 9.8;                 // m/s²
 constexpr double kSolveTolerance = 1e-14;  // the reference step, solved past the default 1e-12
 // a hull face carries the contact above this fraction of the largest multiplier (the hull
 // model's kDegenerateActiveFraction)

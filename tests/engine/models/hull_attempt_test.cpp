@@ -42,8 +42,8 @@ struct Solved {
 Solved SolveFrom(const Scene& scene, Guess guess, double ejection_energy) {
   Solved s{PrepareHullIsland(scene, InitialState(scene)), {}, {}, {}, {}};
   s.layout = MakeIslandLayout(s.island.problem);
-  s.z = MakeGuess(guess, scene.gravity, s.island.problem, s.layout, s.island.local,
-                  s.island.scales);
+  s.z =
+      MakeGuess(guess, scene.gravity, s.island.problem, s.layout, s.island.local, s.island.scales);
   McpOptions options;
   options.tolerance = scene.solver.tolerance;
   options.jacobian_smoothing = kJacobianSmoothing;
@@ -72,12 +72,12 @@ TEST(SolveAttemptTest, ABoxAtRestCarriesItsWeight) {
 
 TEST(SolveAttemptTest, ATurnBeyondPiInOneStepIsAnAlias) {
   // high above the ground, spinning about its principal z axis at 400 rad/s: h|ω| = 4 rad
-  const Solved s = SolveFrom(BoxScene(10, Vector3d::Zero(), Vector3d(0, 0, 400)),
-                             Guess::kSeparated, 0);
+  const Solved s =
+      SolveFrom(BoxScene(10, Vector3d::Zero(), Vector3d(0, 0, 400)), Guess::kSeparated, 0);
   EXPECT_EQ(s.attempt.outcome, Outcome::kAliased) << s.attempt.Describe();
   // at 300 rad/s (3 rad) the same root is a step
-  const Solved slower = SolveFrom(BoxScene(10, Vector3d::Zero(), Vector3d(0, 0, 300)),
-                                  Guess::kSeparated, 0);
+  const Solved slower =
+      SolveFrom(BoxScene(10, Vector3d::Zero(), Vector3d(0, 0, 300)), Guess::kSeparated, 0);
   EXPECT_EQ(slower.attempt.outcome, Outcome::kSolved) << slower.attempt.Describe();
 }
 

@@ -37,8 +37,8 @@ TEST(IsNearSolutionStallTest, ABodyAloneIsReSolvedFartherFromTheTolerance) {
       one, {Outcome::kUnconverged, 2 * kMaxOneBodyStall * tolerance, 9}, tolerance));
   const HullIsland stack = PrepareHullIsland(StackScene(), InitialState(StackScene()));
   const IslandLayout two = MakeIslandLayout(stack.problem);
-  EXPECT_TRUE(IsNearSolutionStall(
-      two, {Outcome::kUnconverged, kMaxDegenerateStall * tolerance, 9}, tolerance));
+  EXPECT_TRUE(IsNearSolutionStall(two, {Outcome::kUnconverged, kMaxDegenerateStall * tolerance, 9},
+                                  tolerance));
   EXPECT_FALSE(IsNearSolutionStall(
       two, {Outcome::kUnconverged, 2 * kMaxDegenerateStall * tolerance, 9}, tolerance));
 }
@@ -75,26 +75,26 @@ RestingBox RestingBoxWithSpread(double spread) {
 TEST(SolveOnCarryingFacesTest, WeaklyActiveFacesLeftOutTheStepIsSolved) {
   RestingBox r = RestingBoxWithSpread(1e-9);
   ASSERT_GT(r.layout.contacts[0].l_count, 1);
-  EXPECT_TRUE(SolveOnCarryingFaces(r.island.problem, r.layout, r.z, r.options, r.island.scales,
-                                   0, r.island.local, r.result));
+  EXPECT_TRUE(SolveOnCarryingFaces(r.island.problem, r.layout, r.z, r.options, r.island.scales, 0,
+                                   r.island.local, r.result));
   EXPECT_NEAR(r.island.local.contacts[0].p_n, 2 * 9.8 * 0.01, kImpulseTolerance);
   EXPECT_GT(r.result.iterations, 0);
 }
 
 TEST(SolveOnCarryingFacesTest, NothingToCutNothingSolved) {
   RestingBox r = RestingBoxWithSpread(1);  // every face carries alike
-  EXPECT_FALSE(SolveOnCarryingFaces(r.island.problem, r.layout, r.z, r.options, r.island.scales,
-                                    0, r.island.local, r.result));
+  EXPECT_FALSE(SolveOnCarryingFaces(r.island.problem, r.layout, r.z, r.options, r.island.scales, 0,
+                                    r.island.local, r.result));
   EXPECT_EQ(r.result.iterations, 0);
 }
 
 TEST(SolveAtDegenerateVertexTest, FacesLeftOutOneAtATimeUntilTheRootHolds) {
   RestingBox r = RestingBoxWithSpread(1);
   ASSERT_GE(r.layout.contacts[0].l_count, 4) << "four or more active faces";
-  EXPECT_FALSE(SolveAtDegenerateVertex(r.island.problem, r.layout, r.z, r.options,
-                                       r.island.scales, 0, r.island.local, r.result, 0));
-  EXPECT_TRUE(SolveAtDegenerateVertex(r.island.problem, r.layout, r.z, r.options,
-                                      r.island.scales, 0, r.island.local, r.result));
+  EXPECT_FALSE(SolveAtDegenerateVertex(r.island.problem, r.layout, r.z, r.options, r.island.scales,
+                                       0, r.island.local, r.result, 0));
+  EXPECT_TRUE(SolveAtDegenerateVertex(r.island.problem, r.layout, r.z, r.options, r.island.scales,
+                                      0, r.island.local, r.result));
   EXPECT_NEAR(r.island.local.contacts[0].p_n, 2 * 9.8 * 0.01, kImpulseTolerance);
 }
 
@@ -109,8 +109,8 @@ TEST(SolveAlongCarryingEdgeTest, TwoCarryingFacesAreSolvedFromStartsAlongTheirEd
     if (std::abs(hull.Gradient(window[i], Vector3d::Zero()).normalized().z()) < 0.5) side = i;
   ASSERT_GE(side, 0);
   r.z[L.l + side] = 0.5;
-  EXPECT_TRUE(SolveAlongCarryingEdge(r.island.problem, r.layout, r.z, r.options,
-                                     r.island.scales, 0, r.island.local, r.result));
+  EXPECT_TRUE(SolveAlongCarryingEdge(r.island.problem, r.layout, r.z, r.options, r.island.scales, 0,
+                                     r.island.local, r.result));
   EXPECT_NEAR(r.island.local.contacts[0].p_n, 2 * 9.8 * 0.01, kImpulseTolerance);
   // one carrying face has no edge to start along
   RestingBox one = RestingBoxWithSpread(0);

@@ -1,22 +1,22 @@
-// The multi-patch model's balanced warm start (engine/models/multipatch_balance.h): a four-legged table
-// sliding and turning flat on the ground, whose step under last step's loads is the warm start of
-// a step under changed loads; balanced and polished, that start is the new step's solution to
-// round-off, and where the balance does not apply the start is left as it came.
+// The multi-patch model's balanced warm start (engine/models/multipatch_balance.h): a four-legged
+// table sliding and turning flat on the ground, whose step under last step's loads is the warm
+// start of a step under changed loads; balanced and polished, that start is the new step's solution
+// to round-off, and where the balance does not apply the start is left as it came.
 
 #include <algorithm>
 #include <cmath>
 #include <memory>
 #include <vector>
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
-#include "engine/solver/complementarity_solver.h"
 #include "engine/mncp/mncp_scaling.h"
 #include "engine/mncp/mncp_system.h"
 #include "engine/models/multipatch_balance.h"
 #include "engine/models/multipatch_model.h"
 #include "engine/scene.h"
+#include "engine/solver/complementarity_solver.h"
 #include "geometry/convex_hull.h"
 #include "geometry/convex_shape.h"
 
@@ -131,8 +131,7 @@ struct TableOnGround {
       z[L.p_t] = -0.22 * z[L.p_n] * body.v.x() / body.v.norm();
       z[L.p_o] = -0.22 * z[L.p_n] * body.v.y() / body.v.norm();
       z[L.sigma] = body.v.norm();
-      z[L.l + MostOpposedWindowConstraint(body.contacts[i], end.R, centre, Vector3d::UnitZ())] =
-          1;
+      z[L.l + MostOpposedWindowConstraint(body.contacts[i], end.R, centre, Vector3d::UnitZ())] = 1;
     }
     return z;
   }

@@ -4,15 +4,14 @@
 #include <fstream>
 #include <random>
 
-
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include "engine/step_report.h"
+#include "common/errors.h"
 #include "engine/scene_io/scene_yaml.h"
+#include "engine/step_report.h"
 #include "engine/time_step.h"
 #include "geometry/convex_hull.h"
-#include "common/errors.h"
 #include "geometry/paper_bodies.h"
 #include "tests/engine/jacobian_check.h"
 #include "tests/engine/test_bodies.h"
@@ -20,9 +19,9 @@
 namespace ecpsim::engine {
 namespace {
 
-using ::testing::HasSubstr;
 using Eigen::Vector3d;
 using Eigen::VectorXd;
+using ::testing::HasSubstr;
 
 // the desk mesh's four feet (geometry/paper_bodies.cpp: 0.06 m squares at x, y ∈ ±[0.19, 0.25],
 // legs from z = 0 to the top's underside) as boxes in the body (CM) frame
@@ -37,8 +36,8 @@ std::vector<std::shared_ptr<const geometry::ConvexShape>> DeskFeet(const Body& d
     for (double y : {-0.22, 0.22}) {
       const double half_height = 0.5 * (leg_top + cm_height);
       const auto box = geometry::MakeBox(Vector3d(0.03, 0.03, half_height));
-      feet.push_back(std::make_shared<geometry::PolyhedralShape>(geometry::TranslateHull(
-          box->hull(), Vector3d(x, y, -cm_height + half_height))));
+      feet.push_back(std::make_shared<geometry::PolyhedralShape>(
+          geometry::TranslateHull(box->hull(), Vector3d(x, y, -cm_height + half_height))));
     }
   }
   return feet;
@@ -131,8 +130,8 @@ TEST(MultiPatchJacobianTest, FourFeetInThePlaneForm) {
   // the model's layout: 5 unknowns a foot fewer than the general form's, the same Jacobian check
   const Fixture general = MakeFixture(Eigen::Quaterniond::Identity(), 5);
   const Eigen::Quaterniond Q(Eigen::AngleAxisd(0.3, Vector3d(1, 2, 0.5).normalized()));
-  for (const Fixture& f : {MakeFixture(Eigen::Quaterniond::Identity(), 5, true),
-                           MakeFixture(Q, 6, true)}) {
+  for (const Fixture& f :
+       {MakeFixture(Eigen::Quaterniond::Identity(), 5, true), MakeFixture(Q, 6, true)}) {
     EXPECT_EQ(f.layout.size, general.layout.size - 5 * 4);
     EXPECT_LT(JacobianError(f), 1e-7);
   }
@@ -231,9 +230,10 @@ TEST(MultiPatchModelTest, NewtonConvergesOnTheDeskAsOnTheHullModel) {
       patch_max_warm = std::max(patch_max_warm, patch_report.iterations);
     }
   }
-  std::printf("desk, Newton iterations per step: multipatch mean %.3f first %d then at most %d, "
-              "hull mean %.3f max %d\n",
-              patch_sum / 400.0, patch_first, patch_max_warm, hull_sum / 400.0, hull_max);
+  std::printf(
+      "desk, Newton iterations per step: multipatch mean %.3f first %d then at most %d, "
+      "hull mean %.3f max %d\n",
+      patch_sum / 400.0, patch_first, patch_max_warm, hull_sum / 400.0, hull_max);
   EXPECT_LE(patch_max_warm, kBalancedStepIterations);
   EXPECT_LE(patch_first, hull_max + kFirstStepExtra);
 }
@@ -263,9 +263,10 @@ TEST(MultiPatchModelTest, AgreesWithTheHullModelOnThePaperDesk) {
   }
   RecordProperty("max_dv", std::to_string(max_dv));
   RecordProperty("max_dw", std::to_string(max_dw));
-  std::printf("desk, multipatch vs hull: max |dv_x| = %.3g m/s, max |dw_z| = %.3g rad/s, "
-              "max |da1| = %.3g m\n",
-              max_dv, max_dw, max_da);
+  std::printf(
+      "desk, multipatch vs hull: max |dv_x| = %.3g m/s, max |dw_z| = %.3g rad/s, "
+      "max |da1| = %.3g m\n",
+      max_dv, max_dw, max_da);
   EXPECT_LT(max_dv, 1e-8);
   EXPECT_LT(max_dw, 1e-8);
   // the combined ECP is the hull model's ECP
@@ -310,9 +311,8 @@ TEST(MultiPatchModelTest, RejectsAnObstacleThatIsNotAPlane) {
   scene.contacts.push_back(ContactPair{0, 1, testing::PaperFriction()});
   scene.model = ContactModel::kMultiPatch;
   State state = InitialState(scene);
-  EXPECT_THAT([&] { Step(scene, state); },
-              ::testing::ThrowsMessage<ModelInvalid>(
-                  HasSubstr("'block', which is not a half-space")));
+  EXPECT_THAT([&] { Step(scene, state); }, ::testing::ThrowsMessage<ModelInvalid>(
+                                               HasSubstr("'block', which is not a half-space")));
 }
 
 // a scene file named for the running test (ctest runs tests in parallel), removed at the end
@@ -348,9 +348,9 @@ TEST(MultiPatchSceneTest, ReadsPartsAndTheModel) {
   EXPECT_EQ(scene.model, ContactModel::kMultiPatch);
   ASSERT_EQ(scene.bodies[0].parts.size(), 2u);
   // the second part's corner (0.2, 0.2, −0.1) in the CM frame, the body's own corner
-  EXPECT_NEAR((scene.bodies[0].parts[1]->Support(Vector3d(1, 1, -1)) - Vector3d(0.2, 0.2, -0.1))
-                  .norm(),
-              0.0, 1e-15);
+  EXPECT_NEAR(
+      (scene.bodies[0].parts[1]->Support(Vector3d(1, 1, -1)) - Vector3d(0.2, 0.2, -0.1)).norm(),
+      0.0, 1e-15);
   // resting on two parts: they carry the weight equally, by symmetry
   State state = InitialState(scene);
   ASSERT_EQ(state.contacts.size(), 1u);

@@ -172,7 +172,7 @@ TEST(PointModelTest, TumblingBoxPenetratesOnlyByTheExplicitGeometryBound) {
   Body& box = scene.bodies[0];
   box.q0 = Eigen::Quaterniond(Eigen::AngleAxisd(0.4, Vector3d(1, 1, 0).normalized()));
   box.p0 = Vector3d(0, 0, 0.05 + 0.07);  // lowest corner ≈ 5 cm up
-  box.w0 = Vector3d(20, 0, 0);  // rad/s: it lands spinning, so the explicit geometry shows
+  box.w0 = Vector3d(20, 0, 0);           // rad/s: it lands spinning, so the explicit geometry shows
   const DropResult r = Drop(scene, 150);
   // each step's penetration stays within ½ h² |ω⁺|² r (round-off 1e-12 on top)
   EXPECT_LE(r.margin, 1e-12);
@@ -231,7 +231,8 @@ TEST_P(PointContactSmallStepTest, PaperDeskFollowsTheHullModel) {
   EXPECT_LE(dw, 0.15);
 }
 
-INSTANTIATE_TEST_SUITE_P(PointContactSmallSteps, PointContactSmallStepTest, ::testing::Values(1.25e-4, 6.25e-5));
+INSTANTIATE_TEST_SUITE_P(PointContactSmallSteps, PointContactSmallStepTest,
+                         ::testing::Values(1.25e-4, 6.25e-5));
 
 // --- contacts between bodies (issue 13) ---
 

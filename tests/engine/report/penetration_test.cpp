@@ -3,14 +3,14 @@
 #include <algorithm>
 #include <cmath>
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
+#include "engine/scene_io/scene_builders.h"
 #include "geometry/convex_hull.h"
 #include "geometry/convex_shape.h"
 #include "geometry/mass_properties.h"
 #include "geometry/paper_bodies.h"
-#include "engine/scene_io/scene_builders.h"
 #include "tests/engine/test_bodies.h"
 
 namespace ecpsim::engine {

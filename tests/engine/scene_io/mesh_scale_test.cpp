@@ -5,8 +5,8 @@
 
 #include <cmath>
 
-#include "engine/scene_limits.h"
 #include "common/errors.h"
+#include "engine/scene_limits.h"
 
 namespace ecpsim::engine {
 namespace {

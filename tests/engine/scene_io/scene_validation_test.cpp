@@ -88,10 +88,10 @@ TEST(SceneValidationTest, BodiesOfAPairOverlappingAtTheStartNameBothAndTheWaysOu
   AddBodyPairs(scene);
   const SceneError e = ErrorOf(scene);
   EXPECT_EQ(e.keys().front(), "bodies[0].position");
-  EXPECT_THAT(e.what(), AllOf(HasSubstr("expected an initial pose of body \"crate\" apart from "
-                                        "body \"lid\": they overlap by 0.01 m"),
-                              HasSubstr("exclude: true"),
-                              HasSubstr("allow_initial_penetration: true")));
+  EXPECT_THAT(e.what(),
+              AllOf(HasSubstr("expected an initial pose of body \"crate\" apart from "
+                              "body \"lid\": they overlap by 0.01 m"),
+                    HasSubstr("exclude: true"), HasSubstr("allow_initial_penetration: true")));
   scene.bodies[1].allow_initial_penetration = true;
   EXPECT_NO_THROW(ValidateScene(scene));
   // resting exactly on it passes; an excluded pair (no contact pair) may overlap

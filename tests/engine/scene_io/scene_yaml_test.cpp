@@ -5,14 +5,14 @@
 #include <fstream>
 #include <string>
 
-#include <Eigen/Geometry>
 #include <fmt/format.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
+#include <Eigen/Geometry>
 
-#include "geometry/convex_shape.h"
 #include "common/errors.h"
+#include "geometry/convex_shape.h"
 
 namespace ecpsim::engine {
 namespace {
@@ -52,8 +52,8 @@ class SceneYamlTest : public ::testing::Test {
  protected:
   void SetUp() override {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           fmt::format("ecpsim_scene_yaml_{}_{}", getpid(), info->name());
+    dir_ =
+        fs::temp_directory_path() / fmt::format("ecpsim_scene_yaml_{}_{}", getpid(), info->name());
     fs::remove_all(dir_);
     fs::create_directories(dir_ / "meshes");
     Write("meshes/cube.obj", kCubeObj);
@@ -314,18 +314,18 @@ bodies:
     position: [0, 0, 0]
 )yaml");
   EXPECT_NEAR(scene.bodies[0].hull->Support(Eigen::Vector3d(1, 1, 1)).x(), 0.1, kTight);
-  EXPECT_THAT([&] {
-    LoadText(R"yaml(duration: 1
+  EXPECT_THAT(
+      [&] {
+        LoadText(R"yaml(duration: 1
 bodies:
   - mesh: meshes/cube.obj
     hull: {sphere: {radius: 0.6}}
     mass: 1
     position: [0, 0, 0]
 )yaml");
-  },
-              ThrowsMessage<InputError>(AllOf(HasSubstr("scene.yaml:4:11: bodies[0].hull = "),
-                                              HasSubstr("contains the mesh"),
-                                              HasSubstr("outside"))));
+      },
+      ThrowsMessage<InputError>(AllOf(HasSubstr("scene.yaml:4:11: bodies[0].hull = "),
+                                      HasSubstr("contains the mesh"), HasSubstr("outside"))));
 }
 
 TEST_F(SceneYamlTest, OnGroundPutsTheLowestHullPointOnZeroAndKeepsXY) {
@@ -347,17 +347,18 @@ bodies:
   EXPECT_NEAR(scene.bodies[0].p0.y(), 2, 0);
   EXPECT_NEAR(scene.bodies[0].p0.z(), below, kTight);
   EXPECT_NEAR(scene.bodies[1].p0.z(), 0.7, kTight);
-  EXPECT_THAT([&] {
-    LoadText(R"yaml(duration: 1
+  EXPECT_THAT(
+      [&] {
+        LoadText(R"yaml(duration: 1
 bodies:
   - shape: {sphere: {radius: 0.2}}
     mass: 1
     on_ground: true
     position: [0, 0, 1]
 )yaml");
-  },
-              ThrowsMessage<InputError>(HasSubstr("scene.yaml:6:15: bodies[0].position = [0, 0, "
-                                                  "1]: expected [x, y] (m)")));
+      },
+      ThrowsMessage<InputError>(HasSubstr("scene.yaml:6:15: bodies[0].position = [0, 0, "
+                                          "1]: expected [x, y] (m)")));
 }
 
 // ---- validation: every message names file:line:col, key, value and expectation --------------
@@ -369,8 +370,8 @@ struct BadScene {
 };
 
 // a valid body that the cases below perturb one key at a time
-#define ECPSIM_BODY                    \
-  "bodies:\n"                          \
+#define ECPSIM_BODY                       \
+  "bodies:\n"                             \
   "  - shape: {box: {size: [1, 1, 1]}}\n" \
   "    position: [0, 0, 0.5]\n"
 
@@ -380,8 +381,8 @@ const BadScene kBadScenes[] = {
      "gravity, h, duration,"},
     {"UnknownBodyKey", "duration: 1\n" ECPSIM_BODY "    mass: 1\n    colour: red\n",
      "scene.yaml:6:5: bodies[0].colour: unknown key; expected one of name, mesh,"},
-    {"UnknownNestedKeySuggestion", "duration: 1\nground: {friction: {mu: 0.2, e_x: 1}}\n"
-     ECPSIM_BODY "    mass: 1\n",
+    {"UnknownNestedKeySuggestion",
+     "duration: 1\nground: {friction: {mu: 0.2, e_x: 1}}\n" ECPSIM_BODY "    mass: 1\n",
      "scene.yaml:2:30: ground.friction.e_x: unknown key (did you mean \"e_t\"?)"},
     {"DuplicateKey", "duration: 1\nduration: 2\n" ECPSIM_BODY "    mass: 1\n",
      "scene.yaml:2:1: duration: duplicate key"},
@@ -422,16 +423,18 @@ const BadScene kBadScenes[] = {
      "scene.yaml:2:26: ground.friction.e_r = 0: expected a torsional ellipsoid semi-axis > 0 m"},
     {"NegativeBodyFrictionE", "duration: 1\n" ECPSIM_BODY "    mass: 1\n    friction: {e_t: -1}\n",
      "scene.yaml:6:21: bodies[0].friction.e_t = -1: expected an ellipsoid semi-axis > 0"},
-    {"ZeroNormal", "duration: 1\nobstacles:\n  - plane: {normal: [0, 0, 0]}\n" ECPSIM_BODY
-     "    mass: 1\n",
+    {"ZeroNormal",
+     "duration: 1\nobstacles:\n  - plane: {normal: [0, 0, 0]}\n" ECPSIM_BODY "    mass: 1\n",
      "scene.yaml:3:21: obstacles[0].plane.normal = [0, 0, 0]: expected a non-zero normal"},
-    {"PlaneAndBox", "duration: 1\nobstacles:\n  - plane: {}\n    box: {size: [1, 1, 1]}\n"
-     ECPSIM_BODY "    mass: 1\n",
-     "scene.yaml:3:5: obstacles[0] = {plane: {}, box: {size: [1, 1, 1]}}: expected exactly one of"},
-    {"FlatBoxObstacle", "duration: 1\nobstacles:\n  - box: {size: [1, 0, 1]}\n" ECPSIM_BODY
+    {"PlaneAndBox",
+     "duration: 1\nobstacles:\n  - plane: {}\n    box: {size: [1, 1, 1]}\n" ECPSIM_BODY
      "    mass: 1\n",
+     "scene.yaml:3:5: obstacles[0] = {plane: {}, box: {size: [1, 1, 1]}}: expected exactly one of"},
+    {"FlatBoxObstacle",
+     "duration: 1\nobstacles:\n  - box: {size: [1, 0, 1]}\n" ECPSIM_BODY "    mass: 1\n",
      "scene.yaml:3:17: obstacles[0].box.size = [1, 0, 1]: expected a list of 3 edge lengths > 0 m"},
-    {"MissingMeshFile", "duration: 1\nbodies:\n  - mesh: meshes/nope.obj\n    mass: 1\n"
+    {"MissingMeshFile",
+     "duration: 1\nbodies:\n  - mesh: meshes/nope.obj\n    mass: 1\n"
      "    position: [0, 0, 0]\n",
      "scene.yaml:3:11: bodies[0].mesh = meshes/nope.obj: expected an existing mesh file (looked "
      "for "},
@@ -439,57 +442,63 @@ const BadScene kBadScenes[] = {
      "scene.yaml:6:17: bodies[0].quaternion = [0, 0, 0, 0]: expected a non-zero quaternion"},
     {"ShortQuaternion", "duration: 1\n" ECPSIM_BODY "    mass: 1\n    quaternion: [1, 0, 0]\n",
      "scene.yaml:6:17: bodies[0].quaternion = [1, 0, 0]: expected a list of 4 finite numbers"},
-    {"QuaternionAndRpy", "duration: 1\n" ECPSIM_BODY "    mass: 1\n    rpy: [0, 0, 0]\n"
+    {"QuaternionAndRpy",
+     "duration: 1\n" ECPSIM_BODY "    mass: 1\n    rpy: [0, 0, 0]\n"
      "    quaternion: [1, 0, 0, 0]\n",
      "scene.yaml:6:10: bodies[0].rpy = [0, 0, 0]: expected either `quaternion` or `rpy`"},
-    {"InertiaNotPositiveDefinite", "duration: 1\n" ECPSIM_BODY
-     "    mass: 1\n    inertia: [1, 1, -1]\n",
+    {"InertiaNotPositiveDefinite",
+     "duration: 1\n" ECPSIM_BODY "    mass: 1\n    inertia: [1, 1, -1]\n",
      "scene.yaml:6:14: bodies[0].inertia = [1, 1, -1]: expected an inertia of body \"body0\" "
      "(kg·m², about the CM in body axes) that is symmetric, positive definite"},
-    {"InertiaViolatesTriangleInequality", "duration: 1\n" ECPSIM_BODY
-     "    mass: 1\n    inertia: [1, 1, 3]\n",
+    {"InertiaViolatesTriangleInequality",
+     "duration: 1\n" ECPSIM_BODY "    mass: 1\n    inertia: [1, 1, 3]\n",
      "scene.yaml:6:14: bodies[0].inertia = [1, 1, 3]: expected an inertia of body \"body0\" "
      "(kg·m², about the CM in body axes) that is symmetric, positive definite, each principal "
      "moment <= the sum of the other two"},
     {"InertiaWithoutMass", "duration: 1\n" ECPSIM_BODY "    density: 1\n    inertia: [1, 1, 1]\n",
      "scene.yaml:6:14: bodies[0].inertia = [1, 1, 1]: expected `inertia` together with `mass`"},
-    {"BadName", "duration: 1\nbodies:\n  - name: my box\n    shape: {sphere: {radius: 1}}\n"
+    {"BadName",
+     "duration: 1\nbodies:\n  - name: my box\n    shape: {sphere: {radius: 1}}\n"
      "    mass: 1\n    position: [0, 0, 0]\n",
      "scene.yaml:3:11: bodies[0].name = my box: expected a name of letters, digits"},
-    {"DuplicateBodyName", "duration: 1\nbodies:\n  - name: a\n    shape: {sphere: {radius: 1}}\n"
+    {"DuplicateBodyName",
+     "duration: 1\nbodies:\n  - name: a\n    shape: {sphere: {radius: 1}}\n"
      "    mass: 1\n    position: [0, 0, 0]\n  - name: a\n    shape: {sphere: {radius: 1}}\n"
      "    mass: 1\n    position: [0, 0, 3]\n",
      "scene.yaml:7:11: bodies[1].name = a: expected a name no other body has"},
-    {"BadCylinderAxis", "duration: 1\nbodies:\n  - shape: {cylinder: {radius: 1, length: 1, "
+    {"BadCylinderAxis",
+     "duration: 1\nbodies:\n  - shape: {cylinder: {radius: 1, length: 1, "
      "axis: w}}\n    mass: 1\n    position: [0, 0, 0]\n",
      "scene.yaml:3:52: bodies[0].shape.cylinder.axis = w: expected an axis x, y or z"},
-    {"TwoPrimitives", "duration: 1\nbodies:\n  - shape: {sphere: {radius: 1}, box: {size: [1, 1, "
+    {"TwoPrimitives",
+     "duration: 1\nbodies:\n  - shape: {sphere: {radius: 1}, box: {size: [1, 1, "
      "1]}}\n    mass: 1\n    position: [0, 0, 0]\n",
      "scene.yaml:3:12: bodies[0].shape = {sphere: {radius: 1}, box: {size: [1, 1, 1]}}: expected "
      "exactly one of box, sphere, cylinder, ellipsoid"},
     {"BadExpression",
      "duration: 1\n" ECPSIM_BODY "    mass: 1\nloads:\n  - force: [\"sin(2*t\", 0, 0]\n",
      "scene.yaml:7:13: loads[0].force[0] = \"sin(2*t\": Missing parenthesis"},
-    {"UnknownVariableInExpression", "duration: 1\n" ECPSIM_BODY
-     "    mass: 1\nloads:\n  - torque: [0, 0, \"2*omega\"]\n",
+    {"UnknownVariableInExpression",
+     "duration: 1\n" ECPSIM_BODY "    mass: 1\nloads:\n  - torque: [0, 0, \"2*omega\"]\n",
      "scene.yaml:7:20: loads[0].torque[2] = \"2*omega\": Unexpected token \"omega\""},
-    {"ForceAndTorque", "duration: 1\n" ECPSIM_BODY
-     "    mass: 1\nloads:\n  - {force: [0, 0, 1], torque: [0, 0, 1]}\n",
+    {"ForceAndTorque",
+     "duration: 1\n" ECPSIM_BODY "    mass: 1\nloads:\n  - {force: [0, 0, 1], torque: [0, 0, 1]}\n",
      "scene.yaml:7:5: loads[0] = {force: [0, 0, 1], torque: [0, 0, 1]}: expected exactly one of"},
-    {"LoadEndBeforeStart", "duration: 1\n" ECPSIM_BODY
-     "    mass: 1\nloads:\n  - {force: [0, 0, 1], start: 2, end: 1}\n",
+    {"LoadEndBeforeStart",
+     "duration: 1\n" ECPSIM_BODY "    mass: 1\nloads:\n  - {force: [0, 0, 1], start: 2, end: 1}\n",
      "scene.yaml:7:39: loads[0].end = 1: expected an end time (s) > start = 2"},
-    {"TorqueAtPoint", "duration: 1\n" ECPSIM_BODY
-     "    mass: 1\nloads:\n  - {torque: [0, 0, 1], at: [1, 0, 0]}\n",
+    {"TorqueAtPoint",
+     "duration: 1\n" ECPSIM_BODY "    mass: 1\nloads:\n  - {torque: [0, 0, 1], at: [1, 0, 0]}\n",
      "scene.yaml:7:29: loads[0].at = [1, 0, 0]: expected `at` only with a force"},
-    {"UnknownBody", "duration: 1\n" ECPSIM_BODY
+    {"UnknownBody",
+     "duration: 1\n" ECPSIM_BODY
      "    mass: 1\nimpulses:\n  - {body: crate, time: 0, linear: [1, 0, 0]}\n",
      "scene.yaml:7:12: impulses[0].body = crate: expected a body name (body0) or index 0..0"},
-    {"NegativeImpulseTime", "duration: 1\n" ECPSIM_BODY
-     "    mass: 1\nimpulses:\n  - {time: -1, linear: [1, 0, 0]}\n",
+    {"NegativeImpulseTime",
+     "duration: 1\n" ECPSIM_BODY "    mass: 1\nimpulses:\n  - {time: -1, linear: [1, 0, 0]}\n",
      "scene.yaml:7:12: impulses[0].time = -1: expected a finite time >= 0 s"},
-    {"SolverIterationsNotInteger", "duration: 1\n" ECPSIM_BODY
-     "    mass: 1\nsolver: {max_iterations: 2.5}\n",
+    {"SolverIterationsNotInteger",
+     "duration: 1\n" ECPSIM_BODY "    mass: 1\nsolver: {max_iterations: 2.5}\n",
      "scene.yaml:6:26: solver.max_iterations = 2.5: expected an integer >= 1"},
     {"SolverZeroTolerance", "duration: 1\n" ECPSIM_BODY "    mass: 1\nsolver: {tolerance: 0}\n",
      "scene.yaml:6:21: solver.tolerance = 0: expected a residual tolerance > 0"},
@@ -506,112 +515,134 @@ const BadScene kBadScenes[] = {
      "scene.yaml:1:11: duration = 1e20: expected at most 4503599627370496 steps per run"},
     {"StepUnderflows", "h: 1e-300\nduration: 1\n" ECPSIM_BODY "    mass: 1\n",
      "scene.yaml:1:4: h = 1e-300: expected a time in [1e-150, 1e+150] s"},
-    {"QuaternionOverflows", "duration: 1\n" ECPSIM_BODY
-     "    mass: 1\n    quaternion: [1e200, 1e200, 1e200, 1e200]\n",
+    {"QuaternionOverflows",
+     "duration: 1\n" ECPSIM_BODY "    mass: 1\n    quaternion: [1e200, 1e200, 1e200, 1e200]\n",
      "scene.yaml:6:18: bodies[0].quaternion[0] = 1e200: expected a list of 4 finite numbers [w, x, "
      "y, z], not all zero; each a finite number within ±1e+150"},
-    {"HugeBox", "duration: 1\nbodies:\n  - shape: {box: {size: [1e200, 1e200, 1e200]}}\n"
+    {"HugeBox",
+     "duration: 1\nbodies:\n  - shape: {box: {size: [1e200, 1e200, 1e200]}}\n"
      "    mass: 1\n    position: [0, 0, 0]\n",
      "scene.yaml:3:25: bodies[0].shape.box.size = [1e200, 1e200, 1e200]: expected a list of 3 "
      "edge lengths > 0 m [x, y, z], each a length in [1e-20, 1e+20] m"},
-    {"TinyBox", "duration: 1\nbodies:\n  - shape: {box: {size: [1e-200, 1, 1]}}\n"
+    {"TinyBox",
+     "duration: 1\nbodies:\n  - shape: {box: {size: [1e-200, 1, 1]}}\n"
      "    mass: 1\n    position: [0, 0, 0]\n",
      "scene.yaml:3:25: bodies[0].shape.box.size = [1e-200, 1, 1]: expected a list of 3 edge "
      "lengths > 0 m [x, y, z], each a length in [1e-20, 1e+20] m"},
-    {"HugeSphere", "duration: 1\nbodies:\n  - shape: {sphere: {radius: 1e31}}\n"
+    {"HugeSphere",
+     "duration: 1\nbodies:\n  - shape: {sphere: {radius: 1e31}}\n"
      "    mass: 1\n    position: [0, 0, 0]\n",
      "scene.yaml:3:30: bodies[0].shape.sphere.radius = 1e31: expected a length in [1e-20, "
      "1e+20] m"},
     {"MassTooLarge", "duration: 1\n" ECPSIM_BODY "    mass: 1e151\n",
      "scene.yaml:5:11: bodies[0].mass = 1e151: expected a mass in [1e-150, 1e+150] kg"},
-    {"DensityOverflowsTheMass", "duration: 1\nbodies:\n  - shape: {box: {size: [1e19, 1e19, "
+    {"DensityOverflowsTheMass",
+     "duration: 1\nbodies:\n  - shape: {box: {size: [1e19, 1e19, "
      "1e19]}}\n    density: 1e100\n    position: [0, 0, 0]\n",
      "scene.yaml:4:14: bodies[0].density = 1e100: expected a mass of body \"body0\" that is a mass "
      "in [1e-150, 1e+150] kg; it is 1e+157 kg"},
     {"InertiaUnderflows", "duration: 1\n" ECPSIM_BODY "    mass: 2e-150\n",
      "scene.yaml:5:11: bodies[0].mass = 2e-150: expected principal moments of body \"body0\" that "
      "are each a principal moment of inertia in [1e-150, 1e+150] kg·m²; it is 3.33e-151"},
-    {"VelocityOverflowsWhenSquared", "duration: 1\n" ECPSIM_BODY
-     "    mass: 1\n    velocity: [1e151, 0, 0]\n",
+    {"VelocityOverflowsWhenSquared",
+     "duration: 1\n" ECPSIM_BODY "    mass: 1\n    velocity: [1e151, 0, 0]\n",
      "scene.yaml:6:16: bodies[0].velocity[0] = 1e151: expected a list of 3 finite numbers"},
-    {"FarFromTheOrigin", "duration: 1\nbodies:\n  - shape: {box: {size: [1, 1, 1]}}\n"
+    {"FarFromTheOrigin",
+     "duration: 1\nbodies:\n  - shape: {box: {size: [1, 1, 1]}}\n"
      "    position: [1e8, 0, 0.5]\n    mass: 1\n",
      "scene.yaml:4:15: bodies[0].position = [1e8, 0, 0.5]: expected body \"body0\" within 1e+06 × "
      "its size 1.73 m of the origin"},
-    {"NulInExpression", "duration: 1\n" ECPSIM_BODY
-     "    mass: 1\nloads:\n  - force: [\"t\\0*1000\", 0, 0]\n",
+    {"NulInExpression",
+     "duration: 1\n" ECPSIM_BODY "    mass: 1\nloads:\n  - force: [\"t\\0*1000\", 0, 0]\n",
      "scene.yaml:7:13: loads[0].force[0] = t\\x00*1000: expected a number or an expression of t in "
      "quotes, without NUL characters"},
-    {"NulInMeshPath", "duration: 1\nbodies:\n  - mesh: \"meshes/cube.obj\\0.stl\"\n    mass: 1\n"
+    {"NulInMeshPath",
+     "duration: 1\nbodies:\n  - mesh: \"meshes/cube.obj\\0.stl\"\n    mass: 1\n"
      "    position: [0, 0, 0]\n",
      "scene.yaml:3:11: bodies[0].mesh = meshes/cube.obj\\x00.stl: expected a mesh file path "
      "(relative to the scene file), without NUL characters"},
-    {"StepLimitOfTheSolver", "duration: 1\n" ECPSIM_BODY
-     "    mass: 1\nsolver: {max_iterations: 100000}\n",
+    {"StepLimitOfTheSolver",
+     "duration: 1\n" ECPSIM_BODY "    mass: 1\nsolver: {max_iterations: 100000}\n",
      "scene.yaml:6:26: solver.max_iterations = 100000: expected an integer in [1, 10000]"},
     {"FrameTooWide", "duration: 1\n" ECPSIM_BODY "    mass: 1\noutput: {width: 100000}\n",
      "scene.yaml:6:17: output.width = 100000: expected an integer in [16, 8192]"},
     // ---- an initial overlap with an obstacle
-    {"InitialPenetration", "duration: 1\nground: {}\n" ECPSIM_BODY "    mass: 1\n"
+    {"InitialPenetration",
+     "duration: 1\nground: {}\n" ECPSIM_BODY "    mass: 1\n"
      "    rpy: [45, 0, 0]\n",
      "scene.yaml:5:15: bodies[0].position = [0, 0, 0.5]: expected an initial pose of body "
      "\"body0\" whose mesh stays out of obstacle \"ground\""},
-    {"InitialPenetrationOfABoxFixture", "duration: 1\nground: {}\nobstacles:\n  - name: step\n"
+    {"InitialPenetrationOfABoxFixture",
+     "duration: 1\nground: {}\nobstacles:\n  - name: step\n"
      "    box: {size: [1, 1, 1], position: [0, 0, 0.5]}\nbodies:\n  - shape: {sphere: {radius: "
      "0.25}}\n    mass: 1\n    on_ground: true\n",
      "scene.yaml:9:16: bodies[0].on_ground = true: expected an initial pose of body \"body0\" "
      "whose mesh stays out of obstacle \"step\": a vertex is 0.5 m inside"},
-    {"BoxFixtureFarFromTheOrigin", "duration: 1\nobstacles:\n  - box: {size: [1e-3, 1e-3, 1e-3], "
+    {"BoxFixtureFarFromTheOrigin",
+     "duration: 1\nobstacles:\n  - box: {size: [1e-3, 1e-3, 1e-3], "
      "position: [1e150, 0, 0]}\n" ECPSIM_BODY "    mass: 1\n",
      "scene.yaml:3:47: obstacles[0].box.position = [1e150, 0, 0]: expected obstacle \"obstacle0\" "
      "within 1e+06 × its size"},
-    {"DuplicateObstacleNameAfterTheGround", "duration: 1\nground: {}\nobstacles:\n"
+    {"DuplicateObstacleNameAfterTheGround",
+     "duration: 1\nground: {}\nobstacles:\n"
      "  - {name: a, plane: {offset: -5}}\n  - {name: a, plane: {offset: -6}}\n" ECPSIM_BODY
      "    mass: 1\n",
      "scene.yaml:5:12: obstacles[1].name = a: expected a name no other obstacle has"},
     // ---- mesh units
-    {"UnknownUnit", "duration: 1\nbodies:\n  - mesh: meshes/cube.obj\n    units: ft\n"
+    {"UnknownUnit",
+     "duration: 1\nbodies:\n  - mesh: meshes/cube.obj\n    units: ft\n"
      "    mass: 1\n    position: [0, 0, 0]\n",
      "scene.yaml:4:12: bodies[0].units = ft: expected one of mm, cm, m, in"},
-    {"UnitsDisagreeWithScale", "duration: 1\nbodies:\n  - mesh: meshes/cube.obj\n    units: mm\n"
+    {"UnitsDisagreeWithScale",
+     "duration: 1\nbodies:\n  - mesh: meshes/cube.obj\n    units: mm\n"
      "    scale: 0.01\n    mass: 1\n    position: [0, 0, 0]\n",
      "scene.yaml:4:12: bodies[0].units = mm: expected a unit agreeing with bodies[0].scale = 0.01 "
      "(mm is 0.001 m)"},
     {"UnitsWithoutMesh", "duration: 1\n" ECPSIM_BODY "    mass: 1\n    units: mm\n",
      "scene.yaml:6:12: bodies[0].units = mm: expected `units` only together with `mesh`"},
-    {"ScaleOutOfRange", "duration: 1\nbodies:\n  - mesh: meshes/cube.obj\n    scale: 1e200\n"
+    {"ScaleOutOfRange",
+     "duration: 1\nbodies:\n  - mesh: meshes/cube.obj\n    scale: 1e200\n"
      "    mass: 1\n    position: [0, 0, 0]\n",
      "scene.yaml:4:12: bodies[0].scale = 1e200: expected a scale in [1e-06, 1e+06]"},
     // ---- kinematic bodies and pairs
-    {"KinematicWithMass", "duration: 1\nbodies:\n  - kinematic: true\n    mass: 1\n"
+    {"KinematicWithMass",
+     "duration: 1\nbodies:\n  - kinematic: true\n    mass: 1\n"
      "    shape: {box: {size: [1, 1, 1]}}\n    motion: {velocity: {position: [0, 0, 1]}}\n",
      "scene.yaml:4:11: bodies[0].mass = 1: expected no `mass` on a kinematic body"},
-    {"KinematicWithoutMotion", "duration: 1\nbodies:\n  - kinematic: true\n"
+    {"KinematicWithoutMotion",
+     "duration: 1\nbodies:\n  - kinematic: true\n"
      "    shape: {box: {size: [1, 1, 1]}}\n",
      "bodies[0].motion"},
-    {"MotionWithoutKinematic", "duration: 1\n" ECPSIM_BODY "    mass: 1\n"
+    {"MotionWithoutKinematic",
+     "duration: 1\n" ECPSIM_BODY "    mass: 1\n"
      "    motion: {velocity: {position: [0, 0, 1]}}\n",
      "expected `motion` only on a body with `kinematic: true`"},
-    {"LoadOnAKinematicBody", "duration: 1\nbodies:\n  - name: finger\n    kinematic: true\n"
+    {"LoadOnAKinematicBody",
+     "duration: 1\nbodies:\n  - name: finger\n    kinematic: true\n"
      "    shape: {box: {size: [1, 1, 1]}}\n    motion: {velocity: {position: [0, 0, 1]}}\n"
      "loads:\n  - {body: finger, force: [1, 0, 0]}\n",
      "expected a dynamic body (a kinematic body's motion is prescribed"},
-    {"PairOfAnUnknownBody", "duration: 1\n" ECPSIM_BODY "    mass: 1\n"
+    {"PairOfAnUnknownBody",
+     "duration: 1\n" ECPSIM_BODY "    mass: 1\n"
      "pairs:\n  - {bodies: [body0, ghost]}\n",
-     "scene.yaml:7:22: pairs[0].bodies[1] = ghost: expected the name of a body of the scene (body0)"},
-    {"PairOfOneBody", "duration: 1\n" ECPSIM_BODY "    mass: 1\n"
+     "scene.yaml:7:22: pairs[0].bodies[1] = ghost: expected the name of a body of the scene "
+     "(body0)"},
+    {"PairOfOneBody",
+     "duration: 1\n" ECPSIM_BODY "    mass: 1\n"
      "pairs:\n  - {bodies: [body0, body0]}\n",
      "pairs[0].bodies = [body0, body0]: expected two different bodies"},
-    // ---- grippers
+// ---- grippers
 #define ECPSIM_JAWS(A_EXTRA)                                                                  \
-  "duration: 1\nbodies:\n"                                                                   \
-  "  - {name: a, shape: {box: {size: [0.01, 0.04, 0.03]}}, mass: 0.05, position: [-0.05, 0, "  \
-  "0.5]" A_EXTRA "}\n"                                                                         \
-  "  - {name: b, shape: {box: {size: [0.01, 0.04, 0.03]}}, mass: 0.05, position: [0.05, 0, "   \
+  "duration: 1\nbodies:\n"                                                                    \
+  "  - {name: a, shape: {box: {size: [0.01, 0.04, 0.03]}}, mass: 0.05, position: [-0.05, 0, " \
+  "0.5]" A_EXTRA                                                                              \
+  "}\n"                                                                                       \
+  "  - {name: b, shape: {box: {size: [0.01, 0.04, 0.03]}}, mass: 0.05, position: [0.05, 0, "  \
   "0.5]}\n"
 #define ECPSIM_FRAME "motion: {velocity: {position: [0, 0, 0.5]}}"
     {"GripperOfAnUnknownJaw",
-     ECPSIM_JAWS("") "grippers:\n  - {jaws: [a, ghost], axis: [1, 0, 0], force: 1, " ECPSIM_FRAME "}\n",
+     ECPSIM_JAWS("") "grippers:\n  - {jaws: [a, ghost], axis: [1, 0, 0], force: 1, " ECPSIM_FRAME
+                     "}\n",
      "grippers[0].jaws[1] = ghost: expected the name of a body of the scene (a, b)"},
     {"GripperWithOneJawTwice",
      ECPSIM_JAWS("") "grippers:\n  - {jaws: [a, a], axis: [1, 0, 0], force: 1, " ECPSIM_FRAME "}\n",
@@ -621,18 +652,20 @@ const BadScene kBadScenes[] = {
      ECPSIM_JAWS("") "grippers:\n  - {jaws: [a, b], axis: [0, 0, 0], force: 1, " ECPSIM_FRAME "}\n",
      "grippers[0].axis = [0, 0, 0]: expected a non-zero axis"},
     {"GripperWhoseAxisPointsFromTheSecondJaw",
-     ECPSIM_JAWS("") "grippers:\n  - {jaws: [a, b], axis: [-1, 0, 0], force: 1, " ECPSIM_FRAME "}\n",
+     ECPSIM_JAWS("") "grippers:\n  - {jaws: [a, b], axis: [-1, 0, 0], force: 1, " ECPSIM_FRAME
+                     "}\n",
      "expected an axis from jaw \"a\" towards jaw \"b\" (their centres are -0.1 m apart along it "
      "at t = 0; swap the jaws or flip the axis)"},
     {"GripperPullingItsJawsOpen",
-     ECPSIM_JAWS("") "grippers:\n  - {jaws: [a, b], axis: [1, 0, 0], force: -1, " ECPSIM_FRAME "}\n",
+     ECPSIM_JAWS("") "grippers:\n  - {jaws: [a, b], axis: [1, 0, 0], force: -1, " ECPSIM_FRAME
+                     "}\n",
      "grippers[0].force = -1: expected a closing force ≥ 0 N at t = 0"},
     {"GripperWithoutForce",
      ECPSIM_JAWS("") "grippers:\n  - {jaws: [a, b], axis: [1, 0, 0], " ECPSIM_FRAME "}\n",
      "grippers[0].force"},
     {"JawWithAnInitialVelocity",
-     ECPSIM_JAWS(", velocity: [0, 1, 0]")
-     "grippers:\n  - {jaws: [a, b], axis: [1, 0, 0], force: 1, " ECPSIM_FRAME "}\n",
+     ECPSIM_JAWS(", velocity: [0, 1, 0]") "grippers:\n  - {jaws: [a, b], axis: [1, 0, 0], force: "
+                                          "1, " ECPSIM_FRAME "}\n",
      "expected no initial velocity for jaw \"a\" of gripper \"gripper0\" (the gripper moves it)"},
 #undef ECPSIM_FRAME
 #undef ECPSIM_JAWS
@@ -658,7 +691,8 @@ TEST_F(SceneYamlTest, KinematicBodiesAndPairSettingsMakeTheDocumentedContacts) {
       "     friction: {mu: 0.1}}\n"
       "  - name: finger\n    kinematic: true\n    shape: {sphere: {radius: 0.01}}\n"
       "    motion: {velocity: {position: [-0.5, 0, 0.1], linear: [0.1, 0, 0]}}\n"
-      "pairs:\n  - {bodies: [b, a], friction: {mu: 0.3}}\n  - {bodies: [finger, b], exclude: true}\n");
+      "pairs:\n  - {bodies: [b, a], friction: {mu: 0.3}}\n  - {bodies: [finger, b], exclude: "
+      "true}\n");
   // obstacle contacts for the two dynamic bodies only; then a–b (overridden) and a–finger (F a,
   // G the kinematic finger), b–finger excluded
   ASSERT_EQ(scene.contacts.size(), 4u);
@@ -712,7 +746,7 @@ bodies:
 
 TEST_F(SceneYamlTest, OverridesReplaceAndAddValuesBeforeValidation) {
   const Scene scene = LoadText(kOneBox, {"h=0.005", "bodies.0.mass=3", "solver.tolerance=1e-9",
-                                     "gravity=[0, 0, -1]", "bodies.0.velocity=[1, 2, 3]"});
+                                         "gravity=[0, 0, -1]", "bodies.0.velocity=[1, 2, 3]"});
   EXPECT_EQ(scene.h, 0.005);
   EXPECT_EQ(scene.bodies[0].mass, 3);
   EXPECT_NEAR(scene.bodies[0].inertia(0, 0), 3.0 / 6, kTight);
@@ -810,14 +844,16 @@ TEST_F(SceneYamlTest, MeshWhoseSizeOverflowsItsInertiaIsLocated) {
     huge += c == '1' ? std::string("1e30") : std::string(1, c);
   }
   Write("meshes/huge.obj", huge + cube.substr(cube.find("f ")));
-  EXPECT_THAT([&] {
-    LoadText("duration: 1\nbodies:\n  - mesh: meshes/huge.obj\n    mass: 1\n"
-             "    position: [0, 0, 0]\n");
-  },
-              ThrowsMessage<InputError>(AllOf(
-                  HasSubstr("scene.yaml:3:11: bodies[0].mesh: "),
-                  HasSubstr("huge.obj: scale = 1 makes the mesh 1.73e+30 m across"),
-                  HasSubstr("expected a bounding-box diagonal between 1e-20 m and 1e+20 m"))));
+  EXPECT_THAT(
+      [&] {
+        LoadText(
+            "duration: 1\nbodies:\n  - mesh: meshes/huge.obj\n    mass: 1\n"
+            "    position: [0, 0, 0]\n");
+      },
+      ThrowsMessage<InputError>(
+          AllOf(HasSubstr("scene.yaml:3:11: bodies[0].mesh: "),
+                HasSubstr("huge.obj: scale = 1 makes the mesh 1.73e+30 m across"),
+                HasSubstr("expected a bounding-box diagonal between 1e-20 m and 1e+20 m"))));
 }
 
 TEST_F(SceneYamlTest, InitialPenetrationIsAllowedPerBody) {
@@ -830,26 +866,31 @@ bodies:
     allow_initial_penetration: true
 )yaml");
   EXPECT_TRUE(scene.bodies[0].allow_initial_penetration);
-  EXPECT_THAT([&] {
-    LoadText("duration: 1\nground: {}\nbodies:\n  - shape: {box: {size: [1, 1, 1]}}\n"
-             "    mass: 1\n    position: [0, 0, 0.1]\n");
-  },
-              ThrowsMessage<InputError>(HasSubstr(
-                  "scene.yaml:6:15: bodies[0].position = [0, 0, 0.1]: expected an initial pose of "
-                  "body \"body0\" whose mesh stays out of obstacle \"ground\": a vertex is 0.4 m "
-                  "inside, more than 1.73e-06 m (1e-06 × the body's size 1.73 m); move the body, "
-                  "or allow it with bodies[0].allow_initial_penetration: true")));
+  EXPECT_THAT(
+      [&] {
+        LoadText(
+            "duration: 1\nground: {}\nbodies:\n  - shape: {box: {size: [1, 1, 1]}}\n"
+            "    mass: 1\n    position: [0, 0, 0.1]\n");
+      },
+      ThrowsMessage<InputError>(HasSubstr(
+          "scene.yaml:6:15: bodies[0].position = [0, 0, 0.1]: expected an initial pose of "
+          "body \"body0\" whose mesh stays out of obstacle \"ground\": a vertex is 0.4 m "
+          "inside, more than 1.73e-06 m (1e-06 × the body's size 1.73 m); move the body, "
+          "or allow it with bodies[0].allow_initial_penetration: true")));
 }
 
 TEST_F(SceneYamlTest, ValidationErrorsOfOverriddenValuesNameTheSet) {
-  EXPECT_THAT([&] {
-    LoadText("duration: 1\nground: {}\n" "bodies:\n  - shape: {box: {size: [1, 1, 1]}}\n"
-             "    mass: 1\n    position: [0, 0, 0.5]\n",
-             {"bodies.0.position=[0, 0, 0.1]"});
-  },
-              ThrowsMessage<InputError>(
-                  HasSubstr("scene.yaml: --set bodies.0.position=[0, 0, 0.1]: bodies[0].position = "
-                            "[0, 0, 0.1]: expected an initial pose")));
+  EXPECT_THAT(
+      [&] {
+        LoadText(
+            "duration: 1\nground: {}\n"
+            "bodies:\n  - shape: {box: {size: [1, 1, 1]}}\n"
+            "    mass: 1\n    position: [0, 0, 0.5]\n",
+            {"bodies.0.position=[0, 0, 0.1]"});
+      },
+      ThrowsMessage<InputError>(
+          HasSubstr("scene.yaml: --set bodies.0.position=[0, 0, 0.1]: bodies[0].position = "
+                    "[0, 0, 0.1]: expected an initial pose")));
 }
 
 TEST_F(SceneYamlTest, ShippedSlideSceneLoadsWithThePaperNumbers) {

@@ -2,9 +2,9 @@
 
 #include <cmath>
 #include <numeric>
-#include <vector>
 #include <stdexcept>
 #include <utility>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -51,15 +51,13 @@ void ExpectSolvesPlanted(int n, int num_free, bool sparse = false, bool replay =
   McpResult result;
   if (sparse) {
     const SparseMatrix M = p.M.sparseView();
-    const SparseMcpFunction f = [&](const Eigen::VectorXd& x, Eigen::VectorXd* F,
-                                    SparseMatrix* J) {
+    const SparseMcpFunction f = [&](const Eigen::VectorXd& x, Eigen::VectorXd* F, SparseMatrix* J) {
       *F = M * x + p.q;
       if (J != nullptr) *J = M;
     };
     result = SolveMcp(f, num_free, ones, ones, z, options);
   } else {
-    const McpFunction f = [&p](const Eigen::VectorXd& x, Eigen::VectorXd* F,
-                               Eigen::MatrixXd* J) {
+    const McpFunction f = [&p](const Eigen::VectorXd& x, Eigen::VectorXd* F, Eigen::MatrixXd* J) {
       *F = p.M * x + p.q;
       if (J != nullptr) *J = p.M;
     };

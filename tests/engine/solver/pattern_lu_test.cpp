@@ -3,8 +3,8 @@
 #include <cmath>
 #include <random>
 
-#include <Eigen/LU>
 #include <gtest/gtest.h>
+#include <Eigen/LU>
 
 #include "engine/mncp/island_mncp.h"
 #include "geometry/convex_shape.h"
@@ -158,7 +158,8 @@ TEST(PatternLuTest, NewNonZeroOutsideThePatternIsFactoredExactly) {
 TEST(PatternLuTest, AnEliminationOrderSolvesTheMatrixInItsOwnOrder) {
   std::mt19937 rng(9);
   std::uniform_real_distribution<double> unit(0, 1);
-  for (const Eigen::Index n : {Eigen::Index{20}, Eigen::Index{62}, PatternLu::kMaxUnblockedSize + 5}) {
+  for (const Eigen::Index n :
+       {Eigen::Index{20}, Eigen::Index{62}, PatternLu::kMaxUnblockedSize + 5}) {
     Eigen::MatrixXd pattern(n, n);
     for (Eigen::Index j = 0; j < n; ++j)
       for (Eigen::Index i = 0; i < n; ++i) pattern(i, j) = unit(rng) < 0.2 ? 1.0 : 0.0;
