@@ -1,8 +1,8 @@
 #pragma once
 // DIR/checkpoint.json: where a run that stopped early stood, exactly, so that `ecpsim run --resume
 // DIR` continues it bit for bit. This file and checkpoint.cpp are the only ones that know the
-// format; the engine's State is written field by field (it will change: typed warm starts per
-// contact model), every double as a hexadecimal float, which reads back to the same bits.
+// format; the engine's State in it is a state record (engine/report/state_record.h), as in a
+// Python pickle, every double a hexadecimal float, which reads back to the same bits.
 
 #include <array>
 #include <string>

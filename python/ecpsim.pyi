@@ -75,7 +75,8 @@ class State:
     def __copy__(self) -> "State": ...
     def __deepcopy__(self, memo: dict) -> "State": ...
     def __getstate__(self) -> tuple:
-        """pickle: ('ecpsim.State', version, t, steps, bodies, contacts) of plain Python values."""
+        """pickle: ('ecpsim.State', version, record), the record the state's JSON text (the same
+        state record as a checkpoint's, every double a hexadecimal float)."""
     def __setstate__(self, state: tuple) -> None: ...
 
 class Simulation:

@@ -9,15 +9,15 @@
 namespace ecpsim::python {
 
 /// The whole of `state` — time, step count, every body's pose and velocities, every contact's
-/// solution and its model's warm start — as a tuple of Python floats, ints, lists, None and
-/// strings: ("ecpsim.State", version, t, steps, bodies, contacts). Python floats are the same
-/// IEEE doubles, so StateFromTuple(StateToTuple(s)) equals s bit for bit.
+/// solution and its model's warm start — as ("ecpsim.State", version, record): the record is
+/// engine/report/state_record.h's JSON as text, whose exact doubles make
+/// StateFromTuple(StateToTuple(s)) equal s bit for bit.
 pybind11::tuple StateToTuple(const engine::State& state);
 
 /// The State a tuple of StateToTuple describes.
 /// @throws InputError naming the part that does not have StateToTuple's form (a tuple not made
-///         by this version, a wrong count of numbers); pybind11::cast_error (TypeError) for a
-///         value of the wrong type. Whether it fits a scene is Simulation::SetState's check.
+///         by this version, a record that is no JSON, a key of the record and what it expected).
+///         Whether it fits a scene is Simulation::SetState's check.
 engine::State StateFromTuple(const pybind11::tuple& data);
 
 }  // namespace ecpsim::python

@@ -3,6 +3,7 @@ under every contact model's warm start; a pickle not of this form, or of other s
 scene's contacts, is an InputError."""
 
 import concurrent.futures
+import json
 import multiprocessing
 import pickle
 
@@ -78,28 +79,35 @@ def test_a_state_crosses_processes(scenes):
 def test_a_pickle_of_another_form_is_an_input_error(scenes):
     sim = ecpsim.Simulation(ecpsim.load_scene(str(scenes / "push_box.yaml")))
     sim.step(SAVE_AT)
-    tag, version, t, steps, bodies, contacts = sim.get_state().__getstate__()
+    tag, version, text = sim.get_state().__getstate__()
     blank = ecpsim.State.__new__(ecpsim.State)
     with pytest.raises(ecpsim.InputError, match=r"State pickle 'ecpsim.State': expected "
-                                                r"\('ecpsim.State', 2, t, steps"):
-        blank.__setstate__((tag, version + 1, t, steps, bodies, contacts))
-    with pytest.raises(ecpsim.InputError, match=r"bodies\[1\]: 12 numbers: expected 13"):
-        blank.__setstate__((tag, version, t, steps, [bodies[0], bodies[1][:12]], contacts))
-    with pytest.raises(ecpsim.InputError, match=r"contacts\[0\] warm start: expected None"):
-        blank.__setstate__((tag, version, t, steps, bodies,
-                            [(contacts[0][0], ("nosuch",)), contacts[1]]))
+                                                r"\('ecpsim.State', 3, record\)"):
+        blank.__setstate__((tag, version + 1, text))
+    with pytest.raises(ecpsim.InputError, match=r"State pickle: the record is no JSON"):
+        blank.__setstate__((tag, version, text[:-1]))
+    record = json.loads(text)
+    record["bodies"][1]["p_WB"] = record["bodies"][1]["p_WB"][:2]
+    with pytest.raises(ecpsim.InputError, match=r"state\.bodies\[1\]\.p_WB: expected a list "
+                                                r"of 3 hexadecimal floats"):
+        blank.__setstate__((tag, version, json.dumps(record)))
+    record = json.loads(text)
+    record["contacts"][0]["warm_start"]["model"] = "nosuch"
+    with pytest.raises(ecpsim.InputError, match=r'state\.contacts\[0\]\.warm_start\.model = '
+                                                r'"nosuch": expected "hull" or "multipatch"'):
+        blank.__setstate__((tag, version, json.dumps(record)))
 
 
 def test_a_warm_start_of_other_sizes_is_refused_by_set_state(scenes):
     sim = ecpsim.Simulation(ecpsim.load_scene(str(scenes / "push_box.yaml")))
     sim.step(SAVE_AT)
-    tag, version, t, steps, bodies, contacts = sim.get_state().__getstate__()
-    numbers, (kind, s, l_g, window, l, other_window, trend) = contacts[0]
-    # one face multiplier short: the engine would read past the end of l
+    tag, version, text = sim.get_state().__getstate__()
+    record = json.loads(text)
+    # one multiplier of G's constraints too many: the engine would read past the ground's one
+    warm = record["contacts"][0]["warm_start"]
+    warm["l_g"] = warm["l_g"] + warm["l_g"][-1:]
     state = ecpsim.State.__new__(ecpsim.State)
-    state.__setstate__((tag, version, t, steps, bodies,
-                        [(numbers, (kind, s, l_g, window, l[:-1], other_window, trend)),
-                         contacts[1]]))
+    state.__setstate__((tag, version, json.dumps(record)))
     with pytest.raises(ecpsim.InputError, match=r"set_state: contact 0 \(box.ground\): a hull "
                                                 r"warm start of \d+ multipliers for \d+ hull"):
         sim.set_state(state)
