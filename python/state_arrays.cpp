@@ -1,0 +1,195 @@
+#include "python/state_arrays.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include <fmt/format.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include "common/errors.h"
+#include "engine/report/trajectory_columns.h"
+#include "engine/scene_limits.h"
+#include "python/conversions.h"
+
+namespace py = pybind11;
+
+namespace ecpsim::python {
+namespace {
+
+using Eigen::Vector3d;
+
+// a contact whose normal impulse is below this fraction of the body's impulse scale
+// m (|g| h + |v|) carries no load: round-off of a complementarity solution that is exactly 0
+constexpr double kSeparatedImpulseFraction = 1e-9;  // dimensionless
+// a contact whose slip multiplier σ exceeds this fraction of the body's velocity scale
+// |g| h + |v| slides; a sticking one's σ is 0 up to the solver's tolerance, or the hull model's
+// creep between bodies (kStickCreepFraction, engine/models/hull_model.h)
+constexpr double kSlidingSlipFraction = 1e-6;  // dimensionless
+
+int FieldWidth(BodyField field) { return field == BodyField::kQuaternion ? 4 : 3; }
+
+const char* ContactMode(const engine::Scene& scene, const engine::State& state,
+                        const engine::ContactPair& pair, const engine::ContactState& c) {
+  const engine::Body& body = scene.bodies[pair.body];
+  const double velocity_scale =
+      scene.gravity.norm() * scene.h + state.bodies[pair.body].v_WB.norm();
+  if (c.p_n <= kSeparatedImpulseFraction * body.mass * velocity_scale) return "separated";
+  return c.sigma > kSlidingSlipFraction * velocity_scale ? "sliding" : "sticking";
+}
+
+}  // namespace
+
+std::string ContactName(const engine::Scene& scene, const engine::ContactPair& pair) {
+  const std::string& other =
+      pair.WithBody() ? scene.bodies[pair.other_body].name : scene.obstacles[pair.obstacle].name;
+  return scene.bodies[pair.body].name + "." + other;
+}
+
+py::array_t<double> BodyArray(const engine::State& state, BodyField field) {
+  const int width = FieldWidth(field);
+  py::array_t<double> a(
+      {static_cast<py::ssize_t>(state.bodies.size()), static_cast<py::ssize_t>(width)});
+  auto out = a.mutable_unchecked<2>();
+  for (size_t b = 0; b < state.bodies.size(); ++b) {
+    const engine::BodyState& s = state.bodies[b];
+    const py::ssize_t i = static_cast<py::ssize_t>(b);
+    switch (field) {
+      case BodyField::kPosition:
+        for (int k = 0; k < 3; ++k) out(i, k) = s.p_WB[k];
+        break;
+      case BodyField::kQuaternion:
+        // w, x, y, z: the CSV's qw qx qy qz
+        out(i, 0) = s.Q_WB.w(), out(i, 1) = s.Q_WB.x(), out(i, 2) = s.Q_WB.y(),
+               out(i, 3) = s.Q_WB.z();
+        break;
+      case BodyField::kVelocity:
+        for (int k = 0; k < 3; ++k) out(i, k) = s.v_WB[k];
+        break;
+      case BodyField::kAngularVelocity:
+        for (int k = 0; k < 3; ++k) out(i, k) = s.w_WB[k];
+        break;
+    }
+  }
+  return a;
+}
+
+const char* FieldName(BodyField field) {
+  switch (field) {
+    case BodyField::kPosition:
+      return "positions";
+    case BodyField::kQuaternion:
+      return "quaternions";
+    case BodyField::kVelocity:
+      return "velocities";
+    case BodyField::kAngularVelocity:
+      return "angular_velocities";
+  }
+  return "?";
+}
+
+void SetBodyArray(const engine::Scene& scene, engine::State& state, BodyField field,
+                  const py::handle& value) {
+  const int width = FieldWidth(field);
+  const auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(value);
+  const size_t n = state.bodies.size();
+  if (!a || a.ndim() != 2 || a.shape(0) != static_cast<py::ssize_t>(n) || a.shape(1) != width) {
+    throw InputError(
+        fmt::format("{}: expected an array of shape ({}, {})", FieldName(field), n, width));
+  }
+  const auto in = a.unchecked<2>();
+  std::vector<engine::BodyState> bodies = state.bodies;
+  for (size_t b = 0; b < n; ++b) {
+    const py::ssize_t i = static_cast<py::ssize_t>(b);
+    engine::BodyState& s = bodies[b];
+    if (field == BodyField::kQuaternion) {
+      const Eigen::Quaterniond q(in(i, 0), in(i, 1), in(i, 2), in(i, 3));
+      if (!q.coeffs().allFinite() || q.norm() == 0) {
+        throw InputError(
+            fmt::format("quaternions[{}] ({}): expected a finite, non-zero "
+                        "quaternion (w, x, y, z)",
+                        b, scene.bodies[b].name));
+      }
+      s.Q_WB = q.normalized();
+      continue;
+    }
+    const Vector3d v(in(i, 0), in(i, 1), in(i, 2));
+    for (int k = 0; k < 3; ++k) {
+      const std::string problem = engine::OutOfMagnitude(v[k]);
+      if (!problem.empty()) {
+        throw InputError(fmt::format("{}[{}] ({}) = [{}, {}, {}]: expected {}", FieldName(field), b,
+                                     scene.bodies[b].name, v.x(), v.y(), v.z(), problem));
+      }
+    }
+    (field == BodyField::kPosition ? s.p_WB : field == BodyField::kVelocity ? s.v_WB : s.w_WB) = v;
+  }
+  for (size_t b = 0; b < n; ++b) {
+    const engine::BodyState &now = state.bodies[b], &next = bodies[b];
+    const bool same = now.p_WB == next.p_WB && now.Q_WB.coeffs() == next.Q_WB.coeffs() &&
+                      now.v_WB == next.v_WB && now.w_WB == next.w_WB;
+    if (scene.bodies[b].IsKinematic() && !same) {
+      throw InputError(
+          fmt::format("{}[{}]: body '{}' is kinematic: expected its row unchanged "
+                      "(set_kinematic_target moves it)",
+                      FieldName(field), b, scene.bodies[b].name));
+    }
+  }
+  state.bodies = std::move(bodies);
+}
+
+py::dict ReportDict(const engine::Scene& scene, const engine::StepReport& report) {
+  py::dict d;
+  d["converged"] = report.converged;
+  d["iterations"] = report.iterations;
+  d["residual"] = report.residual;
+  d["retries"] = report.retries;
+  d["substeps"] = report.substeps;
+  // what solved each body's step, by name (empty before the first step)
+  py::dict models;
+  for (size_t b = 0; b < report.models.size() && b < scene.bodies.size(); ++b)
+    models[py::str(scene.bodies[b].name)] = engine::StepModelName(report.models[b]);
+  d["models"] = models;
+  return d;
+}
+
+py::list ContactList(const engine::Scene& scene, const engine::State& state,
+                     const engine::StepReport& report) {
+  py::list contacts;
+  const double h = scene.h;
+  for (size_t k = 0; k < scene.contacts.size(); ++k) {
+    const engine::ContactPair& pair = scene.contacts[k];
+    const engine::ContactState& c = state.contacts[k];
+    py::dict d;
+    d["name"] = ContactName(scene, pair);
+    d["body"] = scene.bodies[pair.body].name;
+    d["other"] =
+        pair.WithBody() ? scene.bodies[pair.other_body].name : scene.obstacles[pair.obstacle].name;
+    d["other_is_body"] = pair.WithBody();
+    d["a1"] = Array(c.a1);
+    d["a2"] = Array(c.a2);
+    d["normal"] = Array(c.n);
+    d["tangent"] = Array(c.t);
+    d["tangent2"] = Array(c.o);
+    d["p_n"] = c.p_n;
+    d["p_t"] = c.p_t;
+    d["p_o"] = c.p_o;
+    d["p_r"] = c.p_r;
+    d["sigma"] = c.sigma;
+    d["f_n"] = c.p_n / h;
+    d["f_t"] = c.p_t / h;
+    d["f_o"] = c.p_o / h;
+    d["f_r"] = c.p_r / h;
+    d["force"] = Array(Vector3d((c.n * c.p_n + c.t * c.p_t + c.o * c.p_o) / h));
+    d["mode"] = ContactMode(scene, state, pair, c);
+    // what solved the step of the contact's body; before the first step, the scene's model
+    d["model"] = report.models.empty() ? engine::ContactModelName(scene.model)
+                                       : engine::StepModelName(report.models[pair.body]);
+    d["friction"] = FrictionDict(pair.friction);
+    contacts.append(d);
+  }
+  return contacts;
+}
+
+}  // namespace ecpsim::python

@@ -1,0 +1,42 @@
+#pragma once
+// A State's bodies and contacts as numpy arrays and Python dicts for the `ecpsim` module, and
+// arrays written back into a State.
+
+#include <string>
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include "engine/scene.h"
+#include "engine/state.h"
+#include "engine/step_report.h"
+
+namespace ecpsim::python {
+
+/// A contact's name, "<body>.<other>" (the other a body or an obstacle), as trajectory.csv's
+/// columns name it.
+std::string ContactName(const engine::Scene& scene, const engine::ContactPair& pair);
+
+/// A per-body quantity of the state.
+enum class BodyField { kPosition, kQuaternion, kVelocity, kAngularVelocity };
+
+/// Its name as the module's attribute ("positions", "quaternions", ...).
+const char* FieldName(BodyField field);
+
+/// `field` of every body: an (n, 3) array, (n, 4) as w, x, y, z for quaternions.
+pybind11::array_t<double> BodyArray(const engine::State& state, BodyField field);
+
+/// Writes an (n, 3) or (n, 4) array into the state's dynamic bodies; kinematic bodies' rows must
+/// equal their current values (their motion sets them).
+/// @throws InputError naming the field, the row and what was expected.
+void SetBodyArray(const engine::Scene& scene, engine::State& state, BodyField field,
+                  const pybind11::handle& value);
+
+/// The step's report as a dict (converged, iterations, residual, retries, substeps, models).
+pybind11::dict ReportDict(const engine::Scene& scene, const engine::StepReport& report);
+
+/// Every contact of the state as a dict: its name, mode, ECPs, impulses and forces.
+pybind11::list ContactList(const engine::Scene& scene, const engine::State& state,
+                           const engine::StepReport& report);
+
+}  // namespace ecpsim::python
