@@ -1,6 +1,7 @@
 // The `ecpsim` Python module (pybind11): scenes, simulations stepped from Python, trajectories as
-// numpy columns, frames as numpy images, convex hulls of meshes. Reference: docs/python.md; the
-// stateful part is python/simulation.h, this file converts between Python and the libraries.
+// numpy columns, frames as numpy images, convex hulls of meshes. Reference: docs/python.md. This
+// file holds the bindings; the stateful part is python/simulation.h, and conversions, state
+// arrays and make_scene's schema are python/conversions.h, state_arrays.h and scene_dict.h.
 
 #include <dlfcn.h>
 #include <unistd.h>
