@@ -3,10 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iterator>
-#include <string>
 #include <variant>
-
-#include <fmt/format.h>
 
 #include "engine/islands.h"
 
