@@ -11,6 +11,7 @@
 
 #include "engine/models/hull_guesses.h"
 #include "engine/models/hull_tuning.h"
+#include "geometry/triangle_mesh.h"
 #include "tests/engine/models/hull_islands.h"
 
 namespace ecpsim::engine::hull {
@@ -96,6 +97,51 @@ TEST(SolveAtDegenerateVertexTest, FacesLeftOutOneAtATimeUntilTheRootHolds) {
   EXPECT_TRUE(SolveAtDegenerateVertex(r.island.problem, r.layout, r.z, r.options, r.island.scales,
                                       0, r.island.local, r.result));
   EXPECT_NEAR(r.island.local.contacts[0].p_n, 2 * 9.8 * 0.01, kImpulseTolerance);
+}
+
+TEST(SolveAtDegenerateVertexTest, AnOctahedronOnItsTipIsSolvedWhereFourFacesMeet) {
+  // a 1 kg octahedron of half-diagonal 5 cm at rest on its lowest vertex, where four faces meet:
+  // their multipliers are not unique, and a start that spreads the contact over all four (as a
+  // Newton iterate stalled between their planes does) is solved with one of them left out
+  const double a = 0.05;
+  geometry::TriangleMesh octahedron;
+  octahedron.vertices = {{a, 0, 0}, {-a, 0, 0}, {0, a, 0}, {0, -a, 0}, {0, 0, a}, {0, 0, -a}};
+  for (int top : {4, 5}) {
+    const bool up = top == 4;
+    const int ring[4] = {0, 2, 1, 3};  // counter-clockwise seen from +z
+    for (int k = 0; k < 4; ++k) {
+      const int u = ring[k], v = ring[(k + 1) % 4];
+      octahedron.triangles.emplace_back(up ? Eigen::Vector3i(u, v, top)
+                                           : Eigen::Vector3i(v, u, top));
+    }
+  }
+  Body body = MakeMeshBody(octahedron, 1, "octahedron");
+  body.p0 = Vector3d(0, 0, a);
+  Scene scene = engine::testing::MakeGroundScene({body}, 0.01, Friction{0.5, 1, 1, 0.01});
+  scene.model = ContactModel::kHull;
+  HullIsland c = PrepareHullIsland(scene, InitialState(scene));
+  const IslandLayout layout = MakeIslandLayout(c.problem);
+  VectorXd z = MakeGuess(Guess::kResting, scene.gravity, c.problem, layout, c.local, c.scales);
+  const MncpLayout::Contact& L = layout.contacts[0];
+  const std::vector<int>& window = c.problem.contacts[0].window;
+  const geometry::ConvexShape& hull = *c.problem.contacts[0].hull;
+  // the faces through the tip share its multipliers equally
+  int at_tip = 0;
+  for (int i = 0; i < L.l_count; ++i) {
+    const bool through_tip = std::abs(hull.Value(window[i], Vector3d(0, 0, -a))) < 1e-12 * a;
+    z[L.l + i] = through_tip ? 0.25 : 0;
+    at_tip += through_tip;
+  }
+  ASSERT_EQ(at_tip, 4);
+  McpOptions options;
+  options.tolerance = scene.solver.tolerance;
+  options.jacobian_smoothing = kJacobianSmoothing;
+  options.stall_iterations = kStallIterations;
+  AdvanceResult result;
+  EXPECT_TRUE(SolveAtDegenerateVertex(c.problem, layout, z, options, c.scales, 0, c.local, result));
+  EXPECT_NEAR(c.local.contacts[0].p_n, 9.8 * 0.01, kImpulseTolerance);
+  // the ECP at the tip, to the window check's tolerance of its size
+  EXPECT_LE(c.local.contacts[0].a1.norm(), kWindowCheckRelTol * a);
 }
 
 TEST(SolveAlongCarryingEdgeTest, TwoCarryingFacesAreSolvedFromStartsAlongTheirEdge) {
