@@ -11,6 +11,7 @@ rounds=${2:-5}
 sha=$(git rev-parse --verify "$rev^{commit}")
 base=build/against/$sha
 if [ ! -d "$base" ]; then
+  git worktree prune  # a worktree whose folder a clean build removed is registered still
   git worktree add --detach "$base" "$sha" >/dev/null
 fi
 cmake -S "$base" -B "$base/build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DECPSIM_BUILD_TESTS=OFF \
