@@ -18,9 +18,6 @@ namespace {
 
 using Eigen::Vector3d;
 using Eigen::VectorXd;
-using testing::BoxScene;
-using testing::HullIsland;
-using testing::PrepareHullIsland;
 
 // N·s: a converged root's normal impulse against m g h = 0.196 N·s, the solver's tolerance
 // (1e-12 of the residual's units) with room for the rows' conditioning

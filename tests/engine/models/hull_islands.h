@@ -21,7 +21,8 @@
 #include "engine/state.h"
 #include "tests/engine/test_bodies.h"
 
-namespace ecpsim::engine::testing {
+// (in the hull model's namespace: the hull tests use them as their own)
+namespace ecpsim::engine::hull {
 
 /// A scene, its state, and its first island's problem of the next step with the hull model's
 /// scales and windows (MakeHullProblem, MakeIslandScales, SeparatePairs, SelectWindows).
@@ -44,14 +45,14 @@ inline HullIsland PrepareHullIsland(Scene scene, State state, int body = 0) {
   }
   for (int b : c.island.bodies) c.local.bodies.push_back(c.state.bodies[b]);
   for (int k : c.island.contacts) c.local.contacts.push_back(c.state.contacts[k]);
-  c.problem = hull::MakeHullProblem(c.scene, c.island, c.state.t, c.scene.h, c.local);
+  c.problem = MakeHullProblem(c.scene, c.island, c.state.t, c.scene.h, c.local);
   std::vector<FailedAttempt> tried;
-  if (!hull::MakeIslandScales(c.scene, c.island, c.problem, c.local, c.scales, tried)) {
+  if (!MakeIslandScales(c.scene, c.island, c.problem, c.local, c.scales, tried)) {
     ADD_FAILURE() << "the free flight is not finite";
   }
-  hull::SeparatePairs(c.problem, c.scales, c.local, c.overlaps);
-  hull::SetStickCreep(c.scales, c.problem);
-  hull::SelectWindows(c.scene.solver, c.local, c.problem);
+  SeparatePairs(c.problem, c.scales, c.local, c.overlaps);
+  SetStickCreep(c.scales, c.problem);
+  SelectWindows(c.scene.solver, c.local, c.problem);
   return c;
 }
 
@@ -60,7 +61,7 @@ inline HullIsland PrepareHullIsland(Scene scene, State state, int body = 0) {
 inline Scene BoxScene(double z, const Eigen::Vector3d& v = Eigen::Vector3d::Zero(),
                       const Eigen::Vector3d& w = Eigen::Vector3d::Zero(),
                       const Eigen::Quaterniond& q = Eigen::Quaterniond::Identity()) {
-  Body box = MakeBoxBody(Eigen::Vector3d(0.2, 0.1, 0.05), 2);
+  Body box = engine::MakeBoxBody(Eigen::Vector3d(0.2, 0.1, 0.05), 2);
   box.p0 = Eigen::Vector3d(0, 0, z);
   box.v0 = v;
   box.w0 = w;
@@ -73,8 +74,8 @@ inline Scene BoxScene(double z, const Eigen::Vector3d& v = Eigen::Vector3d::Zero
 /// Two such boxes, the second resting on the first, each in contact with the ground and with
 /// each other.
 inline Scene StackScene() {
-  Body lower = MakeBoxBody(Eigen::Vector3d(0.2, 0.1, 0.05), 2, "lower");
-  Body upper = MakeBoxBody(Eigen::Vector3d(0.2, 0.1, 0.05), 2, "upper");
+  Body lower = engine::MakeBoxBody(Eigen::Vector3d(0.2, 0.1, 0.05), 2, "lower");
+  Body upper = engine::MakeBoxBody(Eigen::Vector3d(0.2, 0.1, 0.05), 2, "upper");
   lower.p0 = Eigen::Vector3d(0, 0, 0.025);
   upper.p0 = Eigen::Vector3d(0, 0, 0.075);
   Scene scene = engine::testing::MakeGroundScene({lower, upper}, 0.01, Friction{0.5, 1, 1, 0.01});
@@ -83,4 +84,4 @@ inline Scene StackScene() {
   return scene;
 }
 
-}  // namespace ecpsim::engine::testing
+}  // namespace ecpsim::engine::hull

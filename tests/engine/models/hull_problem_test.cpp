@@ -19,10 +19,6 @@ namespace {
 
 using Eigen::Vector3d;
 using Eigen::VectorXd;
-using testing::BoxScene;
-using testing::HullIsland;
-using testing::PrepareHullIsland;
-using testing::StackScene;
 
 // m, m/s, J: round-off of the few operations between the closed forms and the code
 constexpr double kRoundOff = 1e-15;

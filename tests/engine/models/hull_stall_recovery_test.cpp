@@ -19,10 +19,6 @@ namespace {
 
 using Eigen::Vector3d;
 using Eigen::VectorXd;
-using testing::BoxScene;
-using testing::HullIsland;
-using testing::PrepareHullIsland;
-using testing::StackScene;
 
 // N·s: a committed root's normal impulse against m g h = 0.196 N·s, the solver's tolerance
 // (1e-12 of the residual's units)
