@@ -63,7 +63,8 @@ void AddRenderCommand(CLI::App& app) {
     // the state nearest to T
     engine::State state = engine::InitialState(scene);
     engine::StepReport report;
-    while (state.t + scene.h / 2 <= options->time) report = engine::Step(scene, state);
+    engine::StepWorkspace workspace;
+    while (state.t + scene.h / 2 <= options->time) report = engine::Step(scene, state, workspace);
 
     render::Renderer renderer(RenderSettingsFor(scene));
     render::FrameInput frame =

@@ -137,6 +137,7 @@ RunSummary RunSimulation(const engine::Scene& scene, const std::string& out_dir,
       totals.max_penetration = probe.MaxDepth(scene, state);
       if (setup.observer) setup.observer(state, engine::StepReport{});
     }
+    engine::StepWorkspace workspace;
     for (long k = totals.steps + 1; k <= summary.planned_steps; ++k) {
       // a signal stops the run between steps (app/interrupt.h)
       if (const int signal = InterruptSignal(); signal != 0) {
@@ -145,7 +146,7 @@ RunSummary RunSimulation(const engine::Scene& scene, const std::string& out_dir,
       }
       const Clock::time_point before = Clock::now();
       try {
-        report = engine::Step(scene, state);
+        report = engine::Step(scene, state, workspace);
       } catch (...) {
         stopped_in_step = true;
         throw;

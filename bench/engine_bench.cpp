@@ -6,6 +6,7 @@
 
 #include <benchmark/benchmark.h>
 
+#include "bench/step_loop.h"
 #include "engine/time_step.h"
 #include "geometry/convex_hull.h"
 #include "geometry/paper_bodies.h"
@@ -13,20 +14,6 @@
 
 namespace ecpsim::engine {
 namespace {
-
-// runs `scene` step by step, restarting from t = 0 after `steps` steps; reports µs per step
-// (Google Benchmark's time per iteration) and mean Newton iterations
-void RunSteps(benchmark::State& bench, const Scene& scene, int steps) {
-  State state = InitialState(scene);
-  long iterations = 0, count = 0;
-  for (auto _ : bench) {
-    if (count % steps == 0) state = InitialState(scene);
-    const StepReport report = Step(scene, state);
-    iterations += report.iterations;
-    ++count;
-  }
-  bench.counters["newton_iters"] = static_cast<double>(iterations) / count;
-}
 
 // the paper's desk: pushed by f_x = 22.5 sin(2πt) + 22.5, f_y = 22.5 cos(2πt) + 22.5,
 // τ_z = 2.1 cos(2πt), v0 = (0.3, 0.2, 0), ω_z = 0.5, 4 s at h = 0.01

@@ -15,10 +15,11 @@ namespace ecpsim::engine {
 /// (Lemke pivots for the point model).
 inline void RunSteps(benchmark::State& bench, const Scene& scene, int restart_steps) {
   State state = InitialState(scene);
+  StepWorkspace workspace;
   long iterations = 0, count = 0;
   for (auto _ : bench) {
     if (count % restart_steps == 0) state = InitialState(scene);
-    iterations += Step(scene, state).iterations;
+    iterations += Step(scene, state, workspace).iterations;
     ++count;
   }
   bench.counters["newton_iters"] = static_cast<double>(iterations) / count;

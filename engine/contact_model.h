@@ -54,14 +54,4 @@ class ContactModelStepper {
   virtual bool HasLastResort() const { return false; }
 };
 
-/// For a model that solves one body with its contacts at a time: `Stepper(scene, body,
-/// contact_ids).Advance(t, h, body_state, contact_states)` on the island's one body.
-template <typename Stepper>
-AdvanceResult AdvanceOneBody(const Scene& scene, const Island& island, double t, double h,
-                             IslandState& state) {
-  ECPSIM_DEMAND(island.bodies.size() == 1);
-  return Stepper(scene, island.bodies[0], island.contacts)
-      .Advance(t, h, state.bodies[0], state.contacts);
-}
-
 }  // namespace ecpsim::engine

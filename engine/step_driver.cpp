@@ -15,9 +15,8 @@ namespace {
 constexpr int kSubsteps[] = {1, 2, 4, 16};
 constexpr int kLadderLength = static_cast<int>(std::size(kSubsteps));
 
-// The step's working storage, kept on the thread from step to step: a step in a steady state then
-// allocates nothing of its own (vectors keep their capacity, and a contact copied over the last
-// step's copy reuses its warm start's buffers)
+// The driver's part of the StepWorkspace: vectors keep their capacity from step to step, and a
+// contact copied over the last step's copy reuses its warm start's buffers
 struct StepScratch {
   // FormIslandsInto's storage and its islands
   IslandScratch island_scratch;
@@ -29,7 +28,6 @@ struct StepScratch {
   std::vector<BodyState> next_bodies;
   std::vector<char> in_island;
 };
-thread_local StepScratch scratch;
 
 // the island's part of `state` copied into `local` (over its last contents, reusing them)
 void Gather(const Island& island, const State& state, IslandState& local) {
@@ -43,7 +41,9 @@ void Gather(const Island& island, const State& state, IslandState& local) {
 
 }  // namespace
 
-StepReport StepIslands(const Scene& scene, State& state, const ContactModelStepper& model) {
+StepReport StepIslands(const Scene& scene, State& state, const ContactModelStepper& model,
+                       StepWorkspace& workspace) {
+  StepScratch& scratch = workspace.Part<StepScratch>();
   StepReport report;
   report.converged = true;
   report.models.assign(scene.bodies.size(), StepModel::kKinematic);

@@ -7,14 +7,17 @@
 #include "engine/scene.h"
 #include "engine/state.h"
 #include "engine/step_report.h"
+#include "engine/step_workspace.h"
 
 namespace ecpsim::engine {
 
-/// One step of `scene` with `model`, island by island; a contact left out of every island (its
+/// One step of `scene` with `model`, island by island, in `workspace` (the one the model was
+/// built with); a contact left out of every island (its
 /// bodies apart) reports no impulse.
 /// @throws SolverFailure with the island's StepFailure (its message FormatStepFailure's);
 ///         ModelInvalid from the model; InputError from a kinematic body's motion
 ///         (an expression not finite at t). `state` is then unchanged.
-StepReport StepIslands(const Scene& scene, State& state, const ContactModelStepper& model);
+StepReport StepIslands(const Scene& scene, State& state, const ContactModelStepper& model,
+                       StepWorkspace& workspace);
 
 }  // namespace ecpsim::engine

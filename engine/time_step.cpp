@@ -6,11 +6,17 @@
 
 namespace ecpsim::engine {
 
-StepReport Step(const Scene& scene, State& state) {
+StepReport Step(const Scene& scene, State& state, StepWorkspace& workspace) {
   StepReport report;
-  UseContactModel(
-      scene, [&](const ContactModelStepper& model) { report = StepIslands(scene, state, model); });
+  UseContactModel(scene, workspace, [&](const ContactModelStepper& model) {
+    report = StepIslands(scene, state, model, workspace);
+  });
   return report;
+}
+
+StepReport Step(const Scene& scene, State& state) {
+  StepWorkspace workspace;
+  return Step(scene, state, workspace);
 }
 
 }  // namespace ecpsim::engine

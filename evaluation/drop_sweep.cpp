@@ -349,11 +349,12 @@ DropRow RunDropCase(const DropCase& c, const UnitMesh& unit, const std::string& 
     engine::State state = engine::InitialState(scene);
     const double energy0 = Energy(scene, state.bodies[0]);
     const long steps = std::lround(scene.duration / scene.h);
+    engine::StepWorkspace workspace;
     for (long k = 1; k <= steps; ++k) {
       const double start = ThreadCpuSeconds();
       engine::StepReport report;
       try {
-        report = engine::Step(scene, state);
+        report = engine::Step(scene, state, workspace);
       } catch (const engine::SolverFailure& failure) {
         row.outcome = DropOutcome::kSolverFailure;
         row.message = failure.what();

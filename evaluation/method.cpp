@@ -20,7 +20,7 @@ class EcpsimStepper final : public Stepper {
     scene_.solver.tolerance = method.tolerance;
     state_ = engine::InitialState(scene_);
   }
-  void Step() override { iterations_ = engine::Step(scene_, state_).iterations; }
+  void Step() override { iterations_ = engine::Step(scene_, state_, workspace_).iterations; }
   const engine::State& state() const override { return state_; }
   int iterations() const override { return iterations_; }
   Eigen::Vector3d ContactForce(int body, int other) const override {
@@ -42,6 +42,7 @@ class EcpsimStepper final : public Stepper {
  private:
   engine::Scene scene_;
   engine::State state_;
+  engine::StepWorkspace workspace_;
   int iterations_ = 0;
 };
 

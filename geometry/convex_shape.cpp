@@ -383,21 +383,18 @@ std::vector<int> PolyhedralShape::ConstraintsNearSupport(const Eigen::Vector3d& 
                                                          int rings) const {
   ECPSIM_DEMAND(rings >= 0);
   if (hull_.vertices.empty()) return {0};
-  // breadth-first over `rings` vertex rings around the support vertex (in the thread's lists,
-  // kept from call to call: the contact step asks this every step)
-  thread_local std::vector<int> ring, visited, next;
-  ring.assign(1, SupportVertex(direction));
-  visited = ring;
+  // breadth-first over `rings` vertex rings around the support vertex: each ring is the run of
+  // `visited` found from the ring before it
+  std::vector<int> visited{SupportVertex(direction)};
+  size_t ring_begin = 0;
   for (int r = 0; r < rings; ++r) {
-    next.clear();
-    for (int v : ring) {
-      for (int w : hull_.vertex_neighbors[v]) {
-        if (std::find(visited.begin(), visited.end(), w) != visited.end()) continue;
-        visited.push_back(w);
-        next.push_back(w);
+    const size_t ring_end = visited.size();
+    for (size_t i = ring_begin; i < ring_end; ++i) {
+      for (int w : hull_.vertex_neighbors[visited[i]]) {
+        if (std::find(visited.begin(), visited.end(), w) == visited.end()) visited.push_back(w);
       }
     }
-    ring.swap(next);
+    ring_begin = ring_end;
   }
   std::vector<int> faces;
   for (int v : visited) {

@@ -189,6 +189,7 @@ py::dict Run(const SceneHandle& scene, const py::object& duration_arg, long ever
   {
     py::gil_scoped_release release;
     engine::State state = engine::InitialState(*scene);
+    engine::StepWorkspace workspace;
     engine::StepReport report;
     report.converged = true;
     auto add_row = [&] {
@@ -206,7 +207,7 @@ py::dict Run(const SceneHandle& scene, const py::object& duration_arg, long ever
     };
     add_row();
     for (long k = 1; k <= steps; ++k) {
-      report = engine::Step(*scene, state);
+      report = engine::Step(*scene, state, workspace);
       if (k % every == 0 || k == steps) add_row();
     }
   }

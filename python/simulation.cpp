@@ -96,7 +96,7 @@ engine::StepReport Simulation::Step(std::int64_t n) {
     const size_t base = scene_.loads.size();
     scene_.loads.insert(scene_.loads.end(), pending_.begin(), pending_.end());
     try {
-      report_ = engine::Step(scene_, state_);
+      report_ = engine::Step(scene_, state_, workspace_);
     } catch (...) {
       scene_.loads.resize(base);
       throw;
@@ -106,7 +106,7 @@ engine::StepReport Simulation::Step(std::int64_t n) {
     --n;
   }
   for (std::int64_t k = 0; k < n; ++k) {
-    report_ = engine::Step(scene_, state_);
+    report_ = engine::Step(scene_, state_, workspace_);
   }
   return report_;
 }

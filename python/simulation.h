@@ -15,6 +15,7 @@
 #include "engine/scene.h"
 #include "engine/state.h"
 #include "engine/step_report.h"
+#include "engine/step_workspace.h"
 
 namespace ecpsim::python {
 
@@ -81,6 +82,7 @@ class Simulation {
   engine::State state_;
   std::vector<engine::Load> pending_;  // the next step's wrenches
   engine::StepReport report_;
+  engine::StepWorkspace workspace_;  // the steps' memory, kept from step to step
 };
 
 }  // namespace ecpsim::python

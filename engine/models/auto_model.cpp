@@ -22,8 +22,8 @@ AdvanceResult AutoModel::Advance(const Island& island, double t, double h, Islan
   const double tolerance = scene_.solver.tolerance;
   // the point before the step, for the hull model's trend across planar steps
   const SolutionTrend::Point before = hull::HullTrendPoint(state.bodies[0], state.contacts[0]);
-  const PlanarStep step =
-      SolvePlanarStep(scene_, island, t, h, {tolerance, tolerance, M_PI, tolerance}, state);
+  const PlanarStep step = SolvePlanarStep(
+      scene_, island, t, h, {tolerance, tolerance, M_PI, tolerance}, state, workspace_);
   if (step.invalid.empty() && step.result.solved) {
     // the hull model's unknowns at this solution, for when it takes over
     hull::CommitFlatWarmStart(before, h, state.bodies[0], step.face, state.contacts[0]);

@@ -6,12 +6,14 @@
 #include "engine/contact_model.h"
 #include "engine/models/hull_model.h"
 #include "engine/scene.h"
+#include "engine/step_workspace.h"
 
 namespace ecpsim::engine {
 
 class AutoModel final : public ContactModelStepper {
  public:
-  explicit AutoModel(const Scene& scene) : scene_(scene), hull_(scene) {}
+  AutoModel(const Scene& scene, StepWorkspace& workspace)
+      : scene_(scene), workspace_(workspace), hull_(scene, workspace) {}
   /// The planar step when the island is one body lying flat on one plane obstacle and moving in
   /// it (AcceptsPlanarStep), and its solution keeps the ECP on the support face; otherwise the
   /// hull model's step with `effort` (which takes free flight in closed form by itself).
@@ -21,6 +23,7 @@ class AutoModel final : public ContactModelStepper {
 
  private:
   const Scene& scene_;
+  StepWorkspace& workspace_;
   HullModel hull_;
 };
 

@@ -26,7 +26,7 @@ std::string Attempt::Describe() const {
 
 Attempt SolveAttempt(const IslandProblem& problem, const IslandLayout& layout, VectorXd& z,
                      McpOptions& options, const IslandScales& scales, double ejection_energy,
-                     AdvanceResult& result) {
+                     StepWorkspace& workspace, AdvanceResult& result) {
   // what the callbacks need, captured by one reference: std::function keeps a lambda that
   // small in place instead of allocating it on every solve
   struct Context {
@@ -36,12 +36,13 @@ Attempt SolveAttempt(const IslandProblem& problem, const IslandLayout& layout, V
     const VectorXd& var_scale;
     const IslandResidualUnits& units;
   };
-  // (the scales' storage the thread's, kept from solve to solve: no solve runs inside another)
+  // (the scales' storage kept in the workspace from solve to solve: no solve runs inside another)
   struct Scaling {
     VectorXd row_scale, var_scale;
     IslandResidualUnits units;
   };
-  thread_local Scaling scaling;
+  Scaling& scaling = workspace.Part<Scaling>();
+  McpWorkspace& solver_workspace = workspace.Part<McpWorkspace>();
   IslandRowScales(problem, layout, scales, scaling.row_scale);
   IslandVariableScales(problem, layout, scales, scaling.var_scale);
   MakeIslandResidualUnits(problem, scales, options.tolerance, scaling.units);
@@ -54,13 +55,13 @@ Attempt SolveAttempt(const IslandProblem& problem, const IslandLayout& layout, V
     const SparseMcpFunction f = [&c](const VectorXd& zz, VectorXd* F, SparseMatrix* J) {
       EvaluateIslandMncpSparse(c.problem, c.layout, zz, F, J);
     };
-    solve = SolveMcp(f, layout.num_free, c.row_scale, c.var_scale, z, options);
+    solve = SolveMcp(f, layout.num_free, c.row_scale, c.var_scale, z, options, solver_workspace);
   } else {
     // SolveMcp hands J over zero (complementarity_solver.h)
     const McpFunction f = [&c](const VectorXd& zz, VectorXd* F, Eigen::MatrixXd* J) {
       EvaluateIslandMncp(c.problem, c.layout, zz, F, J, /*jacobian_is_zero=*/true);
     };
-    solve = SolveMcp(f, layout.num_free, c.row_scale, c.var_scale, z, options);
+    solve = SolveMcp(f, layout.num_free, c.row_scale, c.var_scale, z, options, solver_workspace);
   }
   options.measure = nullptr;
   result.iterations += solve.iterations;

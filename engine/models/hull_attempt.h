@@ -14,6 +14,7 @@
 #include "engine/solution_trend.h"
 #include "engine/solver/complementarity_solver.h"
 #include "engine/state.h"
+#include "engine/step_workspace.h"
 
 namespace ecpsim::engine::hull {
 
@@ -35,10 +36,11 @@ struct Attempt {
 /// an island of several bodies from kMinSparseUnknowns unknowns, sparse. A converged root is
 /// checked: aliased where a body turns more than kMaxStepRotation in the step, gaining energy
 /// where it gains more than kMaxEnergyGainRel of the island's energy scale plus
-/// `ejection_energy` (J). Adds the solver's iterations to `result.iterations`.
+/// `ejection_energy` (J), working in `workspace`. Adds the solver's iterations to
+/// `result.iterations`.
 Attempt SolveAttempt(const IslandProblem& problem, const IslandLayout& layout, Eigen::VectorXd& z,
                      McpOptions& options, const IslandScales& scales, double ejection_energy,
-                     AdvanceResult& result);
+                     StepWorkspace& workspace, AdvanceResult& result);
 
 /// Grows the windows (F's, and a moving polyhedral G's) of every contact whose windowed solution
 /// `z` violates a constraint left out, by kWindowCheckRelTol of its body's length

@@ -50,14 +50,15 @@ constexpr int kPassCount = static_cast<int>(std::size(kPasses));
 class LadderRun {
  public:
   LadderRun(const Scene& scene, IslandProblem& problem, IslandLayout layout,
-            const IslandScales& scales, double ejection_energy, bool moving, IslandState& state,
-            AdvanceResult& result)
+            const IslandScales& scales, double ejection_energy, bool moving,
+            StepWorkspace& workspace, IslandState& state, AdvanceResult& result)
       : scene_(scene),
         problem_(problem),
         layout_(std::move(layout)),
         scales_(scales),
         ejection_energy_(ejection_energy),
         moving_(moving),
+        workspace_(workspace),
         state_(state),
         result_(result) {
     options_.tolerance = scene.solver.tolerance;
@@ -84,7 +85,7 @@ class LadderRun {
     }
     return far_stall &&
            ReSolveStall(far_stall->first, MakeIslandLayout(far_stall->first), far_stall->second,
-                        options_, scales_, ejection_energy_, state_, result_);
+                        options_, scales_, ejection_energy_, workspace_, state_, result_);
   }
 
  private:
@@ -103,13 +104,13 @@ class LadderRun {
       // too, and a polished start its step: each is verified on the residual alone
       options_.verify_start_first =
           (guess == Guess::kWarm && !moving_) || balance == StartBalance::kPolished;
-      const Attempt attempt =
-          SolveAttempt(problem_, layout_, z, options_, scales_, ejection_energy_, result_);
+      const Attempt attempt = SolveAttempt(problem_, layout_, z, options_, scales_,
+                                           ejection_energy_, workspace_, result_);
       result_.residual = attempt.residual;
       if (attempt.outcome == Outcome::kUnconverged) {
         if (IsNearSolutionStall(layout_, attempt, scene_.solver.tolerance)) {
-          if (ReSolveStall(problem_, layout_, z, options_, scales_, ejection_energy_, state_,
-                           result_)) {
+          if (ReSolveStall(problem_, layout_, z, options_, scales_, ejection_energy_, workspace_,
+                           state_, result_)) {
             return true;
           }
         } else if (layout_.num_bodies == 1 && p == 0 && guess == Guess::kWarm) {
@@ -148,6 +149,7 @@ class LadderRun {
   const IslandScales& scales_;
   const double ejection_energy_;
   const bool moving_;
+  StepWorkspace& workspace_;
   IslandState& state_;
   AdvanceResult& result_;
   McpOptions options_;
@@ -156,16 +158,15 @@ class LadderRun {
 // One step of length h from `state`; not solved if every guess failed. As the last resort, the
 // ladder's guesses with minimum-norm steps on the plain Newton iteration instead of its passes.
 AdvanceResult AdvanceIsland(const Scene& scene, const Island& island, double t, double h,
-                            IslandState& state, Effort effort) {
+                            IslandState& state, Effort effort, StepWorkspace& workspace) {
   AdvanceResult result;
   IslandProblem problem = MakeHullProblem(scene, island, t, h, state);
-  // (the scales and overlaps in the thread's storage, kept from step to step: no step of the
-  // hull model runs inside another)
+  // (the scales and overlaps kept in the workspace from step to step)
   struct Scratch {
     IslandScales scales;
     std::vector<double> overlaps;
   };
-  thread_local Scratch scratch;
+  Scratch& scratch = workspace.Part<Scratch>();
   IslandScales& scales = scratch.scales;
   if (!MakeIslandScales(scene, island, problem, state, scales, result.tried)) {
     result.residual = INFINITY;
@@ -196,7 +197,8 @@ AdvanceResult AdvanceIsland(const Scene& scene, const Island& island, double t, 
   // in contact (or about to be): the warm start, then the guesses that fit the bodies' motion
   const bool moving = AnyBodyMoving(state, scales);
   const GuessLadder ladder = HullLadder(problem, state, scales, moving);
-  LadderRun run(scene, problem, std::move(layout), scales, ejection_energy, moving, state, result);
+  LadderRun run(scene, problem, std::move(layout), scales, ejection_energy, moving, workspace,
+                state, result);
   const bool last_resort = effort == Effort::kLastResort;
   const int first_pass = last_resort ? kLastResortPass : 0;
   const int end_pass = last_resort ? kPassCount : kLastResortPass;
@@ -214,7 +216,7 @@ AdvanceResult AdvanceIsland(const Scene& scene, const Island& island, double t, 
 
 AdvanceResult HullModel::Advance(const Island& island, double t, double h, IslandState& state,
                                  Effort effort) const {
-  return hull::AdvanceIsland(scene_, island, t, h, state, effort);
+  return hull::AdvanceIsland(scene_, island, t, h, state, effort, workspace_);
 }
 
 }  // namespace ecpsim::engine

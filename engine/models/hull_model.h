@@ -7,6 +7,7 @@
 
 #include "engine/contact_model.h"
 #include "engine/scene.h"
+#include "engine/step_workspace.h"
 
 namespace ecpsim::engine {
 
@@ -18,7 +19,7 @@ inline constexpr double kStickCreepFraction = 1e-5;
 
 class HullModel final : public ContactModelStepper {
  public:
-  explicit HullModel(const Scene& scene) : scene_(scene) {}
+  HullModel(const Scene& scene, StepWorkspace& workspace) : scene_(scene), workspace_(workspace) {}
   /// Free flight in closed form when no hull can reach its obstacle within the step; else the
   /// warm start and the restart ladder (plain, then with projected iterates, then with
   /// minimum-norm Newton steps), each with the hull window grown until the solution holds for
@@ -32,6 +33,7 @@ class HullModel final : public ContactModelStepper {
 
  private:
   const Scene& scene_;
+  StepWorkspace& workspace_;
 };
 
 }  // namespace ecpsim::engine

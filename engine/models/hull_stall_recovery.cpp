@@ -17,7 +17,8 @@ using Other = IslandContact::Other;
 // SolveAlongCarryingEdge on contact `stalled` alone
 bool SolveAlongEdgeOf(int stalled, const IslandProblem& problem, const IslandLayout& layout,
                       const VectorXd& z, McpOptions& options, const IslandScales& scales,
-                      double ejection_energy, IslandState& state, AdvanceResult& result) {
+                      double ejection_energy, StepWorkspace& workspace, IslandState& state,
+                      AdvanceResult& result) {
   const IslandContact& cp = problem.contacts[stalled];
   const MncpLayout::Contact& L = layout.contacts[stalled];
   const std::vector<int> carrying = Carrying(z, L.l, L.l_count);  // window positions
@@ -44,8 +45,8 @@ bool SolveAlongEdgeOf(int stalled, const IslandProblem& problem, const IslandLay
     single.contacts[stalled].window = {cp.window[face]};
     const IslandLayout single_layout = MakeIslandLayout(single);
     VectorXd sz = RemapWindows(problem, layout, z, single, single_layout);
-    if (SolveAttempt(single, single_layout, sz, options, scales, ejection_energy, result).outcome ==
-        Outcome::kSolved) {
+    if (SolveAttempt(single, single_layout, sz, options, scales, ejection_energy, workspace, result)
+            .outcome == Outcome::kSolved) {
       bases.push_back(RemapWindows(single, single_layout, sz, problem, layout));
     }
   }
@@ -56,7 +57,7 @@ bool SolveAlongEdgeOf(int stalled, const IslandProblem& problem, const IslandLay
       start.segment<3>(L.a1) += shift * e_world;
       if (!L.on_plane()) start.segment<3>(L.a2) += shift * e_world;
       const Attempt attempt =
-          SolveAttempt(problem, layout, start, options, scales, ejection_energy, result);
+          SolveAttempt(problem, layout, start, options, scales, ejection_energy, workspace, result);
       if (AcceptReduced(problem, layout, start, attempt, scales, state, result)) return true;
     }
   }
@@ -72,13 +73,13 @@ bool IsNearSolutionStall(const IslandLayout& layout, const Attempt& attempt, dou
 
 bool ReSolveStall(const IslandProblem& problem, const IslandLayout& layout, const VectorXd& z,
                   McpOptions& options, const IslandScales& scales, double ejection_energy,
-                  IslandState& state, AdvanceResult& result) {
-  return SolveOnCarryingFaces(problem, layout, z, options, scales, ejection_energy, state,
-                              result) ||
-         SolveAtDegenerateVertex(problem, layout, z, options, scales, ejection_energy, state,
-                                 result) ||
-         SolveAlongCarryingEdge(problem, layout, z, options, scales, ejection_energy, state,
-                                result);
+                  StepWorkspace& workspace, IslandState& state, AdvanceResult& result) {
+  return SolveOnCarryingFaces(problem, layout, z, options, scales, ejection_energy, workspace,
+                              state, result) ||
+         SolveAtDegenerateVertex(problem, layout, z, options, scales, ejection_energy, workspace,
+                                 state, result) ||
+         SolveAlongCarryingEdge(problem, layout, z, options, scales, ejection_energy, workspace,
+                                state, result);
 }
 
 std::vector<int> Carrying(const VectorXd& z, int first, int count) {
@@ -110,7 +111,8 @@ int StalledContact(const IslandProblem& problem, const IslandLayout& layout, con
 
 bool SolveOnCarryingFaces(const IslandProblem& problem, const IslandLayout& layout,
                           const VectorXd& z, McpOptions& options, const IslandScales& scales,
-                          double ejection_energy, IslandState& state, AdvanceResult& result) {
+                          double ejection_energy, StepWorkspace& workspace, IslandState& state,
+                          AdvanceResult& result) {
   if (!z.allFinite()) return false;
   IslandProblem reduced = problem;
   bool cut = false;
@@ -133,15 +135,15 @@ bool SolveOnCarryingFaces(const IslandProblem& problem, const IslandLayout& layo
   if (!cut) return false;
   const IslandLayout reduced_layout = MakeIslandLayout(reduced);
   VectorXd rz = RemapWindows(problem, layout, z, reduced, reduced_layout);
-  const Attempt attempt =
-      SolveAttempt(reduced, reduced_layout, rz, options, scales, ejection_energy, result);
+  const Attempt attempt = SolveAttempt(reduced, reduced_layout, rz, options, scales,
+                                       ejection_energy, workspace, result);
   return AcceptReduced(reduced, reduced_layout, rz, attempt, scales, state, result);
 }
 
 bool SolveAtDegenerateVertex(const IslandProblem& problem, const IslandLayout& layout,
                              const VectorXd& z, McpOptions& options, const IslandScales& scales,
-                             double ejection_energy, IslandState& state, AdvanceResult& result,
-                             int depth) {
+                             double ejection_energy, StepWorkspace& workspace, IslandState& state,
+                             AdvanceResult& result, int depth) {
   if (depth == 0 || !z.allFinite()) return false;
   const int stalled = layout.num_bodies > 1 ? StalledContact(problem, layout, z, scales) : -1;
   for (size_t k = 0; k < problem.contacts.size(); ++k) {
@@ -159,12 +161,12 @@ bool SolveAtDegenerateVertex(const IslandProblem& problem, const IslandLayout& l
       window.erase(window.begin() + active[drop]);
       const IslandLayout reduced_layout = MakeIslandLayout(reduced);
       VectorXd rz = RemapWindows(problem, layout, z, reduced, reduced_layout);
-      const Attempt attempt =
-          SolveAttempt(reduced, reduced_layout, rz, options, scales, ejection_energy, result);
+      const Attempt attempt = SolveAttempt(reduced, reduced_layout, rz, options, scales,
+                                           ejection_energy, workspace, result);
       const bool can_reach_three = active.size() <= static_cast<size_t>(3 + depth);
       if (attempt.outcome == Outcome::kUnconverged && can_reach_three &&
           SolveAtDegenerateVertex(reduced, reduced_layout, rz, options, scales, ejection_energy,
-                                  state, result, depth - 1)) {
+                                  workspace, state, result, depth - 1)) {
         return true;
       }
       if (AcceptReduced(reduced, reduced_layout, rz, attempt, scales, state, result)) {
@@ -177,13 +179,14 @@ bool SolveAtDegenerateVertex(const IslandProblem& problem, const IslandLayout& l
 
 bool SolveAlongCarryingEdge(const IslandProblem& problem, const IslandLayout& layout,
                             const VectorXd& z, McpOptions& options, const IslandScales& scales,
-                            double ejection_energy, IslandState& state, AdvanceResult& result) {
+                            double ejection_energy, StepWorkspace& workspace, IslandState& state,
+                            AdvanceResult& result) {
   if (!z.allFinite()) return false;
   const int stalled = layout.num_bodies > 1 ? StalledContact(problem, layout, z, scales) : -1;
   for (size_t k = 0; k < problem.contacts.size(); ++k) {
     if (stalled >= 0 && static_cast<int>(k) != stalled) continue;
     if (SolveAlongEdgeOf(static_cast<int>(k), problem, layout, z, options, scales, ejection_energy,
-                         state, result)) {
+                         workspace, state, result)) {
       return true;
     }
   }

@@ -32,7 +32,8 @@ bool IsNearSolutionStall(const IslandLayout& layout, const Attempt& attempt, dou
 /// true once one is committed.
 bool ReSolveStall(const IslandProblem& problem, const IslandLayout& layout,
                   const Eigen::VectorXd& z, McpOptions& options, const IslandScales& scales,
-                  double ejection_energy, IslandState& state, AdvanceResult& result);
+                  double ejection_energy, StepWorkspace& workspace, IslandState& state,
+                  AdvanceResult& result);
 
 /// The positions among z's `count` multipliers from `first` on that carry the contact: above
 /// kCarryingFraction of the largest.
@@ -48,7 +49,8 @@ int StalledContact(const IslandProblem& problem, const IslandLayout& layout,
 /// no longer degenerate. False where no window would be cut.
 bool SolveOnCarryingFaces(const IslandProblem& problem, const IslandLayout& layout,
                           const Eigen::VectorXd& z, McpOptions& options, const IslandScales& scales,
-                          double ejection_energy, IslandState& state, AdvanceResult& result);
+                          double ejection_energy, StepWorkspace& workspace, IslandState& state,
+                          AdvanceResult& result);
 
 /// Where four or more hull faces meet at the ECP their multipliers are not unique and their
 /// merged planes meet only up to the merge tolerance: the support is one of the tiny vertices
@@ -60,8 +62,9 @@ bool SolveOnCarryingFaces(const IslandProblem& problem, const IslandLayout& layo
 /// `depth`.
 bool SolveAtDegenerateVertex(const IslandProblem& problem, const IslandLayout& layout,
                              const Eigen::VectorXd& z, McpOptions& options,
-                             const IslandScales& scales, double ejection_energy, IslandState& state,
-                             AdvanceResult& result, int depth = kMaxDegenerateDrops);
+                             const IslandScales& scales, double ejection_energy,
+                             StepWorkspace& workspace, IslandState& state, AdvanceResult& result,
+                             int depth = kMaxDegenerateDrops);
 
 /// A body that slides and spins on an edge, its ECP near the centre of rotation, has a moment
 /// balance that is not monotone in the ECP's place along the edge, and Newton can end on the fold
@@ -71,7 +74,7 @@ bool SolveAtDegenerateVertex(const IslandProblem& problem, const IslandLayout& l
 /// tried; in an island of several bodies the StalledContact.
 bool SolveAlongCarryingEdge(const IslandProblem& problem, const IslandLayout& layout,
                             const Eigen::VectorXd& z, McpOptions& options,
-                            const IslandScales& scales, double ejection_energy, IslandState& state,
-                            AdvanceResult& result);
+                            const IslandScales& scales, double ejection_energy,
+                            StepWorkspace& workspace, IslandState& state, AdvanceResult& result);
 
 }  // namespace ecpsim::engine::hull

@@ -11,7 +11,7 @@
 
 namespace ecpsim::engine {
 
-void UseContactModel(const Scene& scene,
+void UseContactModel(const Scene& scene, StepWorkspace& workspace,
                      const std::function<void(const ContactModelStepper&)>& use) {
   // the hull and point models have contacts between two moving hulls (the planar and
   // multi-patch models combine ECPs on one fixed plane)
@@ -35,17 +35,17 @@ void UseContactModel(const Scene& scene,
   }
   switch (scene.model) {
     case ContactModel::kPlanar:
-      return use(PlanarModel(scene));
+      return use(PlanarModel(scene, workspace));
     case ContactModel::kMultiPatch:
-      return use(MultiPatchModel(scene));
+      return use(MultiPatchModel(scene, workspace));
     case ContactModel::kPoint:
-      return use(PointModel(scene));
+      return use(PointModel(scene, workspace));
     case ContactModel::kAuto:
-      return use(AutoModel(scene));
+      return use(AutoModel(scene, workspace));
     case ContactModel::kHull:
       break;
   }
-  use(HullModel(scene));
+  use(HullModel(scene, workspace));
 }
 
 }  // namespace ecpsim::engine

@@ -6,13 +6,14 @@
 
 #include "engine/contact_model.h"
 #include "engine/scene.h"
+#include "engine/step_workspace.h"
 
 namespace ecpsim::engine {
 
-/// Calls `use` with the stepper of `scene.model` for `scene`, built in place for the call (a
-/// time step's stepper costs no heap allocation).
+/// Calls `use` with the stepper of `scene.model` for `scene` working in `workspace`, built in
+/// place for the call (a time step's stepper costs no heap allocation).
 /// @throws ModelInvalid where the model does not apply to the scene.
-void UseContactModel(const Scene& scene,
+void UseContactModel(const Scene& scene, StepWorkspace& workspace,
                      const std::function<void(const ContactModelStepper&)>& use);
 
 }  // namespace ecpsim::engine

@@ -112,8 +112,12 @@ std::vector<int> PartsFirstOrder(const MncpLayout& layout) {
 
 class MultiPatchStepper {
  public:
-  MultiPatchStepper(const Scene& scene, int body_index, std::vector<int> contact_ids)
-      : scene_(scene), body_index_(body_index), contact_ids_(std::move(contact_ids)) {
+  MultiPatchStepper(const Scene& scene, int body_index, std::vector<int> contact_ids,
+                    McpWorkspace& solver_workspace)
+      : scene_(scene),
+        body_index_(body_index),
+        contact_ids_(std::move(contact_ids)),
+        solver_workspace_(solver_workspace) {
     const Body& body = scene.bodies[body_index];
     if (body.parts.empty()) {
       parts_.push_back(body.hull.get());
@@ -206,7 +210,8 @@ class MultiPatchStepper {
                 : StartBalance::kUnbalanced;
         options.start_tolerance = BalancedStartTolerance(balance, options.tolerance);
         options.verify_start_first = balance == StartBalance::kPolished;
-        const McpResult solve = SolveMcp(f, layout.num_free, row_scale, var_scale, z, options);
+        const McpResult solve =
+            SolveMcp(f, layout.num_free, row_scale, var_scale, z, options, solver_workspace_);
         result.iterations += solve.iterations;
         result.residual = solve.residual;
         if (solve.converged && z.allFinite()) {
@@ -388,6 +393,7 @@ class MultiPatchStepper {
   int body_index_;
   std::vector<int> contact_ids_;
   std::vector<const geometry::ConvexShape*> parts_;
+  McpWorkspace& solver_workspace_;
 };
 
 }  // namespace
@@ -568,7 +574,10 @@ void AddProximalTerms(const MultiPatchProblem& problem, const MncpLayout& layout
 // (no last resort: every effort is the usual one)
 AdvanceResult MultiPatchModel::Advance(const Island& island, double t, double h, IslandState& state,
                                        Effort) const {
-  return AdvanceOneBody<MultiPatchStepper>(scene_, island, t, h, state);
+  ECPSIM_DEMAND(island.bodies.size() == 1);
+  return MultiPatchStepper(scene_, island.bodies[0], island.contacts,
+                           workspace_.Part<McpWorkspace>())
+      .Advance(t, h, state.bodies[0], state.contacts);
 }
 
 }  // namespace ecpsim::engine

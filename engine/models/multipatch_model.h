@@ -13,6 +13,7 @@
 #include "engine/scene.h"
 #include "engine/state.h"
 #include "engine/step_report.h"
+#include "engine/step_workspace.h"
 
 namespace ecpsim::engine {
 
@@ -87,7 +88,8 @@ void AddProximalTerms(const MultiPatchProblem& problem, const MncpLayout& layout
 /// p_n-weighted mean of the σ_i; its warm start (MultiPatchWarmStart) holds the parts' unknowns.
 class MultiPatchModel final : public ContactModelStepper {
  public:
-  explicit MultiPatchModel(const Scene& scene) : scene_(scene) {}
+  MultiPatchModel(const Scene& scene, StepWorkspace& workspace)
+      : scene_(scene), workspace_(workspace) {}
   /// Free flight in closed form, else the warm start and the restart ladder (plain, then with
   /// projected iterates).
   /// @throws ModelInvalid if a contact's obstacle is not a half-space.
@@ -96,6 +98,7 @@ class MultiPatchModel final : public ContactModelStepper {
 
  private:
   const Scene& scene_;
+  StepWorkspace& workspace_;
 };
 
 }  // namespace ecpsim::engine

@@ -66,7 +66,8 @@ class PlaneFrame {
 }  // namespace
 
 PlanarStep SolvePlanarStep(const Scene& scene, const Island& island, double t, double h,
-                           const PlanarChecks& checks, IslandState& state) {
+                           const PlanarChecks& checks, IslandState& state,
+                           StepWorkspace& workspace) {
   ECPSIM_DEMAND(island.bodies.size() == 1);
   PlanarStep step;
   if (island.contacts.size() != 1) {
@@ -204,10 +205,17 @@ PlanarStep SolvePlanarStep(const Scene& scene, const Island& island, double t, d
     residual(z, F, J);
   };
 
-  // warm start from the last step, else the sliding guess (the vectors the thread's, kept from
+  // warm start from the last step, else the sliding guess (the vectors kept in the workspace from
   // step to step: the step then allocates nothing for them)
   const ContactState& previous = state.contacts[0];
-  thread_local VectorXd z(4), var_scale(4), row_scale(4);
+  struct Unknowns {
+    VectorXd z = VectorXd(4), var_scale = VectorXd(4), row_scale = VectorXd(4);
+  };
+  Unknowns& unknowns = workspace.Part<Unknowns>();
+  VectorXd& z = unknowns.z;
+  VectorXd& var_scale = unknowns.var_scale;
+  VectorXd& row_scale = unknowns.row_scale;
+  McpWorkspace& solver_workspace = workspace.Part<McpWorkspace>();
   z << previous.p_t, previous.p_o, previous.p_r, previous.sigma;
   Eigen::Matrix<double, 6, 1> p_ext = p_app;
   p_ext.head<3>() += h * m * scene.gravity;
@@ -219,7 +227,7 @@ PlanarStep SolvePlanarStep(const Scene& scene, const Island& island, double t, d
   options.max_iterations = scene.solver.max_iterations;
   AdvanceResult& result = step.result;
   result.model = StepModel::kPlanar;
-  McpResult solve = SolveMcp(f, 3, row_scale, var_scale, z, options);
+  McpResult solve = SolveMcp(f, 3, row_scale, var_scale, z, options, solver_workspace);
   if (!solve.converged) {
     result.tried.push_back(
         {"warm start", h,
@@ -227,7 +235,7 @@ PlanarStep SolvePlanarStep(const Scene& scene, const Island& island, double t, d
     ++result.retries;
     result.iterations += solve.iterations;
     z << 0, 0, 0, speed;
-    solve = SolveMcp(f, 3, row_scale, var_scale, z, options);
+    solve = SolveMcp(f, 3, row_scale, var_scale, z, options, solver_workspace);
   }
   result.iterations += solve.iterations;
   result.residual = solve.residual;
@@ -280,8 +288,9 @@ PlanarStep SolvePlanarStep(const Scene& scene, const Island& island, double t, d
 // (no last resort: every effort is the usual one)
 AdvanceResult PlanarModel::Advance(const Island& island, double t, double h, IslandState& state,
                                    Effort) const {
-  const PlanarStep step = SolvePlanarStep(
-      scene_, island, t, h, {kFlatTolerance, kSupportRelTolerance, INFINITY, {}}, state);
+  const PlanarStep step =
+      SolvePlanarStep(scene_, island, t, h, {kFlatTolerance, kSupportRelTolerance, INFINITY, {}},
+                      state, workspace_);
   if (!step.invalid.empty()) {
     throw ModelInvalid(
         fmt::format("planar model invalid at t = {:.6g} s on body '{}': {}; use "

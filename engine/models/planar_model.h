@@ -9,6 +9,7 @@
 #include "engine/contact_model.h"
 #include "engine/scene.h"
 #include "engine/step_report.h"
+#include "engine/step_workspace.h"
 
 namespace ecpsim::engine {
 
@@ -42,13 +43,15 @@ struct PlanarStep {
 /// (zero tipping moment); friction in Fritz-John form with the cone written as μ p_n − ‖p̂‖.
 /// Solved from the contact's last impulses, then the sliding guess.
 PlanarStep SolvePlanarStep(const Scene& scene, const Island& island, double t, double h,
-                           const PlanarChecks& checks, IslandState& state);
+                           const PlanarChecks& checks, IslandState& state,
+                           StepWorkspace& workspace);
 
 /// The planar model as a scene's model (`model: planar`): SolvePlanarStep with checks far below
 /// any tilt the hull model would resolve and far above round-off.
 class PlanarModel final : public ContactModelStepper {
  public:
-  explicit PlanarModel(const Scene& scene) : scene_(scene) {}
+  PlanarModel(const Scene& scene, StepWorkspace& workspace)
+      : scene_(scene), workspace_(workspace) {}
   /// @throws ModelInvalid when the model's assumptions fail: the body is not flat on a plane,
   ///         would lift off (p_n ≤ 0), or its ECP left the support face (it would tip).
   AdvanceResult Advance(const Island& island, double t, double h, IslandState& state,
@@ -56,6 +59,7 @@ class PlanarModel final : public ContactModelStepper {
 
  private:
   const Scene& scene_;
+  StepWorkspace& workspace_;
 };
 
 }  // namespace ecpsim::engine

@@ -78,7 +78,7 @@ Vector6d WrenchColumn(const Vector3d& u, const Vector3d& r) {
 // Newton stalls; regularized the solution is unique and moves by about the compliance, far below
 // the bar. Solved when the residual of the *original* LCP meets the same bar as Lemke's.
 // `pivots` counts Newton iterations.
-LcpResult SolveLcpNewton(const MatrixXd& M, const VectorXd& q, int m) {
+LcpResult SolveLcpNewton(const MatrixXd& M, const VectorXd& q, int m, McpWorkspace& workspace) {
   MatrixXd regularized = M;
   regularized.diagonal().head(m).array() += kLcpNewtonRegularization;
   const McpFunction f = [&](const VectorXd& z, VectorXd* F, MatrixXd* J) {
@@ -92,7 +92,7 @@ LcpResult SolveLcpNewton(const MatrixXd& M, const VectorXd& q, int m) {
   options.project_nonnegative = true;
   LcpResult result;
   result.z = VectorXd::Zero(q.size());
-  const McpResult mcp = SolveMcp(f, 0, ones, ones, result.z, options);
+  const McpResult mcp = SolveMcp(f, 0, ones, ones, result.z, options, workspace);
   result.w = M * result.z + q;
   result.pivots = mcp.iterations;
   result.residual = 0;
@@ -180,8 +180,8 @@ FaceGap GapToBody(const Side& side, const Vector3d& x, const Vector3d& toward) {
 class PointIslandStepper {
  public:
   PointIslandStepper(const Scene& scene, const std::vector<std::vector<Vector3d>>& vertices,
-                     const Island& island)
-      : scene_(scene), vertices_(vertices), island_(island) {}
+                     const Island& island, McpWorkspace& solver_workspace)
+      : scene_(scene), vertices_(vertices), island_(island), solver_workspace_(solver_workspace) {}
 
   AdvanceResult Advance(double t, double h, IslandState& state) const {
     AdvanceResult result;
@@ -325,7 +325,8 @@ class PointIslandStepper {
           // Lemke's pivoting can end on a ray of a degenerate LCP (coplanar resting points, in
           // some orders) although a solution exists; the LCP as a complementarity problem for
           // the semismooth Newton solver finds it
-          const LcpResult newton = SolveLcpNewton(M, row_scale.cwiseProduct(q), m);
+          const LcpResult newton =
+              SolveLcpNewton(M, row_scale.cwiseProduct(q), m, solver_workspace_);
           result.iterations += newton.pivots;
           if (newton.status == LcpStatus::kSolved) lcp = newton;
         }
@@ -483,18 +484,21 @@ class PointIslandStepper {
   const Scene& scene_;
   const std::vector<std::vector<Vector3d>>& vertices_;
   const Island& island_;
+  McpWorkspace& solver_workspace_;
 };
 
 }  // namespace
 
-PointModel::PointModel(const Scene& scene) : scene_(scene) {
+PointModel::PointModel(const Scene& scene, StepWorkspace& workspace)
+    : scene_(scene), workspace_(workspace) {
   for (const Body& body : scene.bodies) vertices_.push_back(HullVertices(*body.hull));
 }
 
 // (no last resort: every effort is the usual one)
 AdvanceResult PointModel::Advance(const Island& island, double t, double h, IslandState& state,
                                   Effort) const {
-  return PointIslandStepper(scene_, vertices_, island).Advance(t, h, state);
+  return PointIslandStepper(scene_, vertices_, island, workspace_.Part<McpWorkspace>())
+      .Advance(t, h, state);
 }
 
 }  // namespace ecpsim::engine

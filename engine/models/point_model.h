@@ -10,6 +10,7 @@
 
 #include "engine/contact_model.h"
 #include "engine/scene.h"
+#include "engine/step_workspace.h"
 
 namespace ecpsim::engine {
 
@@ -41,13 +42,15 @@ constexpr int kPointContactFrictionDirections = 8;
 /// projection on G as a2.
 class PointModel final : public ContactModelStepper {
  public:
-  /// Keeps a reference to `scene` (it must outlive the model) and each body's hull vertices.
-  explicit PointModel(const Scene& scene);
+  /// Keeps references to `scene` and `workspace` (they must outlive the model) and each body's
+  /// hull vertices.
+  PointModel(const Scene& scene, StepWorkspace& workspace);
   AdvanceResult Advance(const Island& island, double t, double h, IslandState& state,
                         Effort effort) const override;
 
  private:
   const Scene& scene_;
+  StepWorkspace& workspace_;
   // per scene body: its hull's vertices (a smooth hull's from its tessellation), body frame
   std::vector<std::vector<Eigen::Vector3d>> vertices_;
 };

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <utility>
 #include <vector>
@@ -341,36 +342,37 @@ struct Workspace {
   std::vector<double> recent_merits;
 };
 
-// lends the thread's shared workspace to one solve of n unknowns for its lifetime; a solve
-// nested in a callback's evaluation, or one so large that its matrices should not stay
-// allocated after it (a whole big hull), uses a workspace of its own
+// lends `kept`'s storage of this algebra to one solve of n unknowns for its lifetime; a solve
+// nested in a callback's evaluation of a solve on the same workspace, or one so large that its
+// matrices should not stay allocated after it (a whole big hull), uses storage of its own
 template <typename Algebra>
 class WorkspaceLease {
  public:
-  explicit WorkspaceLease(int n) : shared_was_taken_(shared_taken_) {
+  WorkspaceLease(int n, std::unique_ptr<Workspace<Algebra>>& kept, bool& kept_in_use)
+      : kept_(kept), kept_in_use_(kept_in_use), borrowed_(!kept_in_use && n <= kMaxKeptSize) {
     // (built only when used: its thirty-odd members are not free to build and destroy per solve)
-    if (shared_taken_ || n > kMaxSharedSize)
+    if (!borrowed_) {
       own_.emplace();
-    else
-      shared_taken_ = true;
+      return;
+    }
+    if (!kept_) kept_ = std::make_unique<Workspace<Algebra>>();
+    kept_in_use_ = true;
   }
-  ~WorkspaceLease() { shared_taken_ = shared_was_taken_; }
+  ~WorkspaceLease() {
+    if (borrowed_) kept_in_use_ = false;
+  }
   WorkspaceLease(const WorkspaceLease&) = delete;
   WorkspaceLease& operator=(const WorkspaceLease&) = delete;
-  Workspace<Algebra>& Get() { return own_ ? *own_ : shared_; }
+  Workspace<Algebra>& Get() { return borrowed_ ? *kept_ : *own_; }
 
  private:
   // unknowns: the kept matrices are then at most a few hundred kB
-  static constexpr int kMaxSharedSize = 256;
-  static thread_local Workspace<Algebra> shared_;
-  static thread_local bool shared_taken_;
-  bool shared_was_taken_;
+  static constexpr int kMaxKeptSize = 256;
+  std::unique_ptr<Workspace<Algebra>>& kept_;
+  bool& kept_in_use_;
+  const bool borrowed_;
   std::optional<Workspace<Algebra>> own_;
 };
-template <typename Algebra>
-thread_local Workspace<Algebra> WorkspaceLease<Algebra>::shared_;
-template <typename Algebra>
-thread_local bool WorkspaceLease<Algebra>::shared_taken_ = false;
 
 }  // namespace
 
@@ -393,10 +395,9 @@ McpResult SolveMcpWith(const std::function<void(const Eigen::VectorXd&, Eigen::V
                                                 typename Algebra::Matrix*)>& f,
                        int num_free, const Eigen::VectorXd& row_scale,
                        const Eigen::VectorXd& var_scale, Eigen::VectorXd& z,
-                       const McpOptions& options) {
+                       const McpOptions& options, WorkspaceLease<Algebra>&& lease) {
   using Matrix = typename Algebra::Matrix;
   const int n = static_cast<int>(z.size());
-  WorkspaceLease<Algebra> lease(n);
   Workspace<Algebra>& w = lease.Get();
   ScaledProblem<Matrix> problem(f, num_free, row_scale, var_scale, options.fb_lambda,
                                 options.jacobian_smoothing, w.scaled);
@@ -598,16 +599,50 @@ McpResult SolveMcpWith(const std::function<void(const Eigen::VectorXd&, Eigen::V
 
 }  // namespace
 
+struct McpWorkspace::Storage {
+  std::unique_ptr<Workspace<DenseNewtonAlgebra>> dense;
+  std::unique_ptr<Workspace<SparseNewtonAlgebra>> sparse;
+  bool dense_in_use = false;
+  bool sparse_in_use = false;
+};
+
+McpWorkspace::McpWorkspace() : storage_(std::make_unique<Storage>()) {}
+McpWorkspace::~McpWorkspace() = default;
+McpWorkspace::McpWorkspace(McpWorkspace&&) noexcept = default;
+McpWorkspace& McpWorkspace::operator=(McpWorkspace&&) noexcept = default;
+
+McpResult SolveMcp(const McpFunction& f, int num_free, const Eigen::VectorXd& row_scale,
+                   const Eigen::VectorXd& var_scale, Eigen::VectorXd& z, const McpOptions& options,
+                   McpWorkspace& workspace) {
+  McpWorkspace::Storage& kept = *workspace.storage_;
+  return SolveMcpWith<DenseNewtonAlgebra>(
+      f, num_free, row_scale, var_scale, z, options,
+      WorkspaceLease<DenseNewtonAlgebra>(static_cast<int>(z.size()), kept.dense,
+                                         kept.dense_in_use));
+}
+
+McpResult SolveMcp(const SparseMcpFunction& f, int num_free, const Eigen::VectorXd& row_scale,
+                   const Eigen::VectorXd& var_scale, Eigen::VectorXd& z, const McpOptions& options,
+                   McpWorkspace& workspace) {
+  McpWorkspace::Storage& kept = *workspace.storage_;
+  return SolveMcpWith<SparseNewtonAlgebra>(
+      f, num_free, row_scale, var_scale, z, options,
+      WorkspaceLease<SparseNewtonAlgebra>(static_cast<int>(z.size()), kept.sparse,
+                                          kept.sparse_in_use));
+}
+
 McpResult SolveMcp(const McpFunction& f, int num_free, const Eigen::VectorXd& row_scale,
                    const Eigen::VectorXd& var_scale, Eigen::VectorXd& z,
                    const McpOptions& options) {
-  return SolveMcpWith<DenseNewtonAlgebra>(f, num_free, row_scale, var_scale, z, options);
+  McpWorkspace workspace;
+  return SolveMcp(f, num_free, row_scale, var_scale, z, options, workspace);
 }
 
 McpResult SolveMcp(const SparseMcpFunction& f, int num_free, const Eigen::VectorXd& row_scale,
                    const Eigen::VectorXd& var_scale, Eigen::VectorXd& z,
                    const McpOptions& options) {
-  return SolveMcpWith<SparseNewtonAlgebra>(f, num_free, row_scale, var_scale, z, options);
+  McpWorkspace workspace;
+  return SolveMcp(f, num_free, row_scale, var_scale, z, options, workspace);
 }
 
 }  // namespace ecpsim::engine

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <functional>
+#include <memory>
 #include <vector>
 
 #include <Eigen/Core>
@@ -104,6 +105,28 @@ struct McpResult {
 double McpResidual(const Eigen::VectorXd& z, const Eigen::VectorXd& F, int num_free,
                    const Eigen::VectorXd& row_scale, const Eigen::VectorXd& var_scale);
 
+/// The storage SolveMcp works in (its matrices, factorizations and iterates), owned by the caller
+/// and kept from solve to solve, so that a solve of sizes seen before allocates nothing. One
+/// solve at a time uses it; a solve started while it is in use (one nested in a callback), or one
+/// of more than a few hundred unknowns, works in storage of its own. Moving it keeps the storage;
+/// threads solving at once need one each.
+class McpWorkspace {
+ public:
+  McpWorkspace();
+  ~McpWorkspace();
+  McpWorkspace(McpWorkspace&&) noexcept;
+  McpWorkspace& operator=(McpWorkspace&&) noexcept;
+
+ private:
+  struct Storage;
+  std::unique_ptr<Storage> storage_;
+  friend McpResult SolveMcp(const McpFunction&, int, const Eigen::VectorXd&, const Eigen::VectorXd&,
+                            Eigen::VectorXd&, const McpOptions&, McpWorkspace&);
+  friend McpResult SolveMcp(const SparseMcpFunction&, int, const Eigen::VectorXd&,
+                            const Eigen::VectorXd&, Eigen::VectorXd&, const McpOptions&,
+                            McpWorkspace&);
+};
+
 /// Solves in place from the initial guess `z`. `row_scale` and `var_scale` (positive) define the
 /// scaled problem F̃ = row_scale ⊙ F(var_scale ⊙ x) the Newton iteration works on, so rows and
 /// unknowns of different units (N·s, m, dimensionless multipliers) weigh alike (trap 6); the
@@ -111,14 +134,22 @@ double McpResidual(const Eigen::VectorXd& z, const Eigen::VectorXd& F, int num_f
 /// (relative to the scales, never an absolute bar). Never returns a non-finite z: if an iterate
 /// would be non-finite the solve stops unconverged at the last finite iterate.
 McpResult SolveMcp(const McpFunction& f, int num_free, const Eigen::VectorXd& row_scale,
-                   const Eigen::VectorXd& var_scale, Eigen::VectorXd& z,
-                   const McpOptions& options = {});
+                   const Eigen::VectorXd& var_scale, Eigen::VectorXd& z, const McpOptions& options,
+                   McpWorkspace& workspace);
 
 /// The same iteration with a sparse Jacobian: the Newton matrix is factored by a sparse LU with
 /// a fill-reducing ordering and the Levenberg–Marquardt step solves the sparse normal equations,
 /// so an iteration costs in proportion to the factors' fill (for a chain of bodies, to the
 /// number of unknowns) instead of n³. Same options, same result up to the factorizations'
 /// round-off.
+McpResult SolveMcp(const SparseMcpFunction& f, int num_free, const Eigen::VectorXd& row_scale,
+                   const Eigen::VectorXd& var_scale, Eigen::VectorXd& z, const McpOptions& options,
+                   McpWorkspace& workspace);
+
+/// SolveMcp in storage of its own for this one solve (allocates: for one-off solves).
+McpResult SolveMcp(const McpFunction& f, int num_free, const Eigen::VectorXd& row_scale,
+                   const Eigen::VectorXd& var_scale, Eigen::VectorXd& z,
+                   const McpOptions& options = {});
 McpResult SolveMcp(const SparseMcpFunction& f, int num_free, const Eigen::VectorXd& row_scale,
                    const Eigen::VectorXd& var_scale, Eigen::VectorXd& z,
                    const McpOptions& options = {});

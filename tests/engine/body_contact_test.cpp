@@ -299,9 +299,13 @@ TEST(ModelTest, ModelsWithoutContactsBetweenBodiesRefuseThem) {
   Scene scene = StackScene();
   for (ContactModel model : {ContactModel::kPlanar, ContactModel::kMultiPatch}) {
     scene.model = model;
-    EXPECT_THAT([&] { UseContactModel(scene, [](const ContactModelStepper&) {}); },
-                ::testing::ThrowsMessage<ModelInvalid>(
-                    ::testing::HasSubstr("bodies 'box0' and 'box1' can touch each other")));
+    EXPECT_THAT(
+        [&] {
+          StepWorkspace workspace;
+          UseContactModel(scene, workspace, [](const ContactModelStepper&) {});
+        },
+        ::testing::ThrowsMessage<ModelInvalid>(
+            ::testing::HasSubstr("bodies 'box0' and 'box1' can touch each other")));
   }
 }
 

@@ -77,9 +77,10 @@ TEST(FormIslandsTest, EveryBodyIsAnIslandWithItsObstacleContacts) {
 TEST(StepIslandsTest, AnIslandThatFailsAtHIsSteppedInTheFirstSubstepsThatSolve) {
   const Scene scene = TwoBoxes();
   State state = InitialState(scene);
+  StepWorkspace workspace;
   // solvable at h/4 only: the ladder tries h, then 2 × h/2 (the first fails), then 4 × h/4
   const SubstepModel model(scene, scene.h / 4);
-  const StepReport report = StepIslands(scene, state, model);
+  const StepReport report = StepIslands(scene, state, model, workspace);
   EXPECT_EQ(report.substeps, 4);
   EXPECT_EQ(report.retries, 2);
   EXPECT_EQ(model.calls, 1 + 1 + 1 + 4);
@@ -97,9 +98,10 @@ TEST(StepIslandsTest, AnIslandThatNeverSolvesNamesTimeBodyAndWhatWasTriedAndLeav
   Scene scene = TwoBoxes();
   scene.model = ContactModel::kPlanar;  // the failure names a model other than the hull's
   State state = InitialState(scene);
+  StepWorkspace workspace;
   const State before = state;
   const SubstepModel model(scene, scene.h / 100);  // below the ladder's last rung, h/16
-  EXPECT_THAT([&] { StepIslands(scene, state, model); },
+  EXPECT_THAT([&] { StepIslands(scene, state, model, workspace); },
               ::testing::ThrowsMessage<SolverFailure>(
                   AllOf(HasSubstr("planar model: solver failed at t = 0 s on body 'stubborn': "
                                   "residual 0.5 > tolerance 1e-12"),
@@ -108,7 +110,7 @@ TEST(StepIslandsTest, AnIslandThatNeverSolvesNamesTimeBodyAndWhatWasTriedAndLeav
                                   "refused"))));
   // the same as a record: each rung's first sub-step refused
   try {
-    StepIslands(scene, state, model);
+    StepIslands(scene, state, model, workspace);
     ADD_FAILURE() << "no SolverFailure";
   } catch (const SolverFailure& failure) {
     const StepFailure* record = failure.step_failure();
@@ -143,11 +145,12 @@ class LastResortModel final : public ContactModelStepper {
 TEST(StepIslandsTest, TheLastResortRunsOnlyWhereEverySubstepLengthFailed) {
   const Scene scene = TwoBoxes();
   State state = InitialState(scene);
+  StepWorkspace workspace;
   // the last resort solves at h/2: for the stubborn body the ladder fails at h, h/2, h/4 and
   // h/16 first (each length stops at its first failure), then the last resort fails at h and
   // solves both halves; the easy body is solved by Advance at h
   const LastResortModel model(scene, scene.h / 2);
-  const StepReport report = StepIslands(scene, state, model);
+  const StepReport report = StepIslands(scene, state, model, workspace);
   EXPECT_EQ(model.advance_.calls, 1 + 4);
   EXPECT_EQ(model.last_resort_.calls, 1 + 2);
   EXPECT_EQ(report.substeps, 2);
@@ -158,8 +161,9 @@ TEST(StepIslandsTest, TheLastResortRunsOnlyWhereEverySubstepLengthFailed) {
 TEST(StepIslandsTest, AModelWithoutALastResortFailsAfterTheLadder) {
   const Scene scene = TwoBoxes();
   State state = InitialState(scene);
+  StepWorkspace workspace;
   const SubstepModel model(scene, scene.h / 100);
-  EXPECT_THROW(StepIslands(scene, state, model), SolverFailure);
+  EXPECT_THROW(StepIslands(scene, state, model, workspace), SolverFailure);
   EXPECT_EQ(model.calls, 1 + 4);  // the easy body, then h, h/2, h/4, h/16 for the stubborn one
 }
 
@@ -172,9 +176,10 @@ TEST(StepIslandsTest, TheHullModelThroughTheDriverIsTheStep) {
   Scene scene = MakeGroundScene({box});
   scene.model = ContactModel::kHull;
   State a = InitialState(scene), b = a;
-  const HullModel hull(scene);
+  StepWorkspace workspace;
+  const HullModel hull(scene, workspace);
   for (int i = 0; i < 40; ++i) {
-    StepIslands(scene, a, hull);
+    StepIslands(scene, a, hull, workspace);
     Step(scene, b);
     ASSERT_EQ(a.bodies[0].p_WB, b.bodies[0].p_WB);
     ASSERT_EQ(a.bodies[0].Q_WB.coeffs(), b.bodies[0].Q_WB.coeffs());

@@ -119,12 +119,13 @@ std::vector<std::string> TrajectoryRecord(const std::string& scenes_dir,
   Scene scene = LoadScene(scenes_dir + "/" + trajectory_case.scene);
   scene.model = ModelNamed(trajectory_case.model);
   State state = InitialState(scene);
+  StepWorkspace workspace;
   const std::string prefix = trajectory_case.scene + " " + trajectory_case.model;
   std::vector<std::string> lines;
   const int steps = TrajectoryHashSteps(trajectory_case.scene);
   for (int i = 1; i <= steps; ++i) {
     try {
-      const StepReport report = Step(scene, state);
+      const StepReport report = Step(scene, state, workspace);
       lines.push_back(fmt::format("{} {} {:016x}", prefix, i, HashStep(state, report)));
     } catch (const ModelInvalid&) {
       lines.push_back(fmt::format("{} end ModelInvalid at step {}", prefix, i));

@@ -45,7 +45,7 @@ Solved SolveFrom(const Scene& scene, Guess guess, double ejection_energy) {
   options.tolerance = scene.solver.tolerance;
   options.jacobian_smoothing = kJacobianSmoothing;
   s.attempt = SolveAttempt(s.island.problem, s.layout, s.z, options, s.island.scales,
-                           ejection_energy, s.result);
+                           ejection_energy, s.island.workspace, s.result);
   return s;
 }
 

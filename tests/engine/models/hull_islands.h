@@ -19,6 +19,7 @@
 #include "engine/scene.h"
 #include "engine/scene_io/scene_builders.h"
 #include "engine/state.h"
+#include "engine/step_workspace.h"
 #include "tests/engine/test_bodies.h"
 
 // (in the hull model's namespace: the hull tests use them as their own)
@@ -34,11 +35,12 @@ struct HullIsland {
   IslandProblem problem;
   IslandScales scales;
   std::vector<double> overlaps;
+  StepWorkspace workspace;  // what the island's solves work in
 };
 
 /// The island of the scene's body `body` at `state`, prepared as the hull model prepares it.
 inline HullIsland PrepareHullIsland(Scene scene, State state, int body = 0) {
-  HullIsland c{std::move(scene), std::move(state), {}, {}, {}, {}, {}};
+  HullIsland c{std::move(scene), std::move(state), {}, {}, {}, {}, {}, {}};
   for (const Island& island : FormIslands(c.scene, c.state)) {
     for (int b : island.bodies)
       if (b == body) c.island = island;

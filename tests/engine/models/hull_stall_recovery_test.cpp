@@ -73,7 +73,7 @@ TEST(SolveOnCarryingFacesTest, WeaklyActiveFacesLeftOutTheStepIsSolved) {
   RestingBox r = RestingBoxWithSpread(1e-9);
   ASSERT_GT(r.layout.contacts[0].l_count, 1);
   EXPECT_TRUE(SolveOnCarryingFaces(r.island.problem, r.layout, r.z, r.options, r.island.scales, 0,
-                                   r.island.local, r.result));
+                                   r.island.workspace, r.island.local, r.result));
   EXPECT_NEAR(r.island.local.contacts[0].p_n, 2 * 9.8 * 0.01, kImpulseTolerance);
   EXPECT_GT(r.result.iterations, 0);
 }
@@ -81,7 +81,7 @@ TEST(SolveOnCarryingFacesTest, WeaklyActiveFacesLeftOutTheStepIsSolved) {
 TEST(SolveOnCarryingFacesTest, NothingToCutNothingSolved) {
   RestingBox r = RestingBoxWithSpread(1);  // every face carries alike
   EXPECT_FALSE(SolveOnCarryingFaces(r.island.problem, r.layout, r.z, r.options, r.island.scales, 0,
-                                    r.island.local, r.result));
+                                    r.island.workspace, r.island.local, r.result));
   EXPECT_EQ(r.result.iterations, 0);
 }
 
@@ -89,9 +89,9 @@ TEST(SolveAtDegenerateVertexTest, FacesLeftOutOneAtATimeUntilTheRootHolds) {
   RestingBox r = RestingBoxWithSpread(1);
   ASSERT_GE(r.layout.contacts[0].l_count, 4) << "four or more active faces";
   EXPECT_FALSE(SolveAtDegenerateVertex(r.island.problem, r.layout, r.z, r.options, r.island.scales,
-                                       0, r.island.local, r.result, 0));
+                                       0, r.island.workspace, r.island.local, r.result, 0));
   EXPECT_TRUE(SolveAtDegenerateVertex(r.island.problem, r.layout, r.z, r.options, r.island.scales,
-                                      0, r.island.local, r.result));
+                                      0, r.island.workspace, r.island.local, r.result));
   EXPECT_NEAR(r.island.local.contacts[0].p_n, 2 * 9.8 * 0.01, kImpulseTolerance);
 }
 
@@ -134,7 +134,8 @@ TEST(SolveAtDegenerateVertexTest, AnOctahedronOnItsTipIsSolvedWhereFourFacesMeet
   options.jacobian_smoothing = kJacobianSmoothing;
   options.stall_iterations = kStallIterations;
   AdvanceResult result;
-  EXPECT_TRUE(SolveAtDegenerateVertex(c.problem, layout, z, options, c.scales, 0, c.local, result));
+  EXPECT_TRUE(SolveAtDegenerateVertex(c.problem, layout, z, options, c.scales, 0, c.workspace,
+                                      c.local, result));
   EXPECT_NEAR(c.local.contacts[0].p_n, 9.8 * 0.01, kImpulseTolerance);
   // the ECP at the tip, to the window check's tolerance of its size
   EXPECT_LE(c.local.contacts[0].a1.norm(), kWindowCheckRelTol * a);
@@ -152,12 +153,13 @@ TEST(SolveAlongCarryingEdgeTest, TwoCarryingFacesAreSolvedFromStartsAlongTheirEd
   ASSERT_GE(side, 0);
   r.z[L.l + side] = 0.5;
   EXPECT_TRUE(SolveAlongCarryingEdge(r.island.problem, r.layout, r.z, r.options, r.island.scales, 0,
-                                     r.island.local, r.result));
+                                     r.island.workspace, r.island.local, r.result));
   EXPECT_NEAR(r.island.local.contacts[0].p_n, 2 * 9.8 * 0.01, kImpulseTolerance);
   // one carrying face has no edge to start along
   RestingBox one = RestingBoxWithSpread(0);
   EXPECT_FALSE(SolveAlongCarryingEdge(one.island.problem, one.layout, one.z, one.options,
-                                      one.island.scales, 0, one.island.local, one.result));
+                                      one.island.scales, 0, one.island.workspace, one.island.local,
+                                      one.result));
 }
 
 TEST(StalledContactTest, TheContactWhoseRowsHoldTheLargestResidual) {
@@ -170,7 +172,7 @@ TEST(StalledContactTest, TheContactWhoseRowsHoldTheLargestResidual) {
   options.tolerance = scene.solver.tolerance;
   options.jacobian_smoothing = kJacobianSmoothing;
   AdvanceResult result;
-  ASSERT_EQ(SolveAttempt(c.problem, layout, z, options, c.scales, 0, result).outcome,
+  ASSERT_EQ(SolveAttempt(c.problem, layout, z, options, c.scales, 0, c.workspace, result).outcome,
             Outcome::kSolved);
   for (int k = 0; k < static_cast<int>(layout.contacts.size()); ++k) {
     VectorXd moved = z;
