@@ -2,14 +2,13 @@
 // The per-step data of a simulation (MuJoCo's mjData): poses, velocities, contact solutions.
 
 #include <cstdint>
-#include <variant>
 #include <vector>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
 #include "engine/scene.h"
-#include "engine/solution_trend.h"
+#include "engine/warm_start.h"
 
 namespace ecpsim::engine {
 
@@ -19,31 +18,6 @@ struct BodyState {
   Eigen::Vector3d v_WB = Eigen::Vector3d::Zero();            // m/s
   Eigen::Vector3d w_WB = Eigen::Vector3d::Zero();            // rad/s, world frame
 };
-
-/// The hull model's unknowns of one contact that ContactState's own fields do not hold: the gap s,
-/// G's multipliers l_G (over `other_window`, G's constraints in the MNCP: empty for a fixed
-/// obstacle, whose every constraint enters in order) and the hull multipliers l of F's window
-/// (sorted face indices); and how the contact's solution has been changing (the predicted start).
-struct HullWarmStart {
-  double s = 0;
-  Eigen::VectorXd l_g;
-  std::vector<int> window;
-  Eigen::VectorXd l;
-  std::vector<int> other_window;
-  SolutionTrend trend;
-};
-
-/// The multi-patch model's unknowns of one contact: per convex part of the body its block
-/// [a1, p_t, p_o, p_r, l…, p_n, σ] (the plane form, MakeMultiPatchLayout; a block of another
-/// size, as the general form's of earlier versions, is not used: the step starts from its
-/// guesses).
-struct MultiPatchWarmStart {
-  std::vector<Eigen::VectorXd> parts;
-};
-
-/// A contact's warm start for the next step, typed by the model that wrote it (none: the planar
-/// and point models start from the contact's fields, a model switch starts afresh).
-using WarmStart = std::variant<std::monostate, HullWarmStart, MultiPatchWarmStart>;
 
 /// The solution of one contact's part of the MNCP at the end of the last step.
 struct ContactState {
@@ -55,7 +29,7 @@ struct ContactState {
   Eigen::Vector3d n = Eigen::Vector3d::UnitZ();  // contact frame: normal out of G ...
   Eigen::Vector3d t = Eigen::Vector3d::UnitX();  // ... and tangents
   Eigen::Vector3d o = Eigen::Vector3d::UnitY();
-  WarmStart warm_start;
+  WarmStart warm_start;  // the unknowns of the model that solved it last
 };
 
 struct State {

@@ -153,7 +153,7 @@ StepReport StepIslands(const Scene& scene, State& state, const ContactModelStepp
     if (in_island[k]) continue;
     ContactState& c = state.contacts[k];
     c.p_n = c.p_t = c.p_o = c.p_r = c.sigma = 0;
-    c.warm_start = std::monostate();
+    c.warm_start.Reset();
   }
   AdvanceTime(scene.h, state);
   return report;

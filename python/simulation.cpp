@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "common/errors.h"
+#include "engine/models/hull_warm_start.h"
 #include "engine/scene_limits.h"
 #include "engine/time_step.h"
 
@@ -48,7 +49,7 @@ std::shared_ptr<const engine::KinematicMotion> StepTo(const engine::KinematicPos
 // get_state, must not reach the engine with other sizes. (The multi-patch model checks its own
 // warm starts, FitsWarmStart, and the planar and point models keep none.)
 void RequireFittingWarmStart(const engine::Scene& scene, size_t k, const engine::WarmStart& warm) {
-  const auto* hull = std::get_if<engine::HullWarmStart>(&warm);
+  const auto* hull = warm.Get<engine::HullWarmStart>();
   if (hull == nullptr) return;
   const engine::ContactPair& pair = scene.contacts[k];
   const size_t g_count =

@@ -6,7 +6,7 @@
 
 #include "engine/models/hull_attempt.h"
 #include "engine/models/planar_model.h"
-#include "engine/solution_trend.h"
+#include "engine/models/solution_trend.h"
 
 namespace ecpsim::engine {
 

@@ -8,8 +8,8 @@
 #include "engine/mncp/contact_window.h"
 #include "engine/mncp/mncp_system.h"
 #include "engine/models/hull_tuning.h"
+#include "engine/models/solution_trend.h"
 #include "engine/rotation.h"
-#include "engine/solution_trend.h"
 
 namespace ecpsim::engine::hull {
 
@@ -129,7 +129,7 @@ void CommitSolution(const IslandProblem& problem, const IslandLayout& layout, co
     const MncpLayout::Contact& L = layout.contacts[k];
     const IslandContact& cp = problem.contacts[k];
     ContactState& c = state.contacts[k];
-    const auto* last = std::get_if<HullWarmStart>(&c.warm_start);
+    const auto* last = c.warm_start.Get<HullWarmStart>();
     const SolutionTrend::Point before =
         TrendPoint(state.bodies[cp.body], c, last != nullptr ? last->s : 0.0);
     const ContactGap gap = ContactGapAt(L, cp.other_shape, z);
@@ -154,8 +154,8 @@ void CommitSolution(const IslandProblem& problem, const IslandLayout& layout, co
         NextTrend(last != nullptr ? &last->trend : nullptr, before, TrendPoint(after, c, gap.s), h);
     // written over the last warm start, whose storage it reuses; on a plane l_G = 1 (its one
     // constraint)
-    HullWarmStart& warm = last != nullptr ? *std::get_if<HullWarmStart>(&c.warm_start)
-                                          : c.warm_start.emplace<HullWarmStart>();
+    HullWarmStart& warm = last != nullptr ? *c.warm_start.Get<HullWarmStart>()
+                                          : c.warm_start.Emplace<HullWarmStart>();
     warm.s = gap.s;
     if (L.on_plane()) {
       warm.l_g.setOnes(1);
@@ -184,17 +184,17 @@ void CommitSolution(const IslandProblem& problem, const IslandLayout& layout, co
 }
 
 SolutionTrend::Point HullTrendPoint(const BodyState& body, const ContactState& c) {
-  const auto* warm = std::get_if<HullWarmStart>(&c.warm_start);
+  const auto* warm = c.warm_start.Get<HullWarmStart>();
   return TrendPoint(body, c, warm != nullptr ? warm->s : 0.0);
 }
 
 void CommitFlatWarmStart(const SolutionTrend::Point& before, double h, const BodyState& body,
                          int face, ContactState& c) {
-  auto* warm = std::get_if<HullWarmStart>(&c.warm_start);
+  auto* warm = c.warm_start.Get<HullWarmStart>();
   const SolutionTrend trend =
       NextTrend(warm != nullptr ? &warm->trend : nullptr, before, TrendPoint(body, c, 0.0), h);
   // written over the last warm start, whose storage it reuses
-  if (warm == nullptr) warm = &c.warm_start.emplace<HullWarmStart>();
+  if (warm == nullptr) warm = &c.warm_start.Emplace<HullWarmStart>();
   warm->s = 0;
   warm->l_g.setOnes(1);
   warm->window.assign(1, face);

@@ -1,4 +1,5 @@
 #include "engine/models/hull_guesses.h"
+#include "engine/models/hull_warm_start.h"
 
 #include <algorithm>
 #include <optional>
@@ -7,8 +8,8 @@
 #include "engine/mncp/mncp_system.h"
 #include "engine/models/hull_problem.h"
 #include "engine/models/hull_tuning.h"
+#include "engine/models/solution_trend.h"
 #include "engine/obstacle_queries.h"
-#include "engine/solution_trend.h"
 
 namespace ecpsim::engine::hull {
 namespace {
@@ -21,7 +22,7 @@ using Other = IslandContact::Other;
 // steps of this length
 std::optional<SolutionTrend::Point> PredictedPoint(const IslandProblem& problem,
                                                    const IslandState& state, int k) {
-  const auto* warm = std::get_if<HullWarmStart>(&state.contacts[k].warm_start);
+  const auto* warm = state.contacts[k].warm_start.Get<HullWarmStart>();
   if (warm == nullptr) return std::nullopt;
   const BodyState& body = state.bodies[problem.contacts[k].body];
   return PredictPoint(warm->trend, TrendPoint(body, state.contacts[k], warm->s), problem.h);
@@ -60,7 +61,7 @@ bool AnyBodyMoving(const IslandState& state, const IslandScales& scales) {
 GuessLadder HullLadder(const IslandProblem& problem, const IslandState& state,
                        const IslandScales& scales, bool moving) {
   const bool have_warm_start =
-      state.contacts.empty() || std::holds_alternative<HullWarmStart>(state.contacts[0].warm_start);
+      state.contacts.empty() || (state.contacts[0].warm_start.Get<HullWarmStart>() != nullptr);
   const bool was_in_contact = std::any_of(state.contacts.begin(), state.contacts.end(),
                                           [](const ContactState& c) { return c.p_n > 0; });
   GuessLadder ladder = RestartLadder(have_warm_start, was_in_contact, moving);
@@ -133,7 +134,7 @@ bool Predictable(const IslandProblem& problem, const IslandState& state,
   };
   for (size_t k = 0; k < problem.contacts.size(); ++k) {
     if (problem.contacts[k].other_kind != Other::kFixed) return false;
-    const auto* warm = std::get_if<HullWarmStart>(&state.contacts[k].warm_start);
+    const auto* warm = state.contacts[k].warm_start.Get<HullWarmStart>();
     if (warm == nullptr || !Predicts(warm->trend, problem.h)) return false;
     const SolutionTrend& trend = warm->trend;
     const double bend = speed(trend.second);
@@ -167,7 +168,7 @@ VectorXd MakeGuess(Guess guess, const Vector3d& gravity, IslandProblem& problem,
     cp.tangent_reference = TangentReference(previous.n);
     const double sigma0 = kInitialSigmaFraction * scales.bodies[cp.body].velocity;
 
-    const auto* warm = std::get_if<HullWarmStart>(&previous.warm_start);
+    const auto* warm = previous.warm_start.Get<HullWarmStart>();
     if (from_last && warm != nullptr) {
       z.segment<3>(L.a1) = previous.a1;
       if (!L.on_plane()) {

@@ -1,4 +1,5 @@
 #include "engine/models/hull_problem.h"
+#include "engine/models/hull_warm_start.h"
 
 #include <algorithm>
 #include <cmath>
@@ -160,7 +161,7 @@ Matrix3d PredictedOtherRotation(const IslandProblem& problem, const IslandContac
 }
 
 bool FlatOnOneFace(const ContactState& c) {
-  const auto* warm = std::get_if<HullWarmStart>(&c.warm_start);
+  const auto* warm = c.warm_start.Get<HullWarmStart>();
   if (warm == nullptr || !(c.p_n > 0) || warm->l.size() == 0) return false;
   const double largest = warm->l.maxCoeff();
   if (!(largest > 0)) return false;
@@ -181,7 +182,7 @@ void SelectWindows(const SolverSettings& settings, const IslandState& state,
     // touching it for the first time) one ring more: nothing tells yet where on its hull the ECP
     // will go, and a root found in too small a window is solved again once it has grown
     const bool first = cp.other_kind == Other::kFixed &&
-                       !std::holds_alternative<HullWarmStart>(state.contacts[k].warm_start);
+                       !(state.contacts[k].warm_start.Get<HullWarmStart>() != nullptr);
     const int rings = std::max(settings.window_rings - (flat ? 1 : 0), 0) + (first ? 1 : 0);
     cp.window = SelectWindow(*cp.hull, PredictedRotation(problem, cp.body).transpose() * -n, rings,
                              settings.use_window);

@@ -259,7 +259,7 @@ class MultiPatchStepper {
   // whether `warm` holds a block of the right size for every part of group g
   static bool FitsWarmStart(const MncpLayout& layout, const MultiPatchProblem& problem, int g,
                             const WarmStart& warm) {
-    const auto* parts = std::get_if<MultiPatchWarmStart>(&warm);
+    const auto* parts = warm.Get<MultiPatchWarmStart>();
     if (parts == nullptr) return false;
     size_t part = 0;
     for (size_t i = 0; i < problem.group.size(); ++i) {
@@ -286,7 +286,7 @@ class MultiPatchStepper {
       for (size_t i = 0; i < bp.contacts.size(); ++i) {
         const int g = problem.group[i];
         UnpackBlock(layout.contacts[i],
-                    std::get<MultiPatchWarmStart>(contacts[g].warm_start).parts[part[g]++], z);
+                    (*contacts[g].warm_start.Get<MultiPatchWarmStart>()).parts[part[g]++], z);
       }
       return z;
     }
@@ -383,7 +383,7 @@ class MultiPatchStepper {
         weighted_sigma += p_n * std::max(z[L.sigma], 0.0);
         warm.parts.push_back(PackBlock(L, z));
       }
-      c.warm_start = std::move(warm);
+      c.warm_start.Set(std::move(warm));
       // without a normal impulse any σ ≥ 0 solves the MNCP (trap 2); report the canonical 0
       c.sigma = c.p_n > 0 ? weighted_sigma / c.p_n : 0.0;
     }

@@ -10,6 +10,7 @@
 
 #include "engine/contact_model.h"
 #include "engine/mncp/mncp_system.h"
+#include "engine/models/multipatch_warm_start.h"
 #include "engine/scene.h"
 #include "engine/state.h"
 #include "engine/step_report.h"

@@ -478,7 +478,7 @@ class PointIslandStepper {
     state.t = frame.t;
     state.o = frame.o;
     // the model needs no warm start (Lemke starts from its own basis)
-    state.warm_start = std::monostate();
+    state.warm_start.Reset();
   }
 
   const Scene& scene_;

@@ -2,12 +2,14 @@
 
 #include <cerrno>
 #include <cstdlib>
-#include <variant>
+#include <utility>
 #include <vector>
 
 #include <fmt/format.h>
 
 #include "common/errors.h"
+#include "engine/models/hull_warm_start.h"
+#include "engine/models/multipatch_warm_start.h"
 
 namespace ecpsim::engine {
 
@@ -89,7 +91,7 @@ SolutionTrend ReadTrend(const json& node, const std::string& key) {
 
 // {"model": "hull", ...} with the model's unknowns, or null for no warm start
 json WarmStartJson(const WarmStart& warm) {
-  if (const auto* hull = std::get_if<HullWarmStart>(&warm)) {
+  if (const auto* hull = warm.Get<HullWarmStart>()) {
     return {{"model", "hull"},
             {"s", ExactJson(hull->s)},
             {"l_g", ExactJson(hull->l_g)},
@@ -98,7 +100,7 @@ json WarmStartJson(const WarmStart& warm) {
             {"other_window", hull->other_window},
             {"trend", TrendJson(hull->trend)}};
   }
-  if (const auto* multipatch = std::get_if<MultiPatchWarmStart>(&warm)) {
+  if (const auto* multipatch = warm.Get<MultiPatchWarmStart>()) {
     json parts = json::array();
     for (const Eigen::VectorXd& part : multipatch->parts) parts.push_back(ExactJson(part));
     return {{"model", "multipatch"}, {"parts", parts}};
@@ -107,7 +109,8 @@ json WarmStartJson(const WarmStart& warm) {
 }
 
 WarmStart ReadWarmStart(const json& node, const std::string& key) {
-  if (node.is_null()) return std::monostate();
+  WarmStart warm;
+  if (node.is_null()) return warm;
   const std::string model = node.at("model").get<std::string>();
   if (model == "hull") {
     HullWarmStart hull;
@@ -119,7 +122,8 @@ WarmStart ReadWarmStart(const json& node, const std::string& key) {
     // a moving G's window, by which l_G is carried to the next step's (empty: a fixed G)
     hull.other_window = node.at("other_window").get<std::vector<int>>();
     hull.trend = ReadTrend(node.at("trend"), key + ".trend");
-    return hull;
+    warm.Set(std::move(hull));
+    return warm;
   }
   if (model == "multipatch") {
     MultiPatchWarmStart multipatch;
@@ -127,7 +131,8 @@ WarmStart ReadWarmStart(const json& node, const std::string& key) {
     for (std::size_t i = 0; i < parts.size(); ++i)
       multipatch.parts.push_back(
           ReadExactVector(parts[i], fmt::format("{}.parts[{}]", key, i), -1));
-    return multipatch;
+    warm.Set(std::move(multipatch));
+    return warm;
   }
   throw InputError(
       fmt::format("{}.model = \"{}\": expected \"hull\" or \"multipatch\"", key, model));

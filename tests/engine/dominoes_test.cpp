@@ -15,6 +15,7 @@
 #include <gtest/gtest.h>
 
 #include "engine/models/hull_model.h"
+#include "engine/models/hull_warm_start.h"
 #include "engine/report/penetration.h"
 #include "engine/scene.h"
 #include "engine/scene_io/scene_yaml.h"
@@ -86,7 +87,7 @@ class CheckedRun {
     if (!report.converged) return false;
     deepest_ = std::max(deepest_, probe_.MaxDepth(scene_, state_));
     for (const ContactState& c : state_.contacts)
-      if (const auto* warm = std::get_if<HullWarmStart>(&c.warm_start))
+      if (const auto* warm = c.warm_start.Get<HullWarmStart>())
         deepest_ = std::max(deepest_, -warm->s);
     const double next_energy = TotalEnergy(scene_, state_);
     EXPECT_LE(next_energy, energy_ + kMaxStepEnergyGain) << "t = " << state_.t;

@@ -1,4 +1,5 @@
 #include "engine/time_step.h"
+#include "engine/models/hull_warm_start.h"
 
 #include <cmath>
 #include <set>
@@ -321,7 +322,7 @@ TEST(WindowTest, SameTrajectoryAsFullHull) {
     ASSERT_TRUE(Step(windowed, a).converged);
     ASSERT_TRUE(Step(full, b).converged);
     expect_same(a.bodies[0], b.bodies[0], 1e-11, a.t);
-    ASSERT_LT(std::get<HullWarmStart>(a.contacts[0].warm_start).window.size(),
+    ASSERT_LT((*a.contacts[0].warm_start.Get<HullWarmStart>()).window.size(),
               static_cast<size_t>(hull->NumConstraints()));
   }
   // whole trajectories through the landing and the first facet switches: the tumbling faceted
@@ -362,7 +363,7 @@ TEST(WindowTest, FineUvSphereDropKeepsASmallWindow) {
     const StepReport report = Step(scene, state);
     ASSERT_TRUE(report.converged) << "t = " << state.t;
     largest_window = std::max(largest_window,
-                              std::get<HullWarmStart>(state.contacts[0].warm_start).window.size());
+                              (*state.contacts[0].warm_start.Get<HullWarmStart>()).window.size());
   }
   // it landed and rolls on the ground
   EXPECT_GT(state.contacts[0].p_n, 0);

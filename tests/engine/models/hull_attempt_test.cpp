@@ -3,6 +3,7 @@
 // the ground, a root outside its window, and the commit of a root.
 
 #include "engine/models/hull_attempt.h"
+#include "engine/models/hull_warm_start.h"
 
 #include <algorithm>
 #include <cmath>
@@ -138,7 +139,7 @@ TEST(CommitSolutionTest, ImpulsesAreClampedAndTheBodyMovesByItsNewVelocity) {
   const ContactState& contact = c.local.contacts[0];
   EXPECT_EQ(contact.p_n, 0);
   EXPECT_EQ(contact.sigma, 0);
-  const auto* warm = std::get_if<HullWarmStart>(&contact.warm_start);
+  const auto* warm = contact.warm_start.Get<HullWarmStart>();
   ASSERT_NE(warm, nullptr);
   EXPECT_EQ(warm->window, c.problem.contacts[0].window);
 }

@@ -2,6 +2,7 @@
 // free flight in closed form, landings, and the resting guess's impulse.
 
 #include "engine/models/hull_guesses.h"
+#include "engine/models/hull_warm_start.h"
 
 #include <cmath>
 
@@ -74,7 +75,7 @@ HullIsland TiltedBoxOnItsEdge(double tilt, double w_y) {
   State state = InitialState(scene);
   state.contacts[0].p_n = 0.1;
   state.contacts[0].a1 = a1;
-  state.contacts[0].warm_start = HullWarmStart{};
+  state.contacts[0].warm_start.Set(HullWarmStart{});
   return PrepareHullIsland(scene, state);
 }
 

@@ -3,6 +3,7 @@
 // separating normals and the energy an ejection may give.
 
 #include "engine/models/hull_problem.h"
+#include "engine/models/hull_warm_start.h"
 
 #include <cmath>
 #include <numeric>
@@ -74,7 +75,7 @@ TEST(RemapWindowsTest, AWindowCutAndRestoredKeepsEveryUnknownButTheDroppedFace) 
 TEST(FlatOnOneFaceTest, OneCarryingFaceUnderANormalImpulse) {
   ContactState c;
   c.p_n = 0.2;
-  HullWarmStart& warm = c.warm_start.emplace<HullWarmStart>();
+  HullWarmStart& warm = c.warm_start.Emplace<HullWarmStart>();
   warm.l = (VectorXd(3) << 0, 1, 1e-12).finished();  // 1e-12 ≤ kDegenerateActiveFraction
   EXPECT_TRUE(FlatOnOneFace(c));
   warm.l = (VectorXd(3) << 0, 0.5, 0.5).finished();  // an edge
@@ -83,7 +84,7 @@ TEST(FlatOnOneFaceTest, OneCarryingFaceUnderANormalImpulse) {
   c.p_n = 0;  // touching without pressing
   EXPECT_FALSE(FlatOnOneFace(c));
   c.p_n = 0.2;
-  c.warm_start = std::monostate();  // another model's contact
+  c.warm_start.Reset();  // another model's contact
   EXPECT_FALSE(FlatOnOneFace(c));
 }
 

@@ -2,6 +2,8 @@
 // start a contact holds, and a malformed record refused naming its key.
 
 #include "engine/report/state_record.h"
+#include "engine/models/hull_warm_start.h"
+#include "engine/models/multipatch_warm_start.h"
 
 #include <cmath>
 #include <cstdint>
@@ -33,7 +35,7 @@ State MixedState() {
   hull.a1 = Eigen::Vector3d(0.1, 0.2, 0.3);
   hull.p_n = 0.196;
   hull.sigma = std::numeric_limits<double>::quiet_NaN();
-  HullWarmStart& warm = hull.warm_start.emplace<HullWarmStart>();
+  HullWarmStart& warm = hull.warm_start.Emplace<HullWarmStart>();
   warm.s = 1e-17;
   warm.l_g = Eigen::VectorXd::Constant(1, 1.0);
   warm.window = {0, 3, 7};
@@ -43,7 +45,7 @@ State MixedState() {
   warm.trend.first.setConstant(1.0 / 7);
   warm.trend.second.setConstant(-1.0 / 9);
   ContactState& parts = state.contacts.emplace_back();
-  parts.warm_start = MultiPatchWarmStart{{Eigen::Vector2d(1, 2), Eigen::Vector3d(3, 4, 5)}};
+  parts.warm_start.Set(MultiPatchWarmStart{{Eigen::Vector2d(1, 2), Eigen::Vector3d(3, 4, 5)}});
   state.contacts.emplace_back();  // no warm start
   return state;
 }
@@ -70,20 +72,20 @@ TEST(StateRecordTest, EveryValueComesBackBitForBit) {
   ASSERT_EQ(back.contacts.size(), 3u);
   EXPECT_EQ(back.contacts[0].a1, state.contacts[0].a1);
   EXPECT_EQ(Bits(back.contacts[0].sigma), Bits(state.contacts[0].sigma));
-  const auto* warm = std::get_if<HullWarmStart>(&back.contacts[0].warm_start);
+  const auto* warm = back.contacts[0].warm_start.Get<HullWarmStart>();
   ASSERT_NE(warm, nullptr);
-  const auto& expected = std::get<HullWarmStart>(state.contacts[0].warm_start);
+  const auto& expected = (*state.contacts[0].warm_start.Get<HullWarmStart>());
   EXPECT_EQ(warm->s, expected.s);
   EXPECT_EQ(warm->window, expected.window);
   EXPECT_EQ(warm->l, expected.l);
   EXPECT_EQ(warm->trend.steps, 2);
   EXPECT_EQ(warm->trend.first, expected.trend.first);
   EXPECT_EQ(warm->trend.second, expected.trend.second);
-  const auto* parts = std::get_if<MultiPatchWarmStart>(&back.contacts[1].warm_start);
+  const auto* parts = back.contacts[1].warm_start.Get<MultiPatchWarmStart>();
   ASSERT_NE(parts, nullptr);
   ASSERT_EQ(parts->parts.size(), 2u);
   EXPECT_EQ(parts->parts[1], Eigen::Vector3d(3, 4, 5));
-  EXPECT_TRUE(std::holds_alternative<std::monostate>(back.contacts[2].warm_start));
+  EXPECT_TRUE(back.contacts[2].warm_start.empty());
   // and the record of the state read back is the same text
   EXPECT_EQ(StateRecord(back).dump(), StateRecord(state).dump());
 }

@@ -1,7 +1,7 @@
-// The predicted start's trend (engine/solution_trend.h): exact for a point quadratic in time,
-// kept only across steps of one length.
+// The predicted start's trend (engine/models/solution_trend.h): exact for a point quadratic in
+// time, kept only across steps of one length.
 
-#include "engine/solution_trend.h"
+#include "engine/models/solution_trend.h"
 
 #include <optional>
 

@@ -1,4 +1,4 @@
-#include "engine/solution_trend.h"
+#include "engine/models/solution_trend.h"
 
 #include "engine/state.h"
 
