@@ -256,7 +256,8 @@ TEST(SceneFrameBuilder, PolyhedralHullKeepsThePlainTolerance) {
       engine::State state = RestingState(scene);
       state.bodies[0].p_WB.z() += lift * scale;
       const FrameInput frame = SceneFrameBuilder(scene).Build(state);
-      EXPECT_EQ(frame.contacts[0].patch.polygons.size(), lift > 1e-6 ? 0u : 4u)
+      const bool above = lift > geometry::kContactPatchRelTolerance;
+      EXPECT_EQ(frame.contacts[0].patch.polygons.size(), above ? 0u : 4u)
           << "scale " << scale << ", lifted " << lift * scale << " m";
     }
   }
