@@ -13,6 +13,7 @@
 #include "engine/scene.h"
 #include "engine/state.h"
 #include "geometry/paper_bodies.h"
+#include "tests/tolerances.h"
 
 namespace ecpsim::baselines::testing {
 
@@ -21,6 +22,9 @@ inline const Eigen::Vector3d kBoxSize(0.2, 0.2, 0.1);  // m
 constexpr double kBoxMass = 1;                         // kg
 constexpr double kSlideMu = 0.3;                       // the sliding tests' μ
 constexpr double kG = 9.8;                             // m/s², the scenes' |g|
+
+/// s: an engine's clock sums h = 0.01 s over ≤ 100 steps, a few ulps each
+constexpr double kClockRoundOff = 1e-12;
 
 /// The box on the ground with μ = kSlideMu, at rest unless `v0` (m/s, world) is given.
 inline engine::Scene BoxOnGroundScene(const Eigen::Vector3d& v0 = Eigen::Vector3d::Zero()) {
@@ -44,6 +48,11 @@ inline double DiscreteStopDistance(double v0, double mu, double g, double h) {
   return x;
 }
 
+/// That shortfall, x/(v0²/(2μg)) − 1 ≈ −h μ g / v0 = −0.0294 for v0 = 1 m/s, to the 0.001 that
+/// the last partial step and the rounding of −0.0294 leave.
+constexpr double kStopShortfall = -0.0294;
+constexpr double kStopShortfallTolerance = 0.001;
+
 /// A free flyer 10 m above the ground (never touching it in one step): a box mesh turned inside
 /// its body frame, so its inertia is not diagonal; q0 turned, w0 along the world image of one of
 /// its principal axes (so ω stays constant and the gyroscopic term vanishes in every engine) and
@@ -61,6 +70,9 @@ inline engine::Scene FreeFlightScene() {
   body.v0 = Eigen::Vector3d(0.3, -0.1, 0.5);
   return engine::testing::MakeGroundScene({body}, 0.01);
 }
+
+/// kg²·m⁴: the free flyer's I_xy² exceeds this, far above round-off: its inertia is not diagonal.
+constexpr double kNonDiagonalInertia = 1e-8;
 
 /// Whether every body's pose and velocity are finite.
 inline bool StateFinite(const engine::State& state) {

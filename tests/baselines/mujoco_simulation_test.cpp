@@ -27,6 +27,7 @@ using testing::BoxOnGroundScene;
 using testing::DiscreteStopDistance;
 using ::testing::HasSubstr;
 using testing::kBoxMass;
+using testing::kClockRoundOff;
 using testing::kG;
 using testing::kSlideMu;
 
@@ -37,6 +38,9 @@ using testing::kSlideMu;
 // loses a contact (the 3-point mesh–plane collision sank 12 µm and rocked at 2e-3 rad/s)
 constexpr double kRestPenetrationDefault = 1e-5;    // m
 constexpr double kRestPenetrationCoulomb = 1.5e-5;  // m
+// m/s, rad/s, rad: a box settled on the ground or stuck under a push; measured |v| ≤ 6e-16 m/s,
+// |ω| ≤ 2e-19 rad/s, far below this
+constexpr double kSettled = 1e-9;
 
 std::unique_ptr<ExternalSimulation> Make(FrictionSetting setting, const engine::Scene& scene) {
   return MakeExternalSimulation(ExternalEngine::kMujoco, setting, scene);
@@ -58,14 +62,14 @@ TEST_P(MujocoSettingTest, BoxAtRestStaysPutForOneSecond) {
     const engine::BodyState& box = sim->state().bodies[0];
     EXPECT_GE(LowestVertexHeight(scene.bodies[0], box), -bound) << "t = " << sim->state().t;
     // the four corners carry equal loads, so nothing pushes sideways (measured 1e-21 m)
-    EXPECT_LE(box.p_WB.head<2>().norm(), 1e-12) << "t = " << sim->state().t;
+    constexpr double kSidewaysDrift = 1e-12;  // m
+    EXPECT_LE(box.p_WB.head<2>().norm(), kSidewaysDrift) << "t = " << sim->state().t;
   }
   const engine::BodyState& box = sim->state().bodies[0];
-  EXPECT_NEAR(sim->state().t, 1.0, 1e-12);
-  // settled: measured |v| ≤ 6e-16 m/s, |ω| ≤ 2e-19 rad/s
-  EXPECT_LE(box.v_WB.norm(), 1e-9);
-  EXPECT_LE(box.w_WB.norm(), 1e-9);
-  EXPECT_LE(Eigen::AngleAxisd(box.Q_WB).angle(), 1e-9);
+  EXPECT_NEAR(sim->state().t, 1.0, kClockRoundOff);
+  EXPECT_LE(box.v_WB.norm(), kSettled);
+  EXPECT_LE(box.w_WB.norm(), kSettled);
+  EXPECT_LE(Eigen::AngleAxisd(box.Q_WB).angle(), kSettled);
 }
 
 TEST_P(MujocoSettingTest, SlidingBoxStopsAtTheCoulombDistance) {
@@ -79,12 +83,15 @@ TEST_P(MujocoSettingTest, SlidingBoxStopsAtTheCoulombDistance) {
   // 0.16507 m (v0²/(2μg) = 0.17007 m continuous): the box hops (MuJoCo's convex contact model
   // lets a sliding contact separate at about μ·|v_t|), but the friction impulse over the slide
   // still equals μ × the weight's impulse
-  EXPECT_NEAR(box.p_WB.x(), expected, 2e-3 * expected);
+  constexpr double kHopOvershootRel = 2e-3;
+  EXPECT_NEAR(box.p_WB.x(), expected, kHopOvershootRel * expected);
   // at rest by t = 1 s (t* = v0/(μg) = 0.34 s; the last hop's vertical settling still leaves
   // 4e-6 m/s at 0.6 s); measured |v| ≤ 5e-11 m/s
-  EXPECT_LE(box.v_WB.norm(), 1e-6);
+  constexpr double kStoppedSpeed = 1e-6;  // m/s
+  EXPECT_LE(box.v_WB.norm(), kStoppedSpeed);
   // a straight slide: measured |y| ≤ 4e-15 m
-  EXPECT_LE(std::abs(box.p_WB.y()), 1e-9);
+  constexpr double kStraightSlide = 1e-9;  // m
+  EXPECT_LE(std::abs(box.p_WB.y()), kStraightSlide);
   EXPECT_TRUE(testing::StateFinite(sim->state()));
 }
 
@@ -108,22 +115,24 @@ TEST(MujocoPushTest, CoulombSettingHoldsAPushBelowMuMg) {
   // half the friction limit μ m g = 2.94 N for 1 s: noslip removes the soft-friction creep, so
   // the box only takes up the friction constraint's compliance (measured 4.2e-7 m, then stuck:
   // |v| = 2e-16 m/s)
+  constexpr double kFrictionCompliance = 1e-6;  // m
   auto sim = Make(FrictionSetting::kCoulomb, PushedBoxScene(0.5 * kSlideMu * kBoxMass * kG));
   StepFor(*sim, 100);
   const engine::BodyState& box = sim->state().bodies[0];
-  EXPECT_LE(std::abs(box.p_WB.x()), 1e-6);
-  EXPECT_LE(box.v_WB.norm(), 1e-9);
+  EXPECT_LE(std::abs(box.p_WB.x()), kFrictionCompliance);
+  EXPECT_LE(box.v_WB.norm(), kSettled);
 }
 
 TEST(MujocoPushTest, DefaultSettingCreepsUnderAPushBelowMuMg) {
   // MuJoCo's documented soft friction: with the defaults a sub-limit load makes the box creep at
   // the velocity where the friction force balances it (measured 4.4e-4 m/s, 0.44 mm in 1 s); the
   // bounds bracket that creep so a change of MuJoCo's default friction model shows up here
+  constexpr double kLeastCreep = 1e-4, kMostCreep = 1e-3;  // m in 1 s
   auto sim = Make(FrictionSetting::kDefault, PushedBoxScene(0.5 * kSlideMu * kBoxMass * kG));
   StepFor(*sim, 100);
   const engine::BodyState& box = sim->state().bodies[0];
-  EXPECT_GT(box.p_WB.x(), 1e-4);
-  EXPECT_LT(box.p_WB.x(), 1e-3);
+  EXPECT_GT(box.p_WB.x(), kLeastCreep);
+  EXPECT_LT(box.p_WB.x(), kMostCreep);
 }
 
 TEST(MujocoFrameTest, FreeFlightMatchesEcpsimAfterOneStep) {
@@ -137,20 +146,25 @@ TEST(MujocoFrameTest, FreeFlightMatchesEcpsimAfterOneStep) {
   engine::Step(scene, ecpsim_state);
   const engine::BodyState& a = sim->state().bodies[0];
   const engine::BodyState& b = ecpsim_state.bodies[0];
-  EXPECT_NEAR(sim->state().t, ecpsim_state.t, 1e-15);
+  EXPECT_NEAR(sim->state().t, ecpsim_state.t, kUnitRoundOff);
   // measured: p and v identical, orientation 5e-12 rad apart
-  EXPECT_LE((a.p_WB - b.p_WB).norm(), 1e-12);
-  EXPECT_LE(a.Q_WB.angularDistance(b.Q_WB), 1e-9);
-  EXPECT_LE((a.v_WB - b.v_WB).norm(), 1e-12);
+  constexpr double kSameUpdate = 1e-12;  // m, m/s
+  // rad, rad/s: over the measured 5e-12 rad and 5e-10 rad/s (below)
+  constexpr double kInertialFrameError = 1e-9;
+  EXPECT_LE((a.p_WB - b.p_WB).norm(), kSameUpdate);
+  EXPECT_LE(a.Q_WB.angularDistance(b.Q_WB), kInertialFrameError);
+  EXPECT_LE((a.v_WB - b.v_WB).norm(), kSameUpdate);
   // measured 5e-10 rad/s (|ω| = 1.5 rad/s): MuJoCo's iterative diagonalization of the inertia
   // leaves ω a few 1e-10 off its principal axis, so the gyroscopic term is not exactly zero
-  EXPECT_LE((a.w_WB - b.w_WB).norm(), 1e-9);
+  EXPECT_LE((a.w_WB - b.w_WB).norm(), kInertialFrameError);
   // and the state reported before any step is the scene's initial state in ecpsim's conventions
+  // (rad, rad/s: through MuJoCo's inertial frame and back, round-off)
+  constexpr double kFrameChangeRoundOff = 1e-12;
   auto fresh = Make(FrictionSetting::kCoulomb, scene);
   const engine::BodyState& s0 = fresh->state().bodies[0];
-  EXPECT_LE((s0.p_WB - scene.bodies[0].p0).norm(), 1e-15);
-  EXPECT_LE(s0.Q_WB.angularDistance(scene.bodies[0].q0), 1e-12);
-  EXPECT_LE((s0.w_WB - scene.bodies[0].w0).norm(), 1e-12);
+  EXPECT_LE((s0.p_WB - scene.bodies[0].p0).norm(), kUnitRoundOff);
+  EXPECT_LE(s0.Q_WB.angularDistance(scene.bodies[0].q0), kFrameChangeRoundOff);
+  EXPECT_LE((s0.w_WB - scene.bodies[0].w0).norm(), kFrameChangeRoundOff);
 }
 
 TEST(MujocoDeskTest, PaperDeskRunsHalfASecondWithBothSettings) {
@@ -162,7 +176,8 @@ TEST(MujocoDeskTest, PaperDeskRunsHalfASecondWithBothSettings) {
       ASSERT_TRUE(testing::StateFinite(sim->state()));
       // the desk slides and hops but neither tips nor sinks: its CM stays within 5 mm of 0.45 m
       // (measured ≤ 2.7 mm over 0.5 s with either setting; 2.2 cm over the 4 s with the defaults)
-      EXPECT_NEAR(sim->state().bodies[0].p_WB.z(), 0.45, 5e-3) << "t = " << sim->state().t;
+      constexpr double kHopHeight = 5e-3;  // m
+      EXPECT_NEAR(sim->state().bodies[0].p_WB.z(), 0.45, kHopHeight) << "t = " << sim->state().t;
     }
     // pushed along +x and +y from v0 = (0.3, 0.2) m/s: it has moved forward in both (measured
     // (0.30, 0.26) m with the defaults, (0.27, 0.19) m with kCoulomb, ecpsim's hull model (0.27,
@@ -182,6 +197,9 @@ constexpr double kSolrefTimeConstant = 0.02;  // s, MuJoCo's default solref[0]
 // the stability map's box (evaluation/stability_map.cpp, map "impact")
 const Vector3d kImpactBoxSize(0.2, 0.15, 0.1);  // m
 constexpr double kImpactMu = 0.5;
+// m/s: tipping over drops the corner impact's CM by 39 mm, √(2 g 0.039 m)
+constexpr double kTippingSpeed = 0.87;
+constexpr double kCornerImpactStep = 2e-3;  // s
 
 TEST(MujocoImpactTest, FlatDropSinksTheSoftContactDepth) {
   // the box face-down touching the ground, all four corners hitting it at v0 = 1 m/s
@@ -209,8 +227,9 @@ TEST(MujocoImpactTest, FlatDropSinksTheSoftContactDepth) {
   const double closed_form = v0 * kSolrefTimeConstant / std::exp(1.0);  // 7.36 mm
   // kDefault: measured 0.87 × v τ / e near t = τ (h = τ/20); a vertex without its contact would
   // fall through, another time constant would move the ratio
-  EXPECT_GT(deepest[0], 0.8 * closed_form);
-  EXPECT_LT(deepest[0], 0.95 * closed_form);
+  constexpr double kLeastDepthRatio = 0.8, kMostDepthRatio = 0.95;
+  EXPECT_GT(deepest[0], kLeastDepthRatio * closed_form);
+  EXPECT_LT(deepest[0], kMostDepthRatio * closed_form);
   EXPECT_NEAR(deepest_t, kSolrefTimeConstant, 3 * h);
   // kCoulomb (τ = 2h): stopped within about a step of travel, v0 h
   EXPECT_LT(deepest[1], v0 * h);
@@ -229,8 +248,8 @@ std::pair<double, double> CornerImpact(FrictionSetting setting) {
   for (const Vector3d& x : box.mesh.vertices) lowest = std::min(lowest, (box.q0 * x).z());
   box.p0 = Vector3d(0, 0, 1e-3 - lowest);
   box.v0 = 0.1 * Vector3d(0.3, 0, -1).normalized();
-  const engine::Scene scene =
-      engine::testing::MakeGroundScene({box}, 2e-3, engine::Friction{kImpactMu, 1, 1, 0.05});
+  const engine::Scene scene = engine::testing::MakeGroundScene(
+      {box}, kCornerImpactStep, engine::Friction{kImpactMu, 1, 1, 0.05});
   auto sim = Make(setting, scene);
   const engine::PenetrationProbe probe(scene);
 
@@ -262,9 +281,9 @@ std::pair<double, double> CornerImpact(FrictionSetting setting) {
 
 TEST(MujocoImpactTest, CornerImpactAtATenthOfAMeterPerSecondSinksAtMostTheSoftContactDepth) {
   const auto [deepest, fastest_hit] = CornerImpact(FrictionSetting::kDefault);
-  // tipping over drops the CM by 39 mm (√(2 g 0.039 m) = 0.87 m/s) and swings the far corners
-  // down: measured fastest hit 1.23 m/s, twelve times the throw
-  EXPECT_GT(fastest_hit, 0.87);
+  // tipping over drops the CM by 39 mm and swings the far corners down: measured fastest hit
+  // 1.23 m/s, twelve times the throw
+  EXPECT_GT(fastest_hit, kTippingSpeed);
   // the soft contact's depth for that hit (measured 7.3 mm; the slapping corners also turn, and
   // h = τ/10 undershoots); an adapter that lost a vertex pair or misplaced a corner would sink
   // through or jump here
@@ -272,8 +291,8 @@ TEST(MujocoImpactTest, CornerImpactAtATenthOfAMeterPerSecondSinksAtMostTheSoftCo
   EXPECT_GT(deepest, 0.5 * fastest_hit * kSolrefTimeConstant / std::exp(1.0));
   // kCoulomb's τ = 2h stops the slap within about one step of travel (measured 2.3 mm)
   const auto [coulomb_deepest, coulomb_hit] = CornerImpact(FrictionSetting::kCoulomb);
-  EXPECT_GT(coulomb_hit, 0.87);
-  EXPECT_LT(coulomb_deepest, coulomb_hit * 2e-3);
+  EXPECT_GT(coulomb_hit, kTippingSpeed);
+  EXPECT_LT(coulomb_deepest, coulomb_hit * kCornerImpactStep);
 }
 
 TEST(MujocoInputTest, ObstacleThatIsNotAHalfSpaceIsRejected) {

@@ -35,6 +35,9 @@ constexpr double kSolvedRel = 1e-10;
 // L) by 1e-12 L / h, so that friction by ≤ e² μ p_n · 1e-7 (1 + L / (h V)) — here e = 1, μ = 0.3,
 // p_n ≤ the weight's impulse, L = sqrt(trace I / m) = 0.1225 m for the pushed box, V = 0.1 m/s
 constexpr double kStickingForceRel = 1e-7 * 0.3 * (1 + 0.1225 / (0.01 * 0.1));
+// relative: the implicit step and the contacts only dissipate, up to the round-off of the
+// kinetic energy's sums
+constexpr double kEnergyRoundOff = 1e-12;
 
 Friction TestFriction(double mu) { return Friction{mu, 1, 1, 0.05}; }
 
@@ -79,8 +82,10 @@ TEST(StackTest, ThreeBoxesRestTenSecondsWithoutDriftEachCarryingTheWeightAbove) 
       carried = 6;
     } else if (pair.other_body == pair.body + 1) {  // box b under box b + 1
       carried = pair.body == 0 ? 3 : 1;
-      // the normal points from G (the upper box) into F (the lower one)
-      EXPECT_NEAR(c.n.z(), -1, 1e-12);
+      // the normal points from G (the upper box) into F (the lower one), a unit vector solved
+      // with the step to the solver tolerance 1e-12
+      constexpr double kNormalTolerance = 1e-12;
+      EXPECT_NEAR(c.n.z(), -1, kNormalTolerance);
     } else {
       EXPECT_NEAR(c.p_n, 0, kSolvedRel * kG * h) << "boxes 0 and 2 do not touch";
       continue;
@@ -147,7 +152,7 @@ TEST(CollisionTest, TwoFreeCubesExchangeMomentumExactlyAndNeverGainKineticEnergy
     EXPECT_NEAR((after.angular - before.angular - expected).norm(), 0, kMomentumTol)
         << "t = " << state.t;
     // the implicit step and the contact only dissipate
-    EXPECT_LE(after.kinetic, before.kinetic * (1 + 1e-12)) << "t = " << state.t;
+    EXPECT_LE(after.kinetic, before.kinetic * (1 + kEnergyRoundOff)) << "t = " << state.t;
     before = after;
   }
   EXPECT_TRUE(touched);
@@ -171,6 +176,8 @@ TEST(PushTest, AConstantSpeedPusherCarriesTheBoxAtItsSpeedAgainstCoulombFriction
   scene.duration = 2;
   ASSERT_EQ(scene.contacts.size(), 2u);  // box–ground, box–pusher (F the box, G the pusher)
   State state = InitialState(scene);
+  // m: the gap to the pusher is solved to the tolerance 1e-12 of a length scale ≤ 1 m
+  constexpr double kGapTolerance = 1e-12;
   for (int step = 0; step < 200; ++step) {
     const double v_before = state.bodies[0].v_WB.x();
     ASSERT_TRUE(Step(scene, state).converged) << "t = " << state.t;
@@ -178,7 +185,7 @@ TEST(PushTest, AConstantSpeedPusherCarriesTheBoxAtItsSpeedAgainstCoulombFriction
     const KinematicPose pose = scene.bodies[1].motion->PoseAt(state.t);
     ASSERT_EQ(state.bodies[1].p_WB, pose.p);
     // never inside the pusher: the box's −x face stays ahead of the pusher's +x face
-    ASSERT_GE((state.bodies[0].p_WB.x() - 0.1) - (pose.p.x() + 0.01), -1e-12);
+    ASSERT_GE((state.bodies[0].p_WB.x() - 0.1) - (pose.p.x() + 0.01), -kGapTolerance);
     if (state.t < 0.5) continue;
     // pushed: the box moves at the pusher's speed, sliding on the ground with Coulomb friction
     // μ p_n, and the pusher's push along x and that friction change its momentum (Newton–Euler

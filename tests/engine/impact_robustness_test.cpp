@@ -29,6 +29,8 @@ constexpr double kMaxPenetration = 1e-9;
 // J: energy may only be dissipated; allow round-off of E = ½ m v² + m g z at the impact's scale
 // (100 m/s: E ≈ 5e3 J, relative round-off ≈ 1e-13 per step)
 constexpr double kEnergyRoundOffRel = 1e-9;
+// m/s: the stability map's "late" speed bound (evaluation's kStopSpeed), |v| + |ω| × 0.13 m
+constexpr double kStopSpeed = 1e-3;
 
 // the stability map's "impact" scene (evaluation/stability_map.cpp), rebuilt on the engine alone
 Scene ImpactScene(double speed, double h) {
@@ -106,9 +108,9 @@ TEST_P(ImpactRobustnessTest, StepsThroughToRest) {
   // that much depth
   EXPECT_LE(out.max_depth, std::max(kMaxPenetration, c.tolerance));
   EXPECT_LE(out.max_energy_gain, kEnergyRoundOffRel * e0);
-  // at rest after 2 s (the map's "late" speed bound, 1e-3 m/s; here |v| + |ω| × 0.13 m)
+  // at rest after 2 s
   if (c.at_rest) {
-    EXPECT_LE(out.final_speed, 1e-3);
+    EXPECT_LE(out.final_speed, kStopSpeed);
   }
 }
 

@@ -48,7 +48,10 @@ std::vector<Sample> RunScene(const Scene& scene) {
   EXPECT_EQ(scene.bodies.size(), 1u);
   EXPECT_EQ(scene.contacts.size(), 1u);
   State state = InitialState(scene);
-  const long steps = std::lround(std::ceil(scene.duration / scene.h - 1e-9));
+  // duration / h of two decimal doubles is an integer only to a few ulps: so far below it is
+  // still that integer
+  constexpr double kStepCountRoundOff = 1e-9;
+  const long steps = std::lround(std::ceil(scene.duration / scene.h - kStepCountRoundOff));
   std::vector<Sample> samples;
   samples.reserve(steps);
   for (long i = 0; i < steps; ++i) {
@@ -158,10 +161,15 @@ constexpr double kLyingAxisTol = 1e-9;
 // the mesh is a 96-gon prism inscribed in the cylinder: lying on its side, its lowest facet is up
 // to the sagitta R (1 − cos(π/96)) = 5.35e-5 m above the ground, and its lowest vertex line up to
 // R sin(π/96) = 3.3e-3 m to the side of the cylinder's contact line. The mesh patch is taken
-// with the sagitta (+ 1e-6 m) as tolerance, and the ECP is compared with its hull laterally
-// within the vertex lines' offset
-const double kFacetSagitta = kDumbbellRadius * (1 - std::cos(kPi / 96));         // m
-const double kFacetLateralOffset = kDumbbellRadius * std::sin(kPi / 96) + 1e-6;  // m
+// with the sagitta (+ kPatchMargin) as tolerance, and the ECP is compared with its hull laterally
+// within the vertex lines' offset (+ kPatchMargin)
+const double kFacetSagitta = kDumbbellRadius * (1 - std::cos(kPi / 96));  // m
+// m: the default patch tolerance's size (1e-6 of the body's), far above the pose's round-off
+constexpr double kPatchMargin = 1e-6;
+const double kFacetLateralOffset = kDumbbellRadius * std::sin(kPi / 96) + kPatchMargin;  // m
+// m: the gap between the two contact segments ends at the rims' vertices, so it is L_b to
+// within the patch margin
+constexpr double kBarGapTol = kPatchMargin;
 // the ECP on the exact contact line of the cylinder, to the solver's precision
 constexpr double kContactLineTol = 1e-8;  // m
 
@@ -179,8 +187,10 @@ TEST(PaperScenesTest, DumbbellToppledRollsOnTwoSegmentsAtHeightR) {
     X_WB.translation() = initial.bodies[0].p_WB;
     const ContactPatch patch = ExtractContactPatch(mesh, X_WB, kGround);
     EXPECT_EQ(patch.mode, ContactMode::kConvexPatch);
+    // m²: the end disc stands on the ground to round-off, so the patch is the whole 96-gon
+    constexpr double kEndDiscAreaTol = 1e-9;
     EXPECT_NEAR(patch.area, 96.0 / 2 * kDumbbellRadius * kDumbbellRadius * std::sin(2 * kPi / 96),
-                1e-9);
+                kEndDiscAreaTol);
   }
 
   bool landed = false;
@@ -213,7 +223,8 @@ TEST(PaperScenesTest, DumbbellToppledRollsOnTwoSegmentsAtHeightR) {
 
     // the mesh's patch: two segments (or, where a facet lies within the sagitta, two thin
     // rectangles) whose hull contains the ECP within the facets' lateral offset
-    const ContactPatch patch = ExtractContactPatch(mesh, s.X_WB, kGround, kFacetSagitta + 1e-6);
+    const ContactPatch patch =
+        ExtractContactPatch(mesh, s.X_WB, kGround, kFacetSagitta + kPatchMargin);
     EXPECT_TRUE(patch.mode == ContactMode::kNonConvexLine ||
                 patch.mode == ContactMode::kNonConvexPatch)
         << "t = " << s.t << " mode " << ContactModeName(patch.mode);
@@ -226,7 +237,7 @@ TEST(PaperScenesTest, DumbbellToppledRollsOnTwoSegmentsAtHeightR) {
       for (const auto& a : patch.segments[0]) {
         for (const auto& b : patch.segments[1]) inner_gap = std::min(inner_gap, (a - b).norm());
       }
-      EXPECT_NEAR(inner_gap, kDumbbellBarLength, 1e-6) << "t = " << s.t;
+      EXPECT_NEAR(inner_gap, kDumbbellBarLength, kBarGapTol) << "t = " << s.t;
     }
     EXPECT_TRUE(geometry::PatchHullContains(patch, kGround, ecp, kFacetLateralOffset))
         << "t = " << s.t;
@@ -253,6 +264,9 @@ TEST(PaperScenesTest, DumbbellToppledRollsOnTwoSegmentsAtHeightR) {
 constexpr double kTiltTol = 1e-9;            // rad
 constexpr double kDeskHalfSupport = 0.25;    // m: the feet span the 0.5 × 0.5 m top
 constexpr double kSupportSquareTol = 1e-12;  // m, round-off of the frame change
+// m²: the hull of the four feet found within the patch tolerance (1e-6 of the desk's size) at a
+// tilt below kTiltTol: the 0.25 m² square up to the tolerance's share of its edges
+constexpr double kSupportAreaTol = 1e-6;
 
 TEST(PaperScenesTest, DeskSlidesWithoutTippingAndItsEcpStaysInTheSupportSquare) {
   const Scene scene = LoadScene(ScenePath("desk.yaml"));
@@ -277,7 +291,8 @@ TEST(PaperScenesTest, DeskSlidesWithoutTippingAndItsEcpStaysInTheSupportSquare) 
     // the patch is the four feet: a non-convex surface whose hull is the support square
     const ContactPatch patch = ExtractContactPatch(mesh, s.X_WB, kGround);
     EXPECT_EQ(patch.mode, ContactMode::kNonConvexPatch) << "t = " << s.t;
-    EXPECT_NEAR(patch.area, 4 * kDeskHalfSupport * kDeskHalfSupport, 1e-6) << "t = " << s.t;
+    EXPECT_NEAR(patch.area, 4 * kDeskHalfSupport * kDeskHalfSupport, kSupportAreaTol)
+        << "t = " << s.t;
     EXPECT_TRUE(geometry::PatchHullContains(patch, kGround, ecp, kSupportSquareTol))
         << "t = " << s.t;
   }

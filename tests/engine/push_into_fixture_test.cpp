@@ -29,6 +29,8 @@ constexpr double kPenetration = 1e-9;
 // m/s: at rest, pressed into the fixtures: every velocity the steps leave is the solver's
 // residual (1e-12 of the velocity scale g h ≈ 0.1 m/s) times the rows it sums, with margin
 constexpr double kRestSpeed = 1e-9;
+// a contact normal is solved with the step: a unit vector to the solver's precision, with margin
+constexpr double kNormalTol = 1e-9;
 
 // `yaml` as a scene file next to the repository's scenes/ (its meshes/ paths resolve there)
 Scene SceneFromText(const std::string& name, const std::string& yaml) {
@@ -78,7 +80,7 @@ loads:
   // the ground's friction, which at rest carries nothing along x beyond what the wall leaves)
   const ContactState& wall = state.contacts[1];
   EXPECT_GT(wall.p_n, 0);
-  EXPECT_NEAR(wall.n.x(), -1, 1e-9);  // the wall's −x face
+  EXPECT_NEAR(wall.n.x(), -1, kNormalTol);  // the wall's −x face
 }
 
 TEST(PushIntoFixtureTest, ABoxPushedDiagonallyIntoACornerComesToRestTouchingBothWalls) {

@@ -43,7 +43,8 @@ TEST(SceneLimitsTest, StepTimesStayDistinctUpToTheStepLimit) {
 
 TEST(SceneLimitsTest, PositionsWithinTheDistanceLimitResolveBelowTheEngineTolerance) {
   // the engine's geometric tolerances are 1e-9 of a body's size (hull_model.cpp)
-  EXPECT_LT(kMaxDistanceInSizes * DBL_EPSILON, 1e-9);
+  constexpr double kGeometricRelTol = 1e-9;
+  EXPECT_LT(kMaxDistanceInSizes * DBL_EPSILON, kGeometricRelTol);
 }
 
 TEST(SceneLimitsTest, PlannedStepsIsTheCeilingWithSlackForRoundOff) {

@@ -21,6 +21,9 @@ using ::testing::HasSubstr;
 using testing::MakeBoxBody;
 using testing::MakeGroundScene;
 
+// m: one rounding of a coordinate |x| ≈ 1 (ε = 2.2e-16, rounded up)
+constexpr double kRoundingOfOne = 2.3e-16;
+
 // A model that moves each body by h along x and solves only sub-steps of at most `largest_h`
 // (for the body named "stubborn"; every other body at any h): the driver's ladder is what is
 // under test, with the outcome known in advance.
@@ -86,7 +89,7 @@ TEST(StepIslandsTest, AnIslandThatFailsAtHIsSteppedInTheFirstSubstepsThatSolve) 
   EXPECT_EQ(model.calls, 1 + 1 + 1 + 4);
   // each body moved by h (the stubborn one in four roundings of x + h/4: a few ulps of 1), and
   // the failed attempts' NaN never reached the state
-  constexpr double kFourRoundings = 4 * 2.3e-16;  // m, 4 ulps of |x| ≈ 1
+  constexpr double kFourRoundings = 4 * kRoundingOfOne;
   EXPECT_EQ(state.bodies[0].p_WB.x(), scene.h);
   EXPECT_NEAR(state.bodies[1].p_WB.x(), 1 + scene.h, kFourRoundings);
   EXPECT_EQ(state.steps, 1);
@@ -154,7 +157,8 @@ TEST(StepIslandsTest, TheLastResortRunsOnlyWhereEverySubstepLengthFailed) {
   EXPECT_EQ(model.advance_.calls, 1 + 4);
   EXPECT_EQ(model.last_resort_.calls, 1 + 2);
   EXPECT_EQ(report.substeps, 2);
-  EXPECT_NEAR(state.bodies[1].p_WB.x(), 1 + scene.h, 2 * 2.3e-16);  // two roundings of x + h/2
+  // two roundings of x + h/2
+  EXPECT_NEAR(state.bodies[1].p_WB.x(), 1 + scene.h, 2 * kRoundingOfOne);
   EXPECT_EQ(state.steps, 1);
 }
 

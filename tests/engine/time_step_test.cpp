@@ -23,6 +23,19 @@ constexpr double kG = 9.8;
 // non-penetration bound asserted after every step of every test (issue 3): the MNCP puts the
 // hull exactly on G at the end of the step, up to the solver tolerance
 constexpr double kPenetrationTol = 1e-9;  // m
+// m: the ECP lies on G and inside the contact patch's hull, up to the same solver precision
+constexpr double kEcpTolerance = 1e-9;
+// m/s, rad/s or m: implicit Euler reproduces a constant acceleration's velocity (and a constant
+// velocity's position) exactly, so these differ from the closed form only by the solver's
+// residual (tolerance 1e-12) over at most 10⁴ steps
+constexpr double kAnalytic = 1e-9;
+// m/s, rad/s, m or rad: a motion the physics makes zero (a sliding box's spin, a resting body's
+// drift) stays at the level of the solver's residual
+constexpr double kStill = 1e-10;
+// s: the clock sums h over the steps, a few ulps of ~1 s per step
+constexpr double kClockRoundOff = 1e-12;
+// the norm of the orientation quaternion, renormalised every step, after up to 10⁴ steps
+constexpr double kQuaternionNormRoundOff = 1e-12;
 
 TEST(SlideTest, DeceleratesAtMuGAndStopsAtTStar) {
   // box 0.5 × 0.5 × 0.1 m, 15 kg, μ = 0.22, v0 = 0.5 m/s along +x
@@ -41,17 +54,19 @@ TEST(SlideTest, DeceleratesAtMuGAndStopsAtTStar) {
     // step that contains t* ends at rest
     const double v = state.bodies[0].v_WB.x();
     if (state.t < t_star) {
-      EXPECT_NEAR(v, expected, 1e-9) << "t = " << state.t;
+      EXPECT_NEAR(v, expected, kAnalytic) << "t = " << state.t;
     } else {
-      EXPECT_NEAR(v, 0.0, 1e-9) << "t = " << state.t;
+      EXPECT_NEAR(v, 0.0, kAnalytic) << "t = " << state.t;
       if (stop_time < 0) stop_time = state.t;
     }
-    EXPECT_LE(state.bodies[0].w_WB.norm(), 1e-10);
-    EXPECT_NEAR(state.bodies[0].v_WB.y(), 0.0, 1e-12);
+    EXPECT_LE(state.bodies[0].w_WB.norm(), kStill);
+    // m/s: zero by the scene's mirror symmetry about y = 0, up to the solve's round-off
+    constexpr double kSymmetricZero = 1e-12;
+    EXPECT_NEAR(state.bodies[0].v_WB.y(), 0.0, kSymmetricZero);
     EXPECT_GE(LowestVertexHeight(scene.bodies[0], state.bodies[0]), -kPenetrationTol);
   }
-  EXPECT_GT(stop_time, t_star - 1e-12);
-  EXPECT_LE(stop_time, t_star + scene.h + 1e-12);
+  EXPECT_GT(stop_time, t_star - kClockRoundOff);
+  EXPECT_LE(stop_time, t_star + scene.h + kClockRoundOff);
 }
 
 TEST(SpinTest, TorsionalFrictionDeceleratesAtMuErMgOverIzz) {
@@ -67,9 +82,9 @@ TEST(SpinTest, TorsionalFrictionDeceleratesAtMuErMgOverIzz) {
     ASSERT_TRUE(Step(scene, state).converged);
     const double expected = std::max(0.0, 5 - rate * state.t);
     if (expected > 0) {
-      EXPECT_NEAR(state.bodies[0].w_WB.z(), expected, 1e-9) << state.t;
+      EXPECT_NEAR(state.bodies[0].w_WB.z(), expected, kAnalytic) << state.t;
     }
-    EXPECT_LE(state.bodies[0].v_WB.norm(), 1e-10);
+    EXPECT_LE(state.bodies[0].v_WB.norm(), kStill);
     EXPECT_GE(LowestVertexHeight(scene.bodies[0], state.bodies[0]), -kPenetrationTol);
   }
 }
@@ -89,15 +104,16 @@ TEST(FreeFlightTest, QuaternionStaysUnitAndMomentumIsSensible) {
   for (int i = 0; i < 10000; ++i) {
     const StepReport report = Step(scene, state);
     ASSERT_TRUE(report.converged) << "step " << i;
-    ASSERT_NEAR(state.bodies[0].Q_WB.norm(), 1.0, 1e-12);
+    ASSERT_NEAR(state.bodies[0].Q_WB.norm(), 1.0, kQuaternionNormRoundOff);
   }
   // ballistic flight of the CM is exact for implicit Euler up to the O(h) position offset
   const double t = state.t;
-  EXPECT_NEAR(state.bodies[0].v_WB.z(), 5 - kG * t, 1e-9);
-  EXPECT_NEAR(state.bodies[0].p_WB.x(), t, 1e-9);
+  EXPECT_NEAR(state.bodies[0].v_WB.z(), 5 - kG * t, kAnalytic);
+  EXPECT_NEAR(state.bodies[0].p_WB.x(), t, kAnalytic);
   // semi-implicit rigid-body rotation is not exactly conservative; over 10 s of tumbling the
   // angular momentum may drift by a few per cent (first-order in h), not blow up
-  EXPECT_LT((angular_momentum(state.bodies[0]) - L0).norm() / L0.norm(), 0.05);
+  constexpr double kMomentumDrift = 0.05;  // relative
+  EXPECT_LT((angular_momentum(state.bodies[0]) - L0).norm() / L0.norm(), kMomentumDrift);
 }
 
 // The gyroscopic impulse is implicit, h ω⁺ × I_w ω⁺ (engine/README.md): dotting the free-flight
@@ -120,13 +136,14 @@ TEST(FreeFlightTest, FastTumbleNeverGainsRotationalEnergy) {
     ASSERT_TRUE(Step(scene, state).converged) << "step " << i;
     const double e = energy(state.bodies[0]);
     // non-increasing up to round-off of the 3×3 solve (1e-12 relative)
-    ASSERT_LE(e, previous * (1 + 1e-12)) << "step " << i;
+    constexpr double kSolveRoundOff = 1e-12;
+    ASSERT_LE(e, previous * (1 + kSolveRoundOff)) << "step " << i;
     previous = e;
   }
   // the price is numerical damping at this h|ω|: 73 % of the rotational energy is gone after
   // 20 s (at h|ω| ≈ 0.2 the tumble of FreeFlightTest above keeps its momentum to 5 %)
   EXPECT_LT(previous, initial);
-  EXPECT_NEAR(state.bodies[0].Q_WB.norm(), 1.0, 1e-12);
+  EXPECT_NEAR(state.bodies[0].Q_WB.norm(), 1.0, kQuaternionNormRoundOff);
 }
 
 // --- resting bodies ---
@@ -140,9 +157,9 @@ void ExpectRestsWithoutDrift(Body body, double seconds) {
   for (int i = 0; i < steps; ++i) {
     ASSERT_TRUE(Step(scene, state).converged);
     const BodyState& b = state.bodies[0];
-    ASSERT_LE((b.p_WB - p0).norm(), 1e-10) << body.name << " at t = " << state.t;
-    ASSERT_LE(b.Q_WB.angularDistance(q0), 1e-10) << body.name << " at t = " << state.t;
-    ASSERT_LE(b.v_WB.norm() + b.w_WB.norm(), 1e-10) << body.name << " at t = " << state.t;
+    ASSERT_LE((b.p_WB - p0).norm(), kStill) << body.name << " at t = " << state.t;
+    ASSERT_LE(b.Q_WB.angularDistance(q0), kStill) << body.name << " at t = " << state.t;
+    ASSERT_LE(b.v_WB.norm() + b.w_WB.norm(), kStill) << body.name << " at t = " << state.t;
     ASSERT_GE(LowestVertexHeight(scene.bodies[0], b), -kPenetrationTol);
   }
 }
@@ -217,21 +234,23 @@ TEST(TipOrSlideTest, OutcomesMatchStatics) {
     const BodyState& b = state.bodies[0];
     const double tilt = b.Q_WB.angularDistance(Eigen::Quaterniond::Identity());
     const double travel = b.p_WB.x();
+    // rad or m: far above the solver's residual, far below what 0.2 s of tipping or sliding moves
+    constexpr double kMoved = 1e-6;
     Outcome actual = Outcome::kRest;
-    if (tilt > 1e-6) {
+    if (tilt > kMoved) {
       actual = Outcome::kTip;
-    } else if (travel > 1e-6) {
+    } else if (travel > kMoved) {
       actual = Outcome::kSlide;
     }
     EXPECT_EQ(OutcomeName(actual), std::string(OutcomeName(expected)))
         << "F = " << c.F << " N, H = " << c.H << " m, box " << c.size.transpose();
     if (expected == Outcome::kRest) {
-      EXPECT_LE(b.p_WB.x() + b.v_WB.norm() + tilt, 1e-10);
+      EXPECT_LE(b.p_WB.x() + b.v_WB.norm() + tilt, kStill);
     }
     if (expected == Outcome::kSlide) {
       // constant acceleration (F − μ m g)/m, reproduced exactly by implicit Euler
-      EXPECT_NEAR(b.v_WB.x(), (c.F - mu * c.mass * kG) / c.mass * state.t, 1e-9);
-      EXPECT_LE(tilt, 1e-10);
+      EXPECT_NEAR(b.v_WB.x(), (c.F - mu * c.mass * kG) / c.mass * state.t, kAnalytic);
+      EXPECT_LE(tilt, kStill);
     }
   }
   EXPECT_EQ(seen.size(), 3u) << "the table must exercise rest, slide and tip";
@@ -264,8 +283,8 @@ TEST(TransitionTest, TiltedBoxFallsFlatWithEcpInPatchHull) {
     X_WB.translation() = b.p_WB;
     const geometry::ContactPatch patch =
         geometry::ExtractContactPatch(scene.bodies[0].mesh, X_WB, ground);
-    EXPECT_NEAR(c.a1.z(), 0.0, 1e-9);
-    EXPECT_TRUE(geometry::PatchHullContains(patch, ground, c.a1, 1e-9))
+    EXPECT_NEAR(c.a1.z(), 0.0, kEcpTolerance);
+    EXPECT_TRUE(geometry::PatchHullContains(patch, ground, c.a1, kEcpTolerance))
         << "ECP " << c.a1.transpose() << " outside the patch hull at t = " << state.t;
     if (modes.empty() || modes.back() != patch.mode) modes.push_back(patch.mode);
   }
@@ -273,10 +292,12 @@ TEST(TransitionTest, TiltedBoxFallsFlatWithEcpInPatchHull) {
   ASSERT_GE(modes.size(), 2u);
   EXPECT_EQ(modes.front(), geometry::ContactMode::kLine);
   EXPECT_EQ(modes.back(), geometry::ContactMode::kConvexPatch);
+  // m, rad, m/s: fallen flat and at rest, to the solver's precision over the fall's impacts
+  constexpr double kSettled = 1e-9;
   const BodyState& b = state.bodies[0];
-  EXPECT_NEAR(b.p_WB.z(), size.z() / 2, 1e-9);
-  EXPECT_LE(b.Q_WB.angularDistance(Eigen::Quaterniond::Identity()), 1e-9);
-  EXPECT_LE(b.v_WB.norm() + b.w_WB.norm(), 1e-9);
+  EXPECT_NEAR(b.p_WB.z(), size.z() / 2, kSettled);
+  EXPECT_LE(b.Q_WB.angularDistance(Eigen::Quaterniond::Identity()), kSettled);
+  EXPECT_LE(b.v_WB.norm() + b.w_WB.norm(), kSettled);
 }
 
 // --- the hull window gives the same trajectory as the full hull ---
@@ -316,23 +337,25 @@ TEST(WindowTest, SameTrajectoryAsFullHull) {
   };
   // every step from the same state: the windowed step equals the full-hull step to the solver's
   // precision (the check after the solve makes the windowed solution an exact full solution)
+  constexpr double kSameStep = 1e-11;  // m, rad, m/s
   State a = InitialState(windowed);
   for (int i = 0; i < 150; ++i) {
     State b = a;
     ASSERT_TRUE(Step(windowed, a).converged);
     ASSERT_TRUE(Step(full, b).converged);
-    expect_same(a.bodies[0], b.bodies[0], 1e-11, a.t);
+    expect_same(a.bodies[0], b.bodies[0], kSameStep, a.t);
     ASSERT_LT((*a.contacts[0].warm_start.Get<HullWarmStart>()).window.size(),
               static_cast<size_t>(hull->NumConstraints()));
   }
   // whole trajectories through the landing and the first facet switches: the tumbling faceted
   // body amplifies round-off differences (≈ 1e-13 per step) by roughly 10× per 0.1 s, so the
   // 1e-9 comparison runs over the first 0.5 s (measured difference there: ≈ 1e-10)
+  constexpr double kSameTrajectory = 1e-9;  // m, rad, m/s
   State c = InitialState(windowed), d = InitialState(full);
   for (int i = 0; i < 50; ++i) {
     ASSERT_TRUE(Step(windowed, c).converged);
     ASSERT_TRUE(Step(full, d).converged);
-    expect_same(c.bodies[0], d.bodies[0], 1e-9, c.t);
+    expect_same(c.bodies[0], d.bodies[0], kSameTrajectory, c.t);
   }
   // it did land and roll: the contact carried load for most of the run
   EXPECT_GT(a.contacts[0].p_n, 0);

@@ -20,6 +20,7 @@
 #include "engine/scene_io/scene_yaml.h"
 #include "geometry/mass_properties.h"
 #include "geometry/mesh_io.h"
+#include "tests/tolerances.h"
 
 namespace ecpsim::evaluation {
 namespace {
@@ -72,18 +73,20 @@ TEST(DrawDropPoseTest, WithinTheDrawnRangesAndTheSameForBothSteps) {
     EXPECT_GE(fixed.height, kDropMinHeight * fixed.size);
     EXPECT_LE(fixed.height, kDropMaxHeight * fixed.size);
     EXPECT_LE(fixed.w0.norm(), kDropMaxSpin * std::sqrt(9.8 / fixed.size));
-    EXPECT_NEAR(fixed.q0.norm(), 1, 1e-15);
+    EXPECT_NEAR(fixed.q0.norm(), 1, kUnitRoundOff);
     EXPECT_EQ(fixed.h, kDropStep);
-    // a whole number of steps, at least the minimum and the fall
+    // a whole number of steps, at least the minimum and the fall (relative: the quotient of two
+    // doubles is a whole number only to a few ulps, far below this)
+    constexpr double kWholeStepsRel = 1e-9;
     const double steps = fixed.duration / fixed.h;
-    EXPECT_NEAR(steps, std::round(steps), 1e-9 * steps);
+    EXPECT_NEAR(steps, std::round(steps), kWholeStepsRel * steps);
     EXPECT_GE(fixed.duration, kDropMinDuration);
     EXPECT_GE(fixed.duration, std::sqrt(2 * fixed.height / 9.8));
     // the scaled step is the dimensionless image of a 1 m drop: h and duration ∝ sqrt(size)
     EXPECT_EQ(scaled.size, fixed.size);
     EXPECT_EQ(scaled.q0.coeffs(), fixed.q0.coeffs());
     EXPECT_EQ(scaled.w0, fixed.w0);
-    EXPECT_NEAR(scaled.h, kDropStep * std::sqrt(fixed.size), 1e-15 * scaled.h);
+    EXPECT_NEAR(scaled.h, kDropStep * std::sqrt(fixed.size), kUnitRoundOff * scaled.h);
   }
 }
 

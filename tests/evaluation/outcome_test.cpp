@@ -6,6 +6,7 @@
 #include <string>
 
 #include "evaluation/method.h"
+#include "tests/tolerances.h"
 
 namespace ecpsim::evaluation {
 namespace {
@@ -76,7 +77,8 @@ TEST(StabilityMapsTest, ThrownBodiesStartJustAboveTheGround) {
       for (const Eigen::Vector3d& v : body.mesh.vertices) {
         lowest = std::min(lowest, (body.p0 + body.q0 * v).z());
       }
-      EXPECT_NEAR(lowest, 1e-3, 1e-12) << map.name << " " << value;
+      constexpr double kPoseRoundOff = 1e-12;  // m: the lowest vertex placed, through a rotation
+      EXPECT_NEAR(lowest, 1e-3, kPoseRoundOff) << map.name << " " << value;
       EXPECT_LT(body.v0.z(), 0) << map.name;
     }
   }
@@ -93,11 +95,12 @@ TEST(StabilityMapsTest, TBarMassRatioMovesItsCentreOfMassAndKeepsItsMass) {
     // 0.2 m · m_stem above the CM along y
     double y_top = -INFINITY;
     for (const Eigen::Vector3d& v : body.mesh.vertices) y_top = std::max(y_top, v.y());
-    EXPECT_NEAR(y_top - 0.05, 0.2 / (1 + ratio), 1e-12) << ratio;
+    constexpr double kCentreRoundOff = 1e-12;  // m: the mesh moved to the two boxes' CM
+    EXPECT_NEAR(y_top - 0.05, 0.2 / (1 + ratio), kCentreRoundOff) << ratio;
     // inertia is symmetric positive definite and satisfies the triangle inequality
     const Eigen::Vector3d moments = body.inertia.diagonal();
-    EXPECT_LE(moments.z(), moments.x() + moments.y() + 1e-15);
-    EXPECT_NEAR(body.inertia(0, 1), 0, 1e-15);
+    EXPECT_LE(moments.z(), moments.x() + moments.y() + kUnitRoundOff);
+    EXPECT_NEAR(body.inertia(0, 1), 0, kUnitRoundOff);
   }
 }
 
@@ -110,7 +113,7 @@ TEST(StabilityMapsTest, PushSpeedScalesThePushersVelocity) {
     const engine::Body& pusher = s.scene.bodies[1 - s.body];
     ASSERT_TRUE(pusher.IsKinematic());
     const Eigen::Vector3d v = pusher.motion->StepTwist(0.3, 0.01).v;
-    EXPECT_NEAR(v.x(), speed, 1e-15 * speed);
+    EXPECT_NEAR(v.x(), speed, kUnitRoundOff * speed);
     EXPECT_EQ(v.y(), 0);
     // the pusher starts where the scene file puts it
     EXPECT_EQ(pusher.motion->PoseAt(0).p, Eigen::Vector3d(-0.12, 0, 0.05));

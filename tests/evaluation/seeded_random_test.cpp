@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/tolerances.h"
+
 namespace ecpsim::evaluation {
 namespace {
 
@@ -22,15 +24,15 @@ TEST(SeededRandomTest, DrawsStayInTheirRanges) {
     EXPECT_LT(u, 1);
     sum += u;
     const double l = random.LogUniform(1e-3, 1e2);
-    EXPECT_GE(l, 1e-3 * (1 - 1e-15));
-    EXPECT_LE(l, 1e2 * (1 + 1e-15));
+    EXPECT_GE(l, 1e-3 * (1 - kUnitRoundOff));  // relative: the round-off of exp and log
+    EXPECT_LE(l, 1e2 * (1 + kUnitRoundOff));
     const int k = random.Integer(2, 4);
     EXPECT_GE(k, 2);
     EXPECT_LE(k, 4);
     integers.insert(k);
-    EXPECT_NEAR(random.UnitVector().norm(), 1, 1e-15);
-    EXPECT_LE(random.InBall().norm(), 1 + 1e-15);
-    EXPECT_NEAR(random.Rotation().norm(), 1, 1e-15);
+    EXPECT_NEAR(random.UnitVector().norm(), 1, kUnitRoundOff);
+    EXPECT_LE(random.InBall().norm(), 1 + kUnitRoundOff);
+    EXPECT_NEAR(random.Rotation().norm(), 1, kUnitRoundOff);
   }
   EXPECT_EQ(integers.size(), 3u);
   // the mean of uniform draws: 1/2 within 5 standard deviations, sqrt(1/12 / kDraws)

@@ -18,6 +18,9 @@ using Eigen::AngleAxisd;
 using Eigen::Vector3d;
 
 constexpr double kG = 9.8;
+// m or s: the hull model solves each step to its tolerance 1e-12, so the samples, their errors
+// and the stop times are the discrete scheme's to round-off
+constexpr double kSolverTolerance = 1e-12;
 
 Scenario SlideScenario() {
   for (Scenario& s : WorkPrecisionScenarios(std::string(ECPSIM_SOURCE_DIR) + "/scenes", 0.5)) {
@@ -47,26 +50,27 @@ TEST(RunTrajectoryTest, HullSlideSamplesAreTheDiscreteSchemeAndItsErrorIsFirstOr
     double expected_error = 0;
     for (size_t k = 0; k < run.samples.size(); ++k) {
       const double x = DiscreteDistance(v0, mu, h, static_cast<long>(k) * per_sample);
-      // the hull model solves each step to 1e-12: the samples are the scheme's to round-off
-      EXPECT_NEAR((run.samples[k].p_WB - slide.scene.bodies[0].p0).dot(u), x, 1e-12) << k;
+      EXPECT_NEAR((run.samples[k].p_WB - slide.scene.bodies[0].p0).dot(u), x, kSolverTolerance)
+          << k;
       const double t = k * slide.sample_interval;
       expected_error = std::max(
           expected_error, std::abs(x - (slide.analytic(t).p_WB - slide.scene.bodies[0].p0).dot(u)));
       EXPECT_EQ(run.modes[k], ContactMode::kFace);
     }
     const TrajectoryErrors e = CompareTrajectories(run, AnalyticTrajectory(slide), slide.length);
-    EXPECT_NEAR(e.state, expected_error, 1e-12);
-    EXPECT_NEAR(e.position, expected_error, 1e-12);
+    EXPECT_NEAR(e.state, expected_error, kSolverTolerance);
+    EXPECT_NEAR(e.position, expected_error, kSolverTolerance);
     EXPECT_EQ(e.wrong_mode, 0);
     // stopped: the first step end with v_k = max(0, v0 − μ g k h) below kStopSpeed
     long k_stop = 1;
     while (std::max(0.0, v0 - mu * kG * k_stop * h) >= kStopSpeed) ++k_stop;
-    EXPECT_NEAR(run.stop_time, k_stop * h, 1e-12);
-    EXPECT_NEAR(e.stop_time, std::abs(k_stop * h - slide.stop_time), 1e-12);
-    EXPECT_LT(run.max_penetration, 1e-12);
+    EXPECT_NEAR(run.stop_time, k_stop * h, kSolverTolerance);
+    EXPECT_NEAR(e.stop_time, std::abs(k_stop * h - slide.stop_time), kSolverTolerance);
+    EXPECT_LT(run.max_penetration, kSolverTolerance);
     if (previous_error > 0) {
       // first order: h five times smaller, error five times smaller (to 5 %)
-      EXPECT_NEAR(previous_error / e.state, 5, 0.25);
+      constexpr double kFirstOrderRatioTol = 0.25;  // 5 % of 5
+      EXPECT_NEAR(previous_error / e.state, 5, kFirstOrderRatioTol);
     }
     previous_error = e.state;
   }

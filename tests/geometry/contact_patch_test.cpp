@@ -18,6 +18,20 @@ using testing::MakeBoxMesh;
 
 const Plane kGround;  // z = 0, normal +z
 
+// m or m²: a few dozen ulps of sub-metre lengths and areas that take a few operations each
+constexpr double kRoundOff = 1e-15;
+
+// m or m²: lengths and areas that pass through a rotation, trigonometric facets or the hull's
+// construction; still 10⁶ below the patch tolerance (1e-6 of the mesh's size)
+constexpr double kRotatedRoundOff = 1e-12;
+
+// m: the containment tolerance around a patch's hull; test points lie 0.5× (inside) or 2×
+// (outside) it off the hull
+constexpr double kHullTolerance = 1e-6;
+
+// m: a containment tolerance far below every length here, for points well inside a hull
+constexpr double kInsideTolerance = 1e-9;
+
 // area of a planar polygon in 3-D, positive when counter-clockwise about +z
 double AreaAboutZ(const std::vector<Eigen::Vector3d>& polygon) {
   Eigen::Vector3d twice = Eigen::Vector3d::Zero();
@@ -44,19 +58,19 @@ TEST(ContactPatchTest, DeskFlatIsFourSquaresInASquareHull) {
   ASSERT_EQ(patch.polygons.size(), 4u);
   for (const auto& foot : patch.polygons) {
     EXPECT_EQ(foot.size(), 4u);
-    EXPECT_NEAR(AreaAboutZ(foot), 0.0036, 1e-15);
+    EXPECT_NEAR(AreaAboutZ(foot), 0.0036, kRoundOff);
   }
   EXPECT_TRUE(patch.segments.empty());
   EXPECT_TRUE(patch.points.empty());
   ASSERT_EQ(patch.hull.size(), 4u);
   for (const Eigen::Vector3d& corner : patch.hull) {
-    EXPECT_NEAR(std::abs(corner.x()), 0.25, 1e-12);
-    EXPECT_NEAR(std::abs(corner.y()), 0.25, 1e-12);
+    EXPECT_NEAR(std::abs(corner.x()), 0.25, kRotatedRoundOff);
+    EXPECT_NEAR(std::abs(corner.y()), 0.25, kRotatedRoundOff);
     EXPECT_EQ(corner.z(), 0.0);
   }
   EXPECT_GT(AreaAboutZ(patch.hull), 0.0);
-  EXPECT_NEAR(patch.area, 0.25, 1e-12);
-  EXPECT_NEAR(patch.feature_area, 4 * 0.0036, 1e-15);
+  EXPECT_NEAR(patch.area, 0.25, kRotatedRoundOff);
+  EXPECT_NEAR(patch.feature_area, 4 * 0.0036, kRoundOff);
   EXPECT_EQ(patch.mode, ContactMode::kNonConvexPatch);
   EXPECT_STREQ(ContactModeName(patch.mode), "non-convex patch");
 }
@@ -72,17 +86,19 @@ TEST(ContactPatchTest, DumbbellOnItsSideIsTwoCollinearSegments) {
   EXPECT_TRUE(patch.points.empty());
   ASSERT_EQ(patch.segments.size(), 2u);
   for (const auto& segment : patch.segments) {
-    EXPECT_NEAR((segment[1] - segment[0]).norm(), 0.06, 1e-12);
+    EXPECT_NEAR((segment[1] - segment[0]).norm(), 0.06, kRotatedRoundOff);
   }
   ASSERT_EQ(patch.hull.size(), 2u);
-  EXPECT_NEAR((patch.hull[1] - patch.hull[0]).norm(), 0.3, 1e-12);
+  EXPECT_NEAR((patch.hull[1] - patch.hull[0]).norm(), 0.3, kRotatedRoundOff);
   EXPECT_EQ(patch.area, 0.0);
   EXPECT_EQ(patch.mode, ContactMode::kNonConvexLine);
   // the middle of the gap is in the hull, a point beside the line is not
-  EXPECT_TRUE(PatchHullContains(patch, kGround, {0, 0, 0}, 1e-9));
-  EXPECT_FALSE(PatchHullContains(patch, kGround, {0, 2e-6, 0}, 1e-6));
-  EXPECT_FALSE(PatchHullContains(patch, kGround, {0.15 + 2e-6, 0, 0}, 1e-6));
-  EXPECT_TRUE(PatchHullContains(patch, kGround, {0.15 + 0.5e-6, 0, 0}, 1e-6));
+  EXPECT_TRUE(PatchHullContains(patch, kGround, {0, 0, 0}, kInsideTolerance));
+  EXPECT_FALSE(PatchHullContains(patch, kGround, {0, 2 * kHullTolerance, 0}, kHullTolerance));
+  EXPECT_FALSE(
+      PatchHullContains(patch, kGround, {0.15 + 2 * kHullTolerance, 0, 0}, kHullTolerance));
+  EXPECT_TRUE(
+      PatchHullContains(patch, kGround, {0.15 + 0.5 * kHullTolerance, 0, 0}, kHullTolerance));
 }
 
 TEST(ContactPatchTest, BoxFlatOnEdgeAndOnCorner) {
@@ -90,8 +106,8 @@ TEST(ContactPatchTest, BoxFlatOnEdgeAndOnCorner) {
   const ContactPatch flat = ExtractContactPatch(box, Eigen::Isometry3d::Identity(), kGround);
   ASSERT_EQ(flat.polygons.size(), 1u);
   EXPECT_EQ(flat.polygons[0].size(), 4u);
-  EXPECT_NEAR(flat.area, 0.08, 1e-15);
-  EXPECT_NEAR(flat.feature_area, 0.08, 1e-15);
+  EXPECT_NEAR(flat.area, 0.08, kRoundOff);
+  EXPECT_NEAR(flat.feature_area, 0.08, kRoundOff);
   EXPECT_EQ(flat.mode, ContactMode::kConvexPatch);
 
   // on the edge x ∈ [−0.1, 0.1] after a 45° roll about x
@@ -100,7 +116,7 @@ TEST(ContactPatchTest, BoxFlatOnEdgeAndOnCorner) {
   const ContactPatch edge = ExtractContactPatch(box, RestOnGround(box, roll), kGround);
   EXPECT_TRUE(edge.polygons.empty());
   ASSERT_EQ(edge.segments.size(), 1u);
-  EXPECT_NEAR((edge.segments[0][1] - edge.segments[0][0]).norm(), 0.2, 1e-12);
+  EXPECT_NEAR((edge.segments[0][1] - edge.segments[0][0]).norm(), 0.2, kRotatedRoundOff);
   EXPECT_EQ(edge.hull.size(), 2u);
   EXPECT_EQ(edge.mode, ContactMode::kLine);
 
@@ -113,11 +129,13 @@ TEST(ContactPatchTest, BoxFlatOnEdgeAndOnCorner) {
   ASSERT_EQ(corner.points.size(), 1u);
   EXPECT_EQ(corner.hull.size(), 1u);
   EXPECT_EQ(corner.mode, ContactMode::kPoint);
-  EXPECT_TRUE(PatchHullContains(corner, kGround, corner.points[0], 1e-9));
-  EXPECT_FALSE(
-      PatchHullContains(corner, kGround, corner.points[0] + Eigen::Vector3d(2e-6, 0, 0), 1e-6));
-  EXPECT_FALSE(
-      PatchHullContains(corner, kGround, corner.points[0] + Eigen::Vector3d(0, 0, 2e-6), 1e-6));
+  EXPECT_TRUE(PatchHullContains(corner, kGround, corner.points[0], kInsideTolerance));
+  EXPECT_FALSE(PatchHullContains(corner, kGround,
+                                 corner.points[0] + Eigen::Vector3d(2 * kHullTolerance, 0, 0),
+                                 kHullTolerance));
+  EXPECT_FALSE(PatchHullContains(corner, kGround,
+                                 corner.points[0] + Eigen::Vector3d(0, 0, 2 * kHullTolerance),
+                                 kHullTolerance));
 }
 
 // The T-bar flat is its T outline (area 0.4 × 0.1 + 0.3 × 0.1 = 0.07) in a hexagonal hull
@@ -128,10 +146,10 @@ TEST(ContactPatchTest, TBarFlatAndOnTwoCorners) {
   const ContactPatch flat = ExtractContactPatch(tbar, Eigen::Isometry3d::Identity(), kGround);
   ASSERT_EQ(flat.polygons.size(), 1u);
   EXPECT_EQ(flat.polygons[0].size(), 8u);
-  EXPECT_NEAR(AreaAboutZ(flat.polygons[0]), 0.07, 1e-15);
-  EXPECT_NEAR(flat.feature_area, 0.07, 1e-15);
+  EXPECT_NEAR(AreaAboutZ(flat.polygons[0]), 0.07, kRoundOff);
+  EXPECT_NEAR(flat.feature_area, 0.07, kRoundOff);
   EXPECT_EQ(flat.hull.size(), 6u);
-  EXPECT_NEAR(flat.area, 0.115, 1e-15);
+  EXPECT_NEAR(flat.area, 0.115, kRoundOff);
   EXPECT_EQ(flat.mode, ContactMode::kNonConvexPatch);
 
   // the bar's bottom-right corner and the stem tip's right corner (lowest y, largest x)
@@ -150,9 +168,11 @@ TEST(ContactPatchTest, TBarFlatAndOnTwoCorners) {
     Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
     X.translate(bar_corner).rotate(Eigen::AngleAxisd(angle, axis)).translate(-bar_corner);
     // the sense of rotation that lifts the rest of the bar
+    // m: the two corners are copies of mesh vertices, at distance 0 from themselves
+    constexpr double kSameVertex = 1e-12;
     double lowest = 1e300;
     for (const Eigen::Vector3d& v : tbar.vertices) {
-      if ((v - bar_corner).norm() > 1e-12 && (v - stem_corner).norm() > 1e-12) {
+      if ((v - bar_corner).norm() > kSameVertex && (v - stem_corner).norm() > kSameVertex) {
         lowest = std::min(lowest, (X * v).z());
       }
     }
@@ -161,9 +181,11 @@ TEST(ContactPatchTest, TBarFlatAndOnTwoCorners) {
     EXPECT_EQ(two.points.size(), 2u);
     EXPECT_TRUE(two.segments.empty());
     ASSERT_EQ(two.hull.size(), 2u);
-    EXPECT_NEAR((two.hull[1] - two.hull[0]).norm(), (stem_corner - bar_corner).norm(), 1e-12);
+    EXPECT_NEAR((two.hull[1] - two.hull[0]).norm(), (stem_corner - bar_corner).norm(),
+                kRotatedRoundOff);
     EXPECT_EQ(two.mode, ContactMode::kTwoPoint);
-    EXPECT_TRUE(PatchHullContains(two, kGround, 0.5 * (X * bar_corner + X * stem_corner), 1e-9));
+    EXPECT_TRUE(PatchHullContains(two, kGround, 0.5 * (X * bar_corner + X * stem_corner),
+                                  kInsideTolerance));
     return;
   }
   FAIL() << "no rotation about the hull edge lifts the T-bar";
@@ -175,7 +197,10 @@ TEST(ContactPatchTest, ToleranceDecidesWhatTouches) {
   const TriangleMesh box = MakeBoxMesh({-0.1, -0.2, 0}, {0.1, 0.2, 0.3});
   const double tolerance = ContactPatchTolerance(box);
   // the default is relative: 1e-6 of the box's diagonal √(0.2² + 0.4² + 0.3²) m
-  EXPECT_NEAR(tolerance, kContactPatchRelTolerance * std::sqrt(0.29), 1e-20);
+  constexpr double kToleranceRoundOff = 1e-20;  // m: ~100 ulps of the 5.4e-7 m tolerance
+  EXPECT_NEAR(tolerance, kContactPatchRelTolerance * std::sqrt(0.29), kToleranceRoundOff);
+  // m²: tilted by ~1e-6 rad, the face's area in the plane is 0.08 cos(angle), ~1e-13 below 0.08
+  constexpr double kTiltedAreaTolerance = 1e-9;
   for (const double rise : {0.5, 2.0}) {
     const double angle = std::asin(rise * tolerance / 0.4);
     Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
@@ -185,7 +210,7 @@ TEST(ContactPatchTest, ToleranceDecidesWhatTouches) {
     const ContactPatch patch = ExtractContactPatch(box, X, kGround);
     if (rise < 1) {
       EXPECT_EQ(patch.mode, ContactMode::kConvexPatch);
-      EXPECT_NEAR(patch.area, 0.08, 1e-9);
+      EXPECT_NEAR(patch.area, 0.08, kTiltedAreaTolerance);
     } else {
       EXPECT_EQ(patch.mode, ContactMode::kLine);
       EXPECT_EQ(patch.area, 0.0);
@@ -257,10 +282,12 @@ TEST(ContactPatchTest, IsolatedTipsArePointContacts) {
   EXPECT_EQ(tips({{0, 0}, {1, 0}}).mode, ContactMode::kTwoPoint);
   const ContactPatch three = tips({{0, 0}, {1, 0}, {0, 1}});
   EXPECT_EQ(three.mode, ContactMode::kMultiPoint);
-  EXPECT_NEAR(three.area, 0.5, 1e-15);
-  EXPECT_TRUE(PatchHullContains(three, kGround, {0.25, 0.25, 0}, 1e-9));
-  EXPECT_TRUE(PatchHullContains(three, kGround, {0.5, 0.5 + 0.5e-6, 0}, 1e-6));
-  EXPECT_FALSE(PatchHullContains(three, kGround, {0.5, 0.5 + 2e-6, 0}, 1e-6));
+  EXPECT_NEAR(three.area, 0.5, kRoundOff);
+  EXPECT_TRUE(PatchHullContains(three, kGround, {0.25, 0.25, 0}, kInsideTolerance));
+  EXPECT_TRUE(
+      PatchHullContains(three, kGround, {0.5, 0.5 + 0.5 * kHullTolerance, 0}, kHullTolerance));
+  EXPECT_FALSE(
+      PatchHullContains(three, kGround, {0.5, 0.5 + 2 * kHullTolerance, 0}, kHullTolerance));
   EXPECT_EQ(tips({{0, 0}, {1, 0}, {2, 0}}).mode, ContactMode::kNonConvexLine);
   // two tips closer than the tolerance are one point (half the tolerance apart changes the
   // mesh's diagonal, hence the tolerance, by a negligible 1e-6 of itself)
@@ -297,12 +324,14 @@ TEST(ContactPatchTest, TiltedPlaneUsesItsOwnFrame) {
   X.linear() = Eigen::AngleAxisd(-0.25 * EIGEN_PI, Eigen::Vector3d::UnitY()).toRotationMatrix();
   const ContactPatch patch = ExtractContactPatch(box, X, plane);
   EXPECT_EQ(patch.mode, ContactMode::kConvexPatch);
-  EXPECT_NEAR(patch.area, 0.08, 1e-12);
+  EXPECT_NEAR(patch.area, 0.08, kRotatedRoundOff);
   for (const Eigen::Vector3d& corner : patch.hull) {
-    EXPECT_NEAR(plane.normal.dot(corner) - plane.offset, 0.0, 1e-15);
+    EXPECT_NEAR(plane.normal.dot(corner) - plane.offset, 0.0, kRoundOff);
   }
-  EXPECT_TRUE(PatchHullContains(patch, plane, X * Eigen::Vector3d(0, 0, 0), 1e-12));
-  EXPECT_FALSE(PatchHullContains(patch, plane, X * Eigen::Vector3d(0.1 + 2e-6, 0, 0), 1e-6));
+  // the face's centre lies on the tilted plane to round-off, so a round-off tolerance holds it
+  EXPECT_TRUE(PatchHullContains(patch, plane, X * Eigen::Vector3d(0, 0, 0), kRotatedRoundOff));
+  EXPECT_FALSE(PatchHullContains(patch, plane, X * Eigen::Vector3d(0.1 + 2 * kHullTolerance, 0, 0),
+                                 kHullTolerance));
 }
 
 // Where two bodies touch: a 0.2 m box's bottom on a 0.3 m box's top is the whole bottom, the
@@ -321,8 +350,8 @@ TEST(ContactPatchTest, BoxOnBoxIsTheOverlapOfTheirFaces) {
   const ContactPatch on_large =
       IntersectContactPatches(small_bottom, large_top, kGround, tolerance);
   EXPECT_EQ(on_large.mode, ContactMode::kConvexPatch);
-  EXPECT_NEAR(on_large.area, 0.04, 1e-15);
-  EXPECT_NEAR(on_large.feature_area, 0.04, 1e-15);
+  EXPECT_NEAR(on_large.area, 0.04, kRoundOff);
+  EXPECT_NEAR(on_large.feature_area, 0.04, kRoundOff);
 
   // the large box above the small one: its bottom cut to the small top
   const TriangleMesh large_above = MakeBoxMesh({-0.15, -0.15, 0}, {0.15, 0.15, 0.1});
@@ -331,10 +360,10 @@ TEST(ContactPatchTest, BoxOnBoxIsTheOverlapOfTheirFaces) {
       ExtractContactPatch(large_above, I, kGround, tolerance),
       ExtractContactPatch(small_below, I, below, tolerance), kGround, tolerance);
   EXPECT_EQ(cut.mode, ContactMode::kConvexPatch);
-  EXPECT_NEAR(cut.area, 0.04, 1e-15);
+  EXPECT_NEAR(cut.area, 0.04, kRoundOff);
   for (const Eigen::Vector3d& corner : cut.hull) {
-    EXPECT_NEAR(std::abs(corner.x()), 0.1, 1e-15);
-    EXPECT_NEAR(std::abs(corner.y()), 0.1, 1e-15);
+    EXPECT_NEAR(std::abs(corner.x()), 0.1, kRoundOff);
+    EXPECT_NEAR(std::abs(corner.y()), 0.1, kRoundOff);
   }
 
   // shifted by 0.15 m in x: half its 0.2 m width over the large top; by 0.25 m, only its edge
@@ -343,7 +372,7 @@ TEST(ContactPatchTest, BoxOnBoxIsTheOverlapOfTheirFaces) {
   const ContactPatch half = IntersectContactPatches(
       ExtractContactPatch(small, shifted, kGround, tolerance), large_top, kGround, tolerance);
   EXPECT_EQ(half.mode, ContactMode::kConvexPatch);
-  EXPECT_NEAR(half.area, 0.1 * 0.2, 1e-15);
+  EXPECT_NEAR(half.area, 0.1 * 0.2, kRoundOff);
   shifted.translation() = Eigen::Vector3d(0.25, 0, 0);
   const ContactPatch edge = IntersectContactPatches(
       ExtractContactPatch(small, shifted, kGround, tolerance), large_top, kGround, tolerance);
@@ -362,7 +391,7 @@ TEST(ContactPatchTest, TheDesksFeetOnANarrowerSupportKeepTheFeetItReaches) {
   support.hull = {{0, -0.3, 0}, {0, 0.3, 0}, {0.3, 0.3, 0}, {0.3, -0.3, 0}};
   const ContactPatch two = IntersectContactPatches(feet, support, kGround, tolerance);
   EXPECT_EQ(two.polygons.size(), 2u);
-  EXPECT_NEAR(two.feature_area, 2 * 0.0036, 1e-15);
+  EXPECT_NEAR(two.feature_area, 2 * 0.0036, kRoundOff);
   EXPECT_EQ(two.mode, ContactMode::kNonConvexPatch);
 
   ContactPatch beam;  // under the desk's middle, between the feet
@@ -375,7 +404,7 @@ TEST(ContactPatchTest, TheDesksFeetOnANarrowerSupportKeepTheFeetItReaches) {
   EXPECT_EQ(across.segments.size(), 2u);
   double length = 0;
   for (const auto& segment : across.segments) length += (segment[1] - segment[0]).norm();
-  EXPECT_NEAR(length, 2 * 0.06, 1e-15);
+  EXPECT_NEAR(length, 2 * 0.06, kRoundOff);
   EXPECT_EQ(across.mode, ContactMode::kNonConvexLine);
 }
 

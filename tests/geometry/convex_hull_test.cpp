@@ -15,6 +15,7 @@
 #include "common/errors.h"
 #include "geometry/mesh_io.h"
 #include "geometry/paper_bodies.h"
+#include "tests/tolerances.h"
 
 namespace ecpsim::geometry {
 namespace {
@@ -24,6 +25,10 @@ using ::testing::ThrowsMessage;
 
 // unit-scale coordinates: a dot product n · p carries a few 1e-16 of round-off
 constexpr double kRoundOff = 1e-12;
+
+// m: a face's corners lie within the merge tolerance (kCoplanarTolerance, 1e-6 × the diagonal)
+// of its plane; 1e-5 covers the unit-size point sets here with room
+constexpr double kCornerOffPlane = 1e-5;
 
 int CountEdges(const ConvexHull& hull) {
   std::set<std::pair<int, int>> edges;
@@ -48,7 +53,7 @@ void ExpectValidHull(const ConvexHull& hull, const std::vector<Eigen::Vector3d>&
   // Euler's formula for a convex polyhedron
   EXPECT_EQ(v - CountEdges(hull) + f, 2);
   for (int i = 0; i < f; ++i) {
-    EXPECT_NEAR(hull.normals[i].norm(), 1.0, 1e-15);
+    EXPECT_NEAR(hull.normals[i].norm(), 1.0, kUnitRoundOff);
     ASSERT_GE(hull.faces[i].size(), 3u);
     // counter-clockwise seen from outside: the polygon's area vector points along the normal
     Eigen::Vector3d area = Eigen::Vector3d::Zero();
@@ -59,7 +64,7 @@ void ExpectValidHull(const ConvexHull& hull, const std::vector<Eigen::Vector3d>&
     EXPECT_GT(area.dot(hull.normals[i]), 0.0) << "face " << i;
     // the face's corners lie on its plane (within the merge tolerance of a unit-size set)
     for (int corner : polygon) {
-      EXPECT_NEAR(hull.normals[i].dot(hull.vertices[corner]), hull.offsets[i], 1e-5);
+      EXPECT_NEAR(hull.normals[i].dot(hull.vertices[corner]), hull.offsets[i], kCornerOffPlane);
     }
   }
   for (int j = 0; j < v; ++j) {
@@ -120,9 +125,9 @@ TEST(ConvexHullTest, BoxHasSixFacesWithExactNormalsAndOffsets) {
     for (double sign : {-1.0, 1.0}) {
       const Eigen::Vector3d n = sign * Eigen::Vector3d::Unit(axis);
       for (std::size_t i = 0; i < hull.faces.size(); ++i) {
-        if ((hull.normals[i] - n).norm() > 1e-12) continue;
+        if ((hull.normals[i] - n).norm() > kRoundOff) continue;
         ++matched;
-        EXPECT_NEAR(hull.offsets[i], n.dot(centre) + half[axis], 1e-12);
+        EXPECT_NEAR(hull.offsets[i], n.dot(centre) + half[axis], kRoundOff);
         EXPECT_EQ(hull.faces[i].size(), 4u);
       }
     }
@@ -165,20 +170,23 @@ TEST(ConvexHullTest, FloatRoundedCubeStillHasSixFaces) {
                                 .toRotationMatrix();
   const std::vector<Eigen::Vector3d> points =
       FloatRoundedCubeGrid(R, Eigen::Vector3d(2.0, -1.0, 0.5), 4);
-  // the rounding really moves points off their planes (by up to ~1e-7 m here)
+  // the rounding really moves points off their planes (by up to ~1e-7 m here): by more than
+  // 1e-9 m, far above double round-off
+  constexpr double kFloatRoundingShows = 1e-9;  // m
   double largest_offset = 0;
   for (const Eigen::Vector3d& p : points) {
     const Eigen::Vector3d local = R.transpose() * (p - Eigen::Vector3d(2.0, -1.0, 0.5));
     largest_offset = std::max(largest_offset, std::abs(local.cwiseAbs().maxCoeff() - 0.5));
   }
-  EXPECT_GT(largest_offset, 1e-9);
+  EXPECT_GT(largest_offset, kFloatRoundingShows);
   const ConvexHull hull = ComputeConvexHull(points, "float cube");
   ASSERT_EQ(hull.faces.size(), 6u);
   EXPECT_EQ(hull.vertices.size(), 8u);
   ExpectValidHull(hull, points);
   // normals agree with the rotated axes to the float rounding (≤ 1e-6 rad over a 1 m face)
+  constexpr double kFloatNormalError = 1e-6;
   for (const Eigen::Vector3d& n : hull.normals) {
-    EXPECT_NEAR((R.transpose() * n).cwiseAbs().maxCoeff(), 1.0, 1e-6);
+    EXPECT_NEAR((R.transpose() * n).cwiseAbs().maxCoeff(), 1.0, kFloatNormalError);
   }
 }
 
@@ -220,13 +228,15 @@ TEST(ConvexHullTest, CubeReadFromABinaryStlHasSixFaces) {
   const std::string path = std::string(ECPSIM_BINARY_DIR) + "/convex_hull_test_rotated_cube.stl";
   SaveMesh(cube, path);
   const TriangleMesh loaded = LoadMesh(path);
-  // float32 rounding moved the face points off their planes (by ~1e-8 m here)
+  // float32 rounding moved the face points off their planes (by ~1e-8 m here): by more than
+  // 1e-10 m, far above double round-off
+  constexpr double kFloatRoundingShows = 1e-10;  // m
   double largest_offset = 0;
   for (const Eigen::Vector3d& p : loaded.vertices) {
     const Eigen::Vector3d local = R.transpose() * (p - Eigen::Vector3d(0.3, 0.1, 0.7));
     largest_offset = std::max(largest_offset, std::abs(local.cwiseAbs().maxCoeff() - 0.05));
   }
-  EXPECT_GT(largest_offset, 1e-10);
+  EXPECT_GT(largest_offset, kFloatRoundingShows);
   const ConvexHull hull = ComputeConvexHull(loaded.vertices, path);
   EXPECT_EQ(hull.faces.size(), 6u);
   EXPECT_EQ(hull.vertices.size(), 8u);
@@ -246,13 +256,13 @@ TEST(ConvexHullTest, TBarHullIsAHexagonalPrism) {
   ExpectValidHull(hull, mesh.vertices);
   int caps = 0;
   for (std::size_t i = 0; i < hull.faces.size(); ++i) {
-    if (std::abs(hull.normals[i].z()) < 1 - 1e-12) {
-      EXPECT_NEAR(hull.normals[i].z(), 0.0, 1e-15);
+    if (std::abs(hull.normals[i].z()) < 1 - kRoundOff) {
+      EXPECT_NEAR(hull.normals[i].z(), 0.0, kUnitRoundOff);
       continue;
     }
     ++caps;
     EXPECT_EQ(hull.faces[i].size(), 6u);
-    EXPECT_NEAR(hull.offsets[i], hull.normals[i].z() > 0 ? 0.05 : 0.0, 1e-15);
+    EXPECT_NEAR(hull.offsets[i], hull.normals[i].z() > 0 ? 0.05 : 0.0, kUnitRoundOff);
   }
   EXPECT_EQ(caps, 2);
 }
@@ -479,8 +489,8 @@ TEST(ConvexHullTest, TranslateHullMovesOffsetsWithTheVertices) {
     // each translated face appears in the direct hull with the same normal and offset
     bool found = false;
     for (std::size_t j = 0; j < direct.faces.size(); ++j) {
-      if ((moved.normals[i] - direct.normals[j]).norm() < 1e-12) {
-        EXPECT_NEAR(moved.offsets[i], direct.offsets[j], 1e-12);
+      if ((moved.normals[i] - direct.normals[j]).norm() < kRoundOff) {
+        EXPECT_NEAR(moved.offsets[i], direct.offsets[j], kRoundOff);
         found = true;
       }
     }
@@ -501,7 +511,7 @@ TEST(ConvexHullTest, TriangulateHullIsClosedAndOutward) {
     for (int k = 0; k < 3; ++k) EXPECT_TRUE(directed.emplace(t[k], t[(k + 1) % 3]).second);
   }
   for (const auto& [a, b] : directed) EXPECT_EQ(directed.count({b, a}), 1u);
-  EXPECT_NEAR(volume, 0.6 * 0.4 * 0.2, 1e-12);
+  EXPECT_NEAR(volume, 0.6 * 0.4 * 0.2, kRoundOff);
 }
 
 // Two UV spheres of 200 stacks × 400 slices, one inside the other's pole caps (the second
@@ -525,7 +535,7 @@ TEST(ConvexHullTest, TrianglesOfZeroComputedAreaJoinANeighbouringFace) {
   const double tolerance = 2 * kCoplanarTolerance * 5.0;
   ASSERT_FALSE(hull.faces.empty());
   for (size_t f = 0; f < hull.faces.size(); ++f) {
-    EXPECT_NEAR(hull.normals[f].norm(), 1, 1e-12) << "face " << f;
+    EXPECT_NEAR(hull.normals[f].norm(), 1, kRoundOff) << "face " << f;
     EXPECT_GE(hull.faces[f].size(), 3u) << "face " << f;
   }
   // every 97th point (97 is prime to the 400 points of a ring, so the sample walks all slices)

@@ -17,6 +17,8 @@ constexpr double kCurvedDepthRel = kPenetrationCurvedRelError;
 // relative: a separation along an axis is a difference of two support values, exact to
 // round-off of the coordinates
 constexpr double kRoundOffRel = 1e-12;
+// relative to the shapes' size: coordinates 10⁵ sizes from the origin keep ~11 digits of it
+constexpr double kFarRoundOffRel = 1e-9;
 
 Eigen::Isometry3d At(const Eigen::Vector3d& p, double yaw = 0) {
   Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
@@ -54,7 +56,7 @@ TEST(ConvexSeparationTest, OverlappingBoxesPenetrateByTheirOverlapAtAnyScaleAndP
       const double depth = PenetrationDepth(*a, X_a, *b, X_b, unit);
       EXPECT_NEAR(depth, 0.1 * unit, kDepthRel * unit) << unit << " " << far;
       const AxisSeparation best = BestSeparatingAxis(*a, X_a, *b, X_b);
-      EXPECT_NEAR(best.separation, -0.1 * unit, 1e-9 * unit) << unit << " " << far;
+      EXPECT_NEAR(best.separation, -0.1 * unit, kFarRoundOffRel * unit) << unit << " " << far;
     }
   }
 }

@@ -24,6 +24,13 @@ constexpr double kPi = 3.14159265358979323846;
 // relative error of sums of ~10² terms of size ~1 in double precision: a few hundred ulps
 constexpr double kRoundOff = 1e-12;
 
+// relative, for closed forms of boxes and prisms: vertices up to 2e3 sizes from the origin keep
+// ~12 digits after the shift to the bounding-box centre, and the moments sum ~10² such terms
+constexpr double kClosedFormRel = 1e-9;
+
+// m: a few ulps of the 0.3 m prism's coordinates
+constexpr double kCoordinateRoundOff = 1e-15;
+
 TEST(MassPropertiesTest, UnitTetrahedronMatchesClosedForm) {
   // volume 1/6, CM (1/4, 1/4, 1/4); about the CM: ∫x² = 1/60 − (1/6)(1/16) = 1/160 and
   // ∫xy = 1/120 − 1/96 = −1/480, so I_xx = 2/160 = 1/80 and I_xy = +1/480 (density 1)
@@ -56,21 +63,21 @@ TEST(MassPropertiesTest, BoxMatchesClosedFormFarFromOrigin) {
   const double mass = density * 6.0;
   // box inertia about its centre: m/12 (b² + c², a² + c², a² + b²)
   const Eigen::Vector3d expected(mass / 12 * (4 + 9), mass / 12 * (1 + 9), mass / 12 * (1 + 4));
-  EXPECT_LE(std::abs(p.volume - 6.0) / 6.0, 1e-9);
-  EXPECT_LE(std::abs(p.mass - mass) / mass, 1e-9);
-  EXPECT_LE((p.center_of_mass - centre).norm() / centre.norm(), 1e-12);
+  EXPECT_LE(std::abs(p.volume - 6.0) / 6.0, kClosedFormRel);
+  EXPECT_LE(std::abs(p.mass - mass) / mass, kClosedFormRel);
+  EXPECT_LE((p.center_of_mass - centre).norm() / centre.norm(), kRoundOff);
   for (int a = 0; a < 3; ++a) {
-    EXPECT_LE(std::abs(p.inertia(a, a) - expected[a]) / expected[a], 1e-9) << a;
+    EXPECT_LE(std::abs(p.inertia(a, a) - expected[a]) / expected[a], kClosedFormRel) << a;
     for (int b = 0; b < 3; ++b) {
       if (a != b) {
-        EXPECT_LE(std::abs(p.inertia(a, b)) / expected.minCoeff(), 1e-9);
+        EXPECT_LE(std::abs(p.inertia(a, b)) / expected.minCoeff(), kClosedFormRel);
       }
     }
   }
   // ascending principal moments: z (a² + b² = 5), y (10), x (13)
-  EXPECT_LE(std::abs(p.principal_moments[0] - expected[2]) / expected[2], 1e-9);
-  EXPECT_LE(std::abs(p.principal_moments[1] - expected[1]) / expected[1], 1e-9);
-  EXPECT_LE(std::abs(p.principal_moments[2] - expected[0]) / expected[0], 1e-9);
+  EXPECT_LE(std::abs(p.principal_moments[0] - expected[2]) / expected[2], kClosedFormRel);
+  EXPECT_LE(std::abs(p.principal_moments[1] - expected[1]) / expected[1], kClosedFormRel);
+  EXPECT_LE(std::abs(p.principal_moments[2] - expected[0]) / expected[0], kClosedFormRel);
 }
 
 TEST(MassPropertiesTest, PrismMatchesPolygonAndBoundsCylinder) {
@@ -90,12 +97,12 @@ TEST(MassPropertiesTest, PrismMatchesPolygonAndBoundsCylinder) {
   const double transverse = density * length * (polar / 2 + area * length * length / 12);
 
   const MassProperties p = ComputeMassProperties(MakePrismMesh(n, radius, length), density);
-  EXPECT_LE(std::abs(p.volume - volume) / volume, 1e-9);
-  EXPECT_LE(std::abs(p.inertia(2, 2) - axial) / axial, 1e-9);
-  EXPECT_LE(std::abs(p.inertia(0, 0) - transverse) / transverse, 1e-9);
-  EXPECT_LE(std::abs(p.inertia(1, 1) - transverse) / transverse, 1e-9);
-  EXPECT_NEAR(p.center_of_mass.z(), length / 2, 1e-15);
-  EXPECT_NEAR(p.center_of_mass.head<2>().norm(), 0.0, 1e-15);
+  EXPECT_LE(std::abs(p.volume - volume) / volume, kClosedFormRel);
+  EXPECT_LE(std::abs(p.inertia(2, 2) - axial) / axial, kClosedFormRel);
+  EXPECT_LE(std::abs(p.inertia(0, 0) - transverse) / transverse, kClosedFormRel);
+  EXPECT_LE(std::abs(p.inertia(1, 1) - transverse) / transverse, kClosedFormRel);
+  EXPECT_NEAR(p.center_of_mass.z(), length / 2, kCoordinateRoundOff);
+  EXPECT_NEAR(p.center_of_mass.head<2>().norm(), 0.0, kCoordinateRoundOff);
 
   // against the true cylinder: the polygon misses the fractions 1 − n sin α/(2π) of the volume
   // (1.6e-3 at n = 64) and 1 − n sin α (2 + cos α)/(6π) of J (3.2e-3), both from below
@@ -105,9 +112,10 @@ TEST(MassPropertiesTest, PrismMatchesPolygonAndBoundsCylinder) {
   const double volume_deficit = 1.0 - n * std::sin(alpha) / (2 * kPi);
   const double polar_deficit = 1.0 - n * std::sin(alpha) * (2 + std::cos(alpha)) / (6 * kPi);
   EXPECT_LT(p.volume, cylinder_volume);
-  EXPECT_LE((cylinder_volume - p.volume) / cylinder_volume, volume_deficit * (1 + 1e-9));
+  EXPECT_LE((cylinder_volume - p.volume) / cylinder_volume, volume_deficit * (1 + kClosedFormRel));
   EXPECT_LT(p.inertia(2, 2), cylinder_axial);
-  EXPECT_LE((cylinder_axial - p.inertia(2, 2)) / cylinder_axial, polar_deficit * (1 + 1e-9));
+  EXPECT_LE((cylinder_axial - p.inertia(2, 2)) / cylinder_axial,
+            polar_deficit * (1 + kClosedFormRel));
   EXPECT_LT(volume_deficit, 2e-3);
   EXPECT_LT(polar_deficit, 4e-3);
 }

@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/tolerances.h"
+
 namespace ecpsim::geometry {
 namespace {
 
@@ -13,8 +15,9 @@ TEST(MeshBoundsTest, BoxBoundsDiagonalAndLargestCoordinate) {
   const MeshBounds bounds = ComputeMeshBounds(vertices);
   EXPECT_EQ(bounds.lo, Eigen::Vector3d(-4, -2, -6));
   EXPECT_EQ(bounds.hi, Eigen::Vector3d(1, 5, 3));
-  // extents 5, 7, 9: √155
-  EXPECT_NEAR(bounds.diagonal, std::sqrt(155.0), 1e-14);
+  // extents 5, 7, 9: √155, to a few ulps of its 12.4
+  constexpr double kDiagonalRoundOff = 1e-14;
+  EXPECT_NEAR(bounds.diagonal, std::sqrt(155.0), kDiagonalRoundOff);
   EXPECT_EQ(bounds.max_abs, 6.0);
   EXPECT_EQ(ComputeMeshBounds({}).diagonal, 0.0);
 }
@@ -23,7 +26,7 @@ TEST(MeshBoundsTest, DiagonalNeitherOverflowsNorUnderflows) {
   // squaring 1e200 overflows and squaring 1e-200 underflows; the diagonal must not
   for (double size : {1e200, 1e-200}) {
     const MeshBounds bounds = ComputeMeshBounds({{0, 0, 0}, {size, size, size}});
-    EXPECT_NEAR(bounds.diagonal / size, std::sqrt(3.0), 1e-15) << size;
+    EXPECT_NEAR(bounds.diagonal / size, std::sqrt(3.0), kUnitRoundOff) << size;
   }
 }
 

@@ -144,9 +144,11 @@ TEST(PaperBodiesTest, DumbbellMatchesItsPolygonalClosedForm) {
 TEST(PaperBodiesTest, DumbbellStaysInsideItsCylinderAndTouchesWithTwoSegments) {
   const DumbbellParams params;
   const TriangleMesh dumbbell = MakeDumbbellMesh(params);
-  // every vertex within the hull cylinder (R, L), up to the round-off of r cos θ, r sin θ
+  // every vertex within the hull cylinder (R, L), up to the round-off of r cos θ, r sin θ and
+  // their norm: relative, two ulps
+  constexpr double kRimRoundOff = 4e-16;
   for (const Eigen::Vector3d& v : dumbbell.vertices) {
-    EXPECT_LE(v.tail<2>().norm(), params.radius * (1 + 4e-16));
+    EXPECT_LE(v.tail<2>().norm(), params.radius * (1 + kRimRoundOff));
     EXPECT_LE(std::abs(v.x()), 0.5 * params.length);
   }
   // lying on its side the lowest points are the k = 72 ring vertices (angle −π/2) of the four
@@ -164,6 +166,9 @@ TEST(PaperBodiesTest, DumbbellStaysInsideItsCylinderAndTouchesWithTwoSegments) {
 TEST(PaperBodiesTest, CommittedMeshesMatchTheGenerators) {
   // scenes/meshes/*.obj come from `ecpsim meshes`; the files hold single precision, so the
   // centre of mass moves by up to ~1e-7 relative (float rounding of each coordinate, 6e-8)
+  constexpr double kFloatCentreShift = 1e-7;  // m, for bodies of size ≤ 0.5 m
+  // relative: the volume sums products of three such coordinates over many triangles
+  constexpr double kFloatVolumeRel = 1e-6;
   struct Body {
     const char* file;
     TriangleMesh mesh;
@@ -179,8 +184,8 @@ TEST(PaperBodiesTest, CommittedMeshesMatchTheGenerators) {
     EXPECT_EQ(loaded.triangles.size(), body.mesh.triangles.size()) << path;
     const MassProperties a = ComputeMassProperties(body.mesh, 1.0);
     const MassProperties b = ComputeMassProperties(loaded, 1.0, path);
-    EXPECT_NEAR(b.volume / a.volume, 1.0, 1e-6) << path;
-    EXPECT_LE((b.center_of_mass - a.center_of_mass).norm(), 1e-7) << path;
+    EXPECT_NEAR(b.volume / a.volume, 1.0, kFloatVolumeRel) << path;
+    EXPECT_LE((b.center_of_mass - a.center_of_mass).norm(), kFloatCentreShift) << path;
   }
 }
 

@@ -7,6 +7,7 @@
 
 #include "geometry/mesh_topology.h"
 #include "tests/geometry/test_meshes.h"
+#include "tests/tolerances.h"
 
 namespace ecpsim::geometry {
 namespace {
@@ -43,7 +44,8 @@ TEST(WeldVerticesTest, SoupOfABoxBecomesAClosedBox) {
 TEST(WeldVerticesTest, DefaultToleranceIsAFractionOfTheDiagonal) {
   // box 1 × 2 × 3: diagonal √14; the stated fraction is 1e-7
   const TriangleMesh box = MakeBoxMesh(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, 2, 3));
-  EXPECT_NEAR(DefaultWeldTolerance(box), 1e-7 * std::sqrt(14.0), 1e-22);
+  constexpr double kToleranceRoundOff = 1e-22;  // m: two ulps of the 3.7e-7 m tolerance
+  EXPECT_NEAR(DefaultWeldTolerance(box), 1e-7 * std::sqrt(14.0), kToleranceRoundOff);
   EXPECT_EQ(DefaultWeldTolerance(TriangleMesh{}), 0.0);
 }
 
@@ -52,7 +54,8 @@ TEST(WeldVerticesTest, DefaultToleranceStaysFiniteForHugeAndTinyMeshes) {
   // that of a 1e-200 m box underflows to 0; the tolerance itself is representable in both
   for (double size : {1e200, 1e-200}) {
     const TriangleMesh box = MakeBoxMesh(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, 2, 3) * size);
-    EXPECT_NEAR(DefaultWeldTolerance(box) / (1e-7 * std::sqrt(14.0) * size), 1.0, 1e-15) << size;
+    EXPECT_NEAR(DefaultWeldTolerance(box) / (1e-7 * std::sqrt(14.0) * size), 1.0, kUnitRoundOff)
+        << size;
   }
 }
 

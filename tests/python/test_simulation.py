@@ -17,6 +17,14 @@ POINT_ROUNDOFF_TOL = 1e-14
 # m: a box held by sticking pads creeps at most 1e-5 of the jaws' drive (h F / m = 1 m/s in
 # scenes/gripper.yaml) for the 0.2 s of a drag (engine/README.md, "Grippers")
 GRIP_CREEP_TOL = 2e-6
+# a few ulps of a quantity of size ≲ 1: a kinematic body's position at its target (m), the
+# ground's unit normal
+UNIT_ROUNDOFF_TOL = 1e-15
+# relative: a kinematic body's velocity, (target − start) / h, a 2 mm difference of sub-metre
+# coordinates (round-off ≈ 1e-13 of it)
+TARGET_VELOCITY_REL_TOL = 1e-12
+# m: a box resting on the table, to the solver's position error (1e-12 of its lengths) with margin
+REST_HEIGHT_TOL = 1e-9
 
 BOX_ON_GROUND = """\
 h: 0.01
@@ -171,11 +179,14 @@ def test_kinematic_target_moves_the_pusher_at_constant_speed(scenes):
     for k in range(1, 6):
         sim.set_kinematic_target("pusher", start + k * step)
         sim.step()
-        np.testing.assert_allclose(sim.positions[pusher], start + k * step, rtol=0, atol=1e-15)
-        np.testing.assert_allclose(sim.velocities[pusher], step / scene.h, rtol=1e-12)
+        np.testing.assert_allclose(sim.positions[pusher], start + k * step, rtol=0,
+                                   atol=UNIT_ROUNDOFF_TOL)
+        np.testing.assert_allclose(sim.velocities[pusher], step / scene.h,
+                                   rtol=TARGET_VELOCITY_REL_TOL)
     # without a new target it stays
     sim.step()
-    np.testing.assert_allclose(sim.positions[pusher], start + 5 * step, rtol=0, atol=1e-15)
+    np.testing.assert_allclose(sim.positions[pusher], start + 5 * step, rtol=0,
+                               atol=UNIT_ROUNDOFF_TOL)
     with pytest.raises(ecpsim.InputError, match="dynamic body"):
         sim.set_kinematic_target("box", [0, 0, 0])
     sim.reset()
@@ -203,9 +214,11 @@ def test_a_gripper_driven_step_by_step_drags_what_it_holds(scenes):
     # released, the frame lifts and leaves the box on the table
     sim.set_gripper_target("hand", frame + [0, 0, 0.05], force=0)
     sim.step(10)
-    assert sim.positions[box][2] == pytest.approx(0.04, abs=1e-9)
+    assert sim.positions[box][2] == pytest.approx(0.04, abs=REST_HEIGHT_TOL)
     jaws = [sim.body_names.index(j) for j in ("left_jaw", "right_jaw")]
-    assert all(sim.positions[j][2] == pytest.approx(0.09, abs=1e-12) for j in jaws)
+    # m: the jaws ride at the frame's height 0.04 + 0.05 m, to round-off
+    jaw_height_tol = 1e-12
+    assert all(sim.positions[j][2] == pytest.approx(0.09, abs=jaw_height_tol) for j in jaws)
     with pytest.raises(ecpsim.InputError, match="expected a closing force"):
         sim.set_gripper_target("hand", frame, force=-1)
     with pytest.raises(ecpsim.InputError, match=r"expected a gripper name \(hand\)"):
@@ -224,7 +237,7 @@ def test_contact_modes_and_forces_through_a_fall(scenes):
     contact = sim.contacts()[0]
     assert contact["mode"] == "sticking"
     assert contact["f_n"] == pytest.approx(15 * 9.8, rel=FORCE_REL_TOL)
-    np.testing.assert_allclose(contact["normal"], [0, 0, 1], atol=1e-15)
+    np.testing.assert_allclose(contact["normal"], [0, 0, 1], atol=UNIT_ROUNDOFF_TOL)
 
 
 def test_setting_arrays(scenes):

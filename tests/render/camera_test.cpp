@@ -49,8 +49,9 @@ TEST(Camera, ScaledSceneGivesTheSamePixelsAndDepths) {
       CameraSpec spec = FixedSpec(L);
       spec.automatic = automatic;
       const Camera scaled = MakeCamera(spec, Spheres(L), kWidth, kHeight);
+      constexpr double kScaledRoundOff = 1e-12;  // relative: a few flops on scaled inputs
       EXPECT_NEAR(GroundHalfExtent(scaled), L * GroundHalfExtent(reference),
-                  1e-12 * L * GroundHalfExtent(reference));
+                  kScaledRoundOff * L * GroundHalfExtent(reference));
       for (const Eigen::Vector3d& p : points) {
         Eigen::Vector3d expected, actual;
         ASSERT_TRUE(reference.ToPixel(p, &expected));

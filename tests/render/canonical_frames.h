@@ -78,14 +78,16 @@ inline FrameInput TBarTwoPoint() {
   frame.iterations = 9;
   geometry::TriangleMesh mesh = geometry::MakeTBarMesh();
 
-  // the bar's corner at max x (min y among those) and the stem's corner at min y (max x)
+  // the bar's corner at max x (min y among those) and the stem's corner at min y (max x); m, the
+  // mesh's coordinates tie exactly, far below its 0.05 m features
+  constexpr double kTie = 1e-9;
   double z_min = 1e30;
   for (const auto& v : mesh.vertices) z_min = std::min(z_min, v.z());
   Eigen::Vector3d a(-1e30, 1e30, 0), b(-1e30, 1e30, 0);
   for (const auto& v : mesh.vertices) {
-    if (v.z() > z_min + 1e-9) continue;
-    if (v.x() > a.x() + 1e-9 || (std::abs(v.x() - a.x()) < 1e-9 && v.y() < a.y())) a = v;
-    if (v.y() < b.y() - 1e-9 || (std::abs(v.y() - b.y()) < 1e-9 && v.x() > b.x())) b = v;
+    if (v.z() > z_min + kTie) continue;
+    if (v.x() > a.x() + kTie || (std::abs(v.x() - a.x()) < kTie && v.y() < a.y())) a = v;
+    if (v.y() < b.y() - kTie || (std::abs(v.y() - b.y()) < kTie && v.x() > b.x())) b = v;
   }
   // tilt about a→b so that the rest of the body rises
   const Eigen::Vector3d axis = (b - a).normalized();

@@ -35,6 +35,8 @@ TEST(HullGeometry, FacesAreTriangulatedClosedAndOutward) {
   // every directed edge meets its opposite exactly once: the surface is closed and consistently
   // wound
   std::map<std::pair<int, int>, int> directed;
+  // m³: below the smallest ear's 4.7e-4 (below), far above a degenerate ear's round-off
+  constexpr double kSmallestEar = 1e-4;
   double area = 0;
   const Eigen::Vector3d centre(0, 0, 0.5);
   for (const auto& t : display.mesh.triangles) {
@@ -45,7 +47,7 @@ TEST(HullGeometry, FacesAreTriangulatedClosedAndOutward) {
     // outward: the normal points away from the prism's centre; no ear is degenerate (the
     // smallest, on a cap, has area sin(2π/64)(1 − cos(2π/64)) ≈ 4.7e-4 m², and its normal's
     // dot product with the half-height offset 0.5 m is that area again)
-    EXPECT_GT(normal.dot((a + b + c) / 3 - centre), 1e-4);
+    EXPECT_GT(normal.dot((a + b + c) / 3 - centre), kSmallestEar);
     area += 0.5 * normal.norm();
   }
   for (const auto& [edge, count] : directed) {
@@ -54,9 +56,10 @@ TEST(HullGeometry, FacesAreTriangulatedClosedAndOutward) {
   }
   // the surface area in closed form: two caps of ½ n sin(2π/n) and n sides of 2 sin(π/n) × 1;
   // sums of ~250 double areas agree to ~1e-13 m²
+  constexpr double kAreaSumRoundOff = 1e-10;  // m²
   const double expected =
       kSides * std::sin(2 * M_PI / kSides) + 2 * kSides * std::sin(M_PI / kSides);
-  EXPECT_NEAR(area, expected, 1e-10);
+  EXPECT_NEAR(area, expected, kAreaSumRoundOff);
 }
 
 TEST(HullGeometry, ManyCorneredFacesHaveShortDiagonals) {

@@ -59,8 +59,9 @@ TEST_F(RendererTest, ComparisonCatchesEcpMovedByAFewPixels) {
   ASSERT_TRUE(camera.ToPixel(a1, &p0));
   ASSERT_TRUE(camera.ToPixel(moved, &p1));
   const double shift = (p1 - p0).head<2>().norm();
-  ASSERT_GT(shift, 2.0);
-  ASSERT_LT(shift, 4.0);
+  constexpr double kFewestPixels = 2.0, kMostPixels = 4.0;  // "a few pixels"
+  ASSERT_GT(shift, kFewestPixels);
+  ASSERT_LT(shift, kMostPixels);
 
   frame.contacts[0].a1 = moved;
   const ImageComparison comparison =

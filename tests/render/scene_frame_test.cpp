@@ -34,6 +34,9 @@ using ::testing::ThrowsMessage;
 
 constexpr double kMass = 15;  // kg, the paper's desk
 constexpr double kH = 0.01;   // s
+// m or m²: what a solved resting pose fixes (a patch's area, the ECP in its hull), to the
+// solver's precision of O(1) lengths, with margin
+constexpr double kSolvedPose = 1e-9;
 
 // the desk (scaled by `scale`) with its body frame at the centre of mass, on the ground z = 0
 engine::Scene DeskScene(double scale = 1) {
@@ -87,13 +90,15 @@ TEST(SceneFrameBuilder, RestingDeskHasFourFeetTheEcpAndItsWeight) {
   const ContactVisual& contact = frame.contacts[0];
   EXPECT_EQ(contact.patch.polygons.size(), 4u);
   ASSERT_TRUE(contact.cm_projection && contact.a1 && contact.force);
-  // the CM lies above the centre of the feet: its projection is (x, y, 0) of p_WB
+  // the CM lies above the centre of the feet: its projection is (x, y, 0) of p_WB, to round-off
+  constexpr double kProjectionRoundOff = 1e-12;  // m
   EXPECT_NEAR(
       (*contact.cm_projection - Eigen::Vector3d(scene.bodies[0].p0.x(), scene.bodies[0].p0.y(), 0))
           .norm(),
-      0, 1e-12);
-  // p_n / h = m g = 147 N straight up
-  EXPECT_NEAR((*contact.force - Eigen::Vector3d(0, 0, kMass * 9.8)).norm(), 0, 1e-9);
+      0, kProjectionRoundOff);
+  // p_n / h = m g = 147 N straight up; N, the state's p_n divided by h
+  constexpr double kForceRoundOff = 1e-9;
+  EXPECT_NEAR((*contact.force - Eigen::Vector3d(0, 0, kMass * 9.8)).norm(), 0, kForceRoundOff);
   EXPECT_EQ(frame.iterations, 3);
   EXPECT_DOUBLE_EQ(frame.time, 0.25);
   EXPECT_GT(frame.force_scale, 0);
@@ -121,12 +126,15 @@ TEST(SceneFrameBuilder, AStackShowsEachBoxsFaceOnTheOneBelow) {
                           : pair.other_body;
     const double side = upper == 1 ? 0.2 : 0.1;
     EXPECT_EQ(contact.patch.mode, geometry::ContactMode::kConvexPatch) << k;
-    EXPECT_NEAR(contact.patch.area, side * side, 1e-9) << k;
+    EXPECT_NEAR(contact.patch.area, side * side, kSolvedPose) << k;
     ASSERT_TRUE(contact.a1 && contact.force) << k;
-    EXPECT_TRUE(geometry::PatchHullContains(contact.patch, contact.plane, *contact.a1, 1e-9)) << k;
-    // the weight of what rests on this face (top 1 kg, middle + top 3 kg)
+    EXPECT_TRUE(geometry::PatchHullContains(contact.patch, contact.plane, *contact.a1, kSolvedPose))
+        << k;
+    // the weight of what rests on this face (top 1 kg, middle + top 3 kg), after 5 steps of
+    // settling: N, the solver's share between the stacked contacts with margin
+    constexpr double kStackForce = 1e-6;
     const double above = upper == 1 ? 3 : 1;
-    EXPECT_NEAR(std::abs(contact.force->z()), above * 9.8, 1e-6) << k;
+    EXPECT_NEAR(std::abs(contact.force->z()), above * 9.8, kStackForce) << k;
   }
   EXPECT_EQ(body_pairs, 2);
 }
@@ -233,7 +241,8 @@ TEST(SceneFrameBuilder, TessellatedMeshUnderAPrimitiveHullShowsItsLowestFeatures
   const geometry::ContactPatch& patch = frame.contacts[0].patch;
   EXPECT_EQ(patch.mode, geometry::ContactMode::kNonConvexPatch);
   EXPECT_EQ(patch.polygons.size(), 2u);
-  EXPECT_NEAR(patch.area, 0.3 * 2 * 0.1 * std::sin(M_PI / 96), 1e-9);
+  constexpr double kFacetAreaRoundOff = 1e-9;  // m²: round-off of the facets' 1.96e-3 m², with room
+  EXPECT_NEAR(patch.area, 0.3 * 2 * 0.1 * std::sin(M_PI / 96), kFacetAreaRoundOff);
 }
 
 TEST(SceneFrameBuilder, PolyhedralHullKeepsThePlainTolerance) {
@@ -247,7 +256,8 @@ TEST(SceneFrameBuilder, PolyhedralHullKeepsThePlainTolerance) {
       engine::State state = RestingState(scene);
       state.bodies[0].p_WB.z() += lift * scale;
       const FrameInput frame = SceneFrameBuilder(scene).Build(state);
-      EXPECT_EQ(frame.contacts[0].patch.polygons.size(), lift > 1e-6 ? 0u : 4u)
+      const bool above = lift > geometry::kContactPatchRelTolerance;
+      EXPECT_EQ(frame.contacts[0].patch.polygons.size(), above ? 0u : 4u)
           << "scale " << scale << ", lifted " << lift * scale << " m";
     }
   }

@@ -26,11 +26,7 @@ using Eigen::Vector3d;
 using Eigen::VectorXd;
 using Other = IslandContact::Other;
 
-// dimensionless, per Jacobian entry relative to max(1, |entry|): central differences with a 1e-6
-// step leave truncation ≈ 1e-12 |F'''| and round-off ≈ 1e-16 |F| / 1e-6 = 1e-10 on the O(1)
-// rows of these SI-unit problems (jacobian_check.h), far below this bar; a missing or wrong
-// term is O(h) ≈ 1e-2 of its entry or more
-constexpr double kJacobianTolerance = 1e-7;
+using testing::kJacobianTolerance;  // a missing or wrong term is O(h) ≈ 1e-2 of its entry or more
 // dimensionless, the island measure at a solution built by hand: every scaled row is a handful of
 // operations on O(1) quantities, so its round-off is a few ulps; 64 ulps leave margin for the
 // products of rotations in the end poses
@@ -40,6 +36,11 @@ constexpr double kExactSolutionMeasure = 64 * DBL_EPSILON;
 constexpr double kRoundOffRelative = 64 * DBL_EPSILON;
 
 constexpr double kG = 9.8;  // m/s², the scenes' gravity (scene.h)
+// the scenes' solver tolerance (SolverSettings), on the island measure
+constexpr double kSolverTolerance = 1e-12;
+// dimensionless: an island measure 10⁹ × the solver tolerance marks a z that is no solution;
+// the wrong unknowns below miss O(1) of a row's scale
+constexpr double kNoSolutionMeasure = 1e-3;
 
 // --- the one-body island is today's MNCP to the bit ---
 
@@ -83,7 +84,6 @@ TEST(IslandReductionTest, OneBodyWithFixedContactsIsTodaysMncpWithPlanesEliminat
       {shapes.ground.get(), shapes.fixture.get()},
       {shapes.fixture.get()},
       {shapes.tilted.get(), shapes.sphere.get()}};
-  constexpr double kTolerance = 1e-12;
   std::mt19937 rng(2024);
   int compared = 0, planes = 0;
   for (const geometry::ConvexShape* hull : hulls) {
@@ -174,14 +174,15 @@ TEST(IslandReductionTest, OneBodyWithFixedContactsIsTodaysMncpWithPlanesEliminat
         EXPECT_EQ(FirstDifference(island_var_scale, VectorXd(var_scale(column))), -1);
         const double measure =
             MncpResidual(c.layout, c.z, F_body, row_scale, var_scale,
-                         {c.scales.length, kTolerance, c.problem.c.cwiseAbs().maxCoeff()});
+                         {c.scales.length, kSolverTolerance, c.problem.c.cwiseAbs().maxCoeff()});
         const double island_measure =
             IslandMncpResidual(island, layout, z, F_island, island_row_scale, island_var_scale,
-                               MakeIslandResidualUnits(island, scales, kTolerance));
+                               MakeIslandResidualUnits(island, scales, kSolverTolerance));
         if (any_plane) {
           // the rows eliminated hold at this z, but only to round-off, and a2, s no longer
           // enter the round-off length: the same measure to a few ulps, or less
-          EXPECT_LE(island_measure, measure * (1 + 1e-14));
+          constexpr double kFewUlpsRel = 1e-14;
+          EXPECT_LE(island_measure, measure * (1 + kFewUlpsRel));
         } else {
           EXPECT_EQ(island_measure, measure);
         }
@@ -570,8 +571,9 @@ TEST(IslandContactWrenchTest, NewtonsThirdLawAndThePowerOfAContactBetweenBodies)
 
 // the index of `shape`'s linear constraint with outward normal `normal` (body frame)
 int FaceWithNormal(const geometry::ConvexShape& shape, const Vector3d& normal) {
+  constexpr double kSameNormal = 1e-12;  // a box face's unit normal is exact up to round-off
   for (int i = 0; i < shape.NumConstraints(); ++i)
-    if ((shape.Gradient(i, Vector3d::Zero()) - normal).norm() < 1e-12) return i;
+    if ((shape.Gradient(i, Vector3d::Zero()) - normal).norm() < kSameNormal) return i;
   ADD_FAILURE() << "no face with normal " << normal.transpose();
   return 0;
 }
@@ -597,7 +599,7 @@ void SetContact(IslandCase& c, int k, const Vector3d& ecp, int face, int g_face,
   c.z[L.sigma] = sigma;
 }
 
-// The island measure of `c` at its z, each body in its BodyScales (solver tolerance 1e-12)
+// The island measure of `c` at its z, each body in its BodyScales
 double Measure(const IslandCase& c, const VectorXd& F) {
   IslandScales scales;
   for (size_t b = 0; b < c.states.size(); ++b) {
@@ -607,7 +609,7 @@ double Measure(const IslandCase& c, const VectorXd& F) {
   return IslandMncpResidual(c.problem, c.layout, c.z, F,
                             IslandRowScales(c.problem, c.layout, scales),
                             IslandVariableScales(c.problem, c.layout, scales),
-                            MakeIslandResidualUnits(c.problem, scales, 1e-12));
+                            MakeIslandResidualUnits(c.problem, scales, kSolverTolerance));
 }
 
 double Measure(const IslandCase& c) {
@@ -644,9 +646,11 @@ IslandCase StackAtRest(double a0, double m0, double a1, double m1) {
 TEST(IslandExactSolutionTest, TwoUnitCubesRestFaceToFaceOnTheGround) {
   IslandCase c = StackAtRest(1, 3, 1, 2);
   EXPECT_LT(Measure(c), kExactSolutionMeasure);
-  // the bottom cube carrying only its own weight is far from a solution
+  // the bottom cube carrying only its own weight is far from a solution: its force row misses
+  // the top's whole weight, of the order of its scale
   c.z[c.layout.contacts[0].p_n] = -c.problem.bodies[0].p_gravity.z();
-  EXPECT_GT(Measure(c), 0.5);
+  constexpr double kMissingWeightMeasure = 0.5;
+  EXPECT_GT(Measure(c), kMissingWeightMeasure);
 }
 
 TEST(IslandExactSolutionTest, CubeSlidesOnACubeThatSlidesOnIce) {
@@ -683,7 +687,7 @@ TEST(IslandExactSolutionTest, CubeSlidesOnACubeThatSlidesOnIce) {
   EXPECT_NEAR(m0 * v0.x() + m1 * v1.x(), m0 * 0.1 + m1 * 0.5, kRoundOffRelative);
   // friction on the top's own velocity instead of the relative one is not a solution
   c.z[c.layout.contacts[1].sigma] = friction.e_t * v1.x();
-  EXPECT_GT(Measure(c), 1e-3);
+  EXPECT_GT(Measure(c), kNoSolutionMeasure);
 }
 
 TEST(IslandExactSolutionTest, SpinningCubeTwistsTheCubeBelow) {

@@ -122,9 +122,10 @@ TEST(SolveAtDegenerateVertexTest, AnOctahedronOnItsTipIsSolvedWhereFourFacesMeet
   const std::vector<int>& window = c.problem.contacts[0].window;
   const geometry::ConvexShape& hull = *c.problem.contacts[0].hull;
   // the faces through the tip share its multipliers equally
+  constexpr double kOnFaceRel = 1e-12;  // of the size a: the tip lies on its faces to round-off
   int at_tip = 0;
   for (int i = 0; i < L.l_count; ++i) {
-    const bool through_tip = std::abs(hull.Value(window[i], Vector3d(0, 0, -a))) < 1e-12 * a;
+    const bool through_tip = std::abs(hull.Value(window[i], Vector3d(0, 0, -a))) < kOnFaceRel * a;
     z[L.l + i] = through_tip ? 0.25 : 0;
     at_tip += through_tip;
   }

@@ -10,6 +10,7 @@
 #include "engine/scene_io/scene_yaml.h"
 #include "engine/time_step.h"
 #include "tests/engine/test_bodies.h"
+#include "tests/tolerances.h"
 
 namespace ecpsim::engine {
 namespace {
@@ -17,6 +18,15 @@ namespace {
 using Eigen::Vector3d;
 
 constexpr double kG = 9.8;  // m/s², the scenes' gravity
+// m, m/s, rad/s: a quantity of size ≲ 1 that Lemke's pivots determine exactly (a resting or
+// landed body's drift and velocity, its centre of pressure), to round-off over the run
+constexpr double kRoundOff = 1e-12;
+// N·s: a box's impulses of size m g h ≈ 0.1 N·s from a handful of pivots: a few dozen ulps
+constexpr double kImpulseRoundOff = 1e-14;
+// the point model's LCP residual bar (point_model.cpp's kLcpResidualTol), relative to velocity
+// and impulse scales of O(1): what a step reproduces of a quantity the LCP fixes (a sliding
+// step's Δv = −a h, a resting desk's height and weight)
+constexpr double kLcpResidualBar = 1e-9;
 
 // a 0.2 × 0.1 × 0.05 m, 1 kg box resting flat on the ground at the origin, stepped by the model
 Scene BoxScene() {
@@ -36,15 +46,15 @@ TEST(PointModelTest, BoxAtRestStaysPut) {
     ASSERT_EQ(report.substeps, 1);
   }
   // the LCP is solved exactly: the box does not drift (round-off only) over 1 s
-  EXPECT_LE((state.bodies[0].p_WB - Vector3d(0, 0, 0.025)).norm(), 1e-12);
-  EXPECT_LE(state.bodies[0].v_WB.norm(), 1e-12);
-  EXPECT_LE(state.bodies[0].w_WB.norm(), 1e-12);
+  EXPECT_LE((state.bodies[0].p_WB - Vector3d(0, 0, 0.025)).norm(), kRoundOff);
+  EXPECT_LE(state.bodies[0].v_WB.norm(), kRoundOff);
+  EXPECT_LE(state.bodies[0].w_WB.norm(), kRoundOff);
   // the four bottom corners carry the weight m g h with their centre of pressure under the CM
   const ContactState& c = state.contacts[0];
-  EXPECT_NEAR(c.p_n, kG * scene.h, 1e-14);
-  EXPECT_LE((c.a1 - Vector3d::Zero()).norm(), 1e-12);
-  EXPECT_LE(std::hypot(c.p_t, c.p_o), 1e-14);
-  EXPECT_NEAR(c.n.z(), 1, 1e-15);
+  EXPECT_NEAR(c.p_n, kG * scene.h, kImpulseRoundOff);
+  EXPECT_LE((c.a1 - Vector3d::Zero()).norm(), kRoundOff);
+  EXPECT_LE(std::hypot(c.p_t, c.p_o), kImpulseRoundOff);
+  EXPECT_NEAR(c.n.z(), 1, kUnitRoundOff);
 }
 
 TEST(PointModelTest, SmoothHullStandingOnItsDiscStaysPut) {
@@ -57,10 +67,12 @@ TEST(PointModelTest, SmoothHullStandingOnItsDiscStaysPut) {
   scene.model = ContactModel::kPoint;
   State state = InitialState(scene);
   for (int i = 0; i < 5; ++i) ASSERT_TRUE(Step(scene, state).converged);
-  EXPECT_LE((state.bodies[0].p_WB - Vector3d(0, 0, 0.15)).norm(), 1e-12);
-  EXPECT_LE(state.bodies[0].w_WB.norm(), 1e-12);
-  EXPECT_NEAR(state.contacts[0].p_n, 3 * kG * scene.h, 1e-13);
-  EXPECT_LE(state.contacts[0].a1.norm(), 1e-12);  // centre of pressure under the CM
+  EXPECT_LE((state.bodies[0].p_WB - Vector3d(0, 0, 0.15)).norm(), kRoundOff);
+  EXPECT_LE(state.bodies[0].w_WB.norm(), kRoundOff);
+  // N·s: 3 m g h shared by the 49 vertices on the ground and summed back
+  constexpr double kDrumImpulseRoundOff = 1e-13;
+  EXPECT_NEAR(state.contacts[0].p_n, 3 * kG * scene.h, kDrumImpulseRoundOff);
+  EXPECT_LE(state.contacts[0].a1.norm(), kRoundOff);  // centre of pressure under the CM
 }
 
 // slides the box from v0 until it stops; checks the deceleration of every sliding step
@@ -69,21 +81,23 @@ double SlideUntilStop(const Scene& scene, const Vector3d& v0, double decel) {
   State state = InitialState(scene);
   state.bodies[0].v_WB = v0;
   const Vector3d direction = v0.normalized();
+  // m: the active normal constraint holds the height to the LCP's bar times h (1e-11 m)
+  constexpr double kHeightTol = 1e-10;
   for (int i = 0; i < 1000 && state.bodies[0].v_WB.norm() > 0; ++i) {
     const double speed = state.bodies[0].v_WB.norm();
     EXPECT_TRUE(Step(scene, state).converged);
     const Vector3d v = state.bodies[0].v_WB;
     if (speed > decel * scene.h) {
-      // Δv = −a h exactly while sliding (1e-9 m/s: round-off of the pivots is ≈ 1e-15),
-      // along the initial direction, without tipping, lifting or turning
-      EXPECT_NEAR(speed - v.norm(), decel * scene.h, 1e-9) << "step " << i;
-      EXPECT_LE((v - v.norm() * direction).norm(), 1e-9) << "step " << i;
+      // Δv = −a h exactly while sliding (round-off of the pivots is ≈ 1e-15 m/s), along the
+      // initial direction, without tipping, lifting or turning
+      EXPECT_NEAR(speed - v.norm(), decel * scene.h, kLcpResidualBar) << "step " << i;
+      EXPECT_LE((v - v.norm() * direction).norm(), kLcpResidualBar) << "step " << i;
     } else {
-      EXPECT_LE(v.norm(), 1e-9) << "step " << i;
+      EXPECT_LE(v.norm(), kLcpResidualBar) << "step " << i;
       state.bodies[0].v_WB.setZero();
     }
-    EXPECT_LE(state.bodies[0].w_WB.norm(), 1e-9);
-    EXPECT_NEAR(state.bodies[0].p_WB.z(), 0.025, 1e-10);
+    EXPECT_LE(state.bodies[0].w_WB.norm(), kLcpResidualBar);
+    EXPECT_NEAR(state.bodies[0].p_WB.z(), 0.025, kHeightTol);
   }
   return state.bodies[0].p_WB.head<2>().norm();
 }
@@ -96,19 +110,19 @@ TEST(PointModelTest, SlidingAlongAFrictionDirectionDeceleratesAtMuG) {
   state.bodies[0].v_WB = Vector3d(v0, 0, 0);
   ASSERT_TRUE(Step(scene, state).converged);
   const ContactState& c = state.contacts[0];
-  EXPECT_NEAR(c.p_n, kG * h, 1e-14);
-  EXPECT_NEAR(c.p_t, -mu * kG * h, 1e-14);
-  EXPECT_NEAR(c.p_o, 0, 1e-14);
-  EXPECT_NEAR(c.p_r, 0, 1e-14);
-  EXPECT_NEAR(c.sigma, v0 - a * h, 1e-12);  // λ: the sliding speed at the end of the step
+  EXPECT_NEAR(c.p_n, kG * h, kImpulseRoundOff);
+  EXPECT_NEAR(c.p_t, -mu * kG * h, kImpulseRoundOff);
+  EXPECT_NEAR(c.p_o, 0, kImpulseRoundOff);
+  EXPECT_NEAR(c.p_r, 0, kImpulseRoundOff);
+  EXPECT_NEAR(c.sigma, v0 - a * h, kRoundOff);  // λ: the sliding speed at the end of the step
   // the centre of pressure moves ahead of the CM by μ × the CM height (friction's tipping moment)
-  EXPECT_NEAR(c.a1.x() - state.bodies[0].p_WB.x(), mu * 0.025, 1e-12);
+  EXPECT_NEAR(c.a1.x() - state.bodies[0].p_WB.x(), mu * 0.025, kRoundOff);
 
   const double distance = SlideUntilStop(scene, Vector3d(v0, 0, 0), a);
   // the discrete solution: v_n = v0 − n a h for n ≤ N = ⌊v0/(a h)⌋, then 0
   const int N = static_cast<int>(std::floor(v0 / (a * h)));
   const double discrete = h * (N * v0 - a * h * N * (N + 1) / 2.0);
-  EXPECT_NEAR(distance, discrete, 1e-9);
+  EXPECT_NEAR(distance, discrete, kLcpResidualBar);  // m: ≤ 1 s of velocities each within it
   // and the continuous one to O(h): the step's velocity is the end-of-step one
   EXPECT_NEAR(distance, v0 * v0 / (2 * a), v0 * h);
 }
@@ -125,7 +139,7 @@ TEST(PointModelTest, SlidingBetweenTwoDirectionsUnderestimatesFrictionByCosPiOve
   const double speed0 = state.bodies[0].v_WB.norm();
   ASSERT_TRUE(Step(scene, state).converged);
   const double ratio = (speed0 - state.bodies[0].v_WB.norm()) / (mu * kG * scene.h);
-  EXPECT_NEAR(ratio, std::cos(M_PI / kPointContactFrictionDirections), 1e-9);
+  EXPECT_NEAR(ratio, std::cos(M_PI / kPointContactFrictionDirections), kLcpResidualBar);
   // and every later sliding step too, down to the stop
   SlideUntilStop(scene, Vector3d(std::cos(angle), std::sin(angle), 0), a);
 }
@@ -161,10 +175,10 @@ TEST(PointModelTest, FlatBoxDroppedFrom5cmLandsWithoutPenetration) {
   scene.bodies[0].p0.z() += 0.05;
   const DropResult r = Drop(scene, 50);
   // without rotation the constraint ψ + h nᵀv⁺ ≥ 0 is exact: round-off only
-  EXPECT_LE(r.deepest, 1e-12);
+  EXPECT_LE(r.deepest, kRoundOff);
   // inelastic landing, then at rest on its face
-  EXPECT_NEAR(r.final.bodies[0].p_WB.z(), 0.025, 1e-12);
-  EXPECT_LE(r.final.bodies[0].v_WB.norm(), 1e-12);
+  EXPECT_NEAR(r.final.bodies[0].p_WB.z(), 0.025, kRoundOff);
+  EXPECT_LE(r.final.bodies[0].v_WB.norm(), kRoundOff);
 }
 
 TEST(PointModelTest, TumblingBoxPenetratesOnlyByTheExplicitGeometryBound) {
@@ -174,14 +188,15 @@ TEST(PointModelTest, TumblingBoxPenetratesOnlyByTheExplicitGeometryBound) {
   box.p0 = Vector3d(0, 0, 0.05 + 0.07);  // lowest corner ≈ 5 cm up
   box.w0 = Vector3d(20, 0, 0);           // rad/s: it lands spinning, so the explicit geometry shows
   const DropResult r = Drop(scene, 150);
-  // each step's penetration stays within ½ h² |ω⁺|² r (round-off 1e-12 on top)
-  EXPECT_LE(r.margin, 1e-12);
+  // each step's penetration stays within ½ h² |ω⁺|² r (round-off on top)
+  EXPECT_LE(r.margin, kRoundOff);
   // the bound is not vacuous: the explicit geometry does penetrate (1.0e-4 m measured), by far
-  // less than the 5 mm the box's corners move per step
-  EXPECT_GT(r.deepest, 1e-5);
-  EXPECT_LT(r.deepest, 1e-3);
+  // less than the 5 mm the box's corners move per step; m, a decade either side of that
+  constexpr double kLeastPenetration = 1e-5, kMostPenetration = 1e-3;
+  EXPECT_GT(r.deepest, kLeastPenetration);
+  EXPECT_LT(r.deepest, kMostPenetration);
   // it comes to rest on a face
-  EXPECT_LE(r.final.bodies[0].v_WB.norm(), 1e-9);
+  EXPECT_LE(r.final.bodies[0].v_WB.norm(), kLcpResidualBar);
 }
 
 TEST(PointModelTest, PaperDeskRunsWithoutSolverFailure) {
@@ -193,8 +208,8 @@ TEST(PointModelTest, PaperDeskRunsWithoutSolverFailure) {
     ASSERT_EQ(report.substeps, 1);
     ASSERT_GT(report.iterations, 0);  // Lemke pivots
     // the feet stay on the ground: the normal impulse carries the weight over the step
-    ASSERT_NEAR(state.contacts[0].p_n, 15 * kG * scene.h, 1e-9);
-    ASSERT_NEAR(state.bodies[0].p_WB.z(), 0.45, 1e-9);
+    ASSERT_NEAR(state.contacts[0].p_n, 15 * kG * scene.h, kLcpResidualBar);
+    ASSERT_NEAR(state.bodies[0].p_WB.z(), 0.45, kLcpResidualBar);
   }
   EXPECT_GT(state.bodies[0].p_WB.head<2>().norm(), 0.05);
 }
@@ -219,7 +234,7 @@ TEST_P(PointContactSmallStepTest, PaperDeskFollowsTheHullModel) {
     ASSERT_EQ(report.substeps, 1) << "step " << i;
     ASSERT_TRUE(Step(hull, sh).converged);
     // the feet stay on the ground (the hull model's height test uses the same 1e-9)
-    ASSERT_NEAR(sp.bodies[0].p_WB.z(), 0.45, 1e-9) << "step " << i;
+    ASSERT_NEAR(sp.bodies[0].p_WB.z(), 0.45, kLcpResidualBar) << "step " << i;
     dv = std::max(dv, (sp.bodies[0].v_WB - sh.bodies[0].v_WB).norm());
     dw = std::max(dw, (sp.bodies[0].w_WB - sh.bodies[0].w_WB).norm());
   }
@@ -227,8 +242,10 @@ TEST_P(PointContactSmallStepTest, PaperDeskFollowsTheHullModel) {
   // changes v by at most μ g t = 0.108 m/s over t = 0.05 s (measured difference 0.0232 m/s at
   // both h), and the four feet's Coulomb torque stops the 0.5 rad/s twist much sooner than the
   // ellipsoid's e_r = 0.1 m (measured 0.127 rad/s; README "The point-contact baseline")
-  EXPECT_LE(dv, 0.03);
-  EXPECT_LE(dw, 0.15);
+  constexpr double kFrictionSpeedGap = 0.03;  // m/s, over the measured 0.0232
+  constexpr double kFrictionTwistGap = 0.15;  // rad/s, over the measured 0.127
+  EXPECT_LE(dv, kFrictionSpeedGap);
+  EXPECT_LE(dw, kFrictionTwistGap);
 }
 
 INSTANTIATE_TEST_SUITE_P(PointContactSmallSteps, PointContactSmallStepTest,
@@ -278,7 +295,7 @@ TEST(PointContactBodiesTest, StackOfThreeBoxesRestsTenSecondsWithoutDrift) {
       carried = pair.body == 0 ? mass_above[0] : 0;
     } else if (pair.other_body == pair.body + 1) {
       carried = mass_above[pair.other_body];
-      EXPECT_NEAR(c.n.z(), -1, 1e-12) << "the normal points from G (above) into F (below)";
+      EXPECT_NEAR(c.n.z(), -1, kRoundOff) << "the normal points from G (above) into F (below)";
     }
     EXPECT_NEAR(c.p_n, carried * kG * h, kLcpRel * mass_above[0] * kG * h)
         << "contact " << k << " (" << scene.bodies[pair.body].name << ")";
@@ -356,7 +373,8 @@ TEST(PointContactBodiesTest, TwoFreeCubesExchangeMomentumExactlyAndNeverGainKine
     EXPECT_LE((angular(before, state) - angular(before, before)).norm(), kMomentumTol)
         << "t = " << state.t;
     // with every point's gap ψ ≥ 0 the LCP's impulses do work ≤ 0 at the end velocities
-    EXPECT_LE(kinetic(state), kinetic(before) * (1 + 1e-12)) << "t = " << state.t;
+    constexpr double kEnergyRoundOff = 1e-12;  // relative, of the kinetic energy's sums
+    EXPECT_LE(kinetic(state), kinetic(before) * (1 + kEnergyRoundOff)) << "t = " << state.t;
   }
   EXPECT_TRUE(touched);
   EXPECT_GT(state.bodies[1].v_WB.x(), 0.5);  // b moves off in +x
@@ -381,7 +399,7 @@ TEST(PointContactBodiesTest, ConstantSpeedPusherCarriesTheBoxAtItsSpeed) {
     const ContactState& ground = state.contacts[0];
     const ContactState& push = state.contacts[1];
     EXPECT_NEAR(state.bodies[0].v_WB.x(), speed, kLcpRel * speed) << "t = " << state.t;
-    EXPECT_NEAR(push.n.x(), 1, 1e-12);  // from G (the pusher) into F (the box)
+    EXPECT_NEAR(push.n.x(), 1, kRoundOff);  // from G (the pusher) into F (the box)
     // the box slides with Coulomb friction along a cone edge (x is one of the 8 directions)
     const Vector3d push_impulse = push.p_n * push.n + push.p_t * push.t + push.p_o * push.o;
     const Vector3d ground_friction = ground.p_t * ground.t + ground.p_o * ground.o;

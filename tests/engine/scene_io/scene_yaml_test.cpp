@@ -173,9 +173,12 @@ TEST_F(SceneYamlTest, CompleteSceneParsesToTheExpectedNumbers) {
 
   // cube: 0.5 m edge at 800 kg/m³ = 100 kg, I = m a²/6, CM moved to the body origin
   const Body& cube = scene.bodies[1];
-  EXPECT_NEAR(cube.mass, 100, 1e-10);
-  for (int k = 0; k < 3; ++k) EXPECT_NEAR(cube.inertia(k, k), 100 * 0.25 / 6, 1e-10);
-  EXPECT_NEAR(cube.inertia(0, 1), 0, 1e-10);
+  // kg, kg·m²: the mesh's integrals (~1e-12 relative) times the 100 kg mass
+  constexpr double kMeshIntegralRoundOff = 1e-10;
+  EXPECT_NEAR(cube.mass, 100, kMeshIntegralRoundOff);
+  for (int k = 0; k < 3; ++k)
+    EXPECT_NEAR(cube.inertia(k, k), 100 * 0.25 / 6, kMeshIntegralRoundOff);
+  EXPECT_NEAR(cube.inertia(0, 1), 0, kMeshIntegralRoundOff);
   ASSERT_EQ(cube.mesh.vertices.size(), 8u);
   for (const Eigen::Vector3d& v : cube.mesh.vertices) {
     EXPECT_NEAR(v.cwiseAbs().maxCoeff(), 0.25, kTight);
@@ -292,7 +295,7 @@ bodies:
 )yaml");
   const Body& can = scene.bodies[0];
   const double m = 1000 * M_PI * 0.01 * 0.3;
-  EXPECT_NEAR(can.mass, m, 1e-12 * m);
+  EXPECT_NEAR(can.mass, m, kTight * m);
   EXPECT_NEAR(can.inertia(0, 0), m * 0.01 / 2, kTight);
   EXPECT_NEAR(can.inertia(1, 1), m * (3 * 0.01 + 0.09) / 12, kTight);
   EXPECT_NEAR(can.inertia(2, 2), m * (3 * 0.01 + 0.09) / 12, kTight);
@@ -788,8 +791,8 @@ bodies:
   fs::current_path(fs::temp_directory_path());
   const Scene scene = LoadScene(path);
   fs::current_path(cwd);
-  EXPECT_NEAR(scene.bodies[0].mass, 6, 1e-12);
-  EXPECT_NEAR(scene.bodies[0].inertia(2, 2), 6.0 / 6, 1e-12);
+  EXPECT_NEAR(scene.bodies[0].mass, 6, kTight);
+  EXPECT_NEAR(scene.bodies[0].inertia(2, 2), 6.0 / 6, kTight);
 }
 
 TEST_F(SceneYamlTest, UnitsScaleTheMeshLikeScale) {

@@ -11,6 +11,12 @@
 namespace ecpsim::engine {
 namespace {
 
+// the measure the solves here run to (McpOptions::tolerance)
+constexpr double kSolveTolerance = 1e-12;
+// ‖z − z*‖∞ of a planted problem solved to kSolveTolerance: bounded by kSolveTolerance / 3 (see
+// PlantedMcp), with room for round-off
+constexpr double kPlantedError = 1e-12;
+
 // a mixed linear complementarity problem F(z) = M z + q with a planted solution z*: the first
 // `num_free` rows are equations, of the rest every third is strictly complementary with z* = 0,
 // F* = 1 and the others have z* = 1 + i/n, F* = 0. M = 4 I + B with |B_ij| ≤ 1/n (a
@@ -43,7 +49,7 @@ void ExpectSolvesPlanted(int n, int num_free, bool sparse = false, bool replay =
                          const std::vector<int>& elimination_order = {}) {
   const PlantedMcp p = MakePlantedMcp(n, num_free);
   McpOptions options;
-  options.tolerance = 1e-12;
+  options.tolerance = kSolveTolerance;
   options.replay_pivots = replay;
   options.elimination_order = elimination_order;
   Eigen::VectorXd z = Eigen::VectorXd::Constant(n, 0.5);
@@ -64,11 +70,10 @@ void ExpectSolvesPlanted(int n, int num_free, bool sparse = false, bool replay =
     result = SolveMcp(f, num_free, ones, ones, z, options);
   }
   EXPECT_TRUE(result.converged) << "n = " << n;
-  EXPECT_LE(result.residual, 1e-12);
+  EXPECT_LE(result.residual, kSolveTolerance);
   // semismooth Newton from a nearby start: the active set is found in a few iterations
   EXPECT_LE(result.iterations, 10);
-  // residual ≤ 1e-12 bounds the error by 1e-12 / 3 (see PlantedMcp); 1e-12 leaves round-off room
-  EXPECT_LT((z - p.z_star).cwiseAbs().maxCoeff(), 1e-12) << "n = " << n;
+  EXPECT_LT((z - p.z_star).cwiseAbs().maxCoeff(), kPlantedError) << "n = " << n;
 }
 
 TEST(ComplementaritySolverTest, SolvesPlantedMixedLcpOfOneContactsSize) {
@@ -119,8 +124,10 @@ TEST(ComplementaritySolverTest, SolvesPlantedMixedLcpWithASparseJacobian) {
 // F(z) = ((z₀ − 1)², z₁ − 2): Newton's matrix is singular at the solution (1, 2) and
 // near-singular next to it, where the line search and the Levenberg–Marquardt rescue act
 TEST(ComplementaritySolverTest, SparseAndDenseFallbacksReachTheSameDoubleRoot) {
+  // the residual's bar: (z₀ − 1)² below it bounds |z₀ − 1| by 1e-5
+  constexpr double kDoubleRootTolerance = 1e-10;
   McpOptions options;
-  options.tolerance = 1e-10;
+  options.tolerance = kDoubleRootTolerance;
   options.max_iterations = 100;
   options.levenberg_marquardt_rescue = true;
   const Eigen::VectorXd ones = Eigen::VectorXd::Ones(2);
@@ -148,11 +155,12 @@ TEST(ComplementaritySolverTest, SparseAndDenseFallbacksReachTheSameDoubleRoot) {
   EXPECT_TRUE(a.converged);
   EXPECT_TRUE(b.converged);
   EXPECT_EQ(a.iterations, b.iterations);
-  // the double root: residual (z₀ − 1)² ≤ 1e-10 bounds |z₀ − 1| by 1e-5
+  // the double root: residual (z₀ − 1)² ≤ kDoubleRootTolerance bounds |z₀ − 1| by its root
   constexpr double kDoubleRootError = 1e-5;
   EXPECT_NEAR(z_sparse[0], 1, kDoubleRootError);
-  // the linear row is solved exactly by the first full step
-  EXPECT_NEAR(z_sparse[1], 2, 1e-12);
+  // the linear row is solved exactly by the first full step, up to round-off of O(1) entries
+  constexpr double kLinearRowRoundOff = 1e-12;
+  EXPECT_NEAR(z_sparse[1], 2, kLinearRowRoundOff);
 }
 
 // F(z) = A z − b with A of rank 2 and b in its range: the solutions form the line
@@ -165,7 +173,7 @@ TEST(ComplementaritySolverTest, MinimumNormStepsStayNearTheStartOnANonIsolatedSo
   const Eigen::Vector3d b(2, 2, 3);
   const Eigen::Vector3d nearest(4, -2, 3);
   McpOptions options;
-  options.tolerance = 1e-12;
+  options.tolerance = kSolveTolerance;
   options.minimum_norm_steps = true;
   const Eigen::VectorXd ones = Eigen::VectorXd::Ones(3);
   const McpFunction dense = [&](const Eigen::VectorXd& z, Eigen::VectorXd* F, Eigen::MatrixXd* J) {
@@ -204,20 +212,21 @@ TEST(ComplementaritySolverTest, NestedSolveInTheCallbackKeepsTheOuterWorkspace) 
   const McpFunction f = [&](const Eigen::VectorXd& z, Eigen::VectorXd* F, Eigen::MatrixXd* J) {
     Eigen::VectorXd z_inner = Eigen::VectorXd::Constant(12, 0.5);
     McpOptions options;
-    options.tolerance = 1e-12;
+    options.tolerance = kSolveTolerance;
     const McpResult r = SolveMcp(f_inner, 3, ones_inner, ones_inner, z_inner, options);
-    if (!r.converged || (z_inner - inner.z_star).cwiseAbs().maxCoeff() > 1e-12) ++inner_failures;
+    if (!r.converged || (z_inner - inner.z_star).cwiseAbs().maxCoeff() > kPlantedError)
+      ++inner_failures;
     *F = outer.M * z + outer.q;
     if (J != nullptr) *J = outer.M;
   };
   McpOptions options;
-  options.tolerance = 1e-12;
+  options.tolerance = kSolveTolerance;
   Eigen::VectorXd z = Eigen::VectorXd::Constant(25, 0.5);
   const Eigen::VectorXd ones = Eigen::VectorXd::Ones(25);
   const McpResult result = SolveMcp(f, 16, ones, ones, z, options);
   EXPECT_TRUE(result.converged);
   EXPECT_EQ(inner_failures, 0);
-  EXPECT_LT((z - outer.z_star).cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_LT((z - outer.z_star).cwiseAbs().maxCoeff(), kPlantedError);
 }
 
 TEST(ComplementaritySolverTest, HandsTheCallbackAZeroJacobianOfTheProblemsSize) {
@@ -250,13 +259,12 @@ TEST(ComplementaritySolverTest, HandsTheCallbackAZeroJacobianOfTheProblemsSize) 
       *J += p.M;
     };
     McpOptions options;
-    options.tolerance = 1e-12;
+    options.tolerance = kSolveTolerance;
     Eigen::VectorXd z = Eigen::VectorXd::Constant(n, 0.5);
     const Eigen::VectorXd ones = Eigen::VectorXd::Ones(n);
     const McpResult result = SolveMcp(f, num_free, ones, ones, z, options);
     EXPECT_TRUE(result.converged) << "n = " << n;
-    // as ExpectSolvesPlanted: residual ≤ 1e-12 bounds the error by 1e-12 / 3
-    EXPECT_LT((z - p.z_star).cwiseAbs().maxCoeff(), 1e-12) << "n = " << n;
+    EXPECT_LT((z - p.z_star).cwiseAbs().maxCoeff(), kPlantedError) << "n = " << n;
   }
   EXPECT_GT(evaluations, 8);
   EXPECT_EQ(unclean, 0);
@@ -283,7 +291,7 @@ TEST(ComplementaritySolverTest, AStartThatSolvesTheProblemIsVerifiedWithoutAJaco
   };
   const Eigen::VectorXd ones = Eigen::VectorXd::Ones(n);
   McpOptions options;
-  options.tolerance = 1e-12;
+  options.tolerance = kSolveTolerance;
   options.verify_start_first = true;
   Eigen::VectorXd z = p.z_star;
   McpResult result = SolveMcp(f, num_free, ones, ones, z, options);
