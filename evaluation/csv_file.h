@@ -34,7 +34,7 @@ struct CsvColumn {
 template <typename Row, typename Field>
 CsvColumn<Row> TextColumn(std::string name, Field field);
 
-/// A finite double with `digits` significant digits ({:.<digits>g}; 17 read back exactly).
+/// A finite double with `digits` significant digits ({:.<digits>g}); at 17 it reads back exactly.
 template <typename Row, typename Field>
 CsvColumn<Row> NumberColumn(std::string name, int digits, Field field);
 
