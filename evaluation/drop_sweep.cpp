@@ -35,36 +35,6 @@ const char* const kCompanionExtensions[] = {".png", ".jpg", ".jpeg", ".tga", ".b
                                             ".gif", ".tif", ".tiff", ".ktx", ".mtl", ".txt",
                                             ".md",  ".bin", ".glsl", ".pdf", ".html"};
 
-const std::vector<std::string> kHeader = {"kind",
-                                          "seed",
-                                          "step",
-                                          "mesh",
-                                          "size",
-                                          "vertices",
-                                          "hull_faces",
-                                          "height",
-                                          "q_w",
-                                          "q_x",
-                                          "q_y",
-                                          "q_z",
-                                          "w_x",
-                                          "w_y",
-                                          "w_z",
-                                          "h",
-                                          "duration",
-                                          "outcome",
-                                          "steps",
-                                          "max_penetration_rel",
-                                          "energy_gain_rel",
-                                          "final_speed_rel",
-                                          "iterations_max",
-                                          "retries",
-                                          "substepped",
-                                          "cpu_s",
-                                          "wall_s",
-                                          "max_step_cpu_s",
-                                          "message"};
-
 double WallSeconds() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
@@ -103,27 +73,42 @@ double Energy(const engine::Scene& scene, const engine::BodyState& b) {
 }
 
 std::string Exact(double value) { return fmt::format("{:.17g}", value); }
-std::string Short(double value) { return fmt::format("{:.6g}", value); }
 
-DropOutcome ParseOutcome(const CsvFile& file, size_t row, int column) {
-  for (int k = 0; k < kDropOutcomeCount; ++k) {
-    if (file.rows[row][column] == DropOutcomeName(static_cast<DropOutcome>(k))) {
-      return static_cast<DropOutcome>(k);
-    }
-  }
-  throw InputError(
-      fmt::format("{}:{}: outcome '{}': expected ok, solver_failure, non_finite, "
-                  "energy_gain, penetration, cpu_limit, exception or skipped",
-                  file.path, row + 2, file.rows[row][column]));
-}
-
-DropStep ParseStep(const CsvFile& file, size_t row, int column) {
-  for (DropStep step : {DropStep::kFixed, DropStep::kScaled}) {
-    if (file.rows[row][column] == DropStepName(step)) return step;
-  }
-  throw InputError(fmt::format("{}:{}: step '{}': expected fixed or scaled", file.path, row + 2,
-                               file.rows[row][column]));
-}
+// drop_sweep.csv's columns, in order: a case's pose exactly, what it measured in short
+using Row = DropRow;
+constexpr int kExactDigits = 17;  // significant digits: a double reads back as it was
+constexpr int kShortDigits = 6;   // measurements: penetration, energy, effort, time
+const std::vector<CsvColumn<Row>> kColumns = {
+    TextColumn<Row>("kind", &Row::kind),
+    WholeColumn<Row>("seed", &Row::seed),
+    EnumColumn<Row>("step", DropStepName, kDropStepCount, &Row::step),
+    TextColumn<Row>("mesh", &Row::mesh),
+    NumberColumn<Row>("size", kExactDigits, &Row::size),
+    WholeColumn<Row>("vertices", &Row::vertices),
+    WholeColumn<Row>("hull_faces", &Row::hull_faces),
+    NumberColumn<Row>("height", kExactDigits, &Row::height),
+    NumberColumn<Row>("q_w", kExactDigits, [](auto& row) -> decltype(auto) { return row.q0.w(); }),
+    NumberColumn<Row>("q_x", kExactDigits, [](auto& row) -> decltype(auto) { return row.q0.x(); }),
+    NumberColumn<Row>("q_y", kExactDigits, [](auto& row) -> decltype(auto) { return row.q0.y(); }),
+    NumberColumn<Row>("q_z", kExactDigits, [](auto& row) -> decltype(auto) { return row.q0.z(); }),
+    NumberColumn<Row>("w_x", kExactDigits, [](auto& row) -> decltype(auto) { return row.w0.x(); }),
+    NumberColumn<Row>("w_y", kExactDigits, [](auto& row) -> decltype(auto) { return row.w0.y(); }),
+    NumberColumn<Row>("w_z", kExactDigits, [](auto& row) -> decltype(auto) { return row.w0.z(); }),
+    NumberColumn<Row>("h", kExactDigits, &Row::h),
+    NumberColumn<Row>("duration", kExactDigits, &Row::duration),
+    EnumColumn<Row>("outcome", DropOutcomeName, kDropOutcomeCount, &Row::outcome),
+    WholeColumn<Row>("steps", &Row::steps),
+    NumberColumn<Row>("max_penetration_rel", kShortDigits, &Row::max_penetration_rel),
+    NumberColumn<Row>("energy_gain_rel", kShortDigits, &Row::energy_gain_rel),
+    NumberColumn<Row>("final_speed_rel", kShortDigits, &Row::final_speed_rel),
+    WholeColumn<Row>("iterations_max", &Row::iterations_max),
+    WholeColumn<Row>("retries", &Row::retries),
+    WholeColumn<Row>("substepped", &Row::substepped),
+    NumberColumn<Row>("cpu_s", kShortDigits, &Row::cpu_s),
+    NumberColumn<Row>("wall_s", kShortDigits, &Row::wall_s),
+    NumberColumn<Row>("max_step_cpu_s", kShortDigits, &Row::max_step_cpu_s),
+    TextColumn<Row>("message", &Row::message),
+};
 
 // the sweep's order of kinds: the generated ones, then the collection's files
 int KindRank(const std::string& kind) {
@@ -553,69 +538,8 @@ void SortDropRows(std::vector<DropRow>& rows) {
   });
 }
 
-std::string DropSweepCsv(const std::vector<DropRow>& rows) {
-  std::string csv;
-  for (size_t i = 0; i < kHeader.size(); ++i) csv += (i ? "," : "") + kHeader[i];
-  csv += "\n";
-  for (const DropRow& r : rows) {
-    csv += fmt::format(
-        "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
-        r.kind, r.seed, DropStepName(r.step), CsvField(r.mesh), Exact(r.size), r.vertices,
-        r.hull_faces, Exact(r.height), Exact(r.q0.w()), Exact(r.q0.x()), Exact(r.q0.y()),
-        Exact(r.q0.z()), Exact(r.w0.x()), Exact(r.w0.y()), Exact(r.w0.z()), Exact(r.h),
-        Exact(r.duration), DropOutcomeName(r.outcome), r.steps, Short(r.max_penetration_rel),
-        Short(r.energy_gain_rel), Short(r.final_speed_rel), r.iterations_max, r.retries,
-        r.substepped, Short(r.cpu_s), Short(r.wall_s), Short(r.max_step_cpu_s),
-        CsvField(r.message));
-  }
-  return csv;
-}
+std::string DropSweepCsv(const std::vector<DropRow>& rows) { return WriteCsv(kColumns, rows); }
 
-std::vector<DropRow> ReadDropSweepCsv(const std::string& path) {
-  const CsvFile file = ReadCsvFile(path, kHeader);
-  std::vector<DropRow> rows;
-  for (size_t i = 0; i < file.rows.size(); ++i) {
-    DropRow r;
-    int c = 0;
-    const auto number = [&] { return file.Number(i, c++); };
-    const auto whole = [&] {
-      const double value = number();
-      if (value < 0 || value != std::floor(value)) {
-        throw InputError(fmt::format("{}:{}: column '{}' = '{}': expected a whole number ≥ 0", path,
-                                     i + 2, file.header[c - 1], file.rows[i][c - 1]));
-      }
-      return value;
-    };
-    r.kind = file.rows[i][c++];
-    r.seed = static_cast<std::uint64_t>(whole());
-    r.step = ParseStep(file, i, c++);
-    r.mesh = file.rows[i][c++];
-    r.size = number();
-    r.vertices = static_cast<int>(whole());
-    r.hull_faces = static_cast<int>(whole());
-    r.height = number();
-    r.q0.w() = number();
-    r.q0.x() = number();
-    r.q0.y() = number();
-    r.q0.z() = number();
-    for (int k = 0; k < 3; ++k) r.w0[k] = number();
-    r.h = number();
-    r.duration = number();
-    r.outcome = ParseOutcome(file, i, c++);
-    r.steps = static_cast<long>(whole());
-    r.max_penetration_rel = number();
-    r.energy_gain_rel = number();
-    r.final_speed_rel = number();
-    r.iterations_max = static_cast<int>(whole());
-    r.retries = static_cast<long>(whole());
-    r.substepped = static_cast<long>(whole());
-    r.cpu_s = number();
-    r.wall_s = number();
-    r.max_step_cpu_s = number();
-    r.message = file.rows[i][c++];
-    rows.push_back(r);
-  }
-  return rows;
-}
+std::vector<DropRow> ReadDropSweepCsv(const std::string& path) { return ReadCsv(path, kColumns); }
 
 }  // namespace ecpsim::evaluation

@@ -49,6 +49,7 @@ enum class DropStep {
   kFixed,   // h = kDropStep, duration max(kDropMinDuration, fall + settle)
   kScaled,  // h = kDropStep sqrt(size / 1 m), duration max(kDropMinDuration sqrt(size / 1 m), …)
 };
+constexpr int kDropStepCount = 2;
 const char* DropStepName(DropStep step);  // fixed, scaled
 
 /// Which mesh a case drops (a generated kind and seed, or a collection file and its pose

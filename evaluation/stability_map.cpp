@@ -25,10 +25,6 @@ constexpr double kDeg = kPi / 180;
 constexpr double kStartGap = 1e-3;   // m, lowest vertex above the ground at t = 0
 constexpr double kLateWindow = 0.5;  // s, the "at rest" window at the end of each run
 
-const std::vector<std::string> kHeader = {
-    "map",         "method",         "h",          "value",      "outcome", "max_penetration",
-    "energy_gain", "max_speed_late", "drift_late", "final_mode", "failure"};
-
 // body 0 posed with orientation q, its lowest vertex kStartGap above z = 0, thrown with v
 Scenario Thrown(engine::Body body, const Eigen::Quaterniond& q, const Vector3d& v, double mu,
                 double torsion, double duration, double length) {
@@ -83,8 +79,6 @@ engine::Body TBarWithMassRatio(double ratio) {
   return body;
 }
 
-std::string Number(double value) { return fmt::format("{:.9g}", value); }
-
 // s: a push run's length; the contact starts after 1 cm / speed ≤ 0.33 s, so the box has been
 // pushed for ≥ 0.67 s when the late window (the last 0.5 s) opens
 constexpr double kPushDuration = 1.5;
@@ -114,16 +108,22 @@ Scenario PushAtSpeed(const std::string& scenes_dir, double speed) {
   return s;
 }
 
-Outcome ParseOutcome(const CsvFile& file, size_t row, int column) {
-  for (int k = 0; k < kOutcomeCount; ++k) {
-    if (file.rows[row][column] == OutcomeName(static_cast<Outcome>(k)))
-      return static_cast<Outcome>(k);
-  }
-  throw InputError(
-      fmt::format("{}:{}: outcome '{}': expected ok, solver_failure, penetration, "
-                  "energy_gain, wrong_mode, jitter or off_speed",
-                  file.path, row + 2, file.rows[row][column]));
-}
+// stability.csv's columns, in order
+using Row = StabilityRow;
+constexpr int kDigits = 9;  // significant digits of every number
+const std::vector<CsvColumn<Row>> kColumns = {
+    TextColumn<Row>("map", &Row::map),
+    TextColumn<Row>("method", &Row::method),
+    NumberColumn<Row>("h", kDigits, &Row::h),
+    NumberColumn<Row>("value", kDigits, &Row::value),
+    EnumColumn<Row>("outcome", OutcomeName, kOutcomeCount, &Row::outcome),
+    NumberColumn<Row>("max_penetration", kDigits, &Row::max_penetration),
+    NumberColumn<Row>("energy_gain", kDigits, &Row::energy_gain),
+    NumberColumn<Row>("max_speed_late", kDigits, &Row::max_speed_late),
+    NumberColumn<Row>("drift_late", kDigits, &Row::drift_late),
+    TextColumn<Row>("final_mode", &Row::final_mode),
+    TextColumn<Row>("failure", &Row::failure),
+};
 
 }  // namespace
 
@@ -280,39 +280,10 @@ std::vector<StabilityRow> RunStabilityMaps(
   return rows;
 }
 
-std::string StabilityCsv(const std::vector<StabilityRow>& rows) {
-  std::string csv;
-  for (size_t i = 0; i < kHeader.size(); ++i) csv += (i ? "," : "") + kHeader[i];
-  csv += "\n";
-  for (const StabilityRow& r : rows) {
-    csv += fmt::format("{},{},{},{},{},{},{},{},{},{},{}\n", r.map, r.method, Number(r.h),
-                       Number(r.value), OutcomeName(r.outcome), Number(r.max_penetration),
-                       Number(r.energy_gain), Number(r.max_speed_late), Number(r.drift_late),
-                       r.final_mode, CsvField(r.failure));
-  }
-  return csv;
-}
+std::string StabilityCsv(const std::vector<StabilityRow>& rows) { return WriteCsv(kColumns, rows); }
 
 std::vector<StabilityRow> ReadStabilityCsv(const std::string& path) {
-  const CsvFile file = ReadCsvFile(path, kHeader);
-  std::vector<StabilityRow> rows;
-  for (size_t i = 0; i < file.rows.size(); ++i) {
-    StabilityRow r;
-    int c = 0;
-    r.map = file.rows[i][c++];
-    r.method = file.rows[i][c++];
-    r.h = file.Number(i, c++);
-    r.value = file.Number(i, c++);
-    r.outcome = ParseOutcome(file, i, c++);
-    r.max_penetration = file.Number(i, c++);
-    r.energy_gain = file.Number(i, c++);
-    r.max_speed_late = file.Number(i, c++);
-    r.drift_late = file.Number(i, c++);
-    r.final_mode = file.rows[i][c++];
-    r.failure = file.rows[i][c++];
-    rows.push_back(r);
-  }
-  return rows;
+  return ReadCsv(path, kColumns);
 }
 
 }  // namespace ecpsim::evaluation

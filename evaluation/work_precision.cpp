@@ -13,26 +13,31 @@
 namespace ecpsim::evaluation {
 namespace {
 
-const std::vector<std::string> kHeader = {"scenario",
-                                          "method",
-                                          "h",
-                                          "steps",
-                                          "failed",
-                                          "cpu_per_sim_s",
-                                          "error_state",
-                                          "error_position",
-                                          "error_angle",
-                                          "error_velocity",
-                                          "wrong_mode",
-                                          "stop_time_error",
-                                          "error_vs_hull",
-                                          "reference_uncertainty",
-                                          "max_penetration",
-                                          "iterations_mean",
-                                          "iterations_max",
-                                          "push_force_error",
-                                          "push_contact_breaks",
-                                          "failure"};
+// work_precision.csv's columns, in order
+using Row = WorkPrecisionRow;
+constexpr int kDigits = 9;  // significant digits of every number: errors and times, not a state
+const std::vector<CsvColumn<Row>> kColumns = {
+    TextColumn<Row>("scenario", &Row::scenario),
+    TextColumn<Row>("method", &Row::method),
+    NumberColumn<Row>("h", kDigits, &Row::h),
+    WholeColumn<Row>("steps", &Row::steps),
+    FlagColumn<Row>("failed", &Row::failed),
+    NumberColumn<Row>("cpu_per_sim_s", kDigits, &Row::cpu_per_sim_s),
+    NumberColumn<Row>("error_state", kDigits, &Row::error_state),
+    NumberColumn<Row>("error_position", kDigits, &Row::error_position),
+    NumberColumn<Row>("error_angle", kDigits, &Row::error_angle),
+    NumberColumn<Row>("error_velocity", kDigits, &Row::error_velocity),
+    NumberColumn<Row>("wrong_mode", kDigits, &Row::wrong_mode),
+    NumberColumn<Row>("stop_time_error", kDigits, &Row::stop_time_error),
+    NumberColumn<Row>("error_vs_hull", kDigits, &Row::error_vs_hull),
+    NumberColumn<Row>("reference_uncertainty", kDigits, &Row::reference_uncertainty),
+    NumberColumn<Row>("max_penetration", kDigits, &Row::max_penetration),
+    NumberColumn<Row>("iterations_mean", kDigits, &Row::iterations_mean),
+    WholeColumn<Row>("iterations_max", &Row::iterations_max),
+    NumberColumn<Row>("push_force_error", kDigits, &Row::push_force_error),
+    NumberColumn<Row>("push_contact_breaks", kDigits, &Row::push_contact_breaks),
+    TextColumn<Row>("failure", &Row::failure),
+};
 
 // The reference trajectories of one scenario, computed on first use.
 class References {
@@ -75,8 +80,6 @@ class References {
 };
 
 Method HullMethod() { return FindMethod("hull"); }
-
-std::string Number(double value) { return fmt::format("{:.9g}", value); }
 
 }  // namespace
 
@@ -155,51 +158,11 @@ std::vector<WorkPrecisionRow> RunWorkPrecision(const std::vector<Scenario>& scen
 }
 
 std::string WorkPrecisionCsv(const std::vector<WorkPrecisionRow>& rows) {
-  std::string csv;
-  for (size_t i = 0; i < kHeader.size(); ++i) csv += (i ? "," : "") + kHeader[i];
-  csv += "\n";
-  for (const WorkPrecisionRow& r : rows) {
-    csv +=
-        fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", r.scenario,
-                    r.method, Number(r.h), r.steps, r.failed ? 1 : 0, Number(r.cpu_per_sim_s),
-                    Number(r.error_state), Number(r.error_position), Number(r.error_angle),
-                    Number(r.error_velocity), Number(r.wrong_mode), Number(r.stop_time_error),
-                    Number(r.error_vs_hull), Number(r.reference_uncertainty),
-                    Number(r.max_penetration), Number(r.iterations_mean), r.iterations_max,
-                    Number(r.push_force_error), Number(r.push_contact_breaks), CsvField(r.failure));
-  }
-  return csv;
+  return WriteCsv(kColumns, rows);
 }
 
 std::vector<WorkPrecisionRow> ReadWorkPrecisionCsv(const std::string& path) {
-  const CsvFile file = ReadCsvFile(path, kHeader);
-  std::vector<WorkPrecisionRow> rows;
-  for (size_t i = 0; i < file.rows.size(); ++i) {
-    WorkPrecisionRow r;
-    int c = 0;
-    r.scenario = file.rows[i][c++];
-    r.method = file.rows[i][c++];
-    r.h = file.Number(i, c++);
-    r.steps = static_cast<long>(file.Number(i, c++));
-    r.failed = file.Number(i, c++) != 0;
-    r.cpu_per_sim_s = file.Number(i, c++);
-    r.error_state = file.Number(i, c++);
-    r.error_position = file.Number(i, c++);
-    r.error_angle = file.Number(i, c++);
-    r.error_velocity = file.Number(i, c++);
-    r.wrong_mode = file.Number(i, c++);
-    r.stop_time_error = file.Number(i, c++);
-    r.error_vs_hull = file.Number(i, c++);
-    r.reference_uncertainty = file.Number(i, c++);
-    r.max_penetration = file.Number(i, c++);
-    r.iterations_mean = file.Number(i, c++);
-    r.iterations_max = static_cast<int>(file.Number(i, c++));
-    r.push_force_error = file.Number(i, c++);
-    r.push_contact_breaks = file.Number(i, c++);
-    r.failure = file.rows[i][c++];
-    rows.push_back(r);
-  }
-  return rows;
+  return ReadCsv(path, kColumns);
 }
 
 }  // namespace ecpsim::evaluation

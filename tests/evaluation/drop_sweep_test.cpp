@@ -11,6 +11,8 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
+#include <tuple>
 
 #include <fmt/format.h>
 #include <gmock/gmock.h>
@@ -216,52 +218,103 @@ TEST_F(DropSweepTest, CgalDemoMeshesThatStalledOnAnEdgeComeToRest) {
   }
 }
 
-TEST_F(DropSweepTest, CsvRoundTripsEveryField) {
-  DropRow row;
-  row.kind = "torus";
-  row.seed = 42;
-  row.step = DropStep::kScaled;
-  row.mesh = "radii 1 0.3 segments 12 x 8";
-  row.size = 0.0123456789012345;
-  row.vertices = 96;
-  row.hull_faces = 50;
-  row.height = 0.001;
-  row.q0 = Eigen::Quaterniond(0.5, -0.5, 0.5, -0.5);
-  row.w0 = Eigen::Vector3d(1.5, -2.25, 3);
-  row.h = 0.00111;
-  row.duration = 0.333;
-  row.outcome = DropOutcome::kSolverFailure;
-  row.steps = 77;
-  row.max_penetration_rel = 1.5e-13;
-  row.energy_gain_rel = 0.25;
-  row.final_speed_rel = 2e-3;
-  row.iterations_max = 120;
-  row.retries = 9;
-  row.substepped = 2;
-  row.cpu_s = 0.5;
-  row.wall_s = 0.75;
-  row.max_step_cpu_s = 0.0125;
-  row.message = "solver failed at t = 0.1 s, on body 'body'";
-  const fs::path csv = dir_ / "drop_sweep.csv";
-  WriteText(csv, DropSweepCsv({row}));
-  const std::vector<DropRow> read = ReadDropSweepCsv(csv.string());
-  ASSERT_EQ(read.size(), 1u);
-  const DropRow& r = read[0];
-  EXPECT_EQ(DropCaseKey(r.Case()), "torus:42:scaled");
-  EXPECT_EQ(r.mesh, row.mesh);
-  EXPECT_EQ(r.size, row.size);  // 17 digits: exact, so the case's pose is in the CSV
-  EXPECT_EQ(r.q0.coeffs(), row.q0.coeffs());
-  EXPECT_EQ(r.w0, row.w0);
-  EXPECT_EQ(r.h, row.h);
-  EXPECT_EQ(r.outcome, DropOutcome::kSolverFailure);
-  EXPECT_EQ(r.steps, 77);
-  EXPECT_EQ(r.retries, 9);
-  EXPECT_EQ(r.max_step_cpu_s, row.max_step_cpu_s);
-  EXPECT_EQ(r.message, "solver failed at t = 0.1 s; on body 'body'");  // CsvField: , → ;
+// a case that failed and a collection file that was skipped; the pose to 17 digits, the
+// measurements to 6, each written exactly at those digits
+std::vector<DropRow> TwoRows() {
+  DropRow a;
+  a.kind = "torus";
+  a.seed = 42;
+  a.step = DropStep::kScaled;
+  a.mesh = "radii 1 0.3 segments 12 x 8";
+  a.size = 1.0 / 3;
+  a.vertices = 96;
+  a.hull_faces = 50;
+  a.height = 0.1;
+  a.q0 = Eigen::Quaterniond(1, 2, 3, 4).normalized();
+  a.w0 = Eigen::Vector3d(1.5, -2.25, 3e-5);
+  a.h = 0.01 * std::sqrt(1.0 / 3);
+  a.duration = 0.333;
+  a.outcome = DropOutcome::kSolverFailure;
+  a.steps = 77;
+  a.max_penetration_rel = 1.5e-13;
+  a.energy_gain_rel = 0.25;
+  a.final_speed_rel = 0.002;
+  a.iterations_max = 120;
+  a.retries = 9;
+  a.substepped = 2;
+  a.cpu_s = 0.5;
+  a.wall_s = 0.75;
+  a.max_step_cpu_s = 0.0125;
+  a.message = "solver failed at t = 0.1 s on body 'body'";
+  DropRow b;
+  b.kind = kFileKind;
+  b.seed = 2;
+  b.mesh = "/usr/share/assimp/models/OFF/Wuson.off";
+  b.outcome = DropOutcome::kSkipped;
+  b.message = "Wuson.off: 3 open edges; expected a closed solid";
+  return {a, b};
+}
 
-  WriteText(csv, DropSweepCsv({row}) + "torus,1,sideways" + std::string(26, ',') + "\n");
+auto Fields(const DropRow& r) {
+  return std::make_tuple(r.kind, r.seed, r.step, r.mesh, r.size, r.vertices, r.hull_faces, r.height,
+                         r.q0.w(), r.q0.x(), r.q0.y(), r.q0.z(), r.w0.x(), r.w0.y(), r.w0.z(), r.h,
+                         r.duration, r.outcome, r.steps, r.max_penetration_rel, r.energy_gain_rel,
+                         r.final_speed_rel, r.iterations_max, r.retries, r.substepped, r.cpu_s,
+                         r.wall_s, r.max_step_cpu_s, r.message);
+}
+
+TEST_F(DropSweepTest, CsvRoundTripsEveryField) {
+  std::vector<DropRow> rows = TwoRows();
+  // 17 digits: any pose reads back exactly, so the case's pose is in the CSV
+  rows[0].size = 0.0123456789012345;
+  rows[0].q0 = Eigen::Quaterniond(0.5, -0.5, 0.5, -0.5);
+  rows[0].h = 0.00111;
+  // every outcome, and seeds beyond a double's 53 bits
+  for (int k = 0; k < kDropOutcomeCount; ++k) {
+    rows.push_back(rows.front());
+    rows.back().outcome = static_cast<DropOutcome>(k);
+    rows.back().seed = std::numeric_limits<std::uint64_t>::max() - k;
+  }
+  const fs::path csv = dir_ / "drop_sweep.csv";
+  WriteText(csv, DropSweepCsv(rows));
+  const std::vector<DropRow> read = ReadDropSweepCsv(csv.string());
+  ASSERT_EQ(read.size(), rows.size());
+  for (size_t i = 0; i < rows.size(); ++i) EXPECT_EQ(Fields(read[i]), Fields(rows[i])) << i;
+  EXPECT_EQ(DropCaseKey(read[0].Case()), "torus:42:scaled");
+
+  // a message is one field: its commas cannot split the row
+  rows[0].message = "solver failed at t = 0.1 s, on body 'body'";
+  WriteText(csv, DropSweepCsv({rows[0]}));
+  EXPECT_EQ(ReadDropSweepCsv(csv.string())[0].message,
+            "solver failed at t = 0.1 s; on body 'body'");
+
+  WriteText(csv, DropSweepCsv({rows[0]}) + "torus,1,sideways" + std::string(26, ',') + "\n");
   EXPECT_THAT([&] { ReadDropSweepCsv(csv.string()); },
-              ThrowsMessage<InputError>(HasSubstr("step 'sideways': expected fixed or scaled")));
+              ThrowsMessage<InputError>(HasSubstr(
+                  csv.string() + ":3: column `step`: 'sideways' is not fixed or scaled")));
+}
+
+// TwoRows() as the writer of the hand-written schema wrote them (before the columns were
+// declared once): shards written then still read, and the table is written byte for byte alike
+const char* const kEarlierCsv =
+    "kind,seed,step,mesh,size,vertices,hull_faces,height,q_w,q_x,q_y,q_z,w_x,w_y,w_z,h,duration,"
+    "outcome,steps,max_penetration_rel,energy_gain_rel,final_speed_rel,iterations_max,retries,"
+    "substepped,cpu_s,wall_s,max_step_cpu_s,message\n"
+    "torus,42,scaled,radii 1 0.3 segments 12 x 8,0.33333333333333331,96,50,0.10000000000000001,"
+    "0.18257418583505536,0.36514837167011072,0.54772255750516607,0.73029674334022143,1.5,-2.25,"
+    "3.0000000000000001e-05,0.0057735026918962571,0.33300000000000002,solver_failure,77,1.5e-13,"
+    "0.25,0.002,120,9,2,0.5,0.75,0.0125,solver failed at t = 0.1 s on body 'body'\n"
+    "file,2,fixed,/usr/share/assimp/models/OFF/Wuson.off,0,0,0,0,1,0,0,0,0,0,0,0,0,skipped,0,0,0,"
+    "0,0,0,0,0,0,0,Wuson.off: 3 open edges; expected a closed solid\n";
+
+TEST_F(DropSweepTest, CsvOfTheEarlierWriterReadsTheSame) {
+  const std::vector<DropRow> rows = TwoRows();
+  const fs::path csv = dir_ / "drop_sweep.csv";
+  WriteText(csv, kEarlierCsv);
+  const std::vector<DropRow> read = ReadDropSweepCsv(csv.string());
+  ASSERT_EQ(read.size(), rows.size());
+  for (size_t i = 0; i < rows.size(); ++i) EXPECT_EQ(Fields(read[i]), Fields(rows[i])) << i;
+  EXPECT_EQ(DropSweepCsv(rows), kEarlierCsv);
 }
 
 // the bar on a small deterministic subset: the first seeds of every generated kind at
