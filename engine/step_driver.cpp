@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <iterator>
-#include <variant>
 
 #include "engine/islands.h"
 

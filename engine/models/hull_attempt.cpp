@@ -1,7 +1,6 @@
 #include "engine/models/hull_attempt.h"
 
 #include <algorithm>
-#include <variant>
 
 #include <fmt/format.h>
 

@@ -1,13 +1,12 @@
 #include "engine/models/hull_guesses.h"
-#include "engine/models/hull_warm_start.h"
 
 #include <algorithm>
 #include <optional>
-#include <variant>
 
 #include "engine/mncp/mncp_system.h"
 #include "engine/models/hull_problem.h"
 #include "engine/models/hull_tuning.h"
+#include "engine/models/hull_warm_start.h"
 #include "engine/models/solution_trend.h"
 #include "engine/obstacle_queries.h"
 

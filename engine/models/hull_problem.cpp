@@ -1,10 +1,8 @@
 #include "engine/models/hull_problem.h"
-#include "engine/models/hull_warm_start.h"
 
 #include <algorithm>
 #include <cmath>
 #include <numeric>
-#include <variant>
 
 #include "common/errors.h"
 #include "engine/mncp/contact_window.h"
@@ -13,6 +11,7 @@
 #include "engine/mncp/mncp_system.h"
 #include "engine/models/hull_model.h"
 #include "engine/models/hull_tuning.h"
+#include "engine/models/hull_warm_start.h"
 #include "engine/obstacle_queries.h"
 #include "engine/rotation.h"
 #include "geometry/convex_separation.h"

@@ -6,7 +6,6 @@
 #include <memory>
 #include <numeric>
 #include <string>
-#include <variant>
 
 #include <fmt/format.h>
 

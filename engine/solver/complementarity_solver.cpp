@@ -342,34 +342,40 @@ struct Workspace {
   std::vector<double> recent_merits;
 };
 
-// lends `kept`'s storage of this algebra to one solve of n unknowns for its lifetime; a solve
-// nested in a callback's evaluation of a solve on the same workspace, or one so large that its
-// matrices should not stay allocated after it (a whole big hull), uses storage of its own
+// a caller's storage of one algebra, and whether a solve has it
+template <typename Algebra>
+struct KeptWorkspace {
+  std::unique_ptr<Workspace<Algebra>> workspace;
+  bool in_use = false;
+};
+
+// lends `kept`'s storage to one solve of n unknowns for its lifetime; a solve nested in a
+// callback's evaluation of a solve on the same storage, or one so large that its matrices should
+// not stay allocated after it (a whole big hull), uses storage of its own
 template <typename Algebra>
 class WorkspaceLease {
  public:
-  WorkspaceLease(int n, std::unique_ptr<Workspace<Algebra>>& kept, bool& kept_in_use)
-      : kept_(kept), kept_in_use_(kept_in_use), borrowed_(!kept_in_use && n <= kMaxKeptSize) {
+  WorkspaceLease(int n, KeptWorkspace<Algebra>& kept)
+      : kept_(kept), borrowed_(!kept.in_use && n <= kMaxKeptSize) {
     // (built only when used: its thirty-odd members are not free to build and destroy per solve)
     if (!borrowed_) {
       own_.emplace();
       return;
     }
-    if (!kept_) kept_ = std::make_unique<Workspace<Algebra>>();
-    kept_in_use_ = true;
+    if (!kept_.workspace) kept_.workspace = std::make_unique<Workspace<Algebra>>();
+    kept_.in_use = true;
   }
   ~WorkspaceLease() {
-    if (borrowed_) kept_in_use_ = false;
+    if (borrowed_) kept_.in_use = false;
   }
   WorkspaceLease(const WorkspaceLease&) = delete;
   WorkspaceLease& operator=(const WorkspaceLease&) = delete;
-  Workspace<Algebra>& Get() { return borrowed_ ? *kept_ : *own_; }
+  Workspace<Algebra>& Get() { return borrowed_ ? *kept_.workspace : *own_; }
 
  private:
   // unknowns: the kept matrices are then at most a few hundred kB
   static constexpr int kMaxKeptSize = 256;
-  std::unique_ptr<Workspace<Algebra>>& kept_;
-  bool& kept_in_use_;
+  KeptWorkspace<Algebra>& kept_;
   const bool borrowed_;
   std::optional<Workspace<Algebra>> own_;
 };
@@ -395,7 +401,7 @@ McpResult SolveMcpWith(const std::function<void(const Eigen::VectorXd&, Eigen::V
                                                 typename Algebra::Matrix*)>& f,
                        int num_free, const Eigen::VectorXd& row_scale,
                        const Eigen::VectorXd& var_scale, Eigen::VectorXd& z,
-                       const McpOptions& options, WorkspaceLease<Algebra>&& lease) {
+                       const McpOptions& options, WorkspaceLease<Algebra>& lease) {
   using Matrix = typename Algebra::Matrix;
   const int n = static_cast<int>(z.size());
   Workspace<Algebra>& w = lease.Get();
@@ -600,10 +606,8 @@ McpResult SolveMcpWith(const std::function<void(const Eigen::VectorXd&, Eigen::V
 }  // namespace
 
 struct McpWorkspace::Storage {
-  std::unique_ptr<Workspace<DenseNewtonAlgebra>> dense;
-  std::unique_ptr<Workspace<SparseNewtonAlgebra>> sparse;
-  bool dense_in_use = false;
-  bool sparse_in_use = false;
+  KeptWorkspace<DenseNewtonAlgebra> dense;
+  KeptWorkspace<SparseNewtonAlgebra> sparse;
 };
 
 McpWorkspace::McpWorkspace() : storage_(std::make_unique<Storage>()) {}
@@ -614,21 +618,15 @@ McpWorkspace& McpWorkspace::operator=(McpWorkspace&&) noexcept = default;
 McpResult SolveMcp(const McpFunction& f, int num_free, const Eigen::VectorXd& row_scale,
                    const Eigen::VectorXd& var_scale, Eigen::VectorXd& z, const McpOptions& options,
                    McpWorkspace& workspace) {
-  McpWorkspace::Storage& kept = *workspace.storage_;
-  return SolveMcpWith<DenseNewtonAlgebra>(
-      f, num_free, row_scale, var_scale, z, options,
-      WorkspaceLease<DenseNewtonAlgebra>(static_cast<int>(z.size()), kept.dense,
-                                         kept.dense_in_use));
+  WorkspaceLease<DenseNewtonAlgebra> lease(static_cast<int>(z.size()), workspace.storage_->dense);
+  return SolveMcpWith(f, num_free, row_scale, var_scale, z, options, lease);
 }
 
 McpResult SolveMcp(const SparseMcpFunction& f, int num_free, const Eigen::VectorXd& row_scale,
                    const Eigen::VectorXd& var_scale, Eigen::VectorXd& z, const McpOptions& options,
                    McpWorkspace& workspace) {
-  McpWorkspace::Storage& kept = *workspace.storage_;
-  return SolveMcpWith<SparseNewtonAlgebra>(
-      f, num_free, row_scale, var_scale, z, options,
-      WorkspaceLease<SparseNewtonAlgebra>(static_cast<int>(z.size()), kept.sparse,
-                                          kept.sparse_in_use));
+  WorkspaceLease<SparseNewtonAlgebra> lease(static_cast<int>(z.size()), workspace.storage_->sparse);
+  return SolveMcpWith(f, num_free, row_scale, var_scale, z, options, lease);
 }
 
 McpResult SolveMcp(const McpFunction& f, int num_free, const Eigen::VectorXd& row_scale,

@@ -1,5 +1,4 @@
 #include "engine/time_step.h"
-#include "engine/models/hull_warm_start.h"
 
 #include <cmath>
 #include <set>
@@ -7,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include "engine/models/hull_warm_start.h"
 #include "geometry/contact_patch.h"
 #include "geometry/paper_bodies.h"
 #include "tests/engine/test_bodies.h"

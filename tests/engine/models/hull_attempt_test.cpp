@@ -3,7 +3,6 @@
 // the ground, a root outside its window, and the commit of a root.
 
 #include "engine/models/hull_attempt.h"
-#include "engine/models/hull_warm_start.h"
 
 #include <algorithm>
 #include <cmath>
@@ -12,6 +11,7 @@
 
 #include "engine/models/hull_guesses.h"
 #include "engine/models/hull_tuning.h"
+#include "engine/models/hull_warm_start.h"
 #include "tests/engine/models/hull_islands.h"
 
 namespace ecpsim::engine::hull {

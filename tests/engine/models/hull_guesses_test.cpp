@@ -2,13 +2,13 @@
 // free flight in closed form, landings, and the resting guess's impulse.
 
 #include "engine/models/hull_guesses.h"
-#include "engine/models/hull_warm_start.h"
 
 #include <cmath>
 
 #include <gtest/gtest.h>
 
 #include "engine/models/hull_tuning.h"
+#include "engine/models/hull_warm_start.h"
 #include "engine/time_step.h"
 #include "tests/engine/models/hull_islands.h"
 

@@ -3,7 +3,6 @@
 // separating normals and the energy an ejection may give.
 
 #include "engine/models/hull_problem.h"
-#include "engine/models/hull_warm_start.h"
 
 #include <cmath>
 #include <numeric>
@@ -13,6 +12,7 @@
 
 #include "engine/mncp/island_mncp.h"
 #include "engine/models/hull_model.h"
+#include "engine/models/hull_warm_start.h"
 #include "tests/engine/models/hull_islands.h"
 
 namespace ecpsim::engine::hull {

@@ -2,8 +2,6 @@
 // start a contact holds, and a malformed record refused naming its key.
 
 #include "engine/report/state_record.h"
-#include "engine/models/hull_warm_start.h"
-#include "engine/models/multipatch_warm_start.h"
 
 #include <cmath>
 #include <cstdint>
@@ -15,6 +13,8 @@
 #include <gtest/gtest.h>
 
 #include "common/errors.h"
+#include "engine/models/hull_warm_start.h"
+#include "engine/models/multipatch_warm_start.h"
 
 namespace ecpsim::engine {
 namespace {

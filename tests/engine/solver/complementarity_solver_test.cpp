@@ -199,7 +199,9 @@ TEST(ComplementaritySolverTest, MinimumNormStepsStayNearTheStartOnANonIsolatedSo
 }
 
 TEST(ComplementaritySolverTest, NestedSolveInTheCallbackKeepsTheOuterWorkspace) {
-  // the outer callback solves an inner problem on every evaluation: both must still converge
+  // the outer callback solves an inner problem on every evaluation in the same workspace, which
+  // the outer solve holds: the inner one works in storage of its own and both converge
+  McpWorkspace workspace;
   const PlantedMcp outer = MakePlantedMcp(25, 16);
   const PlantedMcp inner = MakePlantedMcp(12, 3);
   const Eigen::VectorXd ones_inner = Eigen::VectorXd::Ones(12);
@@ -213,7 +215,7 @@ TEST(ComplementaritySolverTest, NestedSolveInTheCallbackKeepsTheOuterWorkspace) 
     Eigen::VectorXd z_inner = Eigen::VectorXd::Constant(12, 0.5);
     McpOptions options;
     options.tolerance = kSolveTolerance;
-    const McpResult r = SolveMcp(f_inner, 3, ones_inner, ones_inner, z_inner, options);
+    const McpResult r = SolveMcp(f_inner, 3, ones_inner, ones_inner, z_inner, options, workspace);
     if (!r.converged || (z_inner - inner.z_star).cwiseAbs().maxCoeff() > kPlantedError)
       ++inner_failures;
     *F = outer.M * z + outer.q;
@@ -223,10 +225,49 @@ TEST(ComplementaritySolverTest, NestedSolveInTheCallbackKeepsTheOuterWorkspace) 
   options.tolerance = kSolveTolerance;
   Eigen::VectorXd z = Eigen::VectorXd::Constant(25, 0.5);
   const Eigen::VectorXd ones = Eigen::VectorXd::Ones(25);
-  const McpResult result = SolveMcp(f, 16, ones, ones, z, options);
+  const McpResult result = SolveMcp(f, 16, ones, ones, z, options, workspace);
   EXPECT_TRUE(result.converged);
   EXPECT_EQ(inner_failures, 0);
   EXPECT_LT((z - outer.z_star).cwiseAbs().maxCoeff(), kPlantedError);
+}
+
+TEST(ComplementaritySolverTest, AKeptWorkspaceGivesTheBitsOfAFreshOne) {
+  // storage left by solves of other sizes and kinds changes nothing: a workspace is memory,
+  // never state
+  McpWorkspace kept;
+  for (const auto& [n, num_free] : {std::pair{25, 16}, std::pair{7, 2}, std::pair{40, 10}}) {
+    for (bool sparse : {false, true}) {
+      const PlantedMcp p = MakePlantedMcp(n, num_free);
+      const Eigen::VectorXd ones = Eigen::VectorXd::Ones(n);
+      McpOptions options;
+      options.tolerance = kSolveTolerance;
+      options.levenberg_marquardt_rescue = true;
+      Eigen::VectorXd z_kept = Eigen::VectorXd::Constant(n, 0.5);
+      Eigen::VectorXd z_fresh = z_kept;
+      McpResult kept_result, fresh_result;
+      if (sparse) {
+        const SparseMatrix M = p.M.sparseView();
+        const SparseMcpFunction f = [&](const Eigen::VectorXd& z, Eigen::VectorXd* F,
+                                        SparseMatrix* J) {
+          *F = p.M * z + p.q;
+          if (J != nullptr) *J = M;
+        };
+        kept_result = SolveMcp(f, num_free, ones, ones, z_kept, options, kept);
+        fresh_result = SolveMcp(f, num_free, ones, ones, z_fresh, options);
+      } else {
+        const McpFunction f = [&](const Eigen::VectorXd& z, Eigen::VectorXd* F,
+                                  Eigen::MatrixXd* J) {
+          *F = p.M * z + p.q;
+          if (J != nullptr) *J = p.M;
+        };
+        kept_result = SolveMcp(f, num_free, ones, ones, z_kept, options, kept);
+        fresh_result = SolveMcp(f, num_free, ones, ones, z_fresh, options);
+      }
+      EXPECT_TRUE(kept_result.converged) << "n = " << n << (sparse ? " sparse" : " dense");
+      EXPECT_EQ(kept_result.iterations, fresh_result.iterations);
+      EXPECT_EQ(z_kept, z_fresh) << "n = " << n << (sparse ? " sparse" : " dense");
+    }
+  }
 }
 
 TEST(ComplementaritySolverTest, HandsTheCallbackAZeroJacobianOfTheProblemsSize) {
