@@ -95,7 +95,7 @@ constexpr double kTBarHalfThickness = 0.025;  // m
 constexpr double kFlatHeightTol = 1e-9;       // m
 
 TEST(PaperScenesTest, TBarKeepsTheEcpOnTheGroundThroughEveryContactMode) {
-  const Scene scene = LoadScene(ScenePath("tbar.yaml"));
+  const Scene scene = LoadScene(ScenePath("tbar.yaml")).scene;
   const std::vector<Sample> samples = RunScene(scene);
   ASSERT_EQ(samples.size(), 500u);
   const geometry::TriangleMesh& mesh = scene.bodies[0].mesh;
@@ -166,7 +166,7 @@ const double kFacetLateralOffset = kDumbbellRadius * std::sin(kPi / 96) + 1e-6; 
 constexpr double kContactLineTol = 1e-8;  // m
 
 TEST(PaperScenesTest, DumbbellToppledRollsOnTwoSegmentsAtHeightR) {
-  const Scene scene = LoadScene(ScenePath("dumbbell.yaml"));
+  const Scene scene = LoadScene(ScenePath("dumbbell.yaml")).scene;
   const std::vector<Sample> samples = RunScene(scene);
   ASSERT_EQ(samples.size(), 250u);
   const geometry::TriangleMesh& mesh = scene.bodies[0].mesh;
@@ -255,7 +255,7 @@ constexpr double kDeskHalfSupport = 0.25;    // m: the feet span the 0.5 × 0.5 
 constexpr double kSupportSquareTol = 1e-12;  // m, round-off of the frame change
 
 TEST(PaperScenesTest, DeskSlidesWithoutTippingAndItsEcpStaysInTheSupportSquare) {
-  const Scene scene = LoadScene(ScenePath("desk.yaml"));
+  const Scene scene = LoadScene(ScenePath("desk.yaml")).scene;
   const std::vector<Sample> samples = RunScene(scene);
   ASSERT_EQ(samples.size(), 400u);
   const geometry::TriangleMesh& mesh = scene.bodies[0].mesh;
@@ -300,7 +300,7 @@ constexpr int kMaxLandingIterations = 45;
 
 TEST(PaperScenesTest, LandingsAfterATiltCostNoReSolvesOfFarStalls) {
   for (const char* name : {"tbar.yaml", "dumbbell.yaml"}) {
-    const Scene scene = LoadScene(ScenePath(name));
+    const Scene scene = LoadScene(ScenePath(name)).scene;
     State state = InitialState(scene);
     int most = 0;
     for (long i = 0; i < std::lround(scene.duration / scene.h); ++i)
