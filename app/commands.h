@@ -3,7 +3,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "engine/scene.h"
+#include "engine/scene_io/loaded_scene.h"
 
 namespace ecpsim::app {
 
@@ -20,8 +20,8 @@ void AddRunCommand(CLI::App& app);
 /// `ecpsim drop MESH -o DIR [--height H] [--tilt DEG] [--spin W] [--duration T] [--mass M]`
 void AddDropCommand(CLI::App& app);
 
-/// Prints the scene's warnings (Scene::warnings), one line each on stderr.
-void PrintWarnings(const engine::Scene& scene);
+/// Prints the scene's warnings (LoadedScene::warnings), one line each on stderr.
+void PrintWarnings(const engine::LoadedScene& loaded);
 
 /// `ecpsim compare EXPECTED.png ACTUAL.png [--diff OUT.png] [--threshold N] [--max-fraction F]`
 /// (exit 0 same, 1 different, 2 bad input).

@@ -12,45 +12,47 @@ namespace ecpsim::app {
 
 namespace fs = std::filesystem;
 
-render::RenderSettings RenderSettingsFor(const engine::Scene& scene) {
+render::RenderSettings RenderSettingsFor(const engine::OutputSettings& output) {
   render::RenderSettings settings;
-  settings.width = scene.output.width;
-  settings.height = scene.output.height;
+  settings.width = output.width;
+  settings.height = output.height;
   return settings;
 }
 
-void ApplyCamera(const engine::Scene& scene, render::FrameInput& frame) {
-  frame.title = fs::path(scene.source).filename().string();
-  if (!scene.output.camera_fixed) return;
+void ApplyCamera(const engine::LoadedScene& loaded, render::FrameInput& frame) {
+  frame.title = fs::path(loaded.scene.source).filename().string();
+  const engine::OutputSettings& output = loaded.output;
+  if (!output.camera_fixed) return;
   frame.camera.automatic = false;
-  frame.camera.position = scene.output.camera_position;
-  frame.camera.target = scene.output.camera_target;
-  frame.camera.fov_y_deg = scene.output.camera_fov_deg;
+  frame.camera.position = output.camera_position;
+  frame.camera.target = output.camera_target;
+  frame.camera.fov_y_deg = output.camera_fov_deg;
 }
 
 namespace {
 
 // a video alone takes the frames in the byte order ffmpeg converts fastest
-render::RenderSettings RecorderSettings(const engine::Scene& scene, FrameOutputs outputs) {
-  render::RenderSettings settings = RenderSettingsFor(scene);
+render::RenderSettings RecorderSettings(const engine::OutputSettings& output,
+                                        FrameOutputs outputs) {
+  render::RenderSettings settings = RenderSettingsFor(output);
   if (!outputs.frames) settings.channel_order = render::ChannelOrder::kBgr;
   return settings;
 }
 
 }  // namespace
 
-int FramesUpTo(const engine::Scene& scene, double t) {
+int FramesUpTo(const engine::LoadedScene& loaded, double t) {
   int frames = 0;
-  while (frames / scene.output.fps <= t + scene.h / 2) ++frames;
+  while (frames / loaded.output.fps <= t + loaded.scene.h / 2) ++frames;
   return frames;
 }
 
-FrameRecorder::FrameRecorder(const engine::Scene& scene, const std::string& out_dir,
+FrameRecorder::FrameRecorder(const engine::LoadedScene& loaded, const std::string& out_dir,
                              FrameOutputs outputs, const engine::State* resumed_from)
-    : scene_(scene),
-      builder_(scene),
-      renderer_(RecorderSettings(scene, outputs)),
-      frames_(resumed_from ? FramesUpTo(scene, resumed_from->t) : 0) {
+    : loaded_(loaded),
+      builder_(loaded.scene),
+      renderer_(RecorderSettings(loaded.output, outputs)),
+      frames_(resumed_from ? FramesUpTo(loaded, resumed_from->t) : 0) {
   ECPSIM_DEMAND(outputs.frames || outputs.video);
   if (outputs.frames) {
     png_.emplace((fs::path(out_dir) / "frames").string(), 1, 4, render::kFastPngCompression,
@@ -58,7 +60,8 @@ FrameRecorder::FrameRecorder(const engine::Scene& scene, const std::string& out_
   }
   if (!outputs.video) return;
   const std::string video_path = (fs::path(out_dir) / "video.mp4").string();
-  const int width = scene.output.width, height = scene.output.height;
+  const engine::OutputSettings& output = loaded.output;
+  const int width = output.width, height = output.height;
   if (!png_) {
     // a video alone: a resumed run continues the one there, which holds the earlier frames
     if (frames_ > 0) {
@@ -73,13 +76,13 @@ FrameRecorder::FrameRecorder(const engine::Scene& scene, const std::string& out_
       }
     }
     video_ = std::make_unique<render::FfmpegPipe>(
-        video_path, width, height, scene.output.fps, "ffmpeg",
+        video_path, width, height, output.fps, "ffmpeg",
         frames_ > 0 ? render::VideoStart::kAppend : render::VideoStart::kReplace,
         renderer_.settings().channel_order);
     return;
   }
   try {
-    video_ = std::make_unique<render::FfmpegPipe>(video_path, width, height, scene.output.fps);
+    video_ = std::make_unique<render::FfmpegPipe>(video_path, width, height, output.fps);
   } catch (const InputError& e) {
     video_error_ = e.what();
     return;
@@ -97,9 +100,9 @@ FrameRecorder::FrameRecorder(const engine::Scene& scene, const std::string& out_
 
 void FrameRecorder::Observe(const engine::State& state, const engine::StepReport& report) {
   // frame k shows the state nearest to t = k / fps (FramesUpTo)
-  while (frames_ / scene_.output.fps <= state.t + scene_.h / 2) {
+  while (frames_ / loaded_.output.fps <= state.t + loaded_.scene.h / 2) {
     render::FrameInput frame = builder_.Build(state, report.iterations, report.models);
-    ApplyCamera(scene_, frame);
+    ApplyCamera(loaded_, frame);
     if (png_) {
       render::Image image = renderer_.Render(frame);
       if (video_) video_->Write(image);

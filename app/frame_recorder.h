@@ -5,7 +5,7 @@
 #include <optional>
 #include <string>
 
-#include "engine/scene.h"
+#include "engine/scene_io/loaded_scene.h"
 #include "engine/state.h"
 #include "render/ffmpeg_pipe.h"
 #include "render/frame_input.h"
@@ -15,13 +15,14 @@
 
 namespace ecpsim::app {
 
-/// The camera, size and title the scene's `output` block asks for.
-render::RenderSettings RenderSettingsFor(const engine::Scene& scene);
-void ApplyCamera(const engine::Scene& scene, render::FrameInput& frame);
+/// The size the scene's `output` block asks for.
+render::RenderSettings RenderSettingsFor(const engine::OutputSettings& output);
+/// The camera the scene's `output` block asks for, and the scene file's name as the title.
+void ApplyCamera(const engine::LoadedScene& loaded, render::FrameInput& frame);
 
 /// How many frames a run has rendered once it has reached the state at `t` (frame k shows the
 /// state nearest to k / fps).
-int FramesUpTo(const engine::Scene& scene, double t);
+int FramesUpTo(const engine::LoadedScene& loaded, double t);
 
 /// What a run records: PNG frames (`--frames`), a video (`--video`), or both.
 struct FrameOutputs {
@@ -29,8 +30,8 @@ struct FrameOutputs {
   bool video = false;   // DIR/video.mp4
 };
 
-/// Renders the state nearest to each frame time k / fps (fps from scene.output, independent of
-/// h) into DIR/frames/frame_NNNNNN.png — PNG encoding on a worker thread while the next frame
+/// Renders the state nearest to each frame time k / fps (fps from the output settings, independent
+/// of h) into DIR/frames/frame_NNNNNN.png — PNG encoding on a worker thread while the next frame
 /// renders — and/or into DIR/video.mp4 through the ffmpeg program. A video alone is rendered
 /// straight into ffmpeg, in B, G, R byte order (ffmpeg's cheapest conversion to yuv420p), and
 /// downsampled on the pipe's writer thread while the next frame draws: no PNG is encoded and
@@ -46,7 +47,7 @@ class FrameRecorder {
   ///         missing (DIR/frames/frame_NNNNNN.png, or frames of a video alone: naming the counts).
   ///         A missing ffmpeg does not stop a run with PNG frames: they are still written and
   ///         Finish() reports it; for a video alone it is an InputError here.
-  FrameRecorder(const engine::Scene& scene, const std::string& out_dir, FrameOutputs outputs,
+  FrameRecorder(const engine::LoadedScene& loaded, const std::string& out_dir, FrameOutputs outputs,
                 const engine::State* resumed_from = nullptr);
 
   /// Called with the initial state and after every step (StepObserver).
@@ -61,7 +62,7 @@ class FrameRecorder {
   int frames() const { return frames_; }
 
  private:
-  const engine::Scene& scene_;
+  const engine::LoadedScene& loaded_;  // outlives the recorder
   render::SceneFrameBuilder builder_;
   render::Renderer renderer_;
   std::optional<render::PngSequenceWriter> png_;  // with PNG frames

@@ -365,7 +365,7 @@ engine::Scene LoadRunScene(const std::string& dir, const RunInfo& info) {
                     "run `ecpsim plot` from the folder `ecpsim run` ran in",
                     summary, info.scene_path));
   }
-  return engine::LoadScene(info.scene_path);
+  return engine::LoadScene(info.scene_path).scene;
 }
 
 PlotKind KindFromScene(const RunInfo& info) {

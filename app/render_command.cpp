@@ -50,8 +50,9 @@ void AddRenderCommand(CLI::App& app) {
     std::vector<std::string> overrides = options->overrides;
     if (options->width) overrides.push_back(fmt::format("output.width={}", *options->width));
     if (options->height) overrides.push_back(fmt::format("output.height={}", *options->height));
-    const engine::Scene scene = engine::LoadScene(options->scene, overrides);
-    PrintWarnings(scene);
+    const engine::LoadedScene loaded = engine::LoadScene(options->scene, overrides);
+    PrintWarnings(loaded);
+    const engine::Scene& scene = loaded.scene;
     // the step count of a run bounds the stepping below
     if (!(options->time >= 0 && options->time <= scene.duration)) {
       throw InputError(
@@ -66,10 +67,10 @@ void AddRenderCommand(CLI::App& app) {
     engine::StepWorkspace workspace;
     while (state.t + scene.h / 2 <= options->time) report = engine::Step(scene, state, workspace);
 
-    render::Renderer renderer(RenderSettingsFor(scene));
+    render::Renderer renderer(RenderSettingsFor(loaded.output));
     render::FrameInput frame =
         render::SceneFrameBuilder(scene).Build(state, report.iterations, report.models);
-    ApplyCamera(scene, frame);
+    ApplyCamera(loaded, frame);
     render::WritePng(options->out, renderer.Render(frame));
     std::printf("t = %.6g s: wrote %s\n", state.t, options->out.c_str());
   });

@@ -79,11 +79,12 @@ std::string FramePlaces(FrameOutputs outputs, const std::string& out_dir) {
 
 // runs the scene, recording frames when its origin asks for them; frames and video are finished
 // also when the run stops on a failure, so what was rendered stays valid
-RunSummary RunWithFrames(const engine::Scene& scene, const std::string& out_dir, RunSetup setup) {
+RunSummary RunWithFrames(const engine::LoadedScene& loaded, const std::string& out_dir,
+                         RunSetup setup) {
   const FrameOutputs outputs = FrameOutputsOf(setup.origin.at("arguments"));
   setup.progress = isatty(fileno(stderr)) == 1;
-  if (!outputs.frames && !outputs.video) return RunSimulation(scene, out_dir, setup);
-  FrameRecorder recorder(scene, out_dir, outputs, setup.resume ? &setup.resume->state : nullptr);
+  if (!outputs.frames && !outputs.video) return RunSimulation(loaded, out_dir, setup);
+  FrameRecorder recorder(loaded, out_dir, outputs, setup.resume ? &setup.resume->state : nullptr);
   // a resumed run's checkpoint stays until the frames and the video are finished
   setup.keep_checkpoint = true;
   setup.observer = [&](const engine::State& state, const engine::StepReport& report) {
@@ -91,7 +92,7 @@ RunSummary RunWithFrames(const engine::Scene& scene, const std::string& out_dir,
   };
   RunSummary summary;
   try {
-    summary = RunSimulation(scene, out_dir, setup);
+    summary = RunSimulation(loaded, out_dir, setup);
   } catch (...) {
     try {
       recorder.Finish();
@@ -110,10 +111,10 @@ RunSummary RunWithFrames(const engine::Scene& scene, const std::string& out_dir,
 // caught and prints the result; an interrupted run throws Interrupted once its outputs are
 // complete (main() exits 130 or 143). `resume`: the checkpoint to continue from, its origin
 // already checked.
-void RunAndReport(const engine::Scene& scene, const std::string& out_dir,
+void RunAndReport(const engine::LoadedScene& loaded, const std::string& out_dir,
                   const nlohmann::json& arguments, const Checkpoint* resume = nullptr) {
   RunSetup setup;
-  setup.origin = RunOrigin(arguments, scene);
+  setup.origin = RunOrigin(arguments, loaded.scene);
   setup.resume = resume;
   // a video alone needs ffmpeg: without it the run would make nothing that was asked for, so it
   // stops before the folder is touched (with PNG frames, the frames are made and the run says so)
@@ -123,7 +124,7 @@ void RunAndReport(const engine::Scene& scene, const std::string& out_dir,
   }
   PrepareOutputFolder(out_dir, resume != nullptr);
   const InterruptGuard guard;
-  const RunSummary summary = RunWithFrames(scene, out_dir, setup);
+  const RunSummary summary = RunWithFrames(loaded, out_dir, setup);
   PrintResult(summary, out_dir);
   if (summary.interrupt_signal != 0) {
     throw Interrupted(summary.interrupt_signal,
@@ -160,16 +161,16 @@ void Resume(const RunOptions& given) {
                       dir, CommandLine(arguments), dir));
     }
   }
-  const engine::Scene scene = SceneOf(arguments);
-  RequireSameOrigin(checkpoint.origin, RunOrigin(arguments, scene), path);
-  CheckFitsScene(checkpoint, scene, path);
-  RunAndReport(scene, dir, arguments, &checkpoint);
+  const engine::LoadedScene loaded = SceneOf(arguments);
+  RequireSameOrigin(checkpoint.origin, RunOrigin(arguments, loaded.scene), path);
+  CheckFitsScene(checkpoint, loaded.scene, path);
+  RunAndReport(loaded, dir, arguments, &checkpoint);
 }
 
 }  // namespace
 
-void PrintWarnings(const engine::Scene& scene) {
-  for (const std::string& warning : scene.warnings) {
+void PrintWarnings(const engine::LoadedScene& loaded) {
+  for (const std::string& warning : loaded.warnings) {
     std::fprintf(stderr, "ecpsim: warning: %s\n", warning.c_str());
   }
 }
@@ -222,9 +223,9 @@ void AddRunCommand(CLI::App& app) {
     if (options->scene.empty()) throw CLI::RequiredError("scene");
     if (options->out_dir.empty()) throw CLI::RequiredError("-o,--out");
     const std::vector<std::string> overrides = Overrides(*options);
-    const engine::Scene scene = engine::LoadScene(options->scene, overrides);
-    PrintWarnings(scene);
-    RunAndReport(scene, options->out_dir,
+    const engine::LoadedScene loaded = engine::LoadScene(options->scene, overrides);
+    PrintWarnings(loaded);
+    RunAndReport(loaded, options->out_dir,
                  RunArguments(options->scene, overrides, options->frames, options->video));
   });
 }
@@ -268,9 +269,9 @@ void AddDropCommand(CLI::App& app) {
                  "also render DIR/video.mp4 (needs the ffmpeg program), with PNG frames only if "
                  "--frames is given too");
   drop->callback([options, out_dir, frames, video] {
-    const engine::Scene scene = engine::MakeDropScene(*options);
-    PrintWarnings(scene);
-    RunAndReport(scene, *out_dir, DropArguments(*options, *frames, *video));
+    const engine::LoadedScene loaded = engine::MakeDropScene(*options);
+    PrintWarnings(loaded);
+    RunAndReport(loaded, *out_dir, DropArguments(*options, *frames, *video));
   });
 }
 

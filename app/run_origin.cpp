@@ -100,7 +100,7 @@ std::string CommandLine(const json& arguments) {
   return line;
 }
 
-engine::Scene SceneOf(const json& arguments) {
+engine::LoadedScene SceneOf(const json& arguments) {
   try {
     arguments.at("frames").get<bool>();
     arguments.at("video").get<bool>();

@@ -32,7 +32,7 @@ std::string CommandLine(const nlohmann::json& arguments);
 /// The scene that `arguments` (from RunArguments or DropArguments) describe, loaded again.
 /// @throws InputError as engine::LoadScene and engine::MakeDropScene do, or for arguments that
 ///         are neither (or lack the frames and video flags).
-engine::Scene SceneOf(const nlohmann::json& arguments);
+engine::LoadedScene SceneOf(const nlohmann::json& arguments);
 
 /// The origin of a run: {"arguments": `arguments`, "inputs": a 64-bit FNV-1a fingerprint (hex)
 /// of the scene file's bytes and of every body's mesh as loaded, "ecpsim": the version text}.

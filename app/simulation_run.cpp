@@ -97,8 +97,9 @@ void RemoveCheckpoint(const std::string& out_dir) {
   fs::remove(fs::path(out_dir) / "checkpoint.json", error);
 }
 
-RunSummary RunSimulation(const engine::Scene& scene, const std::string& out_dir,
+RunSummary RunSimulation(const engine::LoadedScene& loaded, const std::string& out_dir,
                          const RunSetup& setup) {
+  const engine::Scene& scene = loaded.scene;
   std::error_code error;
   fs::create_directories(out_dir, error);
   if (error || !fs::is_directory(out_dir)) {
@@ -162,7 +163,7 @@ RunSummary RunSimulation(const engine::Scene& scene, const std::string& out_dir,
       totals.substeps_max = std::max(totals.substeps_max, report.substeps);
       for (engine::StepModel model : report.models) ++totals.model_steps[static_cast<int>(model)];
       totals.max_penetration = std::max(totals.max_penetration, probe.MaxDepth(scene, state));
-      row_written = k % scene.output.every == 0 || k == summary.planned_steps;
+      row_written = k % loaded.output.every == 0 || k == summary.planned_steps;
       if (row_written) {
         writer.Write(state, report);
         rows_on_cadence = writer.rows();

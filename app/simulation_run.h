@@ -9,7 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/checkpoint.h"
-#include "engine/scene.h"
+#include "engine/scene_io/loaded_scene.h"
 #include "engine/state.h"
 
 namespace ecpsim::app {
@@ -63,9 +63,9 @@ struct RunSetup {
 /// Removes DIR/checkpoint.json if there is one (nothing is left to resume).
 void RemoveCheckpoint(const std::string& out_dir);
 
-/// Steps `scene` from engine::InitialState until `scene.duration` (ceil(duration / h) steps of h)
-/// and writes, in `out_dir` (created if missing); memory does not grow with the number of steps:
-/// - trajectory.csv: the initial state, every `scene.output.every`-th step and the last step
+/// Steps `loaded.scene` from engine::InitialState until its duration (ceil(duration / h) steps of
+/// h) and writes, in `out_dir` (created if missing); memory does not grow with the number of steps:
+/// - trajectory.csv: the initial state, every `loaded.output.every`-th step and the last step
 ///   (columns: TrajectoryColumns), streamed to a temporary file and renamed at the end, also
 ///   when the run fails, so the rows written stay valid;
 /// - summary.json (atomically): RunSummary's fields plus `scene`, `h`, `duration`, `t_end`, `rows`,
@@ -83,7 +83,7 @@ void RemoveCheckpoint(const std::string& out_dir);
 ///         written, something other than a regular file is at one of the paths, the run would
 ///         take more than 2^53 steps, or the checkpoint to resume does not fit the folder's
 ///         trajectory.csv.
-RunSummary RunSimulation(const engine::Scene& scene, const std::string& out_dir,
+RunSummary RunSimulation(const engine::LoadedScene& loaded, const std::string& out_dir,
                          const RunSetup& setup);
 
 }  // namespace ecpsim::app

@@ -16,7 +16,7 @@ namespace {
 // mean Newton iterations per step
 void BM_DeskModelStep(benchmark::State& bench, const std::string& model) {
   const Scene scene =
-      LoadScene(std::string(ECPSIM_SOURCE_DIR) + "/scenes/desk.yaml", {"model=" + model});
+      LoadScene(std::string(ECPSIM_SOURCE_DIR) + "/scenes/desk.yaml", {"model=" + model}).scene;
   RunSteps(bench, scene, static_cast<int>(scene.duration / scene.h + 0.5));
 }
 BENCHMARK_CAPTURE(BM_DeskModelStep, planar, std::string("planar"))->Unit(benchmark::kMicrosecond);

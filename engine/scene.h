@@ -1,6 +1,7 @@
 #pragma once
-// The immutable description of a simulation: bodies, fixed convex obstacles, contacts, loads and
-// settings (MuJoCo's model/data split: this is the model; state.h is the data).
+// The immutable physics of a simulation: bodies, fixed convex obstacles, contacts, loads and the
+// solver's settings (MuJoCo's model/data split: this is the model; state.h is the data). What a
+// run writes and the notes from loading a scene travel beside it (scene_io/loaded_scene.h).
 
 #include <array>
 #include <memory>
@@ -113,24 +114,8 @@ struct SolverSettings {
   bool use_window = true;  // false: every hull face enters the MNCP
 };
 
-/// What `ecpsim run` writes (the engine ignores it).
-struct OutputSettings {
-  int every = 1;  // write every N-th step to trajectory.csv (plus the first and last state)
-  // frames (`ecpsim run --frames/--video`, `ecpsim render`)
-  double fps = 30;            // frames per simulated second, independent of h
-  int width = 1280;           // pixels
-  int height = 720;           // pixels
-  bool camera_fixed = false;  // false: automatic framing that follows the bodies
-  Eigen::Vector3d camera_position = Eigen::Vector3d(1.2, -1.8, 1.1);  // m, world
-  Eigen::Vector3d camera_target = Eigen::Vector3d::Zero();            // m, world
-  double camera_fov_deg = 35;  // vertical field of view, degrees
-};
-
 struct Scene {
-  std::string source;  // file the scene came from, for messages
-  // one-line notes found while building the scene that are no errors (a mesh of implausible
-  // size: wrong units?), for the caller to show; the engine never prints
-  std::vector<std::string> warnings;
+  std::string source;                                     // file the scene came from, for messages
   Eigen::Vector3d gravity = Eigen::Vector3d(0, 0, -9.8);  // m/s²
   double h = 0.01;                                        // s, time step
   double duration = 1;                                    // s
@@ -141,7 +126,6 @@ struct Scene {
   std::vector<Impulse> impulses;
   std::vector<Gripper> grippers;
   SolverSettings solver;
-  OutputSettings output;
   ContactModel model = ContactModel::kAuto;
 };
 

@@ -55,9 +55,6 @@ inline constexpr int kMaxSolverIterations = 10'000;
 /// million faces (use_window: false takes all faces of any hull); bounded so ring counts stay
 /// far inside int.
 inline constexpr int kMaxWindowRings = 1'000;
-/// pixels, frame width and height (`output.width`, `--width`): as the renderer's buffers allow
-inline constexpr int kMinFramePixels = 16;
-inline constexpr int kMaxFramePixels = 8192;
 
 /// Body and obstacle names prefix CSV columns: letters, digits, '_' and '-', not empty.
 bool IsValidName(const std::string& name);

@@ -322,7 +322,7 @@ DropRow RunDropCase(const DropCase& c, const UnitMesh& unit, const std::string& 
   const double size = row.size;
   const double wall_start = WallSeconds();
   try {
-    const engine::Scene scene = engine::LoadScene(WriteDropFiles(c, unit, dir).yaml_path);
+    const engine::Scene scene = engine::LoadScene(WriteDropFiles(c, unit, dir).yaml_path).scene;
     const engine::Body& body = scene.bodies[0];
     if (const auto* hull = body.hull->AsPolyhedron()) {
       row.hull_faces = static_cast<int>(hull->hull().faces.size());

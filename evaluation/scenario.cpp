@@ -212,7 +212,7 @@ Scenario SceneScenario(const std::string& scenes_dir, const std::string& name,
   s.name = name;
   s.description = description;
   const std::string path = (std::filesystem::path(scenes_dir) / file).string();
-  s.scene = engine::LoadScene(path);
+  s.scene = engine::LoadScene(path).scene;
   s.scene.duration = std::min(s.scene.duration, duration);
   s.length = length;
   if (!body.empty()) {

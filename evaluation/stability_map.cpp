@@ -95,7 +95,7 @@ int PusherOf(const Scenario& scenario) {
 Scenario PushAtSpeed(const std::string& scenes_dir, double speed) {
   Scenario s;
   s.name = fmt::format("push_speed_{}", speed);
-  s.scene = engine::LoadScene((std::filesystem::path(scenes_dir) / "push_box.yaml").string());
+  s.scene = engine::LoadScene((std::filesystem::path(scenes_dir) / "push_box.yaml").string()).scene;
   s.scene.duration = kPushDuration;
   s.length = 0.15;
   const int pusher = PusherOf(s);

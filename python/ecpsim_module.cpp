@@ -48,8 +48,9 @@ namespace ecpsim::python {
 namespace {
 
 using Eigen::Vector3d;
-// pybind11 holds a Scene by a shared_ptr to non-const; nothing here changes one once loaded
-using SceneHandle = std::shared_ptr<engine::Scene>;
+// the Python Scene: the physics with its output settings and warnings; pybind11 holds it by a
+// shared_ptr to non-const, and nothing here changes one once loaded
+using SceneHandle = std::shared_ptr<engine::LoadedScene>;
 
 // ---- scenes -------------------------------------------------------------------------------
 
@@ -81,7 +82,10 @@ struct RenderCache {
 };
 
 struct PySimulation {
-  explicit PySimulation(SceneHandle scene_handle) : scene(std::move(scene_handle)), sim(scene) {}
+  // the simulation shares the handle's ownership of the physics
+  explicit PySimulation(SceneHandle scene_handle)
+      : scene(std::move(scene_handle)),
+        sim(std::shared_ptr<const engine::Scene>(scene, &scene->scene)) {}
   SceneHandle scene;
   Simulation sim;
   // one thread at a time in `sim` (stepping and rendering run without the GIL)
@@ -89,14 +93,14 @@ struct PySimulation {
   RenderCache render;
 };
 
-render::CameraSpec CameraOf(const engine::Scene& scene, const py::object& camera) {
+render::CameraSpec CameraOf(const engine::OutputSettings& output, const py::object& camera) {
   render::CameraSpec spec;
   if (camera.is_none()) {
-    if (scene.output.camera_fixed) {
+    if (output.camera_fixed) {
       spec.automatic = false;
-      spec.position = scene.output.camera_position;
-      spec.target = scene.output.camera_target;
-      spec.fov_y_deg = scene.output.camera_fov_deg;
+      spec.position = output.camera_position;
+      spec.target = output.camera_target;
+      spec.fov_y_deg = output.camera_fov_deg;
     }
     return spec;
   }
@@ -107,9 +111,9 @@ render::CameraSpec CameraOf(const engine::Scene& scene, const py::object& camera
                     py::repr(camera).cast<std::string>()));
   }
   spec.automatic = false;
-  spec.position = scene.output.camera_position;
-  spec.target = scene.output.camera_target;
-  spec.fov_y_deg = scene.output.camera_fov_deg;
+  spec.position = output.camera_position;
+  spec.target = output.camera_target;
+  spec.fov_y_deg = output.camera_fov_deg;
   for (const auto& item : camera.cast<py::dict>()) {
     const std::string key = py::str(item.first).cast<std::string>();
     if (key == "position") {
@@ -137,7 +141,7 @@ py::array_t<std::uint8_t> Render(PySimulation& self, int width, int height,
                                    engine::kMaxFramePixels));
     }
   }
-  const render::CameraSpec spec = CameraOf(self.sim.scene(), camera);
+  const render::CameraSpec spec = CameraOf(self.scene->output, camera);
   render::Image image;
   {
     py::gil_scoped_release release;
@@ -169,31 +173,31 @@ py::array_t<std::uint8_t> Render(PySimulation& self, int width, int height,
 
 // ---- run and hull -------------------------------------------------------------------------
 
-py::dict Run(const SceneHandle& scene, const py::object& duration_arg, long every) {
+py::dict Run(const engine::Scene& scene, const py::object& duration_arg, long every) {
   if (every < 1) {
     throw InputError(fmt::format("run: every = {}: expected an integer ≥ 1", every));
   }
-  const double duration = duration_arg.is_none() ? scene->duration : duration_arg.cast<double>();
+  const double duration = duration_arg.is_none() ? scene.duration : duration_arg.cast<double>();
   const std::string problem = std::isfinite(duration) && duration > 0
-                                  ? engine::StepCountProblem(duration, scene->h)
+                                  ? engine::StepCountProblem(duration, scene.h)
                                   : std::string("a finite duration > 0 s");
   if (!problem.empty()) {
-    throw InputError(fmt::format("{}: duration = {}, h = {}: expected {}", scene->source, duration,
-                                 scene->h, problem));
+    throw InputError(fmt::format("{}: duration = {}, h = {}: expected {}", scene.source, duration,
+                                 scene.h, problem));
   }
-  const long steps = engine::PlannedSteps(duration, scene->h);
-  const std::vector<std::string> columns = engine::TrajectoryColumns(*scene);
-  const std::vector<std::string> model_columns = engine::TrajectoryModelColumns(*scene);
+  const long steps = engine::PlannedSteps(duration, scene.h);
+  const std::vector<std::string> columns = engine::TrajectoryColumns(scene);
+  const std::vector<std::string> model_columns = engine::TrajectoryModelColumns(scene);
   std::vector<double> rows;
   std::vector<std::string> models;
   {
     py::gil_scoped_release release;
-    engine::State state = engine::InitialState(*scene);
+    engine::State state = engine::InitialState(scene);
     engine::StepWorkspace workspace;
     engine::StepReport report;
     report.converged = true;
     auto add_row = [&] {
-      const std::vector<double> row = engine::TrajectoryValues(*scene, state, report);
+      const std::vector<double> row = engine::TrajectoryValues(scene, state, report);
       // never a NaN in an output (as trajectory.csv's writer)
       for (size_t i = 0; i < row.size(); ++i) {
         if (!std::isfinite(row[i])) {
@@ -202,12 +206,12 @@ py::dict Run(const SceneHandle& scene, const py::object& duration_arg, long ever
         }
       }
       rows.insert(rows.end(), row.begin(), row.end());
-      const std::vector<std::string> row_models = engine::TrajectoryModels(*scene, report);
+      const std::vector<std::string> row_models = engine::TrajectoryModels(scene, report);
       models.insert(models.end(), row_models.begin(), row_models.end());
     };
     add_row();
     for (long k = 1; k <= steps; ++k) {
-      report = engine::Step(*scene, state, workspace);
+      report = engine::Step(scene, state, workspace);
       if (k % every == 0 || k == steps) add_row();
     }
   }
@@ -317,26 +321,31 @@ PYBIND11_MODULE(ecpsim, m) {
       "The scene's contact model does not apply (e.g. the planar model and a tipping body); the "
       "CLI's exit code 5.";
 
-  py::class_<engine::Scene, std::shared_ptr<engine::Scene>>(
+  py::class_<engine::LoadedScene, SceneHandle>(
       m, "Scene",
       "An immutable, validated scene (bodies, obstacles, contacts, loads, settings). Make one with "
       "load_scene(); a Simulation steps it.")
       .def_property_readonly(
-          "source", [](const engine::Scene& s) { return s.source; },
+          "source", [](const engine::LoadedScene& loaded) { return loaded.scene.source; },
           "The file the scene was read from.")
       .def_property_readonly(
-          "h", [](const engine::Scene& s) { return s.h; }, "Time step, s.")
+          "h", [](const engine::LoadedScene& loaded) { return loaded.scene.h; }, "Time step, s.")
       .def_property_readonly(
-          "duration", [](const engine::Scene& s) { return s.duration; }, "Duration of run(), s.")
+          "duration", [](const engine::LoadedScene& loaded) { return loaded.scene.duration; },
+          "Duration of run(), s.")
       .def_property_readonly(
-          "gravity", [](const engine::Scene& s) { return Array(s.gravity); },
+          "gravity", [](const engine::LoadedScene& loaded) { return Array(loaded.scene.gravity); },
           "Gravity (3,), m/s², world frame.")
       .def_property_readonly(
-          "model", [](const engine::Scene& s) { return engine::ContactModelName(s.model); },
+          "model",
+          [](const engine::LoadedScene& loaded) {
+            return engine::ContactModelName(loaded.scene.model);
+          },
           "The contact model: auto, hull, planar, multipatch or point.")
       .def_property_readonly(
           "body_names",
-          [](const engine::Scene& s) {
+          [](const engine::LoadedScene& loaded) {
+            const engine::Scene& s = loaded.scene;
             std::vector<std::string> names;
             for (const engine::Body& b : s.bodies) names.push_back(b.name);
             return names;
@@ -344,7 +353,8 @@ PYBIND11_MODULE(ecpsim, m) {
           "Names of the bodies, in the order of every per-body array.")
       .def_property_readonly(
           "bodies",
-          [](const engine::Scene& s) {
+          [](const engine::LoadedScene& loaded) {
+            const engine::Scene& s = loaded.scene;
             py::list list;
             for (const engine::Body& b : s.bodies) list.append(BodyDict(b));
             return list;
@@ -353,7 +363,8 @@ PYBIND11_MODULE(ecpsim, m) {
           "initial position, quaternion (w, x, y, z), velocity, angular_velocity, friction.")
       .def_property_readonly(
           "obstacles",
-          [](const engine::Scene& s) {
+          [](const engine::LoadedScene& loaded) {
+            const engine::Scene& s = loaded.scene;
             py::list list;
             for (const engine::Obstacle& o : s.obstacles) {
               py::dict d;
@@ -366,7 +377,8 @@ PYBIND11_MODULE(ecpsim, m) {
           "Per fixed obstacle a dict: name, friction.")
       .def_property_readonly(
           "grippers",
-          [](const engine::Scene& s) {
+          [](const engine::LoadedScene& loaded) {
+            const engine::Scene& s = loaded.scene;
             py::list list;
             for (const engine::Gripper& g : s.grippers) {
               py::dict d;
@@ -383,7 +395,8 @@ PYBIND11_MODULE(ecpsim, m) {
           "axis (its frame's coordinates), force (N: a number, or the scene's expression of t).")
       .def_property_readonly(
           "contact_names",
-          [](const engine::Scene& s) {
+          [](const engine::LoadedScene& loaded) {
+            const engine::Scene& s = loaded.scene;
             std::vector<std::string> names;
             for (const engine::ContactPair& pair : s.contacts)
               names.push_back(ContactName(s, pair));
@@ -391,9 +404,10 @@ PYBIND11_MODULE(ecpsim, m) {
           },
           "Names 'body.other' of the potential contacts, in the order of Simulation.contacts().")
       .def_property_readonly(
-          "warnings", [](const engine::Scene& s) { return s.warnings; },
+          "warnings", [](const engine::LoadedScene& loaded) { return loaded.warnings; },
           "Notes from loading that are no errors (a mesh of implausible size).")
-      .def("__repr__", [](const engine::Scene& s) {
+      .def("__repr__", [](const engine::LoadedScene& loaded) {
+        const engine::Scene& s = loaded.scene;
         return fmt::format("<ecpsim.Scene '{}': {} bodies, {} obstacles, h = {} s, model {}>",
                            s.source, s.bodies.size(), s.obstacles.size(), s.h,
                            engine::ContactModelName(s.model));
@@ -404,7 +418,7 @@ PYBIND11_MODULE(ecpsim, m) {
       [](const std::string& path, const py::object& overrides) {
         const std::vector<std::string> strings = Overrides(overrides);
         py::gil_scoped_release release;
-        return std::make_shared<engine::Scene>(engine::LoadScene(path, strings));
+        return std::make_shared<engine::LoadedScene>(engine::LoadScene(path, strings));
       },
       py::arg("path"), py::arg("overrides") = py::none(),
       "Reads a YAML scene (docs/scene_format.md) and validates it.\n\n"
@@ -490,7 +504,7 @@ PYBIND11_MODULE(ecpsim, m) {
           "body_names",
           [](const PySimulation& self) {
             std::vector<std::string> names;
-            for (const engine::Body& b : self.scene->bodies) names.push_back(b.name);
+            for (const engine::Body& b : self.scene->scene.bodies) names.push_back(b.name);
             return names;
           },
           "Names of the bodies, the rows of every per-body array.")
@@ -633,7 +647,8 @@ PYBIND11_MODULE(ecpsim, m) {
   m.def(
       "run",
       [](const SceneHandle& scene, const py::object& duration, const py::object& every) {
-        return Run(scene, duration, every.is_none() ? scene->output.every : every.cast<long>());
+        return Run(scene->scene, duration,
+                   every.is_none() ? scene->output.every : every.cast<long>());
       },
       py::arg("scene"), py::arg("duration") = py::none(), py::arg("every") = py::none(),
       "Steps the scene from its initial state for `duration` s (default: the scene's) and returns "

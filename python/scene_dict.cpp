@@ -180,11 +180,12 @@ engine::Load ReadLoad(const engine::Scene& scene, const py::handle& value, const
 
 }  // namespace
 
-std::shared_ptr<engine::Scene> MakeScene(const py::list& bodies, const py::object& obstacles,
-                                         double h, double duration, const py::handle& gravity,
-                                         const py::object& friction, const py::object& loads,
-                                         const std::string& model) {
-  engine::Scene scene;
+std::shared_ptr<engine::LoadedScene> MakeScene(const py::list& bodies, const py::object& obstacles,
+                                               double h, double duration, const py::handle& gravity,
+                                               const py::object& friction, const py::object& loads,
+                                               const std::string& model) {
+  auto loaded = std::make_shared<engine::LoadedScene>();
+  engine::Scene& scene = loaded->scene;
   scene.source = "make_scene";
   scene.h = h;
   scene.duration = duration;
@@ -253,7 +254,7 @@ std::shared_ptr<engine::Scene> MakeScene(const py::list& bodies, const py::objec
   scene.model = models.at(model);
   // the checks every scene passes, a file's too (engine/scene_io/scene_validation.h)
   engine::ValidateScene(scene);
-  return std::make_shared<engine::Scene>(std::move(scene));
+  return loaded;
 }
 
 }  // namespace ecpsim::python

@@ -54,7 +54,7 @@ void CheckOptions(const DropOptions& options) {
 
 }  // namespace
 
-Scene MakeDropScene(const DropOptions& options) {
+LoadedScene MakeDropScene(const DropOptions& options) {
   CheckOptions(options);
   std::error_code error;
   if (!fs::is_regular_file(options.mesh, error)) {
@@ -62,7 +62,8 @@ Scene MakeDropScene(const DropOptions& options) {
         fmt::format("mesh {}: no such file; expected an existing mesh file", options.mesh));
   }
 
-  Scene scene;
+  LoadedScene loaded;
+  Scene& scene = loaded.scene;
   scene.source = options.mesh;
   scene.h = options.h;
   scene.duration = options.duration;
@@ -72,7 +73,7 @@ Scene MakeDropScene(const DropOptions& options) {
   if (!IsValidName(body.name)) body.name = "body";
   const ScaledMesh scaled =
       LoadScaledMesh(options.mesh, options.scale, options.units, {"--scale", "--units"});
-  if (!scaled.warning.empty()) scene.warnings.push_back(scaled.warning);
+  if (!scaled.warning.empty()) loaded.warnings.push_back(scaled.warning);
   const geometry::TriangleMesh& mesh = scaled.mesh;
 
   const geometry::MassProperties props =
@@ -105,7 +106,7 @@ Scene MakeDropScene(const DropOptions& options) {
   } catch (const SceneError& e) {
     throw InputError(fmt::format("ecpsim drop {}: {}", options.mesh, e.what()));
   }
-  return scene;
+  return loaded;
 }
 
 }  // namespace ecpsim::engine

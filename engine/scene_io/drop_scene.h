@@ -4,7 +4,7 @@
 #include <optional>
 #include <string>
 
-#include "engine/scene.h"
+#include "engine/scene_io/loaded_scene.h"
 
 namespace ecpsim::engine {
 
@@ -22,11 +22,13 @@ struct DropOptions {
 };
 
 /// The drop scene: the mesh (its CM at x = y = 0, its hull computed with CGAL) above the ground
-/// z = 0 with μ = 0.22, e = (1, 1, 0.1 m), gravity (0, 0, −9.8) m/s²; it passes ValidateScene.
-/// A mesh outside [1 mm, 10 m] across adds a line naming --units / --scale to Scene::warnings.
+/// z = 0 with μ = 0.22, e = (1, 1, 0.1 m), gravity (0, 0, −9.8) m/s²; it passes ValidateScene,
+/// whose error is reported as `ecpsim drop MESH: key = value: expected ...`. The output settings
+/// are the defaults. A mesh outside [1 mm, 10 m] across adds a line naming --units / --scale to
+/// LoadedScene::warnings.
 /// @throws InputError naming the option (e.g. `--height = -1`) for a non-finite or out-of-range
 ///         value (scene_limits.h; --dt also against the step count), --scale and --units that
 ///         disagree, or the mesh's problem (missing, open, degenerate, implausibly sized).
-Scene MakeDropScene(const DropOptions& options);
+LoadedScene MakeDropScene(const DropOptions& options);
 
 }  // namespace ecpsim::engine

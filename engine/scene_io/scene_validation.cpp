@@ -398,7 +398,9 @@ void CheckSettings(const Scene& scene) {
            "Newton iterations per attempt");
   CheckInt("solver.window_rings", scene.solver.window_rings, 0, kMaxWindowRings,
            "vertex rings around the support vertex (use_window: false takes every face)");
-  const OutputSettings& out = scene.output;
+}
+
+void CheckOutput(const OutputSettings& out) {
   if (out.every < 1) {
     Fail({"output.every"}, fmt::format("{}", out.every), "an integer >= 1 (write every N-th step)");
   }
@@ -467,6 +469,19 @@ void CheckInitialPenetration(const Scene& scene) {
   }
 }
 
+// the checks in the order of the docs; `output` (may be null) among the settings
+void Validate(const Scene& scene, const OutputSettings* output) {
+  CheckTime(scene);
+  CheckObstacles(scene);
+  CheckBodies(scene);
+  CheckContacts(scene);
+  CheckLoads(scene);
+  CheckGrippers(scene);
+  CheckSettings(scene);
+  if (output != nullptr) CheckOutput(*output);
+  CheckInitialPenetration(scene);
+}
+
 }  // namespace
 
 SceneError::SceneError(std::vector<std::string> keys, std::string value, std::string expected)
@@ -475,15 +490,8 @@ SceneError::SceneError(std::vector<std::string> keys, std::string value, std::st
       value_(std::move(value)),
       expected_(std::move(expected)) {}
 
-void ValidateScene(const Scene& scene) {
-  CheckTime(scene);
-  CheckObstacles(scene);
-  CheckBodies(scene);
-  CheckContacts(scene);
-  CheckLoads(scene);
-  CheckGrippers(scene);
-  CheckSettings(scene);
-  CheckInitialPenetration(scene);
-}
+void ValidateScene(const Scene& scene) { Validate(scene, nullptr); }
+
+void ValidateLoadedScene(const LoadedScene& loaded) { Validate(loaded.scene, &loaded.output); }
 
 }  // namespace ecpsim::engine

@@ -7,6 +7,7 @@
 
 #include "common/errors.h"
 #include "engine/scene.h"
+#include "engine/scene_io/loaded_scene.h"
 
 namespace ecpsim::engine {
 
@@ -37,8 +38,8 @@ class SceneError : public InputError {
 /// - h and duration finite and in range, h ≤ duration, at most kMaxSteps steps;
 /// - at least one body; unique, valid names; every number finite and within its range
 ///   (scene_limits.h): masses, principal moments of inertia and radii of gyration, mesh sizes,
-///   poses and velocities, gravity, friction, loads' windows and points, impulses, solver and
-///   output settings; inertias symmetric positive definite with the triangle inequality;
+///   poses and velocities, gravity, friction, loads' windows and points, impulses, solver
+///   settings; inertias symmetric positive definite with the triangle inequality;
 ///   unit-normalizable orientations; every body within kMaxDistanceInSizes of its size from the
 ///   origin; contacts, loads and impulses naming existing bodies and obstacles;
 /// - no body's mesh deeper inside an obstacle at t = 0 than kInitialPenetrationTolerance × its
@@ -46,5 +47,12 @@ class SceneError : public InputError {
 ///   deeper than that × the smaller one's, unless Body::allow_initial_penetration (of either).
 /// @throws SceneError for the first problem found.
 void ValidateScene(const Scene& scene);
+
+/// ValidateScene of `loaded.scene`, with `loaded.output` checked after the solver settings and
+/// before the initial overlap (so a file's first problem is the same whichever it is): `every`
+/// ≥ 1, fps in range, width and height in [kMinFramePixels, kMaxFramePixels], a finite camera
+/// position apart from its target, a field of view in (0, 180) degrees. Keys `output.*`.
+/// @throws SceneError for the first problem found.
+void ValidateLoadedScene(const LoadedScene& loaded);
 
 }  // namespace ecpsim::engine

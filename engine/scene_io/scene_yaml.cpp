@@ -171,11 +171,12 @@ void AddBodyPairs(const Context& ctx, const MapNode& map, Scene& scene) {
   }
 }
 
-Scene ReadScene(const Context& ctx, const YAML::Node& root) {
+LoadedScene ReadScene(const Context& ctx, const YAML::Node& root) {
   const MapNode map(ctx, root, "",
                     {"gravity", "h", "duration", "ground", "obstacles", "bodies", "loads",
                      "impulses", "solver", "output", "model", "pairs", "grippers"});
-  Scene scene;
+  LoadedScene loaded;
+  Scene& scene = loaded.scene;
   scene.source = ctx.file;
   if (map.Has("model")) scene.model = yaml::ReadModel(ctx, map.Get("model"), "model");
   if (map.Has("gravity")) {
@@ -218,7 +219,7 @@ Scene ReadScene(const Context& ctx, const YAML::Node& root) {
   std::vector<yaml::BodyExtras> extras(bodies.size());
   for (size_t i = 0; i < bodies.size(); ++i) {
     scene.bodies.push_back(yaml::ReadBody(ctx, bodies[i], Index("bodies", i),
-                                          fmt::format("body{}", i), extras[i], scene.warnings));
+                                          fmt::format("body{}", i), extras[i], loaded.warnings));
   }
 
   // one contact per (dynamic body, obstacle), with the obstacle's friction under the body's
@@ -268,13 +269,13 @@ Scene ReadScene(const Context& ctx, const YAML::Node& root) {
     }
   }
   if (map.Has("solver")) scene.solver = ReadSolver(ctx, map.Get("solver"), "solver");
-  if (map.Has("output")) scene.output = ReadOutput(ctx, map.Get("output"), "output");
-  return scene;
+  if (map.Has("output")) loaded.output = ReadOutput(ctx, map.Get("output"), "output");
+  return loaded;
 }
 
 }  // namespace
 
-Scene LoadScene(const std::string& path, const std::vector<std::string>& overrides) {
+LoadedScene LoadScene(const std::string& path, const std::vector<std::string>& overrides) {
   Context ctx;
   ctx.file = path;
   ctx.folder = fs::path(path).parent_path();
@@ -289,13 +290,13 @@ Scene LoadScene(const std::string& path, const std::vector<std::string>& overrid
   for (const std::string& o : overrides) yaml::ApplyOverride(ctx, root, o, applied);
   ctx.overrides = applied;
 
-  Scene scene = ReadScene(ctx, root);
+  LoadedScene loaded = ReadScene(ctx, root);
   try {
-    ValidateScene(scene);
+    ValidateLoadedScene(loaded);
   } catch (const SceneError& e) {
     throw Locate(ctx, root, e);
   }
-  return scene;
+  return loaded;
 }
 
 }  // namespace ecpsim::engine

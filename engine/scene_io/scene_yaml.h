@@ -1,10 +1,11 @@
 #pragma once
-// Building a Scene from a YAML file (docs/scene_format.md).
+// Building a Scene, with its output settings and warnings, from a YAML file
+// (docs/scene_format.md).
 
 #include <string>
 #include <vector>
 
-#include "engine/scene.h"
+#include "engine/scene_io/loaded_scene.h"
 
 namespace ecpsim::engine {
 
@@ -12,14 +13,15 @@ namespace ecpsim::engine {
 /// strings (the CLI's --set) with dotted keys into the YAML tree, e.g. "h=0.005",
 /// "bodies.0.mass=3", "solver.tolerance=1e-9"; each value is parsed as YAML ("[0, 0, 1]" is a
 /// list) and applied before validation. Mesh paths are relative to the scene file's folder.
-/// The scene then passes ValidateScene, its errors located in the file. Meshes of implausible
-/// size (outside [1 mm, 10 m] across: wrong units?) add a line to Scene::warnings.
+/// The scene and its `output` block then pass ValidateLoadedScene, its errors located in the
+/// file. Meshes of implausible size (outside [1 mm, 10 m] across: wrong units?) add a line to
+/// LoadedScene::warnings.
 /// @throws InputError `path:line:col: key = value: expected ...` (line and column 1-based) for a
 ///         YAML syntax error, an unknown or duplicate key, a wrong type, a missing required key,
 ///         a non-finite number or one out of range (scene_limits.h), a string with a NUL, a
 ///         missing mesh file or any problem of the mesh, a scene ValidateScene rejects (too many
 ///         steps, an initial overlap with an obstacle, ...); an override whose key does not fit
 ///         the tree is named as `--set key=value`.
-Scene LoadScene(const std::string& path, const std::vector<std::string>& overrides = {});
+LoadedScene LoadScene(const std::string& path, const std::vector<std::string>& overrides = {});
 
 }  // namespace ecpsim::engine

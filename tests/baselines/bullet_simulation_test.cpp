@@ -146,7 +146,7 @@ TEST(BulletSimulation, FreeFlightMatchesEcpsimsBodyFrameAfterOneStep) {
 }
 
 TEST(BulletSimulation, DeskSceneRunsHalfASecondWithBothSettings) {
-  const engine::Scene scene = engine::LoadScene(ECPSIM_SOURCE_DIR "/scenes/desk.yaml");
+  const engine::Scene scene = engine::LoadScene(ECPSIM_SOURCE_DIR "/scenes/desk.yaml").scene;
   for (FrictionSetting setting : {FrictionSetting::kDefault, FrictionSetting::kCoulomb}) {
     const auto sim = RunBullet(setting, scene, 50);
     EXPECT_NEAR(sim->state().t, 0.5, kClockRoundOff);

@@ -168,7 +168,7 @@ TEST(MujocoFrameTest, FreeFlightMatchesEcpsimAfterOneStep) {
 }
 
 TEST(MujocoDeskTest, PaperDeskRunsHalfASecondWithBothSettings) {
-  const engine::Scene scene = engine::LoadScene(ECPSIM_SOURCE_DIR "/scenes/desk.yaml");
+  const engine::Scene scene = engine::LoadScene(ECPSIM_SOURCE_DIR "/scenes/desk.yaml").scene;
   for (FrictionSetting setting : {FrictionSetting::kDefault, FrictionSetting::kCoulomb}) {
     auto sim = Make(setting, scene);
     for (int i = 0; i < 50; ++i) {

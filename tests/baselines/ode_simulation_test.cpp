@@ -152,7 +152,7 @@ TEST(OdeSimulation, FreeFlightMatchesEcpsimsBodyFrameAfterOneStep) {
 }
 
 TEST(OdeSimulation, DeskSceneRunsHalfASecondWithBothSettings) {
-  const engine::Scene scene = engine::LoadScene(ECPSIM_SOURCE_DIR "/scenes/desk.yaml");
+  const engine::Scene scene = engine::LoadScene(ECPSIM_SOURCE_DIR "/scenes/desk.yaml").scene;
   for (FrictionSetting setting : {FrictionSetting::kDefault, FrictionSetting::kCoulomb}) {
     const auto sim = RunOde(setting, scene, 50);
     EXPECT_NEAR(sim->state().t, 0.5, kClockRoundOff);

@@ -62,7 +62,7 @@ std::vector<Peer> AvailablePeers() {
 }
 
 engine::Scene Scene(const char* file) {
-  return engine::LoadScene(std::string(ECPSIM_SOURCE_DIR) + "/scenes/" + file);
+  return engine::LoadScene(std::string(ECPSIM_SOURCE_DIR) + "/scenes/" + file).scene;
 }
 
 TEST(PeerBodyContact, StackOfThreeBoxesForTenSeconds) {

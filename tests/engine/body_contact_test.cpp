@@ -261,7 +261,8 @@ TEST(PushTest, Issue13_ACylinderFingerStrikingABoxOnItsCapRimConverges) {
                 {"ground.friction.mu=0.3386055175100403", "ground.friction.e_r=0.0759649355811388",
                  "bodies.1.motion.velocity.position=[-0.07, 0.011258747354944726, "
                  "0.14618349204879302]",
-                 "bodies.1.motion.velocity.linear=[0.2517967180157012, 0, 0]"});
+                 "bodies.1.motion.velocity.linear=[0.2517967180157012, 0, 0]"})
+          .scene;
   State state = InitialState(scene);
   while (state.t < 0.1) {
     ASSERT_TRUE(Step(scene, state).converged) << "t = " << state.t;

@@ -106,7 +106,7 @@ class CheckedRun {
 };
 
 TEST(DominoesTest, BlocksFallInOrderWithoutPenetrationAndLoseEnergy) {
-  const Scene scene = LoadScene(ScenePath());
+  const Scene scene = LoadScene(ScenePath()).scene;
   ASSERT_EQ(scene.bodies.size(), 9u);
   CheckedRun run(scene);
   const State& state = run.state();
@@ -147,7 +147,7 @@ TEST(DominoesTest, PileOfFiveSettlesOnTheBlockThatLandsFlat) {
   std::vector<std::string> overrides;
   for (int b = kPile; b < 9; ++b)
     overrides.push_back(fmt::format("bodies.{}.position=[{}, 0, 0.05]", b, 10.0 + b));
-  const Scene scene = LoadScene(ScenePath(), overrides);
+  const Scene scene = LoadScene(ScenePath(), overrides).scene;
   CheckedRun run(scene);
   // m/s: a body held by friction creeps at most at the creep velocity, kStickCreepFraction of
   // its velocity scale, g h for bodies at rest (hull_model.h)

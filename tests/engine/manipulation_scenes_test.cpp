@@ -46,7 +46,7 @@ int ContactIndex(const Scene& scene, int body, int other_body) {
 }
 
 TEST(TbarPushSceneTest, TheFingerPushesAndTurnsTheTFlatOnTheTableAndOnlyEverPushes) {
-  const Scene scene = LoadScene(ScenePath("tbar_push.yaml"));
+  const Scene scene = LoadScene(ScenePath("tbar_push.yaml")).scene;
   const int tbar = BodyIndex(scene, "tbar"), finger = BodyIndex(scene, "finger");
   const int push = ContactIndex(scene, tbar, finger);
   const PenetrationProbe probe(scene);
@@ -95,7 +95,7 @@ constexpr int kGuessesPerPass = 4;
 
 TEST(TbarPushSceneTest, TheFingersFirstTouchIsReSolvedFromTheWarmStartsStallInTheFirstPass) {
   for (ContactModel model : {ContactModel::kHull, ContactModel::kAuto}) {
-    Scene scene = LoadScene(ScenePath("tbar_push.yaml"));
+    Scene scene = LoadScene(ScenePath("tbar_push.yaml")).scene;
     scene.model = model;
     State state = InitialState(scene);
     int most = 0;
@@ -112,7 +112,7 @@ TEST_P(TbarPushFineStepTest, TheFingersFirstTouchIsSolvedAndTheTFollowsTheFinger
   // gap is 0 at the end of consecutive steps, so their normal velocities differ only by the
   // face's turn within a step (|ω| h ≈ 4e-6 here); 1e-4 of the finger's speed bounds that
   constexpr double kFollowRel = 1e-4;
-  Scene scene = LoadScene(ScenePath("tbar_push.yaml"));
+  Scene scene = LoadScene(ScenePath("tbar_push.yaml")).scene;
   scene.h = GetParam();
   const int tbar = BodyIndex(scene, "tbar"), finger = BodyIndex(scene, "finger");
   const int push = ContactIndex(scene, tbar, finger);
@@ -138,7 +138,7 @@ TEST_P(TbarPushFineStepTest, TheFingersFirstTouchIsSolvedAndTheTFollowsTheFinger
 INSTANTIATE_TEST_SUITE_P(Steps, TbarPushFineStepTest, ::testing::Values(2.5e-5, 1.25e-5));
 
 TEST(GripperSceneTest, TheBoxEndsDraggedAndTurnedAQuarterWhereTheFrameTookIt) {
-  const Scene scene = LoadScene(ScenePath("gripper.yaml"));
+  const Scene scene = LoadScene(ScenePath("gripper.yaml")).scene;
   const int box = BodyIndex(scene, "box");
   const int left = ContactIndex(scene, box, BodyIndex(scene, "left_jaw"));
   const int right = ContactIndex(scene, box, BodyIndex(scene, "right_jaw"));

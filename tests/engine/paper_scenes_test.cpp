@@ -98,7 +98,7 @@ constexpr double kTBarHalfThickness = 0.025;  // m
 constexpr double kFlatHeightTol = 1e-9;       // m
 
 TEST(PaperScenesTest, TBarKeepsTheEcpOnTheGroundThroughEveryContactMode) {
-  const Scene scene = LoadScene(ScenePath("tbar.yaml"));
+  const Scene scene = LoadScene(ScenePath("tbar.yaml")).scene;
   const std::vector<Sample> samples = RunScene(scene);
   ASSERT_EQ(samples.size(), 500u);
   const geometry::TriangleMesh& mesh = scene.bodies[0].mesh;
@@ -174,7 +174,7 @@ constexpr double kBarGapTol = kPatchMargin;
 constexpr double kContactLineTol = 1e-8;  // m
 
 TEST(PaperScenesTest, DumbbellToppledRollsOnTwoSegmentsAtHeightR) {
-  const Scene scene = LoadScene(ScenePath("dumbbell.yaml"));
+  const Scene scene = LoadScene(ScenePath("dumbbell.yaml")).scene;
   const std::vector<Sample> samples = RunScene(scene);
   ASSERT_EQ(samples.size(), 250u);
   const geometry::TriangleMesh& mesh = scene.bodies[0].mesh;
@@ -269,7 +269,7 @@ constexpr double kSupportSquareTol = 1e-12;  // m, round-off of the frame change
 constexpr double kSupportAreaTol = 1e-6;
 
 TEST(PaperScenesTest, DeskSlidesWithoutTippingAndItsEcpStaysInTheSupportSquare) {
-  const Scene scene = LoadScene(ScenePath("desk.yaml"));
+  const Scene scene = LoadScene(ScenePath("desk.yaml")).scene;
   const std::vector<Sample> samples = RunScene(scene);
   ASSERT_EQ(samples.size(), 400u);
   const geometry::TriangleMesh& mesh = scene.bodies[0].mesh;
@@ -315,7 +315,7 @@ constexpr int kMaxLandingIterations = 45;
 
 TEST(PaperScenesTest, LandingsAfterATiltCostNoReSolvesOfFarStalls) {
   for (const char* name : {"tbar.yaml", "dumbbell.yaml"}) {
-    const Scene scene = LoadScene(ScenePath(name));
+    const Scene scene = LoadScene(ScenePath(name)).scene;
     State state = InitialState(scene);
     int most = 0;
     for (long i = 0; i < std::lround(scene.duration / scene.h); ++i)

@@ -36,7 +36,7 @@ constexpr double kNormalTol = 1e-9;
 Scene SceneFromText(const std::string& name, const std::string& yaml) {
   const fs::path path = fs::temp_directory_path() / (name + std::to_string(::getpid()) + ".yaml");
   std::ofstream(path) << yaml;
-  Scene scene = LoadScene(path.string());
+  Scene scene = LoadScene(path.string()).scene;
   fs::remove(path);
   return scene;
 }

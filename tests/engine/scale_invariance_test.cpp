@@ -88,7 +88,7 @@ TEST(ScaleInvarianceTest, PaperDesk) {
 
 TEST(ScaleInvarianceTest, PaperTBar) {
   // the T-bar's wobbles between one-, two-point and face contact, and its slide (scenes/tbar.yaml)
-  const Scene scene = LoadScene(std::string(ECPSIM_SOURCE_DIR) + "/scenes/tbar.yaml");
+  const Scene scene = LoadScene(std::string(ECPSIM_SOURCE_DIR) + "/scenes/tbar.yaml").scene;
   ExpectSimilarAtEveryScale(scene, "T-bar");
 }
 

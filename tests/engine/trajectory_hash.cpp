@@ -116,7 +116,7 @@ int TrajectoryHashSteps(const std::string& scene) {
 
 std::vector<std::string> TrajectoryRecord(const std::string& scenes_dir,
                                           const TrajectoryCase& trajectory_case) {
-  Scene scene = LoadScene(scenes_dir + "/" + trajectory_case.scene);
+  Scene scene = LoadScene(scenes_dir + "/" + trajectory_case.scene).scene;
   scene.model = ModelNamed(trajectory_case.model);
   State state = InitialState(scene);
   StepWorkspace workspace;

@@ -112,7 +112,7 @@ TEST_F(DropSweepTest, TheCaseFilesAreTheDropAsDrawn) {
   EXPECT_EQ(sorted(loaded.vertices), sorted(scaled.vertices));
 
   // the scene: its lowest mesh vertex at the drawn height, the drawn spin, h and duration
-  const engine::Scene scene = engine::LoadScene(files.yaml_path);
+  const engine::Scene scene = engine::LoadScene(files.yaml_path).scene;
   ASSERT_EQ(scene.bodies.size(), 1u);
   const engine::Body& body = scene.bodies[0];
   double lowest = INFINITY;

@@ -109,7 +109,7 @@ TEST(SceneFrameBuilder, RestingDeskHasFourFeetTheEcpAndItsWeight) {
 // the smaller — with the ECP in it and the weight above it as the force
 TEST(SceneFrameBuilder, AStackShowsEachBoxsFaceOnTheOneBelow) {
   const engine::Scene scene =
-      engine::LoadScene(std::string(ECPSIM_SOURCE_DIR) + "/scenes/stack.yaml");
+      engine::LoadScene(std::string(ECPSIM_SOURCE_DIR) + "/scenes/stack.yaml").scene;
   engine::State state = engine::InitialState(scene);
   for (int k = 0; k < 5; ++k) engine::Step(scene, state);
   const SceneFrameBuilder builder(scene);
@@ -176,8 +176,8 @@ bool BitIdentical(const engine::BodyState& a, const engine::BodyState& b) {
 TEST(SceneFrameBuilder, BuildingFramesBetweenStepsLeavesEveryStepBitIdentical) {
   constexpr int kSteps = 145;  // to t = 1.45 s at h = 0.01 s
   // two loads: each run has hulls of its own
-  const engine::Scene plain_scene = engine::LoadScene(ECPSIM_SOURCE_DIR "/scenes/tbar.yaml");
-  const engine::Scene scene = engine::LoadScene(ECPSIM_SOURCE_DIR "/scenes/tbar.yaml");
+  const engine::Scene plain_scene = engine::LoadScene(ECPSIM_SOURCE_DIR "/scenes/tbar.yaml").scene;
+  const engine::Scene scene = engine::LoadScene(ECPSIM_SOURCE_DIR "/scenes/tbar.yaml").scene;
   const SceneFrameBuilder builder(scene);
   engine::State plain = engine::InitialState(plain_scene);
   engine::State framed = engine::InitialState(scene);

@@ -47,7 +47,8 @@ long Count(const Comparison& c, StepModel model) { return c.models[static_cast<i
 class ShippedSceneAutoTest : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(ShippedSceneAutoTest, AutoIsTheHullModelToTheTolerance) {
-  const Scene scene = LoadScene(std::string(ECPSIM_SOURCE_DIR) + "/scenes/" + GetParam() + ".yaml");
+  const Scene scene =
+      LoadScene(std::string(ECPSIM_SOURCE_DIR) + "/scenes/" + GetParam() + ".yaml").scene;
   const long steps = std::lround(std::min(scene.duration, kMaxCompared) / scene.h);
   const Comparison c = CompareAutoWithHull(scene, steps);
   EXPECT_LE(c.difference, kAgreement) << GetParam();
@@ -64,7 +65,7 @@ INSTANTIATE_TEST_SUITE_P(Scenes, ShippedSceneAutoTest,
 // measured). Auto is the hull model there (islands of several bodies are never planar): the
 // comparison ends where the coupling starts, after 0.28 s of the T-bar sliding alone
 TEST(AutoModelTest, TheTBarSlidesAsUnderTheHullModelUntilThePusherArrives) {
-  const Scene scene = LoadScene(std::string(ECPSIM_SOURCE_DIR) + "/scenes/tbar_push.yaml");
+  const Scene scene = LoadScene(std::string(ECPSIM_SOURCE_DIR) + "/scenes/tbar_push.yaml").scene;
   const Comparison c = CompareAutoWithHull(scene, std::lround(scene.duration / scene.h), true);
   EXPECT_GT(Count(c, StepModel::kPlanar), 20);
   EXPECT_LE(c.difference, kAgreement);

@@ -356,7 +356,7 @@ bodies:
 
 TEST(MultiPatchSceneTest, ReadsPartsAndTheModel) {
   const TempScene file(kBoxScene);
-  const Scene scene = LoadScene(file.path);
+  const Scene scene = LoadScene(file.path).scene;
   EXPECT_EQ(scene.model, ContactModel::kMultiPatch);
   ASSERT_EQ(scene.bodies[0].parts.size(), 2u);
   // the second part's corner (0.2, 0.2, −0.1) in the CM frame, the body's own corner
@@ -410,8 +410,8 @@ TEST(MultiPatchModelTest, TippingAndLandingMatchTheHullModel) {
   // engine/README.md holds in every contact mode; measured max difference 2.2e-9 (the landing
   // impact amplifies the 1e-12 solver tolerance), asserted with a 4× margin
   const TempScene file(kTippingScene);
-  const Scene hull_scene = LoadScene(file.path);
-  const Scene patch_scene = LoadScene(file.path, {"model=multipatch"});
+  const Scene hull_scene = LoadScene(file.path).scene;
+  const Scene patch_scene = LoadScene(file.path, {"model=multipatch"}).scene;
   State hull = InitialState(hull_scene), patch = InitialState(patch_scene);
   double max_dv = 0, max_tilt = 0;
   bool lifted_off = false;
@@ -433,7 +433,7 @@ TEST(MultiPatchModelTest, TippingAndLandingMatchTheHullModel) {
 }
 
 TEST(MultiPatchSceneTest, ShippedDeskHasItsFourFeetAsParts) {
-  const Scene scene = LoadScene(std::string(ECPSIM_SOURCE_DIR) + "/scenes/desk.yaml");
+  const Scene scene = LoadScene(std::string(ECPSIM_SOURCE_DIR) + "/scenes/desk.yaml").scene;
   const Body& desk = scene.bodies[0];
   ASSERT_EQ(desk.parts.size(), 4u);
   // each leg's bottom is the hull's bottom (the feet on z = 0 in the mesh frame; the OBJ file's

@@ -263,7 +263,7 @@ constexpr double kLcpRel = 1e-8;
 constexpr double kStackDrift = 1e-9;
 
 Scene StackScene(double h) {
-  Scene scene = LoadScene(ECPSIM_SOURCE_DIR "/scenes/stack.yaml");
+  Scene scene = LoadScene(ECPSIM_SOURCE_DIR "/scenes/stack.yaml").scene;
   scene.model = ContactModel::kPoint;
   scene.h = h;
   return scene;
@@ -381,7 +381,7 @@ TEST(PointContactBodiesTest, TwoFreeCubesExchangeMomentumExactlyAndNeverGainKine
 }
 
 TEST(PointContactBodiesTest, ConstantSpeedPusherCarriesTheBoxAtItsSpeed) {
-  Scene scene = LoadScene(ECPSIM_SOURCE_DIR "/scenes/push_box.yaml");
+  Scene scene = LoadScene(ECPSIM_SOURCE_DIR "/scenes/push_box.yaml").scene;
   scene.model = ContactModel::kPoint;
   ASSERT_EQ(scene.contacts.size(), 2u);  // box–ground, box–pusher (F the box, G the pusher)
   const double speed = 0.1, mu = scene.contacts[0].friction.mu, mass = scene.bodies[0].mass;

@@ -47,7 +47,8 @@ TEST_F(DropSceneTest, TheMeshStartsAboveTheGround) {
   options_.tilt_deg = 90;
   options_.spin = 2;
   options_.duration = 0.5;
-  const Scene scene = MakeDropScene(options_);
+  const LoadedScene loaded = MakeDropScene(options_);
+  const Scene& scene = loaded.scene;
   ASSERT_EQ(scene.bodies.size(), 1u);
   const Body& body = scene.bodies[0];
   EXPECT_EQ(body.name, "cube");
@@ -61,16 +62,18 @@ TEST_F(DropSceneTest, TheMeshStartsAboveTheGround) {
   EXPECT_EQ(scene.contacts[0].friction.mu, 0.22);
   EXPECT_EQ(scene.contacts[0].friction.e_r, 0.1);
   EXPECT_EQ(scene.obstacles[0].shape->Value(0, Eigen::Vector3d(0, 0, -0.5)), -0.5);
-  // a 0.87 m cube: a plausible size, no warning
-  EXPECT_TRUE(scene.warnings.empty());
+  // a 0.87 m cube: a plausible size, no warning; the default output settings
+  EXPECT_TRUE(loaded.warnings.empty());
+  EXPECT_EQ(loaded.output.every, OutputSettings{}.every);
+  EXPECT_EQ(loaded.output.fps, OutputSettings{}.fps);
 
   options_.mass = 2;
-  EXPECT_NEAR(MakeDropScene(options_).bodies[0].mass, 2, kTight);
+  EXPECT_NEAR(MakeDropScene(options_).scene.bodies[0].mass, 2, kTight);
 }
 
 TEST_F(DropSceneTest, UnitsScaleTheMeshLikeScale) {
   options_.units = "cm";
-  const Scene scene = MakeDropScene(options_);
+  const Scene scene = MakeDropScene(options_).scene;
   // a 1 cm cube: its lowest point 0.1 m up, its CM 0.005 m above that
   EXPECT_NEAR(scene.bodies[0].p0.z(), 0.1 + 0.005, kTight);
   constexpr double kGramRoundOff = 1e-15;  // kg: 1e-12 of the 1 g mass
@@ -84,8 +87,7 @@ TEST_F(DropSceneTest, UnitsScaleTheMeshLikeScale) {
 
 TEST_F(DropSceneTest, AMeshOfImplausibleSizeAddsAWarningNamingTheUnits) {
   options_.scale = 100;  // a 173 m cube
-  const Scene scene = MakeDropScene(options_);
-  EXPECT_THAT(scene.warnings,
+  EXPECT_THAT(MakeDropScene(options_).warnings,
               ElementsAre(fmt::format("{} is 173 m across; if it is in metres use --units m (or "
                                       "--scale 1)",
                                       options_.mesh)));

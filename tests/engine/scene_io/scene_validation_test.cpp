@@ -27,16 +27,19 @@ Scene RestingBox() {
   return MakeGroundScene({box}, 0.01, Friction{});
 }
 
-// the error ValidateScene throws for `scene`; fails the test when it throws none
-SceneError ErrorOf(const Scene& scene) {
+// the error `validate` throws for `scene`; fails the test when it throws none
+template <typename S>
+SceneError ErrorOf(const S& scene, void (*validate)(const S&)) {
   try {
-    ValidateScene(scene);
+    validate(scene);
   } catch (const SceneError& e) {
     return e;
   }
-  ADD_FAILURE() << "ValidateScene accepted the scene";
+  ADD_FAILURE() << "the scene was accepted";
   return SceneError({"(none)"}, "", "");
 }
+SceneError ErrorOf(const Scene& scene) { return ErrorOf(scene, &ValidateScene); }
+SceneError ErrorOf(const LoadedScene& loaded) { return ErrorOf(loaded, &ValidateLoadedScene); }
 
 TEST(SceneValidationTest, ABoxRestingOnTheGroundPasses) {
   EXPECT_NO_THROW(ValidateScene(RestingBox()));
@@ -212,14 +215,34 @@ TEST(SceneValidationTest, LoadsImpulsesAndSettingsHaveTheirRanges) {
   scene.solver.max_iterations = kMaxSolverIterations + 1;
   EXPECT_THAT(ErrorOf(scene).what(),
               HasSubstr("solver.max_iterations = 10001: expected an integer in [1, 10000]"));
-  scene = RestingBox();
-  scene.output.width = 8193;
-  EXPECT_THAT(ErrorOf(scene).what(), HasSubstr("output.width = 8193: expected an integer in "
-                                               "[16, 8192]"));
-  scene = RestingBox();
-  scene.output.camera_target = scene.output.camera_position;
-  EXPECT_THAT(ErrorOf(scene).what(), HasSubstr("expected a camera position different from its "
-                                               "target"));
+}
+
+TEST(SceneValidationTest, OutputSettingsHaveTheirRanges) {
+  LoadedScene loaded{RestingBox(), {}, {}};
+  EXPECT_NO_THROW(ValidateLoadedScene(loaded));
+  loaded.output.width = 8193;
+  EXPECT_THAT(ErrorOf(loaded).what(), HasSubstr("output.width = 8193: expected an integer in "
+                                                "[16, 8192]"));
+  loaded.output = OutputSettings{};
+  loaded.output.every = 0;
+  EXPECT_THAT(ErrorOf(loaded).what(), HasSubstr("output.every = 0: expected an integer >= 1"));
+  loaded.output = OutputSettings{};
+  loaded.output.camera_target = loaded.output.camera_position;
+  EXPECT_THAT(ErrorOf(loaded).what(), HasSubstr("expected a camera position different from its "
+                                                "target"));
+}
+
+TEST(SceneValidationTest, OutputSettingsAreCheckedAfterTheSolverAndBeforeTheInitialOverlap) {
+  // a file's first problem is the same as when the output block was part of the Scene
+  LoadedScene loaded{RestingBox(), {}, {}};
+  loaded.output.fps = 0;
+  loaded.scene.bodies[0].p0.z() = -0.2;  // 0.25 m inside the ground
+  EXPECT_EQ(ErrorOf(loaded).keys().at(0), "output.fps");
+  loaded.scene.solver.window_rings = -1;
+  EXPECT_EQ(ErrorOf(loaded).keys().at(0), "solver.window_rings");
+  loaded.scene.solver.window_rings = 1;
+  loaded.output.fps = 30;
+  EXPECT_EQ(ErrorOf(loaded).keys().at(0), "bodies[0].position");
 }
 
 }  // namespace

@@ -68,8 +68,12 @@ class SceneYamlTest : public ::testing::Test {
   }
 
   // writes `yaml` as scene.yaml and loads it
-  Scene LoadText(const std::string& yaml, const std::vector<std::string>& overrides = {}) {
+  LoadedScene LoadFile(const std::string& yaml, const std::vector<std::string>& overrides = {}) {
     return LoadScene(Write("scene.yaml", yaml), overrides);
+  }
+  // the physics of LoadFile
+  Scene LoadText(const std::string& yaml, const std::vector<std::string>& overrides = {}) {
+    return LoadFile(yaml, overrides).scene;
   }
 
   std::string ScenePath() const { return (dir_ / "scene.yaml").string(); }
@@ -129,7 +133,8 @@ output: {every: 5}
 )yaml";
 
 TEST_F(SceneYamlTest, CompleteSceneParsesToTheExpectedNumbers) {
-  const Scene scene = LoadText(kCompleteScene);
+  const LoadedScene loaded = LoadFile(kCompleteScene);
+  const Scene& scene = loaded.scene;
   EXPECT_EQ(scene.source, ScenePath());
   EXPECT_EQ(scene.gravity, Eigen::Vector3d(0, 0, -9.81));
   EXPECT_EQ(scene.h, 0.005);
@@ -254,16 +259,17 @@ TEST_F(SceneYamlTest, CompleteSceneParsesToTheExpectedNumbers) {
   EXPECT_EQ(scene.solver.max_iterations, 40);
   EXPECT_EQ(scene.solver.window_rings, 2);
   EXPECT_FALSE(scene.solver.use_window);
-  EXPECT_EQ(scene.output.every, 5);
+  EXPECT_EQ(loaded.output.every, 5);
 }
 
 TEST_F(SceneYamlTest, MinimalSceneTakesTheDocumentedDefaults) {
-  const Scene scene = LoadText(R"yaml(duration: 1
+  const LoadedScene loaded = LoadFile(R"yaml(duration: 1
 bodies:
   - shape: {box: {size: [1, 1, 1]}}
     density: 10
     position: [0, 0, 0.5]
 )yaml");
+  const Scene& scene = loaded.scene;
   EXPECT_EQ(scene.gravity, Eigen::Vector3d(0, 0, -9.8));
   EXPECT_EQ(scene.h, 0.01);
   EXPECT_TRUE(scene.obstacles.empty());
@@ -274,7 +280,8 @@ bodies:
   EXPECT_EQ(scene.bodies[0].v0, Eigen::Vector3d::Zero());
   EXPECT_EQ(scene.solver.tolerance, SolverSettings{}.tolerance);
   EXPECT_EQ(scene.solver.max_iterations, SolverSettings{}.max_iterations);
-  EXPECT_EQ(scene.output.every, 1);
+  EXPECT_EQ(loaded.output.every, 1);
+  EXPECT_TRUE(loaded.warnings.empty());
 }
 
 TEST_F(SceneYamlTest, PrimitivesHaveClosedFormMassAndInertia) {
@@ -710,7 +717,7 @@ TEST_F(SceneYamlTest, KinematicBodiesAndPairSettingsMakeTheDocumentedContacts) {
 }
 
 TEST_F(SceneYamlTest, TheShippedGripperCarriesItsJawsAtTheirPlacesInItsFrame) {
-  const Scene scene = LoadScene(std::string(ECPSIM_SOURCE_DIR) + "/scenes/gripper.yaml");
+  const Scene scene = LoadScene(std::string(ECPSIM_SOURCE_DIR) + "/scenes/gripper.yaml").scene;
   ASSERT_EQ(scene.grippers.size(), 1u);
   const Gripper& hand = scene.grippers[0];
   EXPECT_EQ(hand.name, "hand");
@@ -789,7 +796,7 @@ bodies:
   // loading from another working directory must not matter
   const fs::path cwd = fs::current_path();
   fs::current_path(fs::temp_directory_path());
-  const Scene scene = LoadScene(path);
+  const Scene scene = LoadScene(path).scene;
   fs::current_path(cwd);
   EXPECT_NEAR(scene.bodies[0].mass, 6, kTight);
   EXPECT_NEAR(scene.bodies[0].inertia(2, 2), 6.0 / 6, kTight);
@@ -816,7 +823,7 @@ bodies:
 
 TEST_F(SceneYamlTest, MeshOfImplausibleSizeGivesAWarningNamingTheSceneKeys) {
   // a 1 m cube scaled to 100 m edges (173 m across)
-  const Scene large = LoadText(R"yaml(duration: 1
+  const LoadedScene large = LoadFile(R"yaml(duration: 1
 bodies:
   - mesh: meshes/cube.obj
     scale: 100
@@ -829,7 +836,7 @@ bodies:
                         "bodies[0].units: m (or bodies[0].scale: 1)",
                         ScenePath(), (dir_ / "meshes/cube.obj").string()));
   // a 0.5 m cube: no warning
-  const Scene plausible = LoadText(R"yaml(duration: 1
+  const LoadedScene plausible = LoadFile(R"yaml(duration: 1
 bodies:
   - mesh: meshes/cube.obj
     scale: 0.5
@@ -897,7 +904,7 @@ TEST_F(SceneYamlTest, ValidationErrorsOfOverriddenValuesNameTheSet) {
 }
 
 TEST_F(SceneYamlTest, ShippedSlideSceneLoadsWithThePaperNumbers) {
-  const Scene scene = LoadScene(std::string(ECPSIM_SOURCE_DIR) + "/scenes/slide.yaml");
+  const Scene scene = LoadScene(std::string(ECPSIM_SOURCE_DIR) + "/scenes/slide.yaml").scene;
   EXPECT_EQ(scene.h, 0.01);
   EXPECT_EQ(scene.duration, 0.5);
   EXPECT_EQ(scene.gravity, Eigen::Vector3d(0, 0, -9.8));
@@ -918,7 +925,7 @@ TEST_F(SceneYamlTest, ShippedSlideSceneLoadsWithThePaperNumbers) {
 }
 
 TEST_F(SceneYamlTest, ShippedTiltedBoxStandsOnOneEdge) {
-  const Scene scene = LoadScene(std::string(ECPSIM_SOURCE_DIR) + "/scenes/tilted_box.yaml");
+  const Scene scene = LoadScene(std::string(ECPSIM_SOURCE_DIR) + "/scenes/tilted_box.yaml").scene;
   ASSERT_EQ(scene.bodies.size(), 1u);
   const Body& box = scene.bodies[0];
   // released at rest, tilted about x, the lowest hull point exactly on the ground z = 0
