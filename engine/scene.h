@@ -114,6 +114,8 @@ struct SolverSettings {
   bool use_window = true;  // false: every hull face enters the MNCP
 };
 
+/// Built by the routes of engine/scene_io/ (a file, `ecpsim drop`, code), each of which checks it
+/// with ValidateScene (scene_io/scene_validation.h) before returning it.
 struct Scene {
   std::string source;                                     // file the scene came from, for messages
   Eigen::Vector3d gravity = Eigen::Vector3d(0, 0, -9.8);  // m/s²

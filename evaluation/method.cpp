@@ -4,6 +4,7 @@
 
 #include "common/errors.h"
 #include "engine/report/contact_wrench.h"
+#include "engine/scene_io/scene_validation.h"
 #include "engine/time_step.h"
 
 namespace ecpsim::evaluation {
@@ -115,6 +116,9 @@ Method FindMethod(const std::string& name) {
 }
 
 std::unique_ptr<Stepper> MakeStepper(const Method& method, const engine::Scene& scene) {
+  // a sweep edits the scenes it was given (h per run, a shorter duration): the edited one is the
+  // scene that runs, so it is the one checked
+  engine::ValidateScene(scene);
   if (method.external) return std::make_unique<ExternalStepper>(method, scene);
   return std::make_unique<EcpsimStepper>(method, scene);
 }

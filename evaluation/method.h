@@ -43,7 +43,10 @@ class Stepper {
   virtual Eigen::Vector3d ContactForce(int body, int other) const = 0;
 };
 
-/// @throws InputError if an external engine cannot model the scene.
+/// A stepper of `scene` from its initial state; ecpsim's methods step it with `method`'s model and
+/// tolerance.
+/// @throws engine::SceneError if `scene` fails engine::ValidateScene (e.g. `h = 0: expected a
+///         finite time step > 0 s: ...`), InputError if an external engine cannot model it.
 std::unique_ptr<Stepper> MakeStepper(const Method& method, const engine::Scene& scene);
 
 }  // namespace ecpsim::evaluation

@@ -52,8 +52,9 @@ struct RunRecord {
 
 /// Runs `method` on `scenario` with step h until scenario.scene.duration.
 /// Stops early (failed, "CPU limit …") when the steps take more than `cpu_limit_s` CPU seconds.
-/// @throws InputError if h does not divide the sample interval (to 1e-9 relative) or an external
-///         engine cannot model the scene.
+/// @throws InputError if h does not divide the sample interval (to 1e-9 relative), the scene with
+///         step h fails engine::ValidateScene (MakeStepper), or an external engine cannot model
+///         it.
 RunRecord RunTrajectory(const Method& method, const Scenario& scenario, double h,
                         double cpu_limit_s = 300, double late_window = 0.5);
 

@@ -1,6 +1,8 @@
 #include "python/scene_dict.h"
 
+#include <algorithm>
 #include <cmath>
+#include <map>
 #include <memory>
 #include <set>
 #include <string>
@@ -178,6 +180,62 @@ engine::Load ReadLoad(const engine::Scene& scene, const py::handle& value, const
   return load;
 }
 
+// the value at `key` (a path such as `bodies[0].friction.mu`) under `root`, or null when the
+// arguments do not give it
+py::object ValueAt(const py::handle& root, const std::string& key) {
+  py::object node = py::reinterpret_borrow<py::object>(root);
+  size_t i = 0;
+  while (i < key.size()) {
+    if (key[i] == '[') {
+      const size_t close = key.find(']', i);
+      if (close == std::string::npos) return py::object();
+      const size_t index = std::stoul(key.substr(i + 1, close - i - 1));
+      if (!py::isinstance<py::sequence>(node) || py::isinstance<py::str>(node) ||
+          py::len(node) <= index) {
+        return py::object();
+      }
+      node = node[py::int_(index)];
+      i = close + 1;
+      continue;
+    }
+    if (key[i] == '.') ++i;
+    const size_t end = std::min(key.find('.', i), key.find('[', i));
+    const std::string name = key.substr(i, end - i);
+    if (!py::isinstance<py::dict>(node) || !node.cast<py::dict>().contains(name)) {
+      return py::object();
+    }
+    node = node[py::str(name)];
+    i = std::min(end, key.size());
+  }
+  return node;
+}
+
+// a Scene key in make_scene's terms: the default ground is `friction`, a box is `box`
+std::string ArgumentKey(const std::string& scene_key, bool default_ground) {
+  std::string key = scene_key;
+  const std::string ground = "obstacles[0].";
+  if (default_ground && key.rfind(ground, 0) == 0) key = key.substr(ground.size());
+  const std::string shape = ".shape";
+  if (key.size() > shape.size() && key.compare(key.size() - shape.size(), shape.size(), shape) == 0)
+    key.replace(key.size() - shape.size(), shape.size(), ".box");
+  return key;
+}
+
+// a ValidateScene error at the first of its keys that the arguments give (not a dict: that holds
+// the value's keys), else at its first key; the value is the one the scene holds
+InputError Locate(const engine::SceneError& error, const py::dict& arguments, bool default_ground) {
+  std::string located = ArgumentKey(error.keys().at(0), default_ground);
+  for (const std::string& scene_key : error.keys()) {
+    const std::string key = ArgumentKey(scene_key, default_ground);
+    const py::object value = ValueAt(arguments, key);
+    if (value && !py::isinstance<py::dict>(value)) {
+      located = key;
+      break;
+    }
+  }
+  return InputError(fmt::format("{} = {}: expected {}", located, error.value(), error.expected()));
+}
+
 }  // namespace
 
 std::shared_ptr<engine::LoadedScene> MakeScene(const py::list& bodies, const py::object& obstacles,
@@ -253,7 +311,15 @@ std::shared_ptr<engine::LoadedScene> MakeScene(const py::list& bodies, const py:
   }
   scene.model = models.at(model);
   // the checks every scene passes, a file's too (engine/scene_io/scene_validation.h)
-  engine::ValidateScene(scene);
+  try {
+    engine::ValidateScene(scene);
+  } catch (const engine::SceneError& e) {
+    const py::dict arguments(py::arg("bodies") = bodies, py::arg("obstacles") = obstacles,
+                             py::arg("h") = h, py::arg("duration") = duration,
+                             py::arg("gravity") = gravity, py::arg("friction") = friction,
+                             py::arg("loads") = loads);
+    throw Locate(e, arguments, obstacles.is_none());
+  }
   return loaded;
 }
 

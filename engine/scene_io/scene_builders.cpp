@@ -4,6 +4,7 @@
 
 #include <memory>
 
+#include "engine/scene_io/scene_validation.h"
 #include "geometry/convex_hull.h"
 #include "geometry/convex_shape.h"
 #include "geometry/mass_properties.h"
@@ -37,13 +38,14 @@ Body MakeMeshBody(const geometry::TriangleMesh& mesh_any_frame, double mass,
   return body;
 }
 
-Scene MakeGroundScene(std::vector<Body> bodies, double h, const Friction& friction) {
+Scene MakeGroundScene(std::vector<Body> bodies, double h, const Friction& friction,
+                      const Eigen::Vector3d& up) {
   Scene scene;
   scene.source = "code";
   scene.h = h;
   Obstacle ground;
   ground.name = "ground";
-  ground.shape = geometry::MakeHalfSpace(Eigen::Vector3d::UnitZ(), 0);
+  ground.shape = geometry::MakeHalfSpace(up, 0);
   ground.friction = friction;
   scene.obstacles.push_back(ground);
   for (size_t b = 0; b < bodies.size(); ++b) {
@@ -52,6 +54,7 @@ Scene MakeGroundScene(std::vector<Body> bodies, double h, const Friction& fricti
       scene.contacts.push_back(ContactPair{static_cast<int>(b), 0, friction});
   }
   scene.bodies = std::move(bodies);
+  ValidateScene(scene);
   return scene;
 }
 

@@ -20,9 +20,14 @@ Body MakeBoxBody(const Eigen::Vector3d& size, double mass, const std::string& na
 Body MakeMeshBody(const geometry::TriangleMesh& mesh_any_frame, double mass,
                   const std::string& name);
 
-/// A scene with the ground z ≤ 0 and the given bodies, each dynamic one in contact with the
-/// ground with `friction`; source "code", step h, duration 1 s.
-Scene MakeGroundScene(std::vector<Body> bodies, double h, const Friction& friction);
+/// A scene with the ground, the half-space `up` · x ≤ 0 (`up` unit, world; by default z ≤ 0), and
+/// the given bodies, each dynamic one in contact with the ground with `friction`; source "code",
+/// step h, duration 1 s. It passes ValidateScene: a caller that edits it afterwards (bodies,
+/// pairs, loads, h) builds a scene of its own, to check again.
+/// @throws SceneError (scene_io/scene_validation.h) naming the Scene's key, e.g.
+///         `bodies[0].mass = -1: expected ...` or `h = 0: expected ...`, for a scene it rejects.
+Scene MakeGroundScene(std::vector<Body> bodies, double h, const Friction& friction,
+                      const Eigen::Vector3d& up = Eigen::Vector3d::UnitZ());
 
 /// The contact between bodies i and j (not both kinematic) with `friction`: F the dynamic one
 /// (the lower index when both are), G the other.

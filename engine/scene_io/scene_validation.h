@@ -1,6 +1,9 @@
 #pragma once
-// The checks an assembled Scene must pass before it runs, however it was built (a YAML file,
-// `ecpsim drop`, code): ranges, step count, finite masses, inertias and poses, initial overlap.
+// The checks an assembled Scene must pass before it runs, however it was built: ranges, step
+// count, finite masses, inertias and poses, initial overlap. Every route into a Scene ends here
+// before it returns — LoadScene (a YAML file), MakeDropScene (`ecpsim drop`), MakeGroundScene
+// (code), the Python module's make_scene — and reports the SceneError in its own terms (file
+// line, option, dict key); evaluation::MakeStepper checks again the scenes a sweep edits.
 
 #include <string>
 #include <vector>

@@ -296,6 +296,7 @@ TEST_P(LimitSurfaceTest, AFlatBoxPushedSlowlyOffItsCentreTurnsAsTheEllipsoidsLim
   Body pusher;
   pusher.name = "pusher";
   pusher.hull = geometry::MakeSphere(push.radius);
+  pusher.mesh = pusher.hull->Tessellate();  // the display mesh, as the loader's for a primitive
   pusher.friction = box.friction;
   ConstantTwist twist;
   const double gap = 0.001;  // m: it touches at t = gap / speed

@@ -368,7 +368,7 @@ TEST(WindowTest, SameTrajectoryAsFullHull) {
 // face, and the window never grows to the whole hull.
 Body DroppedUvSphere(int segments, int rings) {
   const geometry::TriangleMesh mesh = testing::MakeUvSphereMesh(segments, rings, 0.1);
-  Body body = MakeMeshBody(mesh, 4, "uv sphere");
+  Body body = MakeMeshBody(mesh, 4, "uv_sphere");
   body.q0 = Eigen::Quaterniond(Eigen::AngleAxisd(30 * M_PI / 180, Vector3d::UnitX()));
   body.p0 = Vector3d(0, 0, 0.2);
   body.w0 = Vector3d(0, 0, 2);

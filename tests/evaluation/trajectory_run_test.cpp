@@ -82,8 +82,13 @@ TEST(RunTrajectoryTest, RejectsAStepThatDoesNotDivideTheSampleInterval) {
 
 class ModeOfPoseTest : public ::testing::Test {
  protected:
-  engine::Scene scene_ = engine::MakeGroundScene({engine::MakeBoxBody(Vector3d(0.2, 0.1, 0.05), 1)},
-                                                 0.01, engine::Friction{});
+  // a box resting on the ground at t = 0; the tests pose it
+  engine::Scene scene_ = engine::MakeGroundScene({RestingBox()}, 0.01, engine::Friction{});
+  static engine::Body RestingBox() {
+    engine::Body box = engine::MakeBoxBody(Vector3d(0.2, 0.1, 0.05), 1);
+    box.p0 = Vector3d(0, 0, 0.025);
+    return box;
+  }
   // the box turned by q with its lowest vertex at `gap` above z = 0
   engine::BodyState Posed(const Eigen::Quaterniond& q, double gap) {
     double lowest = INFINITY;

@@ -56,3 +56,28 @@ def test_validation_messages():
         ecpsim.make_scene(**dict(SLIDE, h=-1))
     with pytest.raises(ecpsim.InputError, match=r"loads\[0\].force\[0\] = \"t\*\*\*\""):
         ecpsim.make_scene(**SLIDE, loads=[{"body": "box", "force": ["t***", 0, 0]}])
+
+
+def test_validation_names_the_argument_key_value_and_expectation():
+    # the scene passes ValidateScene, each problem named by make_scene's own keys
+    cases = [
+        (dict(SLIDE, h=0), r"h = 0: expected a finite time step > 0 s: a time in \[1e-150"),
+        (dict(SLIDE, gravity=[0, 0, 1e200]),
+         r"gravity = \[0, 0, 1e\+200\]: expected a gravity \[x, y, z\] in m/s², each a finite"),
+        # the default ground's friction is the `friction` argument
+        (dict(SLIDE, friction={"mu": -0.5}),
+         r"friction\.mu = -0\.5: expected a friction coefficient >= 0 .* for obstacle \"ground\""),
+        (dict(SLIDE, bodies=[dict(SLIDE["bodies"][0], friction={"mu": -1})]),
+         r"bodies\[0\]\.friction\.mu = -1: expected a friction coefficient >= 0 .* the contact "
+         r"of body \"box\" with obstacle \"ground\""),
+        (dict(SLIDE, obstacles=[{"name": "floor", "friction": {"e_r": 0}}]),
+         r"obstacles\[0\]\.friction\.e_r = 0: expected a torsional ellipsoid semi-axis > 0 m for "
+         r"obstacle \"floor\""),
+        (dict(SLIDE, bodies=[dict(SLIDE["bodies"][0], box=[1e20, 1e20, 1e20])]),
+         r"bodies\[0\]\.box = 1\.73\d*e\+20 m across: expected a mesh of body \"box\""),
+        (dict(SLIDE, loads=[{"body": "box", "force": [1, 0, 0], "start": 0.5, "end": 0.2}]),
+         r"loads\[0\]\.end = 0\.2: expected an end time \(s\) > start = 0\.5"),
+    ]
+    for arguments, message in cases:
+        with pytest.raises(ecpsim.InputError, match="^" + message):
+            ecpsim.make_scene(**arguments)

@@ -282,16 +282,18 @@ TippedBox MakeTippedBox(double L) {
   constexpr double kDensity = 1000;  // kg/m³
   constexpr double kG = 9.8;         // m/s²
   const Eigen::Vector3d size = L * Eigen::Vector3d(1, 0.6, 0.4);
-  TippedBox box;
-  box.scene = engine::MakeGroundScene({engine::MakeBoxBody(size, kDensity * size.prod(), "box")},
-                                      kH, engine::Friction{});
-  const engine::Body& body = box.scene.bodies[0];
+  engine::Body body = engine::MakeBoxBody(size, kDensity * size.prod(), "box");
   engine::BodyState pose;
   pose.Q_WB = Eigen::Quaterniond(Eigen::AngleAxisd(25 * M_PI / 180, Eigen::Vector3d::UnitX()));
   double lowest = 0;
   for (const Eigen::Vector3d& v : body.mesh.vertices)
     lowest = std::min(lowest, (pose.Q_WB * v).z());
   pose.p_WB = Eigen::Vector3d(0.1 * L, -0.05 * L, -lowest);
+  // the scene starts at that pose, on the ground
+  body.q0 = pose.Q_WB;
+  body.p0 = pose.p_WB;
+  TippedBox box;
+  box.scene = engine::MakeGroundScene({body}, kH, engine::Friction{});
   box.state = engine::InitialState(box.scene);
   box.state.bodies[0] = pose;
   engine::ContactState& contact = box.state.contacts[0];

@@ -13,6 +13,7 @@
 #include "engine/rotation.h"
 #include "engine/scene_io/scene_builders.h"
 #include "geometry/convex_hull.h"
+#include "geometry/convex_shape.h"
 #include "geometry/paper_bodies.h"
 #include "tests/engine/island_test_problems.h"
 #include "tests/engine/jacobian_check.h"
@@ -213,6 +214,18 @@ Body MakeCylinderBody(double radius, double length, int axis, double mass) {
   return body;
 }
 
+// The bodies of an island and the ground z ≤ 0, for StartOfStep: not a scene that runs, so no
+// builder (and no ValidateScene) makes it — the bodies' poses are the test's states, not their
+// initial ones, primitives have no display mesh, and names may repeat
+Scene IslandBodiesOnTheGround(std::vector<Body> bodies, double h) {
+  Scene scene;
+  scene.source = "island test";
+  scene.h = h;
+  scene.bodies = std::move(bodies);
+  scene.obstacles.push_back({"ground", geometry::MakeHalfSpace(Vector3d::UnitZ(), 0), Friction{}});
+  return scene;
+}
+
 // An island built from scene bodies at given states (StartOfStep: gravity, world inertia, the
 // free flight), contacts added by the test
 struct IslandCase {
@@ -223,7 +236,7 @@ struct IslandCase {
   VectorXd z;
 
   IslandCase(std::vector<Body> bodies, std::vector<BodyState> body_states, double h = 0.01)
-      : scene(MakeGroundScene(std::move(bodies), h, Friction{})), states(std::move(body_states)) {
+      : scene(IslandBodiesOnTheGround(std::move(bodies), h)), states(std::move(body_states)) {
     problem.h = h;
     for (size_t b = 0; b < states.size(); ++b)
       problem.bodies.push_back(StartOfStep(scene, static_cast<int>(b), states[b], 0, h));

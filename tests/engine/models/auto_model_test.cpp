@@ -103,9 +103,7 @@ Scene BoxOnIncline(double slope, double speed, double mu) {
   const Vector3d down_slope = tilt * -Vector3d::UnitX();
   box.v0 = speed * down_slope;
   box.w0 = 1.0 * normal;
-  Scene scene = testing::MakeGroundScene({box}, 0.01, Friction{mu, 1, 1, 0.05});
-  scene.obstacles[0].shape = geometry::MakeHalfSpace(normal, 0);
-  scene.duration = 1;
+  Scene scene = MakeGroundScene({box}, 0.01, Friction{mu, 1, 1, 0.05}, normal);
   return scene;
 }
 

@@ -59,12 +59,14 @@ inline HullIsland PrepareHullIsland(Scene scene, State state, int body = 0) {
 }
 
 /// A 0.2 × 0.1 × 0.05 m box of 2 kg (a polyhedral hull) on the ground (μ = 0.5) at height `z` of
-/// its CM (0.025: on the ground), with velocity `v` and angular velocity `w`, turned by `q`.
+/// its CM (0.025: on the ground), with velocity `v` and angular velocity `w`, turned by `q`. A
+/// lower z starts it in the ground on purpose (the ejection tests), so that is allowed.
 inline Scene BoxScene(double z, const Eigen::Vector3d& v = Eigen::Vector3d::Zero(),
                       const Eigen::Vector3d& w = Eigen::Vector3d::Zero(),
                       const Eigen::Quaterniond& q = Eigen::Quaterniond::Identity()) {
   Body box = engine::MakeBoxBody(Eigen::Vector3d(0.2, 0.1, 0.05), 2);
   box.p0 = Eigen::Vector3d(0, 0, z);
+  box.allow_initial_penetration = z < 0.025;
   box.v0 = v;
   box.w0 = w;
   box.q0 = q;

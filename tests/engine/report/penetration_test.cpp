@@ -22,6 +22,15 @@ using testing::MakeGroundScene;
 // depths are differences of O(1) coordinates: a few ulps
 constexpr double kTight = 1e-14;
 
+// `body` resting on the ground at t = 0 (its lowest mesh vertex at z = 0): a scene the builders
+// accept; the probe is then asked at the poses of each test
+Body OnTheGround(Body body) {
+  double lowest = 0;
+  for (const Eigen::Vector3d& v : body.mesh.vertices) lowest = std::min(lowest, v.z());
+  body.p0 = Eigen::Vector3d(0, 0, -lowest);
+  return body;
+}
+
 State Posed(const Eigen::Vector3d& p, const Eigen::Quaterniond& q) {
   State state;
   BodyState b;
@@ -32,7 +41,7 @@ State Posed(const Eigen::Vector3d& p, const Eigen::Quaterniond& q) {
 }
 
 TEST(PenetrationTest, FlatBoxSunkIntoTheGround) {
-  const Scene scene = MakeGroundScene({MakeBoxBody({1, 1, 1}, 1)});
+  const Scene scene = MakeGroundScene({OnTheGround(MakeBoxBody({1, 1, 1}, 1))});
   const PenetrationProbe probe(scene);
   // a box's mesh is its hull: all 8 corners are the half-space candidates
   ASSERT_EQ(probe.half_space_vertices().size(), 1u);
@@ -45,7 +54,7 @@ TEST(PenetrationTest, FlatBoxSunkIntoTheGround) {
 
 TEST(PenetrationTest, BoxOnAnEdgeReachesDownHalfItsDiagonal) {
   // a unit cube turned 45° about x reaches √2/2 below its centre
-  const Scene scene = MakeGroundScene({MakeBoxBody({1, 1, 1}, 1)});
+  const Scene scene = MakeGroundScene({OnTheGround(MakeBoxBody({1, 1, 1}, 1))});
   const PenetrationProbe probe(scene);
   const Eigen::Quaterniond q(Eigen::AngleAxisd(M_PI / 4, Eigen::Vector3d::UnitX()));
   EXPECT_NEAR(probe.MaxDepth(scene, Posed({0, 0, 0.6}, q)), std::sqrt(0.5) - 0.6, kTight);
@@ -53,7 +62,7 @@ TEST(PenetrationTest, BoxOnAnEdgeReachesDownHalfItsDiagonal) {
 
 TEST(PenetrationTest, BoxFixtureDepthIsTheDistanceToItsNearestFace) {
   // a 0.2 m cube centred at (0.55, 0, 0) pokes 0.05 m into the unit fixture's x = 0.5 face
-  Scene scene = MakeGroundScene({MakeBoxBody({0.2, 0.2, 0.2}, 1)});
+  Scene scene = MakeGroundScene({OnTheGround(MakeBoxBody({0.2, 0.2, 0.2}, 1))});
   scene.obstacles[0].shape = geometry::MakeBox(Eigen::Vector3d(0.5, 0.5, 0.5));
   const PenetrationProbe probe(scene);
   EXPECT_NEAR(probe.MaxDepth(scene, Posed({0.55, 0, 0}, Eigen::Quaterniond::Identity())), 0.05,
@@ -67,11 +76,12 @@ TEST(PenetrationTest, HullVerticesGiveTheExactDepthOfANonConvexMesh) {
   const geometry::TriangleMesh mesh = geometry::MakeTBarMesh();
   const geometry::MassProperties mp = geometry::ComputeMassPropertiesForMass(mesh, 2);
   Body body;
+  body.name = "tbar";
   body.mesh = mesh;
   for (Eigen::Vector3d& v : body.mesh.vertices) v -= mp.center_of_mass;
   body.hull = std::make_shared<geometry::PolyhedralShape>(
       geometry::TranslateHull(geometry::ComputeConvexHull(mesh.vertices), -mp.center_of_mass));
-  const Scene scene = MakeGroundScene({body});
+  const Scene scene = MakeGroundScene({OnTheGround(body)});
   const PenetrationProbe probe(scene);
   const auto& candidates = probe.half_space_vertices()[0];
   const auto* hull = body.hull->AsPolyhedron();
@@ -90,9 +100,10 @@ TEST(PenetrationTest, HullVerticesGiveTheExactDepthOfANonConvexMesh) {
 TEST(PenetrationTest, PrimitiveHullChecksEveryMeshVertex) {
   // a sphere hull is not polyhedral: every vertex of the display mesh is a candidate
   Body ball;
+  ball.name = "ball";
   ball.hull = geometry::MakeSphere(0.5);
   ball.mesh = ball.hull->Tessellate(16);
-  const Scene scene = MakeGroundScene({ball});
+  const Scene scene = MakeGroundScene({OnTheGround(ball)});
   const PenetrationProbe probe(scene);
   EXPECT_EQ(probe.half_space_vertices()[0].size(), ball.mesh.vertices.size());
   double lowest = 0;
@@ -104,8 +115,9 @@ TEST(PenetrationTest, PrimitiveHullChecksEveryMeshVertex) {
 TEST(PenetrationTest, StackedBoxesSunkIntoEachOtherBothWaysAndExcludedPairsIgnored) {
   // a 0.2 m cube on a 0.4 m one, both resting on the ground; the top one 1 mm too low, then a
   // corner of a turned small cube pressed into the big one's side
-  Body big = MakeBoxBody({0.4, 0.4, 0.4}, 1, "big");
-  Body small = MakeBoxBody({0.2, 0.2, 0.2}, 1, "small");
+  Body big = OnTheGround(MakeBoxBody({0.4, 0.4, 0.4}, 1, "big"));
+  Body small = OnTheGround(MakeBoxBody({0.2, 0.2, 0.2}, 1, "small"));
+  small.p0.x() = 1;
   Scene scene = MakeGroundScene({big, small});
   AddBodyPairs(scene);
   const PenetrationProbe probe(scene);

@@ -16,6 +16,7 @@ namespace ecpsim::engine {
 namespace {
 
 namespace fs = std::filesystem;
+using ::testing::AllOf;
 using ::testing::ElementsAre;
 using ::testing::HasSubstr;
 using ::testing::ThrowsMessage;
@@ -98,6 +99,9 @@ TEST_F(DropSceneTest, OptionsOutOfRangeAreNamed) {
   EXPECT_THAT([&] { MakeDropScene(options_); },
               ThrowsMessage<InputError>(HasSubstr("--height = -1: expected a height >= 0 m")));
   options_.height = 0.1;
+  options_.h = 0;
+  EXPECT_THAT([&] { MakeDropScene(options_); },
+              ThrowsMessage<InputError>(HasSubstr("--dt = 0: expected a time step > 0 s")));
   options_.h = 1e-16;
   EXPECT_THAT([&] { MakeDropScene(options_); },
               ThrowsMessage<InputError>(
@@ -107,9 +111,14 @@ TEST_F(DropSceneTest, OptionsOutOfRangeAreNamed) {
   EXPECT_THAT([&] { MakeDropScene(options_); },
               ThrowsMessage<InputError>(HasSubstr("--mass = 1e+200: expected a mass in")));
   options_.mass.reset();
-  options_.height = 1e100;  // far more than 1e6 sizes of the cube up
+  // the options are in range, the scene is not (ValidateScene): far more than 1e6 sizes of the
+  // cube up, named with the scene's key
+  options_.height = 1e100;
   EXPECT_THAT([&] { MakeDropScene(options_); },
-              ThrowsMessage<InputError>(HasSubstr("bodies[0].position = [0, 0, 1e+100")));
+              ThrowsMessage<InputError>(
+                  AllOf(HasSubstr(fmt::format("ecpsim drop {}: bodies[0].position = [0, 0, 1e+100",
+                                              options_.mesh)),
+                        HasSubstr("expected body \"cube\" within 1e+06 × its size"))));
   options_.height = 0;
   options_.mesh = (dir_ / "none.stl").string();
   EXPECT_THAT([&] { MakeDropScene(options_); },
