@@ -96,6 +96,26 @@ EndPose PoseAfterStep(const Vector3d& c, const Matrix3d& R, double h, const Vect
   return {c + h * v, ExpMap(h * w) * R};
 }
 
+StepMotion AddBodyRows(const BodyProblem& problem, int column, const Eigen::VectorXd& z,
+                       Eigen::VectorXd& F, Eigen::MatrixXd* J) {
+  StepMotion m;
+  m.v = z.segment<3>(column);
+  m.w = z.segment<3>(column + 3);
+  m.column = column;
+  m.end = PoseAfterStep(problem, m.v, m.w);
+  // Newton–Euler with impulses (paper eq. discrete_NE), contact terms added per contact
+  F.segment<3>(column) = problem.mass * (m.v - problem.v) - problem.p_ext.head<3>();
+  F.segment<3>(column + 3) = GyroscopicResidual(problem, m.w) - problem.p_ext.tail<3>();
+  if (J) {
+    J->block<3, 3>(column, column) = problem.mass * Matrix3d::Identity();
+    J->block<3, 3>(column + 3, column + 3) = GyroscopicJacobian(problem, m.w);
+    // rotation-rate derivatives of the end pose (left Jacobians of Exp at ±hω)
+    m.Jl_plus = LeftJacobian(problem.h * m.w);
+    m.Rt_Jl_minus = Matrix3d(problem.R.transpose() * LeftJacobian(-problem.h * m.w));
+  }
+  return m;
+}
+
 double StepEnergyGain(const BodyProblem& problem, const Vector3d& v, const Vector3d& w) {
   const EndPose end = PoseAfterStep(problem, v, w);
   const Matrix3d inertia_end =

@@ -1,7 +1,8 @@
 #pragma once
 // One body's step without its contacts' rows: what its MNCP needs from the start of the step
 // (inertia, loads, the free-flight velocities with the implicit gyroscopic impulse), its pose at
-// the end of the step, the gyroscopic row and the energy a step adds (engine/README.md).
+// the end of the step, its contact-free Newton–Euler rows with the gyroscopic term, and the
+// energy a step adds (engine/README.md).
 
 #include <string>
 #include <vector>
@@ -70,6 +71,26 @@ EndPose PoseAfterStep(const Eigen::Vector3d& c, const Eigen::Matrix3d& R, double
 /// gyroscopic impulse, engine/README.md; N·m·s), and its derivative in ω⁺ (kg·m²).
 Eigen::Vector3d GyroscopicResidual(const BodyProblem& problem, const Eigen::Vector3d& w);
 Eigen::Matrix3d GyroscopicJacobian(const BodyProblem& problem, const Eigen::Vector3d& w);
+
+/// A body's motion over the step as a contact's rows see it: its end pose and velocities and,
+/// when the velocities are unknowns, their index in z and the derivatives of the end pose in ω⁺.
+struct StepMotion {
+  EndPose end;
+  Eigen::Vector3d v, w;  // m/s, rad/s (world): ν⁺, or a kinematic body's prescribed twist
+  int column = -1;       // z index of v⁺ (ω⁺ at + 3); −1: prescribed, no unknowns
+  // J_l(hω⁺): ∂(R⁺ x_B)/∂ω⁺ = −h [R⁺ x_B]× J_l(hω⁺)
+  Eigen::Matrix3d Jl_plus = Eigen::Matrix3d::Zero();
+  // Rᵀ J_l(−hω⁺): ∂y/∂ω⁺ = h [y]× Rᵀ J_l(−hω⁺) for y = R⁺ᵀ(x − c⁺)
+  Eigen::Matrix3d Rt_Jl_minus = Eigen::Matrix3d::Zero();
+};
+
+/// Sets the contact-free Newton–Euler rows (paper eq. discrete_NE without the contact impulses,
+/// which AddContactImpulse adds) of `problem`'s body, whose ν⁺ is z[column … +5]: F's six rows
+///   m (v⁺ − v) − p_ext,f,   I_w (ω⁺ − ω) + h ω⁺ × I_w ω⁺ − p_ext,τ
+/// and, if `J` is not null, its two diagonal 3 × 3 blocks (F and J already sized and zeroed).
+/// Returns the body's motion (the derivatives only with J).
+StepMotion AddBodyRows(const BodyProblem& problem, int column, const Eigen::VectorXd& z,
+                       Eigen::VectorXd& F, Eigen::MatrixXd* J);
 
 /// J: the body's energy (kinetic and gravitational, −m g·c) at the end of the step minus at its
 /// start, minus the work of the applied loads over the mean velocity — what the contact
