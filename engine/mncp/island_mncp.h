@@ -133,8 +133,9 @@ void EvaluateIslandMncp(const IslandProblem& problem, const IslandLayout& layout
 /// contact its rows over its own block and the ν⁺ of its one or two bodies and its wrench in
 /// their Newton–Euler rows, each evaluated on that compact block — plus every diagonal entry
 /// (zero where the Jacobian has none, so that a Newton matrix J + D keeps J's pattern). Cost and
-/// storage grow with the bodies and contacts, not with the square of the unknowns. F and J
-/// equal EvaluateIslandMncp's up to the order of the sums in the Newton–Euler rows (round-off).
+/// storage grow with the bodies and contacts, not with the square of the unknowns. F equals
+/// EvaluateIslandMncp's (x + (0 − f) = x − f, but for the sign of a zero), J up to the order of
+/// its sums (round-off).
 void EvaluateIslandMncpSparse(const IslandProblem& problem, const IslandLayout& layout,
                               const Eigen::VectorXd& z, Eigen::VectorXd* F,
                               Eigen::SparseMatrix<double>* J);
