@@ -69,10 +69,16 @@ class OtherSide {
 
   // constraint j of the window at a2: g_j, its gradient in G's frame and in the world, and the
   // world gradient's derivative in a2
-  double Value(int j) const;
-  Eigen::Vector3d FrameGradient(int j) const;
-  Eigen::Vector3d Gradient(int j) const;
-  Eigen::Matrix3d Hessian(int j) const;
+  double Value(int j) const { return sides_.other->Value(Constraint(j), y_); }
+  Eigen::Vector3d FrameGradient(int j) const { return sides_.other->Gradient(Constraint(j), y_); }
+  Eigen::Vector3d Gradient(int j) const {
+    const Eigen::Vector3d gradient = FrameGradient(j);
+    return motion_ ? Eigen::Vector3d(motion_->end.R * gradient) : gradient;
+  }
+  Eigen::Matrix3d Hessian(int j) const {
+    const Eigen::Matrix3d H = sides_.other->Hessian(Constraint(j), y_);
+    return motion_ ? Eigen::Matrix3d(motion_->end.R * H * motion_->end.R.transpose()) : H;
+  }
 
   const Eigen::Vector3d& N() const { return N_; }
   double l_g_sum() const { return l_g_sum_; }

@@ -7,6 +7,7 @@
 #include <Eigen/SparseCore>
 
 #include "common/errors.h"
+#include "engine/mncp/mncp_assembly.h"
 
 namespace ecpsim::engine {
 namespace {
@@ -15,11 +16,6 @@ using Eigen::MatrixXd;
 using Eigen::Vector3d;
 using Eigen::VectorXd;
 using Other = IslandContact::Other;
-
-ContactSides Sides(const IslandContact& cp) {
-  return {cp.hull,     &cp.window,           cp.other_shape, &cp.other_window,
-          cp.friction, cp.tangent_reference, cp.stick_creep};
-}
 
 // the kinematic bodies' motions over the step: prescribed, no unknowns
 std::vector<StepMotion> KinematicMotions(const IslandProblem& problem) {
@@ -34,28 +30,8 @@ std::vector<StepMotion> KinematicMotions(const IslandProblem& problem) {
   return motions;
 }
 
-// per-body values of an island: in place for one body (the usual island, whose MNCP is evaluated
-// and measured every Newton iteration: no heap allocation), in a vector for several
-template <typename T>
-class PerBody {
- public:
-  explicit PerBody(int count) {
-    if (count > 1) several_.resize(count);
-  }
-  PerBody(int count, const T& value) : single_(value) {
-    if (count > 1) several_.assign(count, value);
-  }
-  T& operator[](int b) { return several_.empty() ? single_ : several_[b]; }
-  const T& operator[](int b) const { return several_.empty() ? single_ : several_[b]; }
-
- private:
-  T single_{};
-  std::vector<T> several_;
-};
-
 // G's motion for contact `cp`: null for a fixed G
-template <typename Bodies>
-const StepMotion* OtherMotion(const IslandContact& cp, const Bodies& bodies,
+const StepMotion* OtherMotion(const IslandContact& cp, const PerBody<StepMotion>& bodies,
                               const std::vector<StepMotion>& kinematic) {
   if (cp.other_kind == Other::kBody) return &bodies[cp.other];
   if (cp.other_kind == Other::kKinematic) return &kinematic[cp.other];
@@ -104,48 +80,35 @@ CreepRoundOff CreepFrictionRoundOff(const IslandProblem& problem, const IslandLa
   return round_off;
 }
 
-// A contact's rows evaluated on a compact block of the unknowns it touches: F's ν⁺ (6), a
-// dynamic G's ν⁺ (6), then its free block (a1, a2, s, p_t, p_o, p_r; on a plane a1, p_t, p_o,
-// p_r) and its complementarity block (l, l_G, p_n, σ), each contiguous in the island's layout too
-struct LocalContact {
-  std::vector<int> global;  // local index → index in the island's z
-  MncpLayout::Contact L;    // the contact's layout in local indices
-  int other_column = -1;    // local column of a dynamic G's ν⁺
-  int num_body_rows = 6;    // the Newton–Euler rows first: 6, or 12 with a dynamic G
+// the island's bodies and contacts as AssembleMncp walks them
+class IslandView {
+ public:
+  IslandView(const IslandProblem& problem, const IslandLayout& layout)
+      : problem_(problem), layout_(layout), kinematic_(KinematicMotions(problem)) {}
+
+  double h() const { return problem_.h; }
+  int NumBodies() const { return layout_.num_bodies; }
+  const BodyProblem& Body(int b) const { return problem_.bodies[b]; }
+  int Column(int b) const { return IslandLayout::Velocity(b); }
+  int NumContacts() const { return static_cast<int>(problem_.contacts.size()); }
+  const MncpLayout::Contact& Layout(int k) const { return layout_.contacts[k]; }
+  ContactLink Link(int k, const PerBody<StepMotion>& motions) const {
+    const IslandContact& cp = problem_.contacts[k];
+    return {SidesOf(cp), cp.body, OtherMotion(cp, motions, kinematic_)};
+  }
+
+ private:
+  const IslandProblem& problem_;
+  const IslandLayout& layout_;
+  const std::vector<StepMotion> kinematic_;
 };
 
-LocalContact MakeLocalContact(const IslandContact& cp, const MncpLayout::Contact& L) {
-  LocalContact local;
-  for (int i = 0; i < 6; ++i) local.global.push_back(IslandLayout::Velocity(cp.body) + i);
-  if (cp.other_kind == Other::kBody) {
-    local.other_column = 6;
-    local.num_body_rows = 12;
-    for (int i = 0; i < 6; ++i) local.global.push_back(IslandLayout::Velocity(cp.other) + i);
-  }
-  const int free = static_cast<int>(local.global.size());
-  for (int i = L.a1; i <= L.p_r; ++i) local.global.push_back(i);
-  const int complementarity = static_cast<int>(local.global.size());
-  const int count = L.l_count + L.l_g_count + 2;
-  for (int i = 0; i < count; ++i) local.global.push_back(L.l + i);
-  local.L = L;
-  const int shift_free = free - L.a1, shift_complementarity = complementarity - L.l;
-  for (int* index : {&local.L.a1, &local.L.p_t, &local.L.p_o, &local.L.p_r}) *index += shift_free;
-  if (!L.on_plane())
-    for (int* index : {&local.L.a2, &local.L.s}) *index += shift_free;
-  for (int* index : {&local.L.l, &local.L.l_g, &local.L.p_n, &local.L.sigma})
-    *index += shift_complementarity;
-  return local;
-}
-
-// the non-zero entries of a dense local block as triplets of the island's matrix
-void ScatterNonZeros(const Eigen::MatrixXd& block, const std::vector<int>& global,
-                     std::vector<Eigen::Triplet<double>>& triplets) {
-  for (Eigen::Index j = 0; j < block.cols(); ++j)
-    for (Eigen::Index i = 0; i < block.rows(); ++i)
-      if (block(i, j) != 0) triplets.emplace_back(global[i], global[j], block(i, j));
-}
-
 }  // namespace
+
+ContactSides SidesOf(const IslandContact& cp) {
+  return {cp.hull,     &cp.window,           cp.other_shape, &cp.other_window,
+          cp.friction, cp.tangent_reference, cp.stick_creep};
+}
 
 IslandLayout MakeIslandLayout(const IslandProblem& problem) {
   const int num_bodies = static_cast<int>(problem.bodies.size());
@@ -187,80 +150,16 @@ IslandLayout MakeIslandLayout(const IslandProblem& problem) {
 
 void EvaluateIslandMncp(const IslandProblem& problem, const IslandLayout& layout, const VectorXd& z,
                         VectorXd* F, MatrixXd* J, bool jacobian_is_zero) {
-  F->setZero(layout.size);
-  if (J && jacobian_is_zero) {
-    ECPSIM_DEMAND(J->rows() == layout.size && J->cols() == layout.size);
-  } else if (J) {
-    J->setZero(layout.size, layout.size);
-  }
-  // per body the contact-free Newton–Euler rows, then per contact its rows and its wrenches
-  PerBody<StepMotion> bodies(layout.num_bodies);
-  for (int b = 0; b < layout.num_bodies; ++b)
-    bodies[b] = AddBodyRows(problem.bodies[b], IslandLayout::Velocity(b), z, *F, J);
-  const std::vector<StepMotion> kinematic = KinematicMotions(problem);
-  for (size_t k = 0; k < problem.contacts.size(); ++k) {
-    const IslandContact& cp = problem.contacts[k];
-    AddContactRows(Sides(cp), layout.contacts[k], bodies[cp.body],
-                   OtherMotion(cp, bodies, kinematic), problem.h, z, *F, J);
-  }
+  DenseMncpRows rows(layout.size, z, *F, J, jacobian_is_zero);
+  AssembleMncp(IslandView(problem, layout), rows);
   for (const IslandGripper& g : problem.grippers) ApplyGripperRows(g, problem.bodies, z, *F, J);
 }
 
 void EvaluateIslandMncpSparse(const IslandProblem& problem, const IslandLayout& layout,
                               const VectorXd& z, VectorXd* F, Eigen::SparseMatrix<double>* J) {
-  F->setZero(layout.size);
   std::vector<Eigen::Triplet<double>> triplets;
-  // every diagonal entry is in the pattern (see the header)
-  for (int i = 0; i < layout.size; ++i) triplets.emplace_back(i, i, 0.0);
-  // per body its Newton–Euler rows on its own ν⁺
-  std::vector<StepMotion> bodies;
-  Eigen::VectorXd z_local, F_local;
-  MatrixXd J_local;
-  std::vector<int> global(6);
-  for (int b = 0; b < layout.num_bodies; ++b) {
-    const int col = IslandLayout::Velocity(b);
-    z_local = z.segment<6>(col);
-    F_local.setZero(6);
-    if (J) J_local.setZero(6, 6);
-    StepMotion motion = AddBodyRows(problem.bodies[b], 0, z_local, F_local, J ? &J_local : nullptr);
-    motion.column = col;
-    bodies.push_back(motion);
-    F->segment<6>(col) = F_local;
-    if (!J) continue;
-    for (int i = 0; i < 6; ++i) global[i] = col + i;
-    ScatterNonZeros(J_local, global, triplets);
-  }
-  // per contact its rows and wrenches on its compact block
-  const std::vector<StepMotion> kinematic = KinematicMotions(problem);
-  for (size_t k = 0; k < problem.contacts.size(); ++k) {
-    const IslandContact& cp = problem.contacts[k];
-    const LocalContact local = MakeLocalContact(cp, layout.contacts[k]);
-    const int m = static_cast<int>(local.global.size());
-    z_local.resize(m);
-    for (int i = 0; i < m; ++i) z_local[i] = z[local.global[i]];
-    F_local.setZero(m);
-    if (J) J_local.setZero(m, m);
-    StepMotion body = bodies[cp.body];
-    body.column = 0;
-    StepMotion other;
-    const StepMotion* other_motion = OtherMotion(cp, bodies, kinematic);
-    if (other_motion) {
-      other = *other_motion;
-      other.column = local.other_column;
-      other_motion = &other;
-    }
-    AddContactRows(Sides(cp), local.L, body, other_motion, problem.h, z_local, F_local,
-                   J ? &J_local : nullptr);
-    // the wrenches add to the bodies' Newton–Euler rows; the contact's own rows are its alone
-    for (int i = 0; i < m; ++i) {
-      if (i < local.num_body_rows) {
-        (*F)[local.global[i]] += F_local[i];
-      } else {
-        (*F)[local.global[i]] = F_local[i];
-      }
-    }
-    if (J) ScatterNonZeros(J_local, local.global, triplets);
-  }
+  SparseMncpRows rows(layout.size, z, *F, J ? &triplets : nullptr);
+  AssembleMncp(IslandView(problem, layout), rows);
   for (const IslandGripper& g : problem.grippers)
     ApplyGripperRows(g, problem.bodies, z, *F, J ? &triplets : nullptr);
   if (!J) return;
@@ -342,7 +241,7 @@ double IslandStepEnergyGain(const IslandProblem& problem, const IslandLayout& la
       other.w = z.segment<3>(col + 3);
     }
     const ContactFrame frame =
-        MakeContactFrame(ContactNormalCombination(Sides(cp), L, &other, z), cp.tangent_reference);
+        MakeContactFrame(ContactNormalCombination(SidesOf(cp), L, &other, z), cp.tangent_reference);
     const Vector3d force = frame.n * z[L.p_n] + frame.t * z[L.p_t] + frame.o * z[L.p_o];
     if (other_drives) {
       const Vector3d r_other = z.segment<3>(L.a2) - other.end.c;
@@ -375,10 +274,10 @@ Vector3d IslandContactNormal(const IslandProblem& problem, const IslandLayout& l
                              const VectorXd& z, int k) {
   const IslandContact& cp = problem.contacts[k];
   if (cp.other_kind == Other::kFixed)
-    return ContactNormalCombination(Sides(cp), layout.contacts[k], nullptr, z);
+    return ContactNormalCombination(SidesOf(cp), layout.contacts[k], nullptr, z);
   StepMotion other;
   other.end = OtherEndPose(problem, z, k);
-  return ContactNormalCombination(Sides(cp), layout.contacts[k], &other, z);
+  return ContactNormalCombination(SidesOf(cp), layout.contacts[k], &other, z);
 }
 
 }  // namespace ecpsim::engine

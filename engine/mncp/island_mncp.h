@@ -6,17 +6,18 @@
 // mncp_system.h with G at its own end-of-step pose; engine/README.md ("Islands: contacts between
 // moving bodies") writes them out.
 //
-// An island of one body whose contacts are all fixed is today's MNCP to the bit: layout, F, J,
-// measure and energy equal MakeLayout, EvaluateMncp, MncpResidual and StepEnergyGain exactly
-// (both are built from the blocks of mncp_system.h — LayOutContacts, AddBodyRows,
-// AddContactRows, ScaledRowResidual — and do the same floating-point operations in the same
-// order; tests/engine/island_mncp_test.cpp).
+// An island of one body whose contacts are all fixed is the one-body MNCP to the bit: layout, F,
+// J, measure and energy equal MakeLayout, EvaluateMncp, MncpResidual and StepEnergyGain exactly
+// (both are built from the same parts — LayOutContacts, the one assembly AssembleMncp
+// (mncp_assembly.h), ScaledRowResidual — and do the same floating-point operations in the same
+// order; tests/engine/mncp/island_mncp_test.cpp).
 
 #include <vector>
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
+#include "engine/mncp/contact_rows.h"
 #include "engine/mncp/island_gripper.h"
 #include "engine/mncp/mncp_system.h"
 #include "engine/scene.h"
@@ -63,6 +64,9 @@ struct IslandContact {
   // ground: how much of the weight the pusher's friction carries). 0 is the paper's law exactly
   double stick_creep = 0;
 };
+
+/// The sides of contact `cp` as its rows see them (contact_rows.h).
+ContactSides SidesOf(const IslandContact& cp);
 
 /// Everything an island's MNCP needs from the start of the step.
 struct IslandProblem {
@@ -119,17 +123,19 @@ IslandLayout MakeIslandLayout(const IslandProblem& problem);
 /// A gripper's jaws have their Newton–Euler rows replaced by ApplyGripperRows.
 /// With `jacobian_is_zero` the caller promises J is already layout.size square and zero (as
 /// SolveMcp hands it to its callback), and J is not cleared again.
+/// AssembleMncp (mncp_assembly.h) over the island, with DenseMncpRows; then the grippers' rows.
 void EvaluateIslandMncp(const IslandProblem& problem, const IslandLayout& layout,
                         const Eigen::VectorXd& z, Eigen::VectorXd* F, Eigen::MatrixXd* J,
                         bool jacobian_is_zero = false);
 
-/// EvaluateIslandMncp with the Jacobian assembled sparse (column-major, compressed): per body
-/// its 6 × 6 Newton–Euler block, per contact its rows over its own block and the ν⁺ of its one
-/// or two bodies and its wrench in their Newton–Euler rows, each evaluated on that compact
-/// block (mncp_system.h's AddBodyRows and AddContactRows), plus every diagonal entry (zero
-/// where the Jacobian has none, so that a Newton matrix J + D keeps J's pattern). Cost and
-/// storage grow with the bodies and contacts, not with the square of the unknowns. F and J
-/// equal EvaluateIslandMncp's up to the order of the sums in the Newton–Euler rows (round-off).
+/// EvaluateIslandMncp with the Jacobian assembled sparse (column-major, compressed): the same
+/// assembly with SparseMncpRows (mncp_assembly.h) — per body its 6 × 6 Newton–Euler block, per
+/// contact its rows over its own block and the ν⁺ of its one or two bodies and its wrench in
+/// their Newton–Euler rows, each evaluated on that compact block — plus every diagonal entry
+/// (zero where the Jacobian has none, so that a Newton matrix J + D keeps J's pattern). Cost and
+/// storage grow with the bodies and contacts, not with the square of the unknowns. F equals
+/// EvaluateIslandMncp's (x + (0 − f) = x − f, but for the sign of a zero), J up to the order of
+/// its sums (round-off).
 void EvaluateIslandMncpSparse(const IslandProblem& problem, const IslandLayout& layout,
                               const Eigen::VectorXd& z, Eigen::VectorXd* F,
                               Eigen::SparseMatrix<double>* J);

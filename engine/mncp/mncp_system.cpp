@@ -1,24 +1,40 @@
 #include "engine/mncp/mncp_system.h"
 
-#include "common/errors.h"
+#include "engine/mncp/mncp_assembly.h"
 
 namespace ecpsim::engine {
+namespace {
+
+// one body and its contacts with fixed obstacles (world frame, all of G's constraints), as
+// AssembleMncp walks them
+class OneBodyView {
+ public:
+  OneBodyView(const BodyProblem& problem, const MncpLayout& layout)
+      : problem_(problem), layout_(layout) {}
+
+  double h() const { return problem_.h; }
+  int NumBodies() const { return 1; }
+  const BodyProblem& Body(int) const { return problem_; }
+  int Column(int) const { return 0; }  // ν⁺ first (MncpLayout)
+  int NumContacts() const { return static_cast<int>(problem_.contacts.size()); }
+  const MncpLayout::Contact& Layout(int k) const { return layout_.contacts[k]; }
+  ContactLink Link(int k, const PerBody<StepMotion>&) const {
+    const ContactProblem& cp = problem_.contacts[k];
+    return {
+        {cp.hull, &cp.window, cp.obstacle, nullptr, cp.friction, cp.tangent_reference}, 0, nullptr};
+  }
+
+ private:
+  const BodyProblem& problem_;
+  const MncpLayout& layout_;
+};
+
+}  // namespace
 
 void EvaluateMncp(const BodyProblem& problem, const MncpLayout& layout, const Eigen::VectorXd& z,
-                  Eigen::VectorXd* F_out, Eigen::MatrixXd* J_out, bool jacobian_is_zero) {
-  F_out->setZero(layout.size);
-  if (J_out && jacobian_is_zero) {
-    ECPSIM_DEMAND(J_out->rows() == layout.size && J_out->cols() == layout.size);
-  } else if (J_out) {
-    J_out->setZero(layout.size, layout.size);
-  }
-  const StepMotion body = AddBodyRows(problem, 0, z, *F_out, J_out);
-  for (size_t k = 0; k < problem.contacts.size(); ++k) {
-    const ContactProblem& cp = problem.contacts[k];
-    const ContactSides sides{cp.hull, &cp.window,  cp.obstacle,
-                             nullptr, cp.friction, cp.tangent_reference};
-    AddContactRows(sides, layout.contacts[k], body, nullptr, problem.h, z, *F_out, J_out);
-  }
+                  Eigen::VectorXd* F, Eigen::MatrixXd* J, bool jacobian_is_zero) {
+  DenseMncpRows rows(layout.size, z, *F, J, jacobian_is_zero);
+  AssembleMncp(OneBodyView(problem, layout), rows);
 }
 
 }  // namespace ecpsim::engine

@@ -2,10 +2,10 @@
 // The mixed nonlinear complementarity problem of one body for one time step: the residual of the
 // paper's "Summary of the discrete-time dynamic model" and its analytic Jacobian. Its parts are
 // the body's step and contact-free Newton–Euler rows (body_step.h), the contact frame
-// (contact_frame.h), one contact's rows (contact_rows.h), the unknowns' layout (mncp_layout.h)
-// and the convergence measure (mncp_measure.h); the equations, unknowns and the handling of the
-// active facet are written out in engine/README.md. Its per-body and per-contact rows
-// (AddBodyRows, AddContactRows) also build the MNCP of an island of bodies (island_mncp.h).
+// (contact_frame.h), one contact's rows (contact_rows.h), the unknowns' layout (mncp_layout.h),
+// the assembly it shares with the island MNCP (mncp_assembly.h, island_mncp.h) and the
+// convergence measure (mncp_measure.h); the equations, unknowns and the handling of the active
+// facet are written out in engine/README.md.
 
 #include <Eigen/Core>
 
@@ -27,6 +27,7 @@ namespace ecpsim::engine {
 /// Jacobian ∂F/∂z, including the dependence of the hull geometry on q⁺ = q + h G(q) ν⁺.
 /// With `jacobian_is_zero` the caller promises J is already layout.size square and zero (as
 /// SolveMcp hands it to its callback), and J is not cleared again.
+/// AssembleMncp (mncp_assembly.h) over the body and its contacts, with DenseMncpRows.
 void EvaluateMncp(const BodyProblem& problem, const MncpLayout& layout, const Eigen::VectorXd& z,
                   Eigen::VectorXd* F, Eigen::MatrixXd* J, bool jacobian_is_zero = false);
 

@@ -43,11 +43,6 @@ Carrying CarryingFaces(const MncpLayout::Contact& L, double active_fraction, con
   return carrying;
 }
 
-ContactSides SidesOf(const IslandContact& cp) {
-  return {cp.hull,     &cp.window,           cp.other_shape, &cp.other_window,
-          cp.friction, cp.tangent_reference, cp.stick_creep};
-}
-
 // the world gradient of window face `position` of contact cp at its ECP a1, the body at `end`
 Vector3d FaceNormal(const IslandContact& cp, int position, const EndPose& end, const Vector3d& a1) {
   const Vector3d y = end.R.transpose() * (a1 - end.c);

@@ -1,6 +1,7 @@
 #pragma once
 // Problems for the island MNCP tests: random one-body problems against fixed obstacles with their
-// one-body islands (the bit-identity tests), and random unknowns for any island.
+// one-body islands (the bit-identity tests), bodies made by hand, and random unknowns for a
+// contact.
 
 #include <memory>
 #include <random>
@@ -81,6 +82,47 @@ inline RandomBodyCase MakeRandomBodyCase(const geometry::ConvexShape& hull,
     for (int j = 0; j < L.l_g_count; ++j) c.z[L.l_g + j] = (1 + 0.3 * u(rng)) / L.l_g_count;
   }
   return c;
+}
+
+/// A body of 2.5 kg (inertia diag(0.03, 0.05, 0.07) kg·m² in its frame) at c, turned by Q, moving
+/// at (v, ω), with gravity's impulse, for a step of 0.01 s; no contacts.
+inline BodyProblem MakeMovingBody(const Eigen::Vector3d& c, const Eigen::Quaterniond& Q,
+                                  const Eigen::Vector3d& v, const Eigen::Vector3d& w) {
+  BodyProblem p;
+  p.h = 0.01;
+  p.mass = 2.5;
+  p.R = Q.toRotationMatrix();
+  p.inertia_world = p.R * Eigen::Vector3d(0.03, 0.05, 0.07).asDiagonal() * p.R.transpose();
+  p.c = c;
+  p.v = v;
+  p.w = w;
+  p.p_gravity = Eigen::Vector3d(0, 0, -9.8 * p.h * p.mass);
+  p.p_ext << p.p_gravity, Eigen::Vector3d::Zero();
+  return p;
+}
+
+/// Random unknowns of plausible size for contact L in z (the Jacobian identities hold at any z):
+/// a1 and a2 within 0.02 m of `near`, s within 1 cm, friction impulses up to 0.3 (p_t, p_o) and
+/// 0.03 (p_r) times `impulse` (~ m g h), p_n = (1 ± 0.5) impulse, σ = 0.2 ± 0.1, l_i in (0, 1),
+/// l_G,j summing to about 1.
+inline void RandomizeContact(const MncpLayout::Contact& L, const Eigen::Vector3d& near,
+                             double impulse, std::mt19937& rng, Eigen::VectorXd& z) {
+  std::uniform_real_distribution<double> u(-1, 1);
+  const auto vector = [&](double scale) -> Eigen::Vector3d {
+    return Eigen::Vector3d(u(rng), u(rng), u(rng)) * scale;
+  };
+  z.segment<3>(L.a1) = near + vector(0.02);
+  if (!L.on_plane()) {
+    z.segment<3>(L.a2) = near + vector(0.02);
+    z[L.s] = 0.01 * u(rng);
+  }
+  z[L.p_t] = 0.3 * impulse * u(rng);
+  z[L.p_o] = 0.3 * impulse * u(rng);
+  z[L.p_r] = 0.03 * impulse * u(rng);
+  z[L.p_n] = impulse * (1 + 0.5 * u(rng));
+  z[L.sigma] = 0.2 + 0.1 * u(rng);
+  for (int i = 0; i < L.l_count; ++i) z[L.l + i] = 0.5 + 0.5 * u(rng);
+  for (int j = 0; j < L.l_g_count; ++j) z[L.l_g + j] = (1 + 0.3 * u(rng)) / L.l_g_count;
 }
 
 /// The island of `problem`'s one body with its contacts as fixed obstacles (all of G's

@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 #include <Eigen/Geometry>
 
+#include "tests/engine/island_test_problems.h"
 #include "tests/engine/jacobian_check.h"
 
 namespace ecpsim::engine {
@@ -22,21 +23,6 @@ using Eigen::VectorXd;
 
 // dimensionless: the closed-form rows below are a handful of operations on O(1) numbers
 constexpr double kRoundOff = 16 * DBL_EPSILON;
-
-// a body of 2.5 kg at c, turned by Q, moving at (v, ω), for a step of 0.01 s
-BodyProblem MakeBody(const Vector3d& c, const Quaterniond& Q, const Vector3d& v,
-                     const Vector3d& w) {
-  BodyProblem p;
-  p.h = 0.01;
-  p.mass = 2.5;
-  p.R = Q.toRotationMatrix();
-  p.inertia_world = p.R * Vector3d(0.03, 0.05, 0.07).asDiagonal() * p.R.transpose();
-  p.c = c;
-  p.v = v;
-  p.w = w;
-  p.p_ext << 0, 0, -0.245, 0, 0, 0;
-  return p;
-}
 
 Quaterniond Turn(double angle, const Vector3d& axis) {
   return Quaterniond(Eigen::AngleAxisd(angle, axis.normalized()));
@@ -83,31 +69,16 @@ struct HandContact {
   }
 
   // random unknowns of plausible size (the Jacobian identity holds at any z): ν⁺ near ν, a1 and
-  // a2 near `near`, impulses ~ m g h, positive multipliers
+  // a2 near `near`
   void Randomize(const Vector3d& near, unsigned seed) {
     Layout();
     std::mt19937 rng(seed);
     std::uniform_real_distribution<double> u(-1, 1);
-    const auto vector = [&](double scale) -> Vector3d {
-      return Vector3d(u(rng), u(rng), u(rng)) * scale;
-    };
     for (size_t b = 0; b < bodies.size(); ++b) {
-      z.segment<3>(6 * b) = bodies[b].v + vector(0.3);
-      z.segment<3>(6 * b + 3) = bodies[b].w + vector(0.3);
+      z.segment<3>(6 * b) = bodies[b].v + Vector3d(u(rng), u(rng), u(rng)) * 0.3;
+      z.segment<3>(6 * b + 3) = bodies[b].w + Vector3d(u(rng), u(rng), u(rng)) * 0.3;
     }
-    const double impulse = 0.245;
-    z.segment<3>(L.a1) = near + vector(0.02);
-    if (!L.on_plane()) {
-      z.segment<3>(L.a2) = near + vector(0.02);
-      z[L.s] = 0.01 * u(rng);
-    }
-    z[L.p_t] = 0.3 * impulse * u(rng);
-    z[L.p_o] = 0.3 * impulse * u(rng);
-    z[L.p_r] = 0.03 * impulse * u(rng);
-    z[L.p_n] = impulse * (1 + 0.5 * u(rng));
-    z[L.sigma] = 0.2 + 0.1 * u(rng);
-    for (int i = 0; i < L.l_count; ++i) z[L.l + i] = 0.5 + 0.5 * u(rng);
-    for (int j = 0; j < L.l_g_count; ++j) z[L.l_g + j] = (1 + 0.3 * u(rng)) / L.l_g_count;
+    testing::RandomizeContact(L, near, 0.245, rng, z);
   }
 };
 
@@ -156,8 +127,8 @@ void EvaluateContact(const HandContact& hc, const VectorXd& z, VectorXd* F, Matr
 HandContact BoxOnGround() {
   HandContact hc;
   hc.name = "BoxOnGround";
-  hc.bodies = {MakeBody(Vector3d(0, 0, 0.08), Turn(0.4, Vector3d::UnitX()), Vector3d(0.3, -0.2, 0),
-                        Vector3d(0.5, 1.5, -2.0))};
+  hc.bodies = {testing::MakeMovingBody(Vector3d(0, 0, 0.08), Turn(0.4, Vector3d::UnitX()),
+                                       Vector3d(0.3, -0.2, 0), Vector3d(0.5, 1.5, -2.0))};
   hc.hull = geometry::MakeBox(Vector3d(0.2, 0.1, 0.05));
   hc.other = geometry::MakeHalfSpace(Vector3d::UnitZ(), 0);
   hc.Randomize(Vector3d(0, 0, 0), 1);
@@ -168,8 +139,8 @@ HandContact BoxOnGround() {
 HandContact BoxOnBoxFixture() {
   HandContact hc;
   hc.name = "BoxOnBoxFixture";
-  hc.bodies = {MakeBody(Vector3d(0.1, 0.2, 0.7), Turn(0.5, Vector3d(1, -1, 0)),
-                        Vector3d(0.1, 0.2, -0.3), Vector3d(1.0, -0.5, 0.3))};
+  hc.bodies = {testing::MakeMovingBody(Vector3d(0.1, 0.2, 0.7), Turn(0.5, Vector3d(1, -1, 0)),
+                                       Vector3d(0.1, 0.2, -0.3), Vector3d(1.0, -0.5, 0.3))};
   hc.hull = geometry::MakeBox(Vector3d(0.1, 0.1, 0.1));
   hc.other = geometry::MakeBox(Vector3d(0.5, 0.5, 0.5));
   hc.tangent_reference = Vector3d(1, 0.3, -0.2).normalized();
@@ -181,8 +152,8 @@ HandContact BoxOnBoxFixture() {
 HandContact CylinderOnSphere() {
   HandContact hc;
   hc.name = "CylinderOnSphere";
-  hc.bodies = {MakeBody(Vector3d(0, 0.1, 1.1), Turn(0.3, Vector3d(1, 2, 0)),
-                        Vector3d(-0.2, 0.1, 0.05), Vector3d(0.4, -1.0, 0.6))};
+  hc.bodies = {testing::MakeMovingBody(Vector3d(0, 0.1, 1.1), Turn(0.3, Vector3d(1, 2, 0)),
+                                       Vector3d(-0.2, 0.1, 0.05), Vector3d(0.4, -1.0, 0.6))};
   hc.hull = geometry::MakeCylinder(0.1, 0.3, 0);
   hc.other = geometry::MakeSphere(1.0);
   hc.Randomize(Vector3d(0, 0.1, 1.0), 3);
@@ -194,10 +165,10 @@ HandContact BoxOnMovingBox() {
   HandContact hc;
   hc.name = "BoxOnMovingBox";
   hc.kind = Other::kBody;
-  hc.bodies = {MakeBody(Vector3d(0.15, 0.05, 0.3), Turn(0.6, Vector3d(1, 1, 1)),
-                        Vector3d(-0.3, 0.2, -0.1), Vector3d(1.5, -1.0, 2.0)),
-               MakeBody(Vector3d(0.1, 0, 0.1), Turn(0.1, Vector3d(1, 2, 10)),
-                        Vector3d(0.2, -0.1, 0.05), Vector3d(0.3, -0.5, 1.0))};
+  hc.bodies = {testing::MakeMovingBody(Vector3d(0.15, 0.05, 0.3), Turn(0.6, Vector3d(1, 1, 1)),
+                                       Vector3d(-0.3, 0.2, -0.1), Vector3d(1.5, -1.0, 2.0)),
+               testing::MakeMovingBody(Vector3d(0.1, 0, 0.1), Turn(0.1, Vector3d(1, 2, 10)),
+                                       Vector3d(0.2, -0.1, 0.05), Vector3d(0.3, -0.5, 1.0))};
   hc.hull = geometry::MakeBox(Vector3d(0.15, 0.1, 0.05));
   hc.other = geometry::MakeBox(Vector3d(0.3, 0.3, 0.1));
   hc.tangent_reference = Vector3d::UnitY();
@@ -210,8 +181,8 @@ HandContact CylinderOnKinematicSphere() {
   HandContact hc;
   hc.name = "CylinderOnKinematicSphere";
   hc.kind = Other::kKinematic;
-  hc.bodies = {MakeBody(Vector3d(0.2, 0, 0.65), Turn(0.7, Vector3d(0, 1, 1)),
-                        Vector3d(0.1, 0.1, -0.2), Vector3d(-0.6, 0.8, 0.4))};
+  hc.bodies = {testing::MakeMovingBody(Vector3d(0.2, 0, 0.65), Turn(0.7, Vector3d(0, 1, 1)),
+                                       Vector3d(0.1, 0.1, -0.2), Vector3d(-0.6, 0.8, 0.4))};
   const Eigen::Matrix3d R_G = Turn(0.2, Vector3d(1, 0, 1)).toRotationMatrix();
   hc.kinematic.v = Vector3d(0.4, -0.1, 0.05);
   hc.kinematic.w = Vector3d(0.2, 0.3, -0.5);
@@ -359,8 +330,8 @@ VectorXd PartRows(const HandContact& hc, Part part) {
 // 0.3 m/s without turning, its ECP 2 mm above the ground: every row by hand
 TEST(ContactRowsTest, ABoxSlidingLevelOnTheGround) {
   HandContact hc;
-  hc.bodies = {MakeBody(Vector3d(0, 0, 0.05), Quaterniond::Identity(), Vector3d(0.3, 0, 0),
-                        Vector3d::Zero())};
+  hc.bodies = {testing::MakeMovingBody(Vector3d(0, 0, 0.05), Quaterniond::Identity(),
+                                       Vector3d(0.3, 0, 0), Vector3d::Zero())};
   hc.hull = geometry::MakeBox(Vector3d(0.2, 0.1, 0.05));
   hc.other = geometry::MakeHalfSpace(Vector3d::UnitZ(), 0);
   hc.Layout();
@@ -406,8 +377,8 @@ TEST(ContactRowsTest, ABoxSlidingLevelOnTheGround) {
 TEST(ContactRowsTest, ABoxAtRestAboveAMovingTurningPlatform) {
   HandContact hc;
   hc.kind = Other::kKinematic;
-  hc.bodies = {MakeBody(Vector3d(0.1, 0, 0.051), Quaterniond::Identity(), Vector3d::Zero(),
-                        Vector3d::Zero())};
+  hc.bodies = {testing::MakeMovingBody(Vector3d(0.1, 0, 0.051), Quaterniond::Identity(),
+                                       Vector3d::Zero(), Vector3d::Zero())};
   hc.hull = geometry::MakeBox(Vector3d(0.2, 0.1, 0.05));
   hc.other = geometry::MakeBox(Vector3d(0.5, 0.5, 0.1));
   hc.kinematic.v = Vector3d(0.5, 0, 0);
