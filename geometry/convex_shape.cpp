@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 #include <Eigen/Geometry>
+#include <boost/container/small_vector.hpp>
 
 #include "common/errors.h"
 
@@ -384,8 +385,9 @@ std::vector<int> PolyhedralShape::ConstraintsNearSupport(const Eigen::Vector3d& 
   ECPSIM_DEMAND(rings >= 0);
   if (hull_.vertices.empty()) return {0};
   // breadth-first over `rings` vertex rings around the support vertex: each ring is the run of
-  // `visited` found from the ring before it
-  std::vector<int> visited{SupportVertex(direction)};
+  // `visited` found from the ring before it (on the stack for the usual one or two rings: the
+  // contact step asks this every step)
+  boost::container::small_vector<int, 64> visited{SupportVertex(direction)};
   size_t ring_begin = 0;
   for (int r = 0; r < rings; ++r) {
     const size_t ring_end = visited.size();

@@ -281,18 +281,7 @@ struct IslandCase {
     for (size_t k = 0; k < layout.contacts.size(); ++k) {
       const MncpLayout::Contact& L = layout.contacts[k];
       const double impulse = scene.bodies[problem.contacts[k].body].mass * kG * problem.h;
-      z.segment<3>(L.a1) = near[k] + vector(0.02);
-      if (!L.on_plane()) {
-        z.segment<3>(L.a2) = near[k] + vector(0.02);
-        z[L.s] = 0.01 * u(rng);
-      }
-      z[L.p_t] = 0.3 * impulse * u(rng);
-      z[L.p_o] = 0.3 * impulse * u(rng);
-      z[L.p_r] = 0.03 * impulse * u(rng);
-      z[L.p_n] = impulse * (1 + 0.5 * u(rng));
-      z[L.sigma] = 0.2 + 0.1 * u(rng);
-      for (int i = 0; i < L.l_count; ++i) z[L.l + i] = 0.5 + 0.5 * u(rng);
-      for (int j = 0; j < L.l_g_count; ++j) z[L.l_g + j] = (1 + 0.3 * u(rng)) / L.l_g_count;
+      testing::RandomizeContact(L, near[k], impulse, rng, z);
     }
   }
 
