@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iterator>
+#include <utility>
 
 #include "engine/islands.h"
 
@@ -142,8 +143,10 @@ StepReport StepIslands(const Scene& scene, State& state, const ContactModelStepp
     const Island& island = islands[i];
     for (size_t j = 0; j < island.bodies.size(); ++j)
       state.bodies[island.bodies[j]] = solved[i].bodies[j];
+    // swapped, not copied: the island's copy is written over by the next step's Gather, which
+    // then reuses the buffers of the state's old warm start
     for (size_t j = 0; j < island.contacts.size(); ++j) {
-      state.contacts[island.contacts[j]] = solved[i].contacts[j];
+      std::swap(state.contacts[island.contacts[j]], solved[i].contacts[j]);
       in_island[island.contacts[j]] = true;
     }
   }
