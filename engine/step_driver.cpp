@@ -143,10 +143,10 @@ StepReport StepIslands(const Scene& scene, State& state, const ContactModelStepp
     const Island& island = islands[i];
     for (size_t j = 0; j < island.bodies.size(); ++j)
       state.bodies[island.bodies[j]] = solved[i].bodies[j];
-    // swapped, not copied: the island's copy is written over by the next step's Gather, which
-    // then reuses the buffers of the state's old warm start
+    // copied over the state's contacts, warm starts into their own storage (swapping would move
+    // each warm start three times: it lives inside its contact)
     for (size_t j = 0; j < island.contacts.size(); ++j) {
-      std::swap(state.contacts[island.contacts[j]], solved[i].contacts[j]);
+      state.contacts[island.contacts[j]] = solved[i].contacts[j];
       in_island[island.contacts[j]] = true;
     }
   }

@@ -3,52 +3,80 @@
 // last, of a type that model defines (models/hull_warm_start.h, models/multipatch_warm_start.h).
 // The state carries it without knowing what it holds.
 
-#include <memory>
+#include <cstddef>
+#include <new>
 #include <typeinfo>
 #include <utility>
 
 namespace ecpsim::engine {
 
 /// Empty (no warm start: a model switch, a contact apart, the planar and point models, which
-/// start from the contact's own fields) or one model's value. Copying a warm start over one of
+/// start from the contact's own fields) or one model's value. The value lives inside the warm
+/// start, not on the heap: contacts come and go every step in a scattered scene, and a heap box
+/// per arrival costs more than the solve of a resting contact. Copying a warm start over one of
 /// the same type copies into its storage (a contact copied over the last step's copy reuses its
 /// buffers).
 class WarmStart {
  public:
+  /// Bytes a model's warm-start type may take (the hull model's is the largest, ~390).
+  static constexpr std::size_t kCapacity = 448;
+
   WarmStart() = default;
-  WarmStart(const WarmStart& other) : held_(other.held_ ? other.held_->Clone() : nullptr) {}
-  WarmStart(WarmStart&&) noexcept = default;
+  WarmStart(const WarmStart& other) : ops_(other.ops_) {
+    if (ops_ != nullptr) ops_->copy_construct(other.storage_, storage_);
+  }
+  WarmStart(WarmStart&& other) noexcept : ops_(other.ops_) {
+    if (ops_ != nullptr) ops_->move_construct(other.storage_, storage_);
+  }
   WarmStart& operator=(const WarmStart& other) {
-    if (!other.held_) {
-      held_.reset();
-    } else if (held_ && held_->Type() == other.held_->Type()) {
-      held_->AssignFrom(*other.held_);
+    if (this == &other) return *this;
+    if (ops_ != nullptr && ops_ == other.ops_) {
+      ops_->copy_assign(other.storage_, storage_);
     } else {
-      held_ = other.held_->Clone();
+      Reset();
+      if (other.ops_ != nullptr) other.ops_->copy_construct(other.storage_, storage_);
+      ops_ = other.ops_;
     }
     return *this;
   }
-  WarmStart& operator=(WarmStart&&) noexcept = default;
+  WarmStart& operator=(WarmStart&& other) noexcept {
+    if (this == &other) return *this;
+    if (ops_ != nullptr && ops_ == other.ops_) {
+      ops_->move_assign(other.storage_, storage_);
+    } else {
+      Reset();
+      if (other.ops_ != nullptr) other.ops_->move_construct(other.storage_, storage_);
+      ops_ = other.ops_;
+    }
+    return *this;
+  }
+  ~WarmStart() { Reset(); }
 
-  bool empty() const { return !held_; }
-  void Reset() { held_.reset(); }
+  bool empty() const { return ops_ == nullptr; }
+  void Reset() {
+    if (ops_ != nullptr) ops_->destroy(storage_);
+    ops_ = nullptr;
+  }
 
   /// The value if it is a T, else null.
   template <typename T>
   const T* Get() const {
-    return held_ && held_->Type() == typeid(T) ? &static_cast<const Held<T>&>(*held_).value
-                                               : nullptr;
+    return Holds<T>() ? std::launder(reinterpret_cast<const T*>(storage_)) : nullptr;
   }
   template <typename T>
   T* Get() {
-    return held_ && held_->Type() == typeid(T) ? &static_cast<Held<T>&>(*held_).value : nullptr;
+    return Holds<T>() ? std::launder(reinterpret_cast<T*>(storage_)) : nullptr;
   }
   /// The value as a T: the one held if it is a T (its storage kept), else a new T.
   template <typename T>
   T& Emplace() {
+    static_assert(sizeof(T) <= kCapacity && alignof(T) <= alignof(std::max_align_t),
+                  "a warm-start type must fit WarmStart::kCapacity");
     if (T* value = Get<T>()) return *value;
-    held_ = std::make_unique<Held<T>>();
-    return static_cast<Held<T>&>(*held_).value;
+    Reset();
+    T* value = ::new (static_cast<void*>(storage_)) T();
+    ops_ = &kOps<T>;
+    return *value;
   }
   /// Holds `value` (moved in).
   template <typename T>
@@ -57,20 +85,33 @@ class WarmStart {
   }
 
  private:
-  struct Holder {
-    virtual ~Holder() = default;
-    virtual const std::type_info& Type() const = 0;
-    virtual std::unique_ptr<Holder> Clone() const = 0;
-    virtual void AssignFrom(const Holder& other) = 0;  // other of the same Type()
+  // what the held type's special members are, without knowing the type here
+  struct Ops {
+    const std::type_info& type;
+    void (*destroy)(void* value);
+    void (*copy_construct)(const void* from, void* to);
+    void (*move_construct)(void* from, void* to);
+    void (*copy_assign)(const void* from, void* to);
+    void (*move_assign)(void* from, void* to);
   };
   template <typename T>
-  struct Held final : Holder {
-    T value;
-    const std::type_info& Type() const override { return typeid(T); }
-    std::unique_ptr<Holder> Clone() const override { return std::make_unique<Held>(*this); }
-    void AssignFrom(const Holder& other) override { value = static_cast<const Held&>(other).value; }
+  static constexpr Ops kOps = {
+      typeid(T),
+      [](void* value) { static_cast<T*>(value)->~T(); },
+      [](const void* from, void* to) { ::new (to) T(*static_cast<const T*>(from)); },
+      [](void* from, void* to) { ::new (to) T(std::move(*static_cast<T*>(from))); },
+      [](const void* from, void* to) { *static_cast<T*>(to) = *static_cast<const T*>(from); },
+      [](void* from, void* to) { *static_cast<T*>(to) = std::move(*static_cast<T*>(from)); },
   };
-  std::unique_ptr<Holder> held_;
+
+  // the same Ops object, or (across shared libraries) the same type
+  template <typename T>
+  bool Holds() const {
+    return ops_ != nullptr && (ops_ == &kOps<T> || ops_->type == typeid(T));
+  }
+
+  alignas(std::max_align_t) unsigned char storage_[kCapacity];
+  const Ops* ops_ = nullptr;
 };
 
 }  // namespace ecpsim::engine
