@@ -1,0 +1,155 @@
+#include "engine/solver/solution_set.h"
+
+#include <algorithm>
+#include <limits>
+#include <vector>
+
+#include <Eigen/QR>
+#include <Eigen/SVD>
+
+namespace ecpsim::engine {
+
+using Eigen::MatrixXd;
+using Eigen::VectorXd;
+
+namespace {
+
+// E's round-off relative to E: a sum of squares' few ulps
+constexpr double kEnergyRoundOff = 64 * std::numeric_limits<double>::epsilon();
+// the secant's step is tried where it differs from the step taken by more than this fraction
+constexpr double kSecantChange = 0.1;
+
+// what a solution's unknown i keeps as it moves along the set
+enum class Hold {
+  kRow,      // F̃_i = 0: a free row, or an active pair
+  kUnknown,  // x_i = 0: an inactive pair
+  kBoth,     // both: a degenerate pair
+};
+
+Hold HoldOf(int i, double x, double f, int num_free, double tolerance) {
+  if (i < num_free || x > tolerance) return Hold::kRow;
+  return f > tolerance ? Hold::kUnknown : Hold::kBoth;
+}
+
+double Measure(const McpFunction& f, int num_free, const VectorXd& row_scale,
+               const VectorXd& var_scale, const McpOptions& options, const VectorXd& z,
+               VectorXd& F, MatrixXd& J) {
+  J.setZero(z.size(), z.size());
+  f(z, &F, &J);
+  return options.measure ? options.measure(z, F)
+                         : McpResidual(z, F, num_free, row_scale, var_scale);
+}
+
+double Energy(const EnergyResiduals& energy, const VectorXd& z, VectorXd& r, MatrixXd* R) {
+  energy(z, &r, R);
+  return 0.5 * r.squaredNorm();
+}
+
+}  // namespace
+
+MatrixXd SolutionSetDirections(const MatrixXd& J, const VectorXd& z, const VectorXd& F,
+                               int num_free, const VectorXd& row_scale, const VectorXd& var_scale,
+                               double tolerance) {
+  const int n = static_cast<int>(z.size());
+  std::vector<Hold> holds(n);
+  int rows = n;
+  for (int i = 0; i < n; ++i) {
+    holds[i] = HoldOf(i, z[i] / var_scale[i], row_scale[i] * F[i], num_free, tolerance);
+    if (holds[i] == Hold::kBoth) ++rows;
+  }
+  MatrixXd A = MatrixXd::Zero(rows, n);
+  for (int i = 0, extra = n; i < n; ++i) {
+    if (holds[i] != Hold::kUnknown)
+      A.row(i) = row_scale[i] * J.row(i).cwiseProduct(var_scale.transpose());
+    if (holds[i] == Hold::kUnknown) A(i, i) = 1;
+    if (holds[i] == Hold::kBoth) A(extra++, i) = 1;
+  }
+  const Eigen::BDCSVD<MatrixXd> svd(A, Eigen::ComputeFullV);
+  const VectorXd& sigma = svd.singularValues();
+  const double cut = kMinimumNormRankTolerance * (sigma.size() > 0 ? sigma[0] : 0.0);
+  int rank = 0;
+  while (rank < sigma.size() && sigma[rank] > cut) ++rank;
+  return svd.matrixV().rightCols(n - rank);
+}
+
+SelectionResult SelectLeastEnergySolution(const McpFunction& f, int num_free,
+                                          const VectorXd& row_scale, const VectorXd& var_scale,
+                                          const EnergyResiduals& energy, VectorXd& z,
+                                          const McpOptions& options, McpWorkspace& workspace) {
+  SelectionResult result;
+  const int n = static_cast<int>(z.size());
+  VectorXd F(n), r;
+  MatrixXd J, R;
+  if (!(Measure(f, num_free, row_scale, var_scale, options, z, F, J) <= options.tolerance))
+    return result;
+  result.converged = true;
+  MatrixXd N = SolutionSetDirections(J, z, F, num_free, row_scale, var_scale, options.tolerance);
+  result.directions = static_cast<int>(N.cols());
+  result.start_energy = result.energy = Energy(energy, z, r, &R);
+
+  McpOptions land = options;
+  land.minimum_norm_steps = true;
+  // the solution at z + alpha dx (scaled), back on the set, with its energy and E's slope along
+  // the set there in the direction of dx
+  const auto step_to = [&](const VectorXd& dx, double alpha, VectorXd& trial, double& e,
+                           double& slope) {
+    trial = z + alpha * var_scale.cwiseProduct(dx);
+    for (int i = num_free; i < n; ++i) trial[i] = std::max(trial[i], 0.0);
+    if (!SolveMcp(f, num_free, row_scale, var_scale, trial, land, workspace).converged)
+      return false;
+    VectorXd trial_r, trial_F(n);
+    MatrixXd trial_R, trial_J;
+    e = Energy(energy, trial, trial_r, &trial_R);
+    Measure(f, num_free, row_scale, var_scale, options, trial, trial_F, trial_J);
+    const MatrixXd along = SolutionSetDirections(trial_J, trial, trial_F, num_free, row_scale,
+                                                 var_scale, options.tolerance);
+    slope = (trial_R * var_scale.asDiagonal() * along).transpose().lazyProduct(trial_r).dot(
+        along.transpose() * dx);
+    return true;
+  };
+  while (N.cols() > 0 && result.steps < kMaxSelectionSteps) {
+    const MatrixXd R_x = R * var_scale.asDiagonal();
+    const VectorXd dx = N * (R_x * N).completeOrthogonalDecomposition().solve(-r);
+    if (!(dx.lpNorm<Eigen::Infinity>() > options.tolerance)) break;
+    // as far as the nearest active pair's boundary x_i = 0
+    double alpha = 1;
+    for (int i = num_free; i < n; ++i) {
+      const double x = z[i] / var_scale[i];
+      if (x > options.tolerance && dx[i] < 0) alpha = std::min(alpha, x / -dx[i]);
+    }
+    // a step that raises E by more than its round-off is halved (near the least point E is
+    // flat to round-off, and the steps are taken on the step's own size)
+    const double allowed = result.energy * (1 + kEnergyRoundOff);
+    VectorXd trial;
+    double trial_energy = 0, trial_slope = 0;
+    bool landed = false;
+    for (int k = 0; k <= kSelectionHalvings && !landed; ++k) {
+      landed = step_to(dx, alpha, trial, trial_energy, trial_slope) && trial_energy <= allowed;
+      if (!landed) alpha *= 0.5;
+    }
+    if (!landed) break;
+    // a curved set: Gauss–Newton does not see its curvature, the secant of E's slope along the
+    // step does (slopes, unlike E, keep their precision near the least point)
+    const double slope = R_x.transpose().lazyProduct(r).dot(dx);
+    if (slope < trial_slope) {
+      const double secant = alpha * slope / (slope - trial_slope);
+      VectorXd other;
+      double other_energy = 0, other_slope = 0;
+      if (std::abs(secant - alpha) > kSecantChange * alpha &&
+          step_to(dx, secant, other, other_energy, other_slope) && other_energy <= allowed &&
+          std::abs(other_slope) < std::abs(trial_slope)) {
+        trial.swap(other);
+        trial_energy = other_energy;
+      }
+    }
+    z = trial;
+    result.energy = trial_energy;
+    ++result.steps;
+    Measure(f, num_free, row_scale, var_scale, options, z, F, J);
+    Energy(energy, z, r, &R);
+    N = SolutionSetDirections(J, z, F, num_free, row_scale, var_scale, options.tolerance);
+  }
+  return result;
+}
+
+}  // namespace ecpsim::engine

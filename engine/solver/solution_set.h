@@ -1,0 +1,66 @@
+#pragma once
+// Where a mixed complementarity problem's solutions form a set, not a point: the set's
+// directions at a solution, and the point of the set where an energy is least — the second
+// stage of the selection rule for statically indeterminate contact (engine/README.md, "Steps
+// whose solutions form a set").
+
+#include <functional>
+
+#include <Eigen/Core>
+
+#include "engine/solver/complementarity_solver.h"
+
+namespace ecpsim::engine {
+
+/// The directions (orthonormal columns, in the scaled unknowns x = z / var_scale) along which the
+/// solutions of the MCP (num_free, F; SolveMcp's convention) continue from a solution z, to first
+/// order. In the scaled problem F̃ = row_scale ⊙ F, with `tolerance` the solve's measure, each
+/// unknown is held as its row says: a free row keeps F̃_i = 0; a complementarity pair with
+/// x_i > tolerance is active and keeps F̃_i = 0, one with F̃_i > tolerance inactive and keeps
+/// x_i = 0, and a degenerate one (both ≤ tolerance) keeps both. The directions are the null space
+/// of those rows' matrix (J's rows scaled, and unit rows), its rank set by singular values above
+/// kMinimumNormRankTolerance of the largest, as SolveMcp's minimum-norm steps set it. Empty where
+/// z is an isolated solution.
+Eigen::MatrixXd SolutionSetDirections(const Eigen::MatrixXd& J, const Eigen::VectorXd& z,
+                                      const Eigen::VectorXd& F, int num_free,
+                                      const Eigen::VectorXd& row_scale,
+                                      const Eigen::VectorXd& var_scale, double tolerance);
+
+/// E(z) = ½ ‖r(z)‖², the energy the selection minimizes over the solutions: the callback returns
+/// the residuals r(z) and, when R is not null, their Jacobian ∂r/∂z (unscaled z; any number of
+/// residuals).
+using EnergyResiduals =
+    std::function<void(const Eigen::VectorXd& z, Eigen::VectorXd* r, Eigen::MatrixXd* R)>;
+
+struct SelectionResult {
+  bool converged = false;  // z is a solution (the measure ≤ options.tolerance), moved or not
+  int directions = 0;      // the set's dimension at the given solution; 0: isolated, z untouched
+  int steps = 0;           // steps taken along the set
+  double start_energy = 0;  // E at the given solution ...
+  double energy = 0;        // ... and at the returned one
+};
+
+/// Moves a solution z of the MCP along its set of solutions to the point where E is least.
+/// Each step is the Gauss–Newton step of E restricted to the set's directions at z (the least-
+/// squares solution of (R N) d = −r), cut to keep every active pair's x_i ≥ 0, followed by
+/// minimum-norm Newton steps back onto the set (SolveMcp with `options` and
+/// minimum_norm_steps: the nearest solution, nothing moved along the set); it is taken where it
+/// lands on a solution whose E is not higher (to round-off), else halved (up to
+/// kSelectionHalvings times), and changed to the secant root of E's slope along it where that
+/// lands closer to E's least point (a curved set). The steps end
+/// when the Gauss–Newton step is below `options.tolerance` in the scaled unknowns, or after
+/// kMaxSelectionSteps. Where z is isolated — or is no solution — z is left exactly as it is. A
+/// strictly convex E on a convex set gives one point whatever solution of the set z was.
+SelectionResult SelectLeastEnergySolution(const McpFunction& f, int num_free,
+                                          const Eigen::VectorXd& row_scale,
+                                          const Eigen::VectorXd& var_scale,
+                                          const EnergyResiduals& energy, Eigen::VectorXd& z,
+                                          const McpOptions& options, McpWorkspace& workspace);
+
+/// The bound on the steps along the set: Gauss–Newton on a quadratic E over a flat set ends in
+/// one, a curved set (the ECP on a cylinder's rim) in a few more.
+inline constexpr int kMaxSelectionSteps = 20;
+/// The halvings of a step that did not lower E (a curved set's Gauss–Newton step overshoots).
+inline constexpr int kSelectionHalvings = 8;
+
+}  // namespace ecpsim::engine
