@@ -22,6 +22,16 @@ const char* ContactModelName(ContactModel model) {
   return "unknown";
 }
 
+const char* SelectionName(Selection selection) {
+  switch (selection) {
+    case Selection::kCreep:
+      return "creep";
+    case Selection::kLeastEnergy:
+      return "least_energy";
+  }
+  return "unknown";
+}
+
 Friction PairFriction(const Friction& a, const Friction& b) {
   Friction f;
   f.mu = std::sqrt(a.mu * b.mu);

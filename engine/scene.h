@@ -107,11 +107,23 @@ struct ContactPair {
 /// frictionless body is frictionless and two equal bodies keep their values.
 Friction PairFriction(const Friction& a, const Friction& b);
 
+/// Which of a step's solutions the hull model takes where they form a set: contacts that share
+/// a load or a moment statically indeterminately (engine/README.md, "Steps whose solutions form
+/// a set").
+enum class Selection {
+  kCreep,        // the sticking creep's (IslandContact::stick_creep): its viscous law decides
+  kLeastEnergy,  // the exact MNCP's solution of least elastic energy of compliant patches
+};
+
+/// "creep", "least_energy" (`solver.selection` in the scene file).
+const char* SelectionName(Selection selection);
+
 struct SolverSettings {
   double tolerance = 1e-12;  // on the unscaled residual (see engine/README.md)
   int max_iterations = 60;
   int window_rings = 1;    // vertex rings of hull faces around the support vertex
   bool use_window = true;  // false: every hull face enters the MNCP
+  Selection selection = Selection::kCreep;
 };
 
 /// Built by the routes of engine/scene_io/ (a file, `ecpsim drop`, code), each of which checks it

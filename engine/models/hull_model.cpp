@@ -16,6 +16,7 @@
 #include "engine/models/hull_attempt.h"
 #include "engine/models/hull_guesses.h"
 #include "engine/models/hull_problem.h"
+#include "engine/models/hull_selection.h"
 #include "engine/models/hull_stall_recovery.h"
 #include "engine/models/hull_tuning.h"
 #include "engine/solver/complementarity_solver.h"
@@ -49,10 +50,11 @@ constexpr int kPassCount = static_cast<int>(std::size(kPasses));
 // is committed into `state`.
 class LadderRun {
  public:
-  LadderRun(const Scene& scene, IslandProblem& problem, IslandLayout layout,
+  LadderRun(const Scene& scene, const Island& island, IslandProblem& problem, IslandLayout layout,
             const IslandScales& scales, double ejection_energy, bool moving,
             StepWorkspace& workspace, IslandState& state, AdvanceResult& result)
       : scene_(scene),
+        island_(island),
         problem_(problem),
         layout_(std::move(layout)),
         scales_(scales),
@@ -121,6 +123,12 @@ class LadderRun {
         Note(guess, pass, attempt.Describe());
         return false;
       }
+      // contacts that couple bodies may share loads indeterminately: the exact problem's root
+      // of least patch energy ("Steps whose solutions form a set")
+      if (scene_.solver.selection == Selection::kLeastEnergy && Coupled(problem_)) {
+        SelectLeastEnergyRoot(scene_, island_, problem_, layout_, scales_, ejection_energy_,
+                              options_.tolerance, workspace_, z);
+      }
       // a converged windowed root must also solve the full-hull problem: else the window grows
       // around the constraints it violates, and the step is solved again
       if (GrowViolatedWindows(problem_, layout_, z, scales_)) {
@@ -144,6 +152,7 @@ class LadderRun {
   }
 
   const Scene& scene_;
+  const Island& island_;
   IslandProblem& problem_;
   IslandLayout layout_;  // rebuilt only where a window grows
   const IslandScales& scales_;
@@ -197,8 +206,8 @@ AdvanceResult AdvanceIsland(const Scene& scene, const Island& island, double t, 
   // in contact (or about to be): the warm start, then the guesses that fit the bodies' motion
   const bool moving = AnyBodyMoving(state, scales);
   const GuessLadder ladder = HullLadder(problem, state, scales, moving);
-  LadderRun run(scene, problem, std::move(layout), scales, ejection_energy, moving, workspace,
-                state, result);
+  LadderRun run(scene, island, problem, std::move(layout), scales, ejection_energy, moving,
+                workspace, state, result);
   const bool last_resort = effort == Effort::kLastResort;
   const int first_pass = last_resort ? kLastResortPass : 0;
   const int end_pass = last_resort ? kPassCount : kLastResortPass;

@@ -17,7 +17,8 @@ using yaml::Index;
 using yaml::MapNode;
 
 SolverSettings ReadSolver(const Context& ctx, const YAML::Node& node, const std::string& key) {
-  const MapNode map(ctx, node, key, {"tolerance", "max_iterations", "window_rings", "use_window"});
+  const MapNode map(ctx, node, key,
+                    {"tolerance", "max_iterations", "window_rings", "use_window", "selection"});
   SolverSettings solver;
   if (map.Has("tolerance")) {
     solver.tolerance = yaml::ReadNumber(ctx, map.Get("tolerance"), map.Key("tolerance"),
@@ -33,6 +34,19 @@ SolverSettings ReadSolver(const Context& ctx, const YAML::Node& node, const std:
   }
   if (map.Has("use_window")) {
     solver.use_window = yaml::ReadBool(ctx, map.Get("use_window"), map.Key("use_window"));
+  }
+  if (map.Has("selection")) {
+    const YAML::Node value = map.Get("selection");
+    const auto named = [&](Selection s) {
+      return value.IsScalar() && value.Scalar() == SelectionName(s);
+    };
+    if (named(Selection::kCreep)) {
+      solver.selection = Selection::kCreep;
+    } else if (named(Selection::kLeastEnergy)) {
+      solver.selection = Selection::kLeastEnergy;
+    } else {
+      Fail(ctx, value, map.Key("selection"), "one of creep, least_energy");
+    }
   }
   return solver;
 }

@@ -4,8 +4,8 @@
 #include <limits>
 #include <vector>
 
+#include <Eigen/LU>
 #include <Eigen/QR>
-#include <Eigen/SVD>
 
 namespace ecpsim::engine {
 
@@ -32,8 +32,8 @@ Hold HoldOf(int i, double x, double f, int num_free, double tolerance) {
 }
 
 double Measure(const McpFunction& f, int num_free, const VectorXd& row_scale,
-               const VectorXd& var_scale, const McpOptions& options, const VectorXd& z,
-               VectorXd& F, MatrixXd& J) {
+               const VectorXd& var_scale, const McpOptions& options, const VectorXd& z, VectorXd& F,
+               MatrixXd& J) {
   J.setZero(z.size(), z.size());
   f(z, &F, &J);
   return options.measure ? options.measure(z, F)
@@ -64,12 +64,13 @@ MatrixXd SolutionSetDirections(const MatrixXd& J, const VectorXd& z, const Vecto
     if (holds[i] == Hold::kUnknown) A(i, i) = 1;
     if (holds[i] == Hold::kBoth) A(extra++, i) = 1;
   }
-  const Eigen::BDCSVD<MatrixXd> svd(A, Eigen::ComputeFullV);
-  const VectorXd& sigma = svd.singularValues();
-  const double cut = kMinimumNormRankTolerance * (sigma.size() > 0 ? sigma[0] : 0.0);
-  int rank = 0;
-  while (rank < sigma.size() && sigma[rank] > cut) ++rank;
-  return svd.matrixV().rightCols(n - rank);
+  // the kernel by a fully pivoted LU (a few times cheaper than an SVD), made orthonormal
+  Eigen::FullPivLU<MatrixXd> lu(A);
+  lu.setThreshold(kMinimumNormRankTolerance);
+  if (lu.rank() == n) return MatrixXd(n, 0);
+  const MatrixXd kernel = lu.kernel();
+  return Eigen::HouseholderQR<MatrixXd>(kernel).householderQ() *
+         MatrixXd::Identity(n, kernel.cols());
 }
 
 SelectionResult SelectLeastEnergySolution(const McpFunction& f, int num_free,
@@ -103,8 +104,10 @@ SelectionResult SelectLeastEnergySolution(const McpFunction& f, int num_free,
     Measure(f, num_free, row_scale, var_scale, options, trial, trial_F, trial_J);
     const MatrixXd along = SolutionSetDirections(trial_J, trial, trial_F, num_free, row_scale,
                                                  var_scale, options.tolerance);
-    slope = (trial_R * var_scale.asDiagonal() * along).transpose().lazyProduct(trial_r).dot(
-        along.transpose() * dx);
+    slope = (trial_R * var_scale.asDiagonal() * along)
+                .transpose()
+                .lazyProduct(trial_r)
+                .dot(along.transpose() * dx);
     return true;
   };
   while (N.cols() > 0 && result.steps < kMaxSelectionSteps) {

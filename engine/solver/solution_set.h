@@ -18,9 +18,9 @@ namespace ecpsim::engine {
 /// unknown is held as its row says: a free row keeps F̃_i = 0; a complementarity pair with
 /// x_i > tolerance is active and keeps F̃_i = 0, one with F̃_i > tolerance inactive and keeps
 /// x_i = 0, and a degenerate one (both ≤ tolerance) keeps both. The directions are the null space
-/// of those rows' matrix (J's rows scaled, and unit rows), its rank set by singular values above
-/// kMinimumNormRankTolerance of the largest, as SolveMcp's minimum-norm steps set it. Empty where
-/// z is an isolated solution.
+/// of those rows' matrix (J's rows scaled, and unit rows), its rank set by a fully pivoted LU's
+/// pivots above kMinimumNormRankTolerance of the largest, as SolveMcp's minimum-norm steps set it
+/// by their decomposition's. Empty where z is an isolated solution.
 Eigen::MatrixXd SolutionSetDirections(const Eigen::MatrixXd& J, const Eigen::VectorXd& z,
                                       const Eigen::VectorXd& F, int num_free,
                                       const Eigen::VectorXd& row_scale,
@@ -33,9 +33,9 @@ using EnergyResiduals =
     std::function<void(const Eigen::VectorXd& z, Eigen::VectorXd* r, Eigen::MatrixXd* R)>;
 
 struct SelectionResult {
-  bool converged = false;  // z is a solution (the measure ≤ options.tolerance), moved or not
-  int directions = 0;      // the set's dimension at the given solution; 0: isolated, z untouched
-  int steps = 0;           // steps taken along the set
+  bool converged = false;   // z is a solution (the measure ≤ options.tolerance), moved or not
+  int directions = 0;       // the set's dimension at the given solution; 0: isolated, z untouched
+  int steps = 0;            // steps taken along the set
   double start_energy = 0;  // E at the given solution ...
   double energy = 0;        // ... and at the returned one
 };

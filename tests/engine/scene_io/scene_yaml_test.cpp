@@ -128,7 +128,8 @@ impulses:
     time: 0.75
     linear: [0, 1, 0]
     angular: [0, 0, 0.5]
-solver: {tolerance: 1e-9, max_iterations: 40, window_rings: 2, use_window: false}
+solver: {tolerance: 1e-9, max_iterations: 40, window_rings: 2, use_window: false,
+         selection: least_energy}
 output: {every: 5}
 )yaml";
 
@@ -259,6 +260,7 @@ TEST_F(SceneYamlTest, CompleteSceneParsesToTheExpectedNumbers) {
   EXPECT_EQ(scene.solver.max_iterations, 40);
   EXPECT_EQ(scene.solver.window_rings, 2);
   EXPECT_FALSE(scene.solver.use_window);
+  EXPECT_EQ(scene.solver.selection, Selection::kLeastEnergy);
   EXPECT_EQ(loaded.output.every, 5);
 }
 
@@ -280,6 +282,7 @@ bodies:
   EXPECT_EQ(scene.bodies[0].v0, Eigen::Vector3d::Zero());
   EXPECT_EQ(scene.solver.tolerance, SolverSettings{}.tolerance);
   EXPECT_EQ(scene.solver.max_iterations, SolverSettings{}.max_iterations);
+  EXPECT_EQ(scene.solver.selection, Selection::kCreep);
   EXPECT_EQ(loaded.output.every, 1);
   EXPECT_TRUE(loaded.warnings.empty());
 }
@@ -658,6 +661,8 @@ const BadScene kBadScenes[] = {
      ECPSIM_JAWS("") "grippers:\n  - {jaws: [a, a], axis: [1, 0, 0], force: 1, " ECPSIM_FRAME "}\n",
      "grippers[0].jaws[1] = a: expected a body that is no other jaw (it is one of this "
      "gripper's already)"},
+    {"UnknownSelection", "duration: 1\n" ECPSIM_BODY "    mass: 1\nsolver: {selection: least}\n",
+     "solver.selection = least: expected one of creep, least_energy"},
     {"GripperWithAZeroAxis",
      ECPSIM_JAWS("") "grippers:\n  - {jaws: [a, b], axis: [0, 0, 0], force: 1, " ECPSIM_FRAME "}\n",
      "grippers[0].axis = [0, 0, 0]: expected a non-zero axis"},

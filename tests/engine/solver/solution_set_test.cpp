@@ -95,8 +95,8 @@ TEST(SolutionSetTest, AnInactivePairHoldsItsUnknownAndADegenerateOneBoth) {
   // rows: z0 + z1 = 1 twice as a free row and a pair (z1 ≥ 0 ⊥ 2(z0 + z1 − 1) + 1 at z1 = 0)
   const MatrixXd J = (MatrixXd(2, 2) << 1, 1, 2, 2).finished();
   // inactive: z1 = 0, F1 = 1 > 0 — z1 held, the line's direction gone
-  MatrixXd N = SolutionSetDirections(J, Vector2d(1, 0), Vector2d(0, 1), 1, kOnes2, kOnes2,
-                                     kSolveTolerance);
+  MatrixXd N =
+      SolutionSetDirections(J, Vector2d(1, 0), Vector2d(0, 1), 1, kOnes2, kOnes2, kSolveTolerance);
   EXPECT_EQ(N.cols(), 0);
   // degenerate: z1 = 0, F1 = 0 — both held, nothing left either
   N = SolutionSetDirections(J, Vector2d(1, 0), Vector2d(0, 0), 1, kOnes2, kOnes2, kSolveTolerance);
@@ -111,9 +111,8 @@ TEST(SolutionSetTest, TheLeastNormPointOfALineWhateverTheStart) {
   McpWorkspace workspace;
   for (const Vector2d& start : {Vector2d(1, 0), Vector2d(-3, 4), Vector2d(0.5, 0.5)}) {
     VectorXd z = start;
-    const SelectionResult result = SelectLeastEnergySolution(SumIsOne, 2, kOnes2, kOnes2,
-                                                             DistanceTo({0, 0}), z, Options(),
-                                                             workspace);
+    const SelectionResult result = SelectLeastEnergySolution(
+        SumIsOne, 2, kOnes2, kOnes2, DistanceTo({0, 0}), z, Options(), workspace);
     EXPECT_TRUE(result.converged);
     EXPECT_EQ(result.directions, 1);
     EXPECT_NEAR(z[0], 0.5, kSelectedError) << start.transpose();
@@ -128,9 +127,8 @@ TEST(SolutionSetTest, TheNearestPointOfACurvedSet) {
   McpWorkspace workspace;
   for (const Vector2d& start : {Vector2d(0, 1), Vector2d(-0.6, 0.8), Vector2d(0.6, -0.8)}) {
     VectorXd z = start;
-    const SelectionResult result = SelectLeastEnergySolution(OnUnitCircle, 2, kOnes2, kOnes2,
-                                                             DistanceTo({2, 1}), z, Options(),
-                                                             workspace);
+    const SelectionResult result = SelectLeastEnergySolution(
+        OnUnitCircle, 2, kOnes2, kOnes2, DistanceTo({2, 1}), z, Options(), workspace);
     EXPECT_TRUE(result.converged);
     EXPECT_NEAR(z[0], 2 / std::sqrt(5.0), kSelectedError) << start.transpose();
     EXPECT_NEAR(z[1], 1 / std::sqrt(5.0), kSelectedError) << start.transpose();
@@ -158,9 +156,8 @@ TEST(SolutionSetTest, TheLeastEnergyPointStopsAtAnActivePairsBound) {
 TEST(SolutionSetTest, AStartThatIsNoSolutionIsLeftAsItIs) {
   VectorXd z = Vector2d(0.2, 0.2);
   McpWorkspace workspace;
-  const SelectionResult result = SelectLeastEnergySolution(SumIsOne, 2, kOnes2, kOnes2,
-                                                           DistanceTo({0, 0}), z, Options(),
-                                                           workspace);
+  const SelectionResult result = SelectLeastEnergySolution(
+      SumIsOne, 2, kOnes2, kOnes2, DistanceTo({0, 0}), z, Options(), workspace);
   EXPECT_FALSE(result.converged);
   EXPECT_EQ(z, Vector2d(0.2, 0.2));
 }

@@ -1,0 +1,152 @@
+#include "engine/models/hull_selection.h"
+
+#include <cmath>
+#include <vector>
+
+#include "engine/mncp/contact_frame.h"
+#include "engine/mncp/mncp_layout.h"
+#include "engine/models/hull_tuning.h"
+#include "geometry/contact_patch.h"
+#include "geometry/patch_moments.h"
+
+namespace ecpsim::engine::hull {
+
+using Eigen::Isometry3d;
+using Eigen::MatrixXd;
+using Eigen::Vector3d;
+using Eigen::VectorXd;
+using Other = IslandContact::Other;
+
+namespace {
+
+constexpr int kEnergyRows = 6;  // per contact
+
+struct PatchFrame {
+  geometry::PatchMoments moments;
+  ContactFrame frame;
+};
+
+Isometry3d AsIsometry(const EndPose& pose) {
+  Isometry3d X = Isometry3d::Identity();
+  X.linear() = pose.R;
+  X.translation() = pose.c;
+  return X;
+}
+
+PatchFrame PatchAt(const Scene& scene, const Island& island, const IslandProblem& problem,
+                   const IslandLayout& layout, const VectorXd& z, int k) {
+  const IslandContact& cp = problem.contacts[k];
+  const MncpLayout::Contact& L = layout.contacts[k];
+  const ContactPair& pair = scene.contacts[island.contacts[k]];
+  PatchFrame out;
+  const Vector3d n = IslandContactNormal(problem, layout, z, k).normalized();
+  out.frame = MakeContactFrame(n, cp.tangent_reference);
+  const Vector3d a2 =
+      L.on_plane() ? ContactGapAt(L, cp.other_shape, z).a2 : Vector3d(z.segment<3>(L.a2));
+  const int col = IslandLayout::Velocity(cp.body);
+  const EndPose end =
+      PoseAfterStep(problem.bodies[cp.body], z.segment<3>(col), z.segment<3>(col + 3));
+  const geometry::Plane plane{n, n.dot(a2)};
+  const geometry::TriangleMesh& mesh = scene.bodies[pair.body].mesh;
+  geometry::ContactPatch patch = geometry::ExtractContactPatch(mesh, AsIsometry(end), plane);
+  if (cp.other_kind != Other::kFixed) {
+    const geometry::TriangleMesh& other = scene.bodies[pair.other_body].mesh;
+    const geometry::Plane flipped{-n, -n.dot(a2)};
+    const geometry::ContactPatch other_patch =
+        geometry::ExtractContactPatch(other, AsIsometry(OtherEndPose(problem, z, k)), flipped);
+    patch = geometry::IntersectContactPatches(patch, other_patch, plane,
+                                              geometry::ContactPatchTolerance(mesh));
+  }
+  out.moments = geometry::MomentsOf(patch, plane);
+  return out;
+}
+
+}  // namespace
+
+EnergyResiduals PatchEnergy(const Scene& scene, const Island& island, const IslandProblem& problem,
+                            const IslandLayout& layout, const VectorXd& z) {
+  std::vector<PatchFrame> patches;
+  for (size_t k = 0; k < problem.contacts.size(); ++k)
+    patches.push_back(PatchAt(scene, island, problem, layout, z, static_cast<int>(k)));
+  return [patches, contacts = layout.contacts](const VectorXd& zz, VectorXd* r, MatrixXd* R) {
+    const int m = kEnergyRows * static_cast<int>(contacts.size());
+    r->setZero(m);
+    if (R != nullptr) R->setZero(m, zz.size());
+    for (size_t k = 0; k < contacts.size(); ++k) {
+      const MncpLayout::Contact& L = contacts[k];
+      const geometry::PatchMoments& pm = patches[k].moments;
+      if (!(pm.area > 0)) continue;  // a line or a point: no patch to share a load over
+      const ContactFrame& f = patches[k].frame;
+      const double a = 1 / std::sqrt(pm.area);
+      const double i1 = pm.I1 > 0 ? 1 / std::sqrt(pm.I1) : 0;
+      const double i2 = pm.I2 > 0 ? 1 / std::sqrt(pm.I2) : 0;
+      const double j = 1 / std::sqrt(pm.I1 + pm.I2);
+      const Vector3d d = zz.segment<3>(L.a1) - pm.centroid;
+      const double p_n = zz[L.p_n], p_t = zz[L.p_t], p_o = zz[L.p_o], p_r = zz[L.p_r];
+      const double e1 = pm.u1.dot(d), e2 = pm.u2.dot(d);
+      const double moment = -p_t * d.dot(f.o) + p_o * d.dot(f.t);
+      const int row = kEnergyRows * static_cast<int>(k);
+      (*r)[row] = p_n * a;
+      (*r)[row + 1] = p_n * e1 * i1;
+      (*r)[row + 2] = p_n * e2 * i2;
+      (*r)[row + 3] = p_t * a;
+      (*r)[row + 4] = p_o * a;
+      (*r)[row + 5] = (p_r + moment) * j;
+      if (R == nullptr) continue;
+      (*R)(row, L.p_n) = a;
+      (*R)(row + 1, L.p_n) = e1 * i1;
+      R->block<1, 3>(row + 1, L.a1) = p_n * i1 * pm.u1.transpose();
+      (*R)(row + 2, L.p_n) = e2 * i2;
+      R->block<1, 3>(row + 2, L.a1) = p_n * i2 * pm.u2.transpose();
+      (*R)(row + 3, L.p_t) = a;
+      (*R)(row + 4, L.p_o) = a;
+      (*R)(row + 5, L.p_r) = j;
+      (*R)(row + 5, L.p_t) = -d.dot(f.o) * j;
+      (*R)(row + 5, L.p_o) = d.dot(f.t) * j;
+      R->block<1, 3>(row + 5, L.a1) = j * (p_o * f.t - p_t * f.o).transpose();
+    }
+  };
+}
+
+RootSelection SelectLeastEnergyRoot(const Scene& scene, const Island& island,
+                                    const IslandProblem& problem, const IslandLayout& layout,
+                                    const IslandScales& scales, double ejection_energy,
+                                    double tolerance, StepWorkspace& workspace, VectorXd& z) {
+  RootSelection selection;
+  IslandProblem exact = problem;
+  for (IslandContact& cp : exact.contacts) cp.stick_creep = 0;
+  VectorXd row_scale, var_scale;
+  IslandResidualUnits units;
+  IslandRowScales(exact, layout, scales, row_scale);
+  IslandVariableScales(exact, layout, scales, var_scale);
+  MakeIslandResidualUnits(exact, scales, tolerance, units);
+  McpOptions options;
+  options.tolerance = tolerance;
+  options.minimum_norm_steps = true;
+  options.max_iterations = scene.solver.max_iterations;
+  options.measure = [&](const VectorXd& zz, const VectorXd& F) {
+    return IslandMncpResidual(exact, layout, zz, F, row_scale, var_scale, units);
+  };
+  const McpFunction f = [&](const VectorXd& zz, VectorXd* F, MatrixXd* J) {
+    EvaluateIslandMncp(exact, layout, zz, F, J, /*jacobian_is_zero=*/true);
+  };
+  McpWorkspace& solver_workspace = workspace.Part<McpWorkspace>();
+  VectorXd root = z;
+  if (!SolveMcp(f, layout.num_free, row_scale, var_scale, root, options, solver_workspace)
+           .converged)
+    return selection;
+  const SelectionResult result = SelectLeastEnergySolution(
+      f, layout.num_free, row_scale, var_scale, PatchEnergy(scene, island, exact, layout, root),
+      root, options, solver_workspace);
+  if (!result.converged) return selection;
+  if (IslandStepEnergyGain(exact, layout, root) >
+      kMaxEnergyGainRel * IslandEnergyScale(exact, scales) + ejection_energy)
+    return selection;
+  selection.selected = true;
+  selection.directions = result.directions;
+  selection.steps = result.steps;
+  z = root;
+  return selection;
+}
+
+}  // namespace ecpsim::engine::hull
