@@ -108,8 +108,14 @@ class KinematicMotion {
 
   const std::string& where() const { return where_; }
 
+  /// The motion in the form it was given (waypoint and twist quaternions normalized, the
+  /// axis-angle axis normalized): for code that derives another motion from it, e.g. the
+  /// tests' scene turned about z (tests/engine/turned_scene.h).
+  using Form = std::variant<PoseExpressions, std::vector<Waypoint>, ConstantTwist>;
+  const Form& form() const { return form_; }
+
  private:
-  std::variant<PoseExpressions, std::vector<Waypoint>, ConstantTwist> form_;
+  Form form_;
   std::string where_;
 };
 

@@ -1,0 +1,73 @@
+// A shipped multi-body scene turned about the vertical moves the same way, turned: the scene
+// and its copy turned by 90° and by 37° (tests/engine/turned_scene.h) stepped side by side over
+// the scene's whole duration, the copy's poses turned back (tests/engine/turned_deviation.h).
+// `build/tests/ecpsim_rotation_check scenes` prints the same measurement for every such scene.
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "engine/scene_io/scene_yaml.h"
+#include "tests/engine/turned_deviation.h"
+
+namespace ecpsim::engine {
+namespace {
+
+// m: the criterion for every shipped multi-body scene turned about z, on the CMs and on
+// the bodies' surfaces (the orientation's difference × the body's radius); the bodies are
+// 0.1–0.3 m, so it is 1e-5 of the smallest. Today's deviations of the scenes asserted here are
+// round-off (ecpsim_rotation_check: ≤ 3e-15 m)
+constexpr double kTurnedMotionTolerance = 1e-6;
+
+// the turns: a quarter turn (the coordinates permuted exactly) and one that aligns no
+// face with a world axis and rounds every product
+const double kTurns[] = {M_PI / 2, 37 * M_PI / 180};
+
+// the shipped multi-body scenes that meet the criterion today, asserted below
+const std::vector<std::string> kAsserted = {"push_box.yaml", "stack.yaml"};
+// those that do not yet: their steps' solutions form sets (non-isolated solutions) and the
+// engine has no rule yet that picks one point of a set independently of the world frame
+// (engine/README.md, "Non-isolated solutions: the minimum-norm pass"); the rule, when built,
+// moves them to kAsserted
+const std::vector<std::string> kNotYet = {"dominoes.yaml", "gripper.yaml", "tbar_push.yaml"};
+
+void ExpectTurnedMotion(const std::string& name) {
+  const Scene scene = LoadScene(std::string(ECPSIM_SOURCE_DIR) + "/scenes/" + name).scene;
+  const int steps = testing::RotationCheckSteps(scene);
+  for (const double angle : kTurns) {
+    testing::TurnedDeviation d;
+    // a SolverFailure of either run fails the test with its message
+    EXPECT_NO_THROW(d = testing::MeasureTurnedDeviation(scene, angle, steps))
+        << name << ", turned by " << angle;
+    std::printf("%s turned by %.6g rad: CM %.3g m (%s at %.2f s), angle %.3g rad, over %d steps\n",
+                name.c_str(), angle, d.position, d.body.c_str(), d.time, d.angle, d.steps);
+    EXPECT_EQ(d.steps, steps) << name;
+    EXPECT_LE(d.position, kTurnedMotionTolerance) << name << ", turned by " << angle;
+    EXPECT_LE(d.surface, kTurnedMotionTolerance) << name << ", turned by " << angle;
+  }
+}
+
+TEST(RotationInvarianceTest, StackRestsTheSameWayTurned) {
+  // three boxes at rest 10 s, each on a whole face of the one below
+  ExpectTurnedMotion("stack.yaml");
+}
+
+TEST(RotationInvarianceTest, PushBoxMovesTheSameWayTurned) {
+  // a pusher at constant velocity pushes a box through its CM for 2 s
+  ExpectTurnedMotion("push_box.yaml");
+}
+
+TEST(RotationInvarianceTest, EveryMultiBodySceneIsAssertedOrListed) {
+  // a new shipped multi-body scene joins one of the lists (and engine/README.md's paragraph)
+  std::vector<std::string> listed = kAsserted;
+  listed.insert(listed.end(), kNotYet.begin(), kNotYet.end());
+  std::sort(listed.begin(), listed.end());
+  EXPECT_EQ(testing::MultiBodyScenes(std::string(ECPSIM_SOURCE_DIR) + "/scenes"), listed);
+}
+
+}  // namespace
+}  // namespace ecpsim::engine
