@@ -144,8 +144,7 @@ TEST(PatchMeanDistanceTest, ASegmentAboutItsMiddleIsAQuarterOfItsLengthAboutAnEn
   // [s r + d² asinh(s/d)] / 2 at s = ±L/2)
   const double d = 0.02, s = length / 2;
   const double expected = (s * std::hypot(d, s) + d * d * std::asinh(s / d)) / length;
-  EXPECT_NEAR(PatchMeanDistance(patch, kGround, Vector3d::Zero()), expected,
-              kRelRoundOff * length);
+  EXPECT_NEAR(PatchMeanDistance(patch, kGround, Vector3d::Zero()), expected, kRelRoundOff * length);
   EXPECT_LE((PatchCentroid(patch, kGround) - Vector3d(0, 0.02, 0)).norm(), kRelRoundOff * length);
 }
 
