@@ -15,10 +15,13 @@
 namespace ecpsim::engine {
 
 /// Bodies solved together and their contacts (indices into Scene::bodies and Scene::contacts,
-/// ascending).
+/// ascending), with each contact's friction for the step (StepFriction, contact_friction.h: the
+/// pair's, e_r from the patch at the step's start where it asks for it), which every model reads
+/// instead of the pair's.
 struct Island {
   std::vector<int> bodies;
   std::vector<int> contacts;
+  std::vector<Friction> friction;  // one per contact, in their order
 };
 
 /// The part of the State an island's step reads and writes, in the island's orders.

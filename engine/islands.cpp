@@ -3,6 +3,7 @@
 #include <numeric>
 
 #include "engine/broad_phase.h"
+#include "engine/contact_friction.h"
 
 namespace ecpsim::engine {
 
@@ -41,6 +42,7 @@ void FormIslandsInto(const Scene& scene, const State& state, IslandScratch& scra
       if (count == islands.size()) islands.emplace_back();
       islands[count].bodies.clear();
       islands[count].contacts.clear();
+      islands[count].friction.clear();
       ++count;
     }
     islands[island_of[r]].bodies.push_back(b);
@@ -55,9 +57,12 @@ void FormIslandsInto(const Scene& scene, const State& state, IslandScratch& scra
     if (boxes.empty()) boxes = StepBoxes(scene, state);
     in_step[k] = InReach(boxes[pair.body], *scene.obstacles[pair.obstacle].shape);
   }
-  for (size_t k = 0; k < scene.contacts.size(); ++k)
-    if (in_step[k])
-      islands[island_of[find(scene.contacts[k].body)]].contacts.push_back(static_cast<int>(k));
+  for (size_t k = 0; k < scene.contacts.size(); ++k) {
+    if (!in_step[k]) continue;
+    Island& island = islands[island_of[find(scene.contacts[k].body)]];
+    island.contacts.push_back(static_cast<int>(k));
+    island.friction.push_back(StepFriction(scene, state, static_cast<int>(k)));
+  }
 }
 
 std::vector<Island> FormIslands(const Scene& scene, const State& state) {

@@ -24,7 +24,7 @@ struct IslandScratch {
 /// contact between two bodies whose boxes overlap is in the step (two dynamic bodies then share
 /// an island); one whose boxes are apart is not, and its bodies cannot touch within the step. Every
 /// dynamic body is in exactly one island, with all its contacts with obstacles; kinematic bodies
-/// are in none (their motion is given).
+/// are in none (their motion is given). Each contact's friction is StepFriction's at `state`.
 std::vector<Island> FormIslands(const Scene& scene, const State& state);
 
 /// FormIslands into `islands`, over their last contents (reusing their storage).

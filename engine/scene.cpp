@@ -38,6 +38,7 @@ Friction PairFriction(const Friction& a, const Friction& b) {
   f.e_t = std::sqrt(a.e_t * b.e_t);
   f.e_o = std::sqrt(a.e_o * b.e_o);
   f.e_r = std::sqrt(a.e_r * b.e_r);
+  f.e_r_patch = a.e_r_patch || b.e_r_patch;
   return f;
 }
 

@@ -24,6 +24,9 @@ struct Friction {
   double e_t = 1;    // ellipsoid semi-axes: force axes (dimensionless) ...
   double e_o = 1;
   double e_r = 0.1;  // ... and torsion (m)
+  // `e_r: patch`: e_r is the contact patch's mean distance from the ECP, computed for each contact
+  // at the start of each step (StepFriction, engine/contact_friction.h); e_r above is then unused
+  bool e_r_patch = false;
 };
 
 /// Which contact model steps the scene (`model:` in the scene file, `ecpsim run --model`).
@@ -104,7 +107,8 @@ struct ContactPair {
 
 /// The friction of a pair of bodies (docs/scene_format.md, "Contacts between bodies"): the
 /// geometric mean of the two bodies' μ and of each ellipsoid semi-axis, so a pair with one
-/// frictionless body is frictionless and two equal bodies keep their values.
+/// frictionless body is frictionless and two equal bodies keep their values; e_r from the patch
+/// if either body asks for it (the patch is the pair's, one for both sides).
 Friction PairFriction(const Friction& a, const Friction& b);
 
 /// Which of a step's solutions the hull model takes where they form a set: contacts that share

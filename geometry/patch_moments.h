@@ -1,12 +1,39 @@
 #pragma once
-// The area moments of a contact patch: what a uniformly compliant patch's elastic energy under a
-// load depends on (engine/README.md, "Steps whose solutions form a set").
+// Moments of a contact patch under uniform pressure: where its load centre is, how far, on
+// average, the patch lies from a point (the torsional arm of its friction, engine/README.md,
+// "Patch-aware torsional friction"), and its area moments, on which a uniformly compliant patch's
+// elastic energy under a load depends (engine/README.md, "Steps whose solutions form a set").
 
 #include <Eigen/Core>
 
 #include "geometry/contact_patch.h"
 
 namespace ecpsim::geometry {
+
+/// Which of a patch's features carry a uniform pressure: its polygons where they have area; a
+/// patch of segments only (an edge, the dumbbell's rims) a uniform line load; a patch of points
+/// only an equal load on each. Lower-dimensional features beside higher ones carry nothing (a
+/// uniform pressure puts no load on a set of zero area).
+enum class PatchLoad { kNone, kArea, kLine, kPoints };
+
+/// The features of `patch` that carry the load (above).
+PatchLoad LoadedFeatures(const ContactPatch& patch);
+
+/// The load centre of `patch` (world, on `plane`): the area centroid of its polygons, the length
+/// centroid of its segments or the mean of its points, as LoadedFeatures says. Zero for an empty
+/// patch. Polygons are taken with their signed areas about `plane.normal`, so a hole traced
+/// against its outer loop (ExtractContactPatch's loops) is subtracted.
+Eigen::Vector3d PatchCentroid(const ContactPatch& patch, const Plane& plane);
+
+/// The mean in-plane distance (m) of the loaded features of `patch` from `centre` (world;
+/// projected on `plane`): ∫|x − centre| dA / A over the polygons, ∫|x − centre| ds / L over the
+/// segments, or the mean over the points. Under uniform pressure this is the largest friction
+/// moment about `centre` over the largest friction force, μ ∫p|x − c| / μ ∫p. Exact (closed-form
+/// integrals per edge, no quadrature): a square of side a about its centre gives
+/// a (√2 + asinh 1) / 6 ≈ 0.3826 a, a disc of radius R 2R/3, a segment of length L about its
+/// middle L/4, a point 0. Zero for an empty patch.
+double PatchMeanDistance(const ContactPatch& patch, const Plane& plane,
+                         const Eigen::Vector3d& centre);
 
 /// A patch's area A, centroid and second moments about the centroid along its principal axes
 /// (u1, u2 in the plane, I1 ≥ I2 ≥ 0: ∫ (u1·(x − centroid))² dA and ∫ (u2·(x − centroid))² dA).
@@ -18,8 +45,9 @@ struct PatchMoments {
   double I1 = 0, I2 = 0;  // m⁴, ... and the second moments along them
 };
 
-/// The moments of `patch`'s polygons (their union; segments and points carry no area) on
-/// `plane`. Zero area where the patch has no polygon.
+/// The area moments of `patch`'s polygons on `plane`, with their signed areas as PatchCentroid
+/// takes them (a hole traced against its outer loop is subtracted; the whole patch may turn
+/// either way about the normal). Zero area where the patch has no polygon area.
 PatchMoments MomentsOf(const ContactPatch& patch, const Plane& plane);
 
 }  // namespace ecpsim::geometry

@@ -145,7 +145,11 @@ py::dict FrictionDict(const engine::Friction& f) {
   d["mu"] = f.mu;
   d["e_t"] = f.e_t;
   d["e_o"] = f.e_o;
-  d["e_r"] = f.e_r;
+  if (f.e_r_patch) {
+    d["e_r"] = "patch";
+  } else {
+    d["e_r"] = f.e_r;
+  }
   return d;
 }
 

@@ -637,7 +637,8 @@ PYBIND11_MODULE(ecpsim, m) {
       py::arg("friction") = py::none(), py::arg("loads") = py::none(), py::arg("model") = "auto",
       "A scene built in Python, checked by the same validation as a file's (ValidateScene).\n"
       "bodies: dicts {name, mass, box: [x, y, z] m | mesh: path (scale), position (the CM), "
-      "quaternion (w, x, y, z), velocity, angular_velocity, friction {mu, e_t, e_o, e_r}, "
+      "quaternion (w, x, y, z), velocity, angular_velocity, friction {mu, e_t, e_o, e_r (m, or "
+      "\"patch\")}, "
       "kinematic: {velocity, angular_velocity} (a constant twist), allow_initial_penetration}.\n"
       "obstacles: dicts {name, normal, offset, friction}: half-spaces normal · x ≤ offset "
       "(default: the ground z ≤ 0 with `friction`). loads: dicts {body, force | torque: 3 "

@@ -82,7 +82,19 @@ engine::Friction ReadFriction(const py::handle& value, const std::string& key,
   friction.mu = d.Number("mu", friction.mu);
   friction.e_t = d.Number("e_t", friction.e_t);
   friction.e_o = d.Number("e_o", friction.e_o);
-  friction.e_r = d.Number("e_r", friction.e_r);
+  // e_r: a length, or "patch" as in a scene file (docs/scene_format.md)
+  if (d.Has("e_r") && py::isinstance<py::str>(d.Get("e_r"))) {
+    const std::string e_r = d.Get("e_r").cast<std::string>();
+    if (e_r != "patch") {
+      throw InputError(fmt::format("{} = '{}': expected a torsional ellipsoid semi-axis > 0 m, "
+                                   "or \"patch\"",
+                                   d.Key("e_r"), e_r));
+    }
+    friction.e_r_patch = true;
+  } else if (d.Has("e_r")) {
+    friction.e_r = d.Number("e_r", friction.e_r);
+    friction.e_r_patch = false;
+  }
   d.Finish();
   return friction;
 }

@@ -46,12 +46,12 @@ IslandProblem MakeHullProblem(const Scene& scene, const Island& island, double t
     p.bodies.push_back(StartOfStep(scene, island.bodies[i], state.bodies[i], t, h));
   // scene index → index into p.kinematic, for the few kinematic bodies the island touches
   std::vector<std::pair<int, int>> kinematic_of;
-  for (int id : island.contacts) {
-    const ContactPair& pair = scene.contacts[id];
+  for (size_t k = 0; k < island.contacts.size(); ++k) {
+    const ContactPair& pair = scene.contacts[island.contacts[k]];
     IslandContact cp;
     cp.body = IslandIndex(island, pair.body);
     cp.hull = scene.bodies[pair.body].hull.get();
-    cp.friction = pair.friction;
+    cp.friction = island.friction[k];
     if (!pair.WithBody()) {
       cp.other_kind = Other::kFixed;
       cp.other_shape = scene.obstacles[pair.obstacle].shape.get();
@@ -61,8 +61,9 @@ IslandProblem MakeHullProblem(const Scene& scene, const Island& island, double t
       const Body& other = scene.bodies[pair.other_body];
       cp.other_shape = other.hull.get();
       if (other.IsKinematic()) {
-        auto known = std::find_if(kinematic_of.begin(), kinematic_of.end(),
-                                  [&](const auto& k) { return k.first == pair.other_body; });
+        auto known = std::find_if(
+            kinematic_of.begin(), kinematic_of.end(),
+            [&](const auto& known_body) { return known_body.first == pair.other_body; });
         if (known == kinematic_of.end()) {
           const KinematicPose pose = other.motion->PoseAt(t);
           const KinematicMotion::Twist twist = other.motion->StepTwist(t, h);

@@ -111,11 +111,13 @@ std::vector<int> PartsFirstOrder(const MncpLayout& layout) {
 
 class MultiPatchStepper {
  public:
+  // `friction`: the contacts' friction for the step (Island::friction), in their order
   MultiPatchStepper(const Scene& scene, int body_index, std::vector<int> contact_ids,
-                    McpWorkspace& solver_workspace)
+                    const std::vector<Friction>& friction, McpWorkspace& solver_workspace)
       : scene_(scene),
         body_index_(body_index),
         contact_ids_(std::move(contact_ids)),
+        friction_(friction),
         solver_workspace_(solver_workspace) {
     const Body& body = scene.bodies[body_index];
     if (body.parts.empty()) {
@@ -243,7 +245,7 @@ class MultiPatchStepper {
         ContactProblem cp;
         cp.hull = part;
         cp.obstacle = plane;
-        cp.friction = pair.friction;
+        cp.friction = friction_[g];
         cp.tangent_reference = TangentReference(plane->Gradient(0, Vector3d::Zero()));
         cp.window.resize(part->NumConstraints());
         std::iota(cp.window.begin(), cp.window.end(), 0);
@@ -391,6 +393,7 @@ class MultiPatchStepper {
   const Scene& scene_;
   int body_index_;
   std::vector<int> contact_ids_;
+  const std::vector<Friction>& friction_;
   std::vector<const geometry::ConvexShape*> parts_;
   McpWorkspace& solver_workspace_;
 };
@@ -574,7 +577,7 @@ void AddProximalTerms(const MultiPatchProblem& problem, const MncpLayout& layout
 AdvanceResult MultiPatchModel::Advance(const Island& island, double t, double h, IslandState& state,
                                        Effort) const {
   ECPSIM_DEMAND(island.bodies.size() == 1);
-  return MultiPatchStepper(scene_, island.bodies[0], island.contacts,
+  return MultiPatchStepper(scene_, island.bodies[0], island.contacts, island.friction,
                            workspace_.Part<McpWorkspace>())
       .Advance(t, h, state.bodies[0], state.contacts);
 }

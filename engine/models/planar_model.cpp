@@ -144,7 +144,7 @@ PlanarStep SolvePlanarStep(const Scene& scene, const Island& island, double t, d
     step.invalid = fmt::format("p_n = {:.3g} N·s ≤ 0 (it would lift off)", p_n);
     return step;
   }
-  const Friction& fr = pair.friction;
+  const Friction& fr = island.friction[0];
   const double px = p_lin.x() + m * gravity.x() * h, py = p_lin.y() + m * gravity.y() * h;
   const double ptx = p_ang.x(), pty = p_ang.y(), ptz = p_ang.z();
   const Vector3d v_start = frame.ToLocal(b.v_WB);

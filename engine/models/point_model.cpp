@@ -232,7 +232,7 @@ class PointIslandStepper {
         }
         if (gap.psi <= activation)
           points.push_back(MakePoint(static_cast<int>(k), true, y, x, gap.normal, gap.psi,
-                                     pair.friction.mu, mass));
+                                     island_.friction[k].mu, mass));
       }
       if (!pair.WithBody()) continue;
       for (const Vector3d& y : *g.vertices) {
@@ -241,7 +241,7 @@ class PointIslandStepper {
         // F's outward normal points from F into G: the pair's normal is its opposite
         if (gap.psi <= activation)
           points.push_back(MakePoint(static_cast<int>(k), false, y, x, -gap.normal, gap.psi,
-                                     pair.friction.mu, mass));
+                                     island_.friction[k].mu, mass));
       }
     }
 

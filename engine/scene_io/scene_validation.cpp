@@ -108,8 +108,11 @@ void CheckFriction(const std::vector<std::string>& mappings, const Friction& fri
   const std::string axis = fmt::format("an ellipsoid semi-axis > 0 (dimensionless) for {}: ", who);
   CheckRange(keys("e_t"), friction.e_t, kMagnitudeRange, axis);
   CheckRange(keys("e_o"), friction.e_o, kMagnitudeRange, axis);
-  CheckRange(keys("e_r"), friction.e_r, kLengthRange,
-             fmt::format("a torsional ellipsoid semi-axis > 0 m for {}: ", who));
+  // `e_r: patch` leaves the number unused (StepFriction computes it each step)
+  if (!friction.e_r_patch) {
+    CheckRange(keys("e_r"), friction.e_r, kLengthRange,
+               fmt::format("a torsional ellipsoid semi-axis > 0 m, or `patch`, for {}: ", who));
+  }
 }
 
 // ---- obstacles -------------------------------------------------------------------------------

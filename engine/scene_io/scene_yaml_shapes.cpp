@@ -94,8 +94,13 @@ Friction ReadFriction(const Context& ctx, const YAML::Node& node, const std::str
     friction.e_o = ReadPositive(ctx, map.Get("e_o"), map.Key("e_o"), kMagnitudeRange, axis);
   }
   if (map.Has("e_r")) {
-    friction.e_r = ReadPositive(ctx, map.Get("e_r"), map.Key("e_r"), kLengthRange,
-                                "a torsional ellipsoid semi-axis > 0 m");
+    // a length, or `patch`: the contact patch's mean distance from the ECP, each step
+    const YAML::Node e_r = map.Get("e_r");
+    friction.e_r_patch = e_r.IsScalar() && e_r.Scalar() == "patch";
+    if (!friction.e_r_patch) {
+      friction.e_r = ReadPositive(ctx, e_r, map.Key("e_r"), kLengthRange,
+                                  "a torsional ellipsoid semi-axis > 0 m, or `patch`");
+    }
   }
   return friction;
 }

@@ -13,6 +13,7 @@
 #include "engine/models/hull_model.h"
 #include "engine/step_report.h"
 #include "engine/time_step.h"
+#include "tests/engine/limit_surface.h"
 #include "tests/engine/test_bodies.h"
 
 namespace ecpsim::engine {
@@ -167,15 +168,7 @@ TEST(BoxOnBoxTest, AboveTheFrictionLimitTheTopBoxSlidesAtFOverMMinusMuGAndTheBot
 // ---------------------------------------------------------------------------------------------
 // Quasi-static pushing at an offset from the CM: the limit surface of the friction ellipsoid
 //
-// The reference (Lynch, Maekawa & Tanie 1992, for the paper's ellipsoid). A flat body slides on
-// the ground with the twist (v, ω) at its pressure centre, the ECP; the ground's friction there is
-// the maximum-dissipation wrench on the ellipsoid with e_t = e_o = 1, e_r = c (FORMULATION.md):
-//     f = −μ N v / σ,   τ = −μ N c² ω / σ,   σ = sqrt(|v|² + c² ω²).
-// A pusher sticks at the point P, r = P − ECP in the plane, moving at v_p, and pushes with F.
-// Quasi-static (no inertia): F + f = 0 and (r × F)_z + τ = 0, so (r × v)_z = c² ω; sticking:
-// v + ω r⊥ = v_p, r⊥ = ẑ × r. Since (r × v)_z = r⊥ · v, v_p = (I + r⊥ r⊥ᵀ / c²) v, and
-// Sherman–Morrison with r⊥ r⊥ᵀ = |r|² I − r rᵀ gives
-//     v = (c² v_p + r (r · v_p)) / (c² + |r|²),   ω = (r × v)_z / c² = (r × v_p)_z / (c² + |r|²).
+// The reference: LimitSurfaceTwist (tests/engine/limit_surface.h, derived there).
 //
 // The pressure centre. Pushed at height z_p above the ground, the box does not tip when its
 // normal force N moves forward: the horizontal moments about the CM (at height z_c) are
@@ -208,23 +201,10 @@ TEST(BoxOnBoxTest, AboveTheFrictionLimitTheTopBoxSlidesAtFOverMMinusMuGAndTheBot
 // the inertia m / h, so the deviation shrinks by 1 / (1 + h μ g / σ) ≈ 1 / 2.5 per step; 20 steps
 // (0.2 s) take the impact's 7 % below 1e-9.
 
-struct PlanarTwist {
-  Vector2d v = Vector2d::Zero();  // m/s, of the body point at the pressure centre
-  double w = 0;                   // rad/s, about z
-};
-
-Vector2d Perp(const Vector2d& r) { return Vector2d(-r.y(), r.x()); }  // ẑ × r
-double Cross(const Vector2d& a, const Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
-
-/// The quasi-static twist of a body pushed at a sticking point at r (m) from its pressure
-/// centre, the pusher moving at v_p (m/s), under the friction ellipsoid with e_t = e_o = 1,
-/// e_r = c (m): the limit surface's v = (c² v_p + r (r · v_p)) / (c² + |r|²), ω = (r × v)_z / c².
-PlanarTwist LimitSurfaceTwist(const Vector2d& r, const Vector2d& v_p, double c) {
-  PlanarTwist twist;
-  twist.v = (c * c * v_p + r * r.dot(v_p)) / (c * c + r.squaredNorm());
-  twist.w = Cross(r, twist.v) / (c * c);
-  return twist;
-}
+using testing::Cross;
+using testing::LimitSurfaceTwist;
+using testing::Perp;
+using testing::PlanarTwist;
 
 struct Push {
   const char* name;

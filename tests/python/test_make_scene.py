@@ -71,8 +71,10 @@ def test_validation_names_the_argument_key_value_and_expectation():
          r"bodies\[0\]\.friction\.mu = -1: expected a friction coefficient >= 0 .* the contact "
          r"of body \"box\" with obstacle \"ground\""),
         (dict(SLIDE, obstacles=[{"name": "floor", "friction": {"e_r": 0}}]),
-         r"obstacles\[0\]\.friction\.e_r = 0: expected a torsional ellipsoid semi-axis > 0 m for "
-         r"obstacle \"floor\""),
+         r"obstacles\[0\]\.friction\.e_r = 0: expected a torsional ellipsoid semi-axis > 0 m, "
+         r"or `patch`, for obstacle \"floor\""),
+        (dict(SLIDE, friction={"e_r": "pach"}),
+         r"friction\.e_r = 'pach': expected a torsional ellipsoid semi-axis > 0 m, or \"patch\""),
         (dict(SLIDE, bodies=[dict(SLIDE["bodies"][0], box=[1e20, 1e20, 1e20])]),
          r"bodies\[0\]\.box = 1\.73\d*e\+20 m across: expected a mesh of body \"box\""),
         (dict(SLIDE, loads=[{"body": "box", "force": [1, 0, 0], "start": 0.5, "end": 0.2}]),
@@ -81,3 +83,15 @@ def test_validation_names_the_argument_key_value_and_expectation():
     for arguments, message in cases:
         with pytest.raises(ecpsim.InputError, match="^" + message):
             ecpsim.make_scene(**arguments)
+
+
+def test_e_r_patch_is_read_as_in_a_scene_file_and_reported_back():
+    # `e_r: patch` (docs/scene_format.md): the ground's, and a body's number over it
+    scene = ecpsim.make_scene(**dict(SLIDE, friction={"mu": 0.3, "e_r": "patch"}))
+    assert scene.obstacles[0]["friction"]["e_r"] == "patch"
+    body = dict(SLIDE["bodies"][0], friction={"e_r": 0.05})
+    scene = ecpsim.make_scene(**dict(SLIDE, friction={"e_r": "patch"}, bodies=[body]))
+    assert scene.bodies[0]["friction"]["e_r"] == 0.05
+    sim = ecpsim.Simulation(scene)
+    sim.step()
+    assert sim.time > 0

@@ -176,7 +176,12 @@ TEST(SceneValidationTest, FrictionOfAContactNamesBodyAndObstacle) {
   scene.obstacles[0].friction.e_r = 0;
   EXPECT_THAT(ErrorOf(scene).what(),
               HasSubstr("obstacles[0].friction.e_r = 0: expected a torsional ellipsoid "
-                        "semi-axis > 0 m for obstacle \"ground\""));
+                        "semi-axis > 0 m, or `patch`, for obstacle \"ground\""));
+  // `e_r: patch` leaves the number unused: it is not checked
+  scene.obstacles[0].friction.e_r_patch = true;
+  scene.contacts[0].friction.e_r_patch = true;
+  scene.contacts[0].friction.e_r = 0;
+  EXPECT_NO_THROW(ValidateScene(scene));
 }
 
 TEST(SceneValidationTest, NamesAndReferencesMustBeValid) {

@@ -434,6 +434,10 @@ const BadScene kBadScenes[] = {
      "scene.yaml:2:25: ground.friction.mu = -0.1: expected a friction coefficient >= 0"},
     {"ZeroEllipsoidAxis", "duration: 1\nground: {friction: {e_r: 0}}\n" ECPSIM_BODY "    mass: 1\n",
      "scene.yaml:2:26: ground.friction.e_r = 0: expected a torsional ellipsoid semi-axis > 0 m"},
+    {"MisspelledPatch",
+     "duration: 1\nground: {friction: {e_r: pach}}\n" ECPSIM_BODY "    mass: 1\n",
+     "scene.yaml:2:26: ground.friction.e_r = pach: expected a torsional ellipsoid semi-axis > 0 m, "
+     "or `patch`"},
     {"NegativeBodyFrictionE", "duration: 1\n" ECPSIM_BODY "    mass: 1\n    friction: {e_t: -1}\n",
      "scene.yaml:6:21: bodies[0].friction.e_t = -1: expected an ellipsoid semi-axis > 0"},
     {"ZeroNormal",
@@ -927,6 +931,57 @@ TEST_F(SceneYamlTest, ShippedSlideSceneLoadsWithThePaperNumbers) {
   EXPECT_EQ(f.e_t, 1);
   EXPECT_EQ(f.e_o, 1);
   EXPECT_EQ(f.e_r, 0.1);
+}
+
+// `e_r: patch` wherever a friction mapping is: a body's keys override the obstacle's (a number
+// over `patch` and `patch` over a number); two bodies' pair is patch if either asks for it; a
+// `pairs:` entry's own friction decides
+TEST_F(SceneYamlTest, ErPatchIsReadPerObstacleBodyAndPair) {
+  const Scene scene = LoadText(R"(duration: 1
+ground: {friction: {mu: 0.3, e_r: patch}}
+obstacles:
+  - plane: {normal: [-1, 0, 0], offset: -5}
+    friction: {e_r: 0.02}
+bodies:
+  - name: a
+    shape: {box: {size: [0.2, 0.2, 0.2]}}
+    position: [0, 0, 0.1]
+    mass: 1
+  - name: b
+    shape: {box: {size: [0.2, 0.2, 0.2]}}
+    position: [1, 0, 0.1]
+    mass: 1
+    friction: {e_r: 0.05}
+  - name: c
+    shape: {box: {size: [0.2, 0.2, 0.2]}}
+    position: [2, 0, 0.1]
+    mass: 1
+    friction: {e_r: 0.05}
+pairs:
+  - bodies: [b, c]
+    friction: {e_r: patch}
+)");
+  ASSERT_EQ(scene.contacts.size(), 3u * 2u + 3u);
+  // a with the ground: the ground's patch; a with the wall: the wall's number
+  EXPECT_TRUE(scene.contacts[0].friction.e_r_patch);
+  EXPECT_FALSE(scene.contacts[1].friction.e_r_patch);
+  EXPECT_EQ(scene.contacts[1].friction.e_r, 0.02);
+  // b's number over the ground's patch, and over the wall's number
+  EXPECT_FALSE(scene.contacts[2].friction.e_r_patch);
+  EXPECT_EQ(scene.contacts[2].friction.e_r, 0.05);
+  EXPECT_EQ(scene.contacts[3].friction.e_r, 0.05);
+  // body pairs: a (patch, from the ground) with b (0.05): patch; a with c: patch; b with c: their
+  // numbers' mean, but the pair's own `e_r: patch` decides
+  EXPECT_TRUE(scene.contacts[6].friction.e_r_patch);
+  EXPECT_TRUE(scene.contacts[7].friction.e_r_patch);
+  EXPECT_TRUE(scene.contacts[8].friction.e_r_patch);
+  // and --set reaches it as any key
+  const Scene set = LoadText(
+      "duration: 1\nground: {friction: {e_r: 0.1}}\nbodies:\n  - shape: {box: {size: [1, 1, 1]}}\n"
+      "    position: [0, 0, 0.5]\n    mass: 1\n",
+      {"ground.friction.e_r=patch"});
+  ASSERT_EQ(set.contacts.size(), 1u);
+  EXPECT_TRUE(set.contacts[0].friction.e_r_patch);
 }
 
 TEST_F(SceneYamlTest, ShippedTiltedBoxStandsOnOneEdge) {
