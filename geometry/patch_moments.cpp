@@ -73,6 +73,20 @@ std::vector<Eigen::Vector2d> InPlane(const std::vector<Eigen::Vector3d>& polygon
   return out;
 }
 
+// f(a, b, a × b) for every triangle (0, a, b) of the polygons' fans about the basis's centre:
+// sums over them are the signed integrals over the polygons, holes subtracted
+template <typename F>
+void ForEachFanTriangle(const ContactPatch& patch, const CentredBasis& basis, F&& f) {
+  for (const auto& polygon : patch.polygons) {
+    const std::vector<Eigen::Vector2d> p = InPlane(polygon, basis);
+    for (std::size_t k = 0; k < p.size(); ++k) {
+      const Eigen::Vector2d& a = p[k];
+      const Eigen::Vector2d& b = p[(k + 1) % p.size()];
+      f(a, b, Cross(a, b));
+    }
+  }
+}
+
 double TotalSignedArea(const ContactPatch& patch, const CentredBasis& basis) {
   double area = 0;
   for (const auto& polygon : patch.polygons) area += SignedPolygonArea(InPlane(polygon, basis));
@@ -116,16 +130,11 @@ Eigen::Vector3d PatchCentroid(const ContactPatch& patch, const Plane& plane) {
       // Σ over each polygon's fan of triangles (0, a, b): area a × b / 2, centroid (a + b) / 3
       Eigen::Vector2d moment = Eigen::Vector2d::Zero();
       double area = 0;
-      for (const auto& polygon : patch.polygons) {
-        const std::vector<Eigen::Vector2d> p = InPlane(polygon, basis);
-        for (std::size_t k = 0; k < p.size(); ++k) {
-          const Eigen::Vector2d& a = p[k];
-          const Eigen::Vector2d& b = p[(k + 1) % p.size()];
-          const double twice = Cross(a, b);
-          area += twice / 2;
-          moment += twice / 6 * (a + b);
-        }
-      }
+      ForEachFanTriangle(patch, basis,
+                         [&](const Eigen::Vector2d& a, const Eigen::Vector2d& b, double twice) {
+                           area += twice / 2;
+                           moment += twice / 6 * (a + b);
+                         });
       if (area == 0) return world(Eigen::Vector2d::Zero());
       return world(moment / area);
     }
@@ -197,24 +206,40 @@ double PatchMeanDistance(const ContactPatch& patch, const Plane& plane,
   return 0;
 }
 
-PatchMoments MomentsOf(const ContactPatch& patch, const Plane& plane) {
+PatchMoments MomentsOf(const ContactPatch& patch, const Plane& plane, double width) {
   PatchMoments m;
-  if (LoadedFeatures(patch) != PatchLoad::kArea) return m;
+  const PatchLoad load = LoadedFeatures(patch);
+  if (load == PatchLoad::kNone) return m;
   const Eigen::Vector3d centroid = PatchCentroid(patch, plane);
   const CentredBasis basis(plane, centroid);
-  // Σ over each polygon's fan of triangles (0, a, b) about the centroid: area a × b / 2 and
-  // ∫ x xᵀ dA = (a × b / 24) (a aᵀ + b bᵀ + (a + b)(a + b)ᵀ)
   double area = 0;
   Eigen::Matrix2d second = Eigen::Matrix2d::Zero();
-  for (const auto& polygon : patch.polygons) {
-    const std::vector<Eigen::Vector2d> p = InPlane(polygon, basis);
-    for (std::size_t k = 0; k < p.size(); ++k) {
-      const Eigen::Vector2d& a = p[k];
-      const Eigen::Vector2d& b = p[(k + 1) % p.size()];
-      const double twice = Cross(a, b);
-      area += twice / 2;
+  if (load == PatchLoad::kArea) {
+    // Σ over each polygon's fan of triangles (0, a, b) about the centroid: area a × b / 2 and
+    // ∫ x xᵀ dA = (a × b / 24) (a aᵀ + b bᵀ + (a + b)(a + b)ᵀ)
+    ForEachFanTriangle(
+        patch, basis, [&](const Eigen::Vector2d& a, const Eigen::Vector2d& b, double twice) {
+          area += twice / 2;
+          second +=
+              twice / 24 * (a * a.transpose() + b * b.transpose() + (a + b) * (a + b).transpose());
+        });
+  } else if (load == PatchLoad::kLine) {
+    // a strip of the segment a → b: width × ∫ x xᵀ ds = width L / 6 (2 a aᵀ + a bᵀ + b aᵀ + 2 b bᵀ)
+    for (const auto& segment : patch.segments) {
+      const Eigen::Vector2d a = basis(segment[0]), b = basis(segment[1]);
+      const double length = (b - a).norm();
+      area += width * length;
       second +=
-          twice / 24 * (a * a.transpose() + b * b.transpose() + (a + b) * (a + b).transpose());
+          width * length / 6 *
+          (2 * a * a.transpose() + a * b.transpose() + b * a.transpose() + 2 * b * b.transpose());
+    }
+  } else {
+    // a square of side `width` at each point: its own moment and the point's Steiner term
+    for (const Eigen::Vector3d& x : patch.points) {
+      const Eigen::Vector2d p = basis(x);
+      area += width * width;
+      second +=
+          width * width * (p * p.transpose() + width * width / 12 * Eigen::Matrix2d::Identity());
     }
   }
   if (area == 0) return m;

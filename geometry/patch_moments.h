@@ -45,9 +45,11 @@ struct PatchMoments {
   double I1 = 0, I2 = 0;  // m⁴, ... and the second moments along them
 };
 
-/// The area moments of `patch`'s polygons on `plane`, with their signed areas as PatchCentroid
-/// takes them (a hole traced against its outer loop is subtracted; the whole patch may turn
-/// either way about the normal). Zero area where the patch has no polygon area.
-PatchMoments MomentsOf(const ContactPatch& patch, const Plane& plane);
+/// The area moments of `patch`'s loaded features (LoadedFeatures) on `plane`: its polygons with
+/// their signed areas as PatchCentroid takes them (a hole traced against its outer loop is
+/// subtracted; the whole patch may turn either way about the normal); a patch of segments as
+/// strips, and one of points as squares, of side `width` (m) — a line or a point contact as the
+/// limit of a thin patch. Zero area for an empty patch.
+PatchMoments MomentsOf(const ContactPatch& patch, const Plane& plane, double width);
 
 }  // namespace ecpsim::geometry

@@ -20,6 +20,12 @@ using Other = IslandContact::Other;
 namespace {
 
 constexpr int kEnergyRows = 6;  // per contact
+// a line or a point contact as a thin patch: strips and squares of this width relative to the
+// body's size. Where on the line or among the points the ECP sits does not depend on it (every
+// term of one contact scales with it alike); only the load a line shares with a patch does
+constexpr double kFeatureWidthRel = 1e-3;
+// a second moment this much below the other is a line's across it: no offset to weigh
+constexpr double kNegligibleMomentRel = 1e-12;
 
 struct PatchFrame {
   geometry::PatchMoments moments;
@@ -57,7 +63,9 @@ PatchFrame PatchAt(const Scene& scene, const Island& island, const IslandProblem
     patch = geometry::IntersectContactPatches(patch, other_patch, plane,
                                               geometry::ContactPatchTolerance(mesh));
   }
-  out.moments = geometry::MomentsOf(patch, plane);
+  const double diagonal =
+      geometry::ContactPatchTolerance(mesh) / geometry::kContactPatchRelTolerance;
+  out.moments = geometry::MomentsOf(patch, plane, kFeatureWidthRel * diagonal);
   return out;
 }
 
@@ -75,11 +83,11 @@ EnergyResiduals PatchEnergy(const Scene& scene, const Island& island, const Isla
     for (size_t k = 0; k < contacts.size(); ++k) {
       const MncpLayout::Contact& L = contacts[k];
       const geometry::PatchMoments& pm = patches[k].moments;
-      if (!(pm.area > 0)) continue;  // a line or a point: no patch to share a load over
+      if (!(pm.area > 0)) continue;  // no patch: nothing touches
       const ContactFrame& f = patches[k].frame;
       const double a = 1 / std::sqrt(pm.area);
       const double i1 = pm.I1 > 0 ? 1 / std::sqrt(pm.I1) : 0;
-      const double i2 = pm.I2 > 0 ? 1 / std::sqrt(pm.I2) : 0;
+      const double i2 = pm.I2 > kNegligibleMomentRel * pm.I1 ? 1 / std::sqrt(pm.I2) : 0;
       const double j = 1 / std::sqrt(pm.I1 + pm.I2);
       const Vector3d d = zz.segment<3>(L.a1) - pm.centroid;
       const double p_n = zz[L.p_n], p_t = zz[L.p_t], p_o = zz[L.p_o], p_r = zz[L.p_r];

@@ -18,7 +18,8 @@ namespace ecpsim::engine::hull {
 /// and tangential alike) carrying the impulses of z, as residuals E = ½ |r|²: per contact
 /// p_n/√A, p_n e_i/√I_i (the ECP's offset e from the patch's centroid along its principal axes),
 /// p_t/√A, p_o/√A and (p_r + n · (e × f))/√(I1 + I2) (the friction moment about the centroid),
-/// with each contact's patch and frame taken at z and held fixed.
+/// with each contact's patch and frame taken at z and held fixed (a line or a point contact as a
+/// thin patch, geometry::MomentsOf).
 EnergyResiduals PatchEnergy(const Scene& scene, const Island& island, const IslandProblem& problem,
                             const IslandLayout& layout, const Eigen::VectorXd& z);
 

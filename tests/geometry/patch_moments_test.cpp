@@ -201,7 +201,7 @@ std::vector<Vector3d> Rectangle(const Vector3d& centre, double a, double b) {
 TEST(PatchMomentsTest, ARectanglesAreaCentroidAndPrincipalMoments) {
   ContactPatch patch;
   patch.polygons.push_back(Rectangle({0.3, -0.2, 0}, 0.4, 0.1));
-  const PatchMoments m = MomentsOf(patch, Plane{});
+  const PatchMoments m = MomentsOf(patch, Plane{}, 0);
   EXPECT_NEAR(m.area, 0.04, kMomentRoundOff);
   EXPECT_LT((m.centroid - Vector3d(0.3, -0.2, 0)).norm(), kMomentRoundOff);
   // along the long side: b a³ / 12; across it: a b³ / 12
@@ -215,7 +215,7 @@ TEST(PatchMomentsTest, APatchCountsTheSameWhicheverWayItsLoopsTurn) {
   ContactPatch ccw, cw;
   ccw.polygons.push_back(Rectangle({0, 0, 0}, 0.2, 0.2));
   cw.polygons.push_back({ccw.polygons[0].rbegin(), ccw.polygons[0].rend()});
-  const PatchMoments a = MomentsOf(ccw, Plane{}), b = MomentsOf(cw, Plane{});
+  const PatchMoments a = MomentsOf(ccw, Plane{}, 0), b = MomentsOf(cw, Plane{}, 0);
   EXPECT_NEAR(a.area, b.area, kMomentRoundOff);
   EXPECT_NEAR(a.I1, b.I1, kMomentRoundOff);
   EXPECT_NEAR(a.I1, std::pow(0.2, 4) / 12, kMomentRoundOff);
@@ -227,7 +227,7 @@ TEST(PatchMomentsTest, AHoleTracedAgainstItsOuterLoopIsTakenAway) {
   patch.polygons.push_back(Rectangle({0, 0, 0}, 0.4, 0.4));
   const std::vector<Vector3d> inner = Rectangle({0, 0, 0}, 0.2, 0.2);
   patch.polygons.push_back({inner.rbegin(), inner.rend()});
-  const PatchMoments m = MomentsOf(patch, Plane{});
+  const PatchMoments m = MomentsOf(patch, Plane{}, 0);
   EXPECT_NEAR(m.area, 0.16 - 0.04, kMomentRoundOff);
   EXPECT_NEAR(m.I1, (std::pow(0.4, 4) - std::pow(0.2, 4)) / 12, kMomentRoundOff);
   EXPECT_NEAR(m.I2, m.I1, kMomentRoundOff);
@@ -240,7 +240,7 @@ TEST(PatchMomentsTest, FourFeetAddTheirSteinerTerms) {
   ContactPatch patch;
   for (double x : {-d, d})
     for (double y : {-d, d}) patch.polygons.push_back(Rectangle({x, y, 0}, a, a));
-  const PatchMoments m = MomentsOf(patch, Plane{});
+  const PatchMoments m = MomentsOf(patch, Plane{}, 0);
   EXPECT_NEAR(m.area, 4 * a * a, kMomentRoundOff);
   EXPECT_LT(m.centroid.norm(), kMomentRoundOff);
   EXPECT_NEAR(m.I1, 4 * (std::pow(a, 4) / 12 + a * a * d * d), kMomentRoundOff);
@@ -254,18 +254,38 @@ TEST(PatchMomentsTest, APatchOnATiltedPlaneIsMeasuredInThatPlane) {
   for (const Vector3d& p : Rectangle({0, 0, 0}, 0.4, 0.1)) turned.emplace_back(0.5, p.x(), p.y());
   ContactPatch patch;
   patch.polygons.push_back(turned);
-  const PatchMoments m = MomentsOf(patch, plane);
+  const PatchMoments m = MomentsOf(patch, plane, 0);
   EXPECT_NEAR(m.area, 0.04, kMomentRoundOff);
   EXPECT_LT((m.centroid - Vector3d(0.5, 0, 0)).norm(), kMomentRoundOff);
   EXPECT_NEAR(m.I1, 0.1 * std::pow(0.4, 3) / 12, kMomentRoundOff);
   EXPECT_NEAR(std::abs(m.u1.y()), 1, kMomentRoundOff);
 }
 
-TEST(PatchMomentsTest, SegmentsAndPointsHaveNoArea) {
+TEST(PatchMomentsTest, ALineIsAStripOfTheGivenWidth) {
+  // a 1 m segment (and a point beside it, which carries nothing): A = w L, I1 = w L³ / 12 along
+  // it, I2 = 0 across
+  const double w = 1e-3;
   ContactPatch patch;
   patch.segments.push_back({Vector3d(0, 0, 0), Vector3d(1, 0, 0)});
   patch.points.push_back(Vector3d(0, 1, 0));
-  EXPECT_EQ(MomentsOf(patch, Plane{}).area, 0);
+  const PatchMoments m = MomentsOf(patch, Plane{}, w);
+  EXPECT_NEAR(m.area, w, kMomentRoundOff);
+  EXPECT_LT((m.centroid - Vector3d(0.5, 0, 0)).norm(), kMomentRoundOff);
+  EXPECT_NEAR(m.I1, w / 12, kMomentRoundOff);
+  EXPECT_NEAR(m.I2, 0, kMomentRoundOff);
+}
+
+TEST(PatchMomentsTest, PointsAreSquaresOfTheGivenWidth) {
+  // two points 1 m apart: A = 2 w², I1 = 2 w² (1/2)² + 2 w⁴/12 along their line, 2 w⁴/12 across
+  const double w = 1e-3;
+  ContactPatch patch;
+  patch.points = {Vector3d(0, 0, 0), Vector3d(0, 1, 0)};
+  const PatchMoments m = MomentsOf(patch, Plane{}, w);
+  EXPECT_NEAR(m.area, 2 * w * w, kMomentRoundOff);
+  EXPECT_LT((m.centroid - Vector3d(0, 0.5, 0)).norm(), kMomentRoundOff);
+  EXPECT_NEAR(m.I1, 2 * w * w * 0.25 + 2 * std::pow(w, 4) / 12, kMomentRoundOff);
+  EXPECT_NEAR(m.I2, 2 * std::pow(w, 4) / 12, kMomentRoundOff);
+  EXPECT_EQ(MomentsOf(ContactPatch{}, Plane{}, w).area, 0);
 }
 
 }  // namespace
