@@ -204,11 +204,13 @@ void CommitFlatWarmStart(const SolutionTrend::Point& before, double h, const Bod
 
 bool AcceptReduced(const IslandProblem& reduced, const IslandLayout& layout, const VectorXd& z,
                    const Attempt& attempt, const IslandScales& scales, IslandState& state,
-                   AdvanceResult& result) {
+                   AdvanceResult& result, const RootSelector& select) {
   if (attempt.outcome != Outcome::kSolved) return false;
+  VectorXd root = z;
+  if (select) select(reduced, layout, root);
   IslandProblem checked = reduced;
-  if (GrowViolatedWindows(checked, layout, z, scales)) return false;
-  CommitSolution(reduced, layout, z, state);
+  if (GrowViolatedWindows(checked, layout, root, scales)) return false;
+  CommitSolution(reduced, layout, root, state);
   result.residual = attempt.residual;
   return true;
 }

@@ -4,6 +4,7 @@
 // commit of an accepted root to the island's state (engine/README.md, "Solver", "Roots that gain
 // energy", "Impacts", "Large hulls: the window").
 
+#include <functional>
 #include <string>
 
 #include <Eigen/Core>
@@ -66,11 +67,16 @@ SolutionTrend::Point HullTrendPoint(const BodyState& body, const ContactState& c
 void CommitFlatWarmStart(const SolutionTrend::Point& before, double h, const BodyState& body,
                          int face, ContactState& c);
 
+/// What the step does to a root it accepts, before the window check and the commit (the
+/// least-energy selection, hull_selection.h); empty: nothing.
+using RootSelector =
+    std::function<void(const IslandProblem&, const IslandLayout&, Eigen::VectorXd&)>;
+
 /// Commits the root of a problem whose windows were cut (faces left out) where it converged and
-/// passed its checks and every face outside its windows holds: then it is exact. Sets
-/// `result.residual` to the attempt's.
+/// passed its checks and every face outside its windows holds (after `select`): then it is exact.
+/// Sets `result.residual` to the attempt's.
 bool AcceptReduced(const IslandProblem& reduced, const IslandLayout& layout,
                    const Eigen::VectorXd& z, const Attempt& attempt, const IslandScales& scales,
-                   IslandState& state, AdvanceResult& result);
+                   IslandState& state, AdvanceResult& result, const RootSelector& select = {});
 
 }  // namespace ecpsim::engine::hull

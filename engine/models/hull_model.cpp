@@ -65,6 +65,15 @@ class LadderRun {
         result_(result) {
     options_.tolerance = scene.solver.tolerance;
     options_.jacobian_smoothing = kJacobianSmoothing;
+    // contacts that couple bodies may share loads indeterminately: the exact problem's root of
+    // least patch energy ("Steps whose solutions form a set")
+    if (scene.solver.selection == Selection::kLeastEnergy && Coupled(problem)) {
+      select_ = [this](const IslandProblem& root_problem, const IslandLayout& root_layout,
+                       VectorXd& z) {
+        SelectLeastEnergyRoot(scene_, island_, root_problem, root_layout, scales_, ejection_energy_,
+                              options_.tolerance, workspace_, z);
+      };
+    }
   }
 
   // pass `p` over `ladder`; true once a root is committed
@@ -87,7 +96,7 @@ class LadderRun {
     }
     return far_stall &&
            ReSolveStall(far_stall->first, MakeIslandLayout(far_stall->first), far_stall->second,
-                        options_, scales_, ejection_energy_, workspace_, state_, result_);
+                        options_, scales_, ejection_energy_, workspace_, state_, result_, select_);
   }
 
  private:
@@ -112,7 +121,7 @@ class LadderRun {
       if (attempt.outcome == Outcome::kUnconverged) {
         if (IsNearSolutionStall(layout_, attempt, scene_.solver.tolerance)) {
           if (ReSolveStall(problem_, layout_, z, options_, scales_, ejection_energy_, workspace_,
-                           state_, result_)) {
+                           state_, result_, select_)) {
             return true;
           }
         } else if (layout_.num_bodies == 1 && p == 0 && guess == Guess::kWarm) {
@@ -123,12 +132,7 @@ class LadderRun {
         Note(guess, pass, attempt.Describe());
         return false;
       }
-      // contacts that couple bodies may share loads indeterminately: the exact problem's root
-      // of least patch energy ("Steps whose solutions form a set")
-      if (scene_.solver.selection == Selection::kLeastEnergy && Coupled(problem_)) {
-        SelectLeastEnergyRoot(scene_, island_, problem_, layout_, scales_, ejection_energy_,
-                              options_.tolerance, workspace_, z);
-      }
+      if (select_) select_(problem_, layout_, z);
       // a converged windowed root must also solve the full-hull problem: else the window grows
       // around the constraints it violates, and the step is solved again
       if (GrowViolatedWindows(problem_, layout_, z, scales_)) {
@@ -162,6 +166,7 @@ class LadderRun {
   IslandState& state_;
   AdvanceResult& result_;
   McpOptions options_;
+  RootSelector select_;  // empty: the root as solved
 };
 
 // One step of length h from `state`; not solved if every guess failed. As the last resort, the

@@ -8,6 +8,7 @@
 #include "engine/models/hull_tuning.h"
 #include "geometry/contact_patch.h"
 #include "geometry/patch_moments.h"
+#include "geometry/support_patch.h"
 
 namespace ecpsim::engine::hull {
 
@@ -39,6 +40,16 @@ Isometry3d AsIsometry(const EndPose& pose) {
   return X;
 }
 
+// a body's features on `plane`: its mesh's where its hull is a polyhedron (a desk's four feet, not
+// their hull), its hull's support features where the hull is smooth (a cylinder's side is a
+// segment, which no tessellation of it lays on the plane in every frame)
+geometry::ContactPatch FeaturesOn(const geometry::ConvexShape& hull,
+                                  const geometry::TriangleMesh& mesh, const Isometry3d& X,
+                                  const geometry::Plane& plane) {
+  if (hull.AsPolyhedron() != nullptr) return geometry::ExtractContactPatch(mesh, X, plane);
+  return geometry::SupportPatch(hull, X, plane, geometry::ContactPatchTolerance(mesh));
+}
+
 PatchFrame PatchAt(const Scene& scene, const Island& island, const IslandProblem& problem,
                    const IslandLayout& layout, const VectorXd& z, int k) {
   const IslandContact& cp = problem.contacts[k];
@@ -54,12 +65,12 @@ PatchFrame PatchAt(const Scene& scene, const Island& island, const IslandProblem
       PoseAfterStep(problem.bodies[cp.body], z.segment<3>(col), z.segment<3>(col + 3));
   const geometry::Plane plane{n, n.dot(a2)};
   const geometry::TriangleMesh& mesh = scene.bodies[pair.body].mesh;
-  geometry::ContactPatch patch = geometry::ExtractContactPatch(mesh, AsIsometry(end), plane);
+  geometry::ContactPatch patch = FeaturesOn(*cp.hull, mesh, AsIsometry(end), plane);
   if (cp.other_kind != Other::kFixed) {
-    const geometry::TriangleMesh& other = scene.bodies[pair.other_body].mesh;
     const geometry::Plane flipped{-n, -n.dot(a2)};
     const geometry::ContactPatch other_patch =
-        geometry::ExtractContactPatch(other, AsIsometry(OtherEndPose(problem, z, k)), flipped);
+        FeaturesOn(*cp.other_shape, scene.bodies[pair.other_body].mesh,
+                   AsIsometry(OtherEndPose(problem, z, k)), flipped);
     patch = geometry::IntersectContactPatches(patch, other_patch, plane,
                                               geometry::ContactPatchTolerance(mesh));
   }

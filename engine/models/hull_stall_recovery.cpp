@@ -18,7 +18,7 @@ using Other = IslandContact::Other;
 bool SolveAlongEdgeOf(int stalled, const IslandProblem& problem, const IslandLayout& layout,
                       const VectorXd& z, McpOptions& options, const IslandScales& scales,
                       double ejection_energy, StepWorkspace& workspace, IslandState& state,
-                      AdvanceResult& result) {
+                      AdvanceResult& result, const RootSelector& select) {
   const IslandContact& cp = problem.contacts[stalled];
   const MncpLayout::Contact& L = layout.contacts[stalled];
   const std::vector<int> carrying = Carrying(z, L.l, L.l_count);  // window positions
@@ -58,7 +58,8 @@ bool SolveAlongEdgeOf(int stalled, const IslandProblem& problem, const IslandLay
       if (!L.on_plane()) start.segment<3>(L.a2) += shift * e_world;
       const Attempt attempt =
           SolveAttempt(problem, layout, start, options, scales, ejection_energy, workspace, result);
-      if (AcceptReduced(problem, layout, start, attempt, scales, state, result)) return true;
+      if (AcceptReduced(problem, layout, start, attempt, scales, state, result, select))
+        return true;
     }
   }
   return false;
@@ -73,13 +74,14 @@ bool IsNearSolutionStall(const IslandLayout& layout, const Attempt& attempt, dou
 
 bool ReSolveStall(const IslandProblem& problem, const IslandLayout& layout, const VectorXd& z,
                   McpOptions& options, const IslandScales& scales, double ejection_energy,
-                  StepWorkspace& workspace, IslandState& state, AdvanceResult& result) {
+                  StepWorkspace& workspace, IslandState& state, AdvanceResult& result,
+                  const RootSelector& select) {
   return SolveOnCarryingFaces(problem, layout, z, options, scales, ejection_energy, workspace,
-                              state, result) ||
+                              state, result, select) ||
          SolveAtDegenerateVertex(problem, layout, z, options, scales, ejection_energy, workspace,
-                                 state, result) ||
+                                 state, result, kMaxDegenerateDrops, select) ||
          SolveAlongCarryingEdge(problem, layout, z, options, scales, ejection_energy, workspace,
-                                state, result);
+                                state, result, select);
 }
 
 std::vector<int> Carrying(const VectorXd& z, int first, int count) {
@@ -112,7 +114,7 @@ int StalledContact(const IslandProblem& problem, const IslandLayout& layout, con
 bool SolveOnCarryingFaces(const IslandProblem& problem, const IslandLayout& layout,
                           const VectorXd& z, McpOptions& options, const IslandScales& scales,
                           double ejection_energy, StepWorkspace& workspace, IslandState& state,
-                          AdvanceResult& result) {
+                          AdvanceResult& result, const RootSelector& select) {
   if (!z.allFinite()) return false;
   IslandProblem reduced = problem;
   bool cut = false;
@@ -137,13 +139,13 @@ bool SolveOnCarryingFaces(const IslandProblem& problem, const IslandLayout& layo
   VectorXd rz = RemapWindows(problem, layout, z, reduced, reduced_layout);
   const Attempt attempt = SolveAttempt(reduced, reduced_layout, rz, options, scales,
                                        ejection_energy, workspace, result);
-  return AcceptReduced(reduced, reduced_layout, rz, attempt, scales, state, result);
+  return AcceptReduced(reduced, reduced_layout, rz, attempt, scales, state, result, select);
 }
 
 bool SolveAtDegenerateVertex(const IslandProblem& problem, const IslandLayout& layout,
                              const VectorXd& z, McpOptions& options, const IslandScales& scales,
                              double ejection_energy, StepWorkspace& workspace, IslandState& state,
-                             AdvanceResult& result, int depth) {
+                             AdvanceResult& result, int depth, const RootSelector& select) {
   if (depth == 0 || !z.allFinite()) return false;
   const int stalled = layout.num_bodies > 1 ? StalledContact(problem, layout, z, scales) : -1;
   for (size_t k = 0; k < problem.contacts.size(); ++k) {
@@ -166,10 +168,10 @@ bool SolveAtDegenerateVertex(const IslandProblem& problem, const IslandLayout& l
       const bool can_reach_three = active.size() <= static_cast<size_t>(3 + depth);
       if (attempt.outcome == Outcome::kUnconverged && can_reach_three &&
           SolveAtDegenerateVertex(reduced, reduced_layout, rz, options, scales, ejection_energy,
-                                  workspace, state, result, depth - 1)) {
+                                  workspace, state, result, depth - 1, select)) {
         return true;
       }
-      if (AcceptReduced(reduced, reduced_layout, rz, attempt, scales, state, result)) {
+      if (AcceptReduced(reduced, reduced_layout, rz, attempt, scales, state, result, select)) {
         return true;
       }
     }
@@ -180,13 +182,13 @@ bool SolveAtDegenerateVertex(const IslandProblem& problem, const IslandLayout& l
 bool SolveAlongCarryingEdge(const IslandProblem& problem, const IslandLayout& layout,
                             const VectorXd& z, McpOptions& options, const IslandScales& scales,
                             double ejection_energy, StepWorkspace& workspace, IslandState& state,
-                            AdvanceResult& result) {
+                            AdvanceResult& result, const RootSelector& select) {
   if (!z.allFinite()) return false;
   const int stalled = layout.num_bodies > 1 ? StalledContact(problem, layout, z, scales) : -1;
   for (size_t k = 0; k < problem.contacts.size(); ++k) {
     if (stalled >= 0 && static_cast<int>(k) != stalled) continue;
     if (SolveAlongEdgeOf(static_cast<int>(k), problem, layout, z, options, scales, ejection_energy,
-                         workspace, state, result)) {
+                         workspace, state, result, select)) {
       return true;
     }
   }

@@ -29,11 +29,11 @@ namespace ecpsim::engine::hull {
 bool IsNearSolutionStall(const IslandLayout& layout, const Attempt& attempt, double tolerance);
 
 /// The re-solves in turn: SolveOnCarryingFaces, SolveAtDegenerateVertex, SolveAlongCarryingEdge;
-/// true once one is committed.
+/// true once one is committed. Each accepted root goes through `select` first (AcceptReduced).
 bool ReSolveStall(const IslandProblem& problem, const IslandLayout& layout,
                   const Eigen::VectorXd& z, McpOptions& options, const IslandScales& scales,
                   double ejection_energy, StepWorkspace& workspace, IslandState& state,
-                  AdvanceResult& result);
+                  AdvanceResult& result, const RootSelector& select = {});
 
 /// The positions among z's `count` multipliers from `first` on that carry the contact: above
 /// kCarryingFraction of the largest.
@@ -50,7 +50,7 @@ int StalledContact(const IslandProblem& problem, const IslandLayout& layout,
 bool SolveOnCarryingFaces(const IslandProblem& problem, const IslandLayout& layout,
                           const Eigen::VectorXd& z, McpOptions& options, const IslandScales& scales,
                           double ejection_energy, StepWorkspace& workspace, IslandState& state,
-                          AdvanceResult& result);
+                          AdvanceResult& result, const RootSelector& select = {});
 
 /// Where four or more hull faces meet at the ECP their multipliers are not unique and their
 /// merged planes meet only up to the merge tolerance: the support is one of the tiny vertices
@@ -64,7 +64,7 @@ bool SolveAtDegenerateVertex(const IslandProblem& problem, const IslandLayout& l
                              const Eigen::VectorXd& z, McpOptions& options,
                              const IslandScales& scales, double ejection_energy,
                              StepWorkspace& workspace, IslandState& state, AdvanceResult& result,
-                             int depth = kMaxDegenerateDrops);
+                             int depth = kMaxDegenerateDrops, const RootSelector& select = {});
 
 /// A body that slides and spins on an edge, its ECP near the centre of rotation, has a moment
 /// balance that is not monotone in the ECP's place along the edge, and Newton can end on the fold
@@ -75,6 +75,7 @@ bool SolveAtDegenerateVertex(const IslandProblem& problem, const IslandLayout& l
 bool SolveAlongCarryingEdge(const IslandProblem& problem, const IslandLayout& layout,
                             const Eigen::VectorXd& z, McpOptions& options,
                             const IslandScales& scales, double ejection_energy,
-                            StepWorkspace& workspace, IslandState& state, AdvanceResult& result);
+                            StepWorkspace& workspace, IslandState& state, AdvanceResult& result,
+                            const RootSelector& select = {});
 
 }  // namespace ecpsim::engine::hull
