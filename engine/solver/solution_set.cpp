@@ -79,79 +79,83 @@ SelectionResult SelectLeastEnergySolution(const McpFunction& f, int num_free,
                                           const McpOptions& options, McpWorkspace& workspace) {
   SelectionResult result;
   const int n = static_cast<int>(z.size());
-  VectorXd F(n), r;
-  MatrixXd J, R;
-  if (!(Measure(f, num_free, row_scale, var_scale, options, z, F, J) <= options.tolerance))
+  // a solution with what the steps need there: F and J, the set's directions N, E's residuals
+  struct Point {
+    VectorXd z, F, r;
+    MatrixXd J, N, R;
+    double energy = 0;
+  };
+  // N at a point whose z, F and J are known
+  const auto directions = [&](Point& p) {
+    p.N = SolutionSetDirections(p.J, p.z, p.F, num_free, row_scale, var_scale, options.tolerance);
+  };
+  Point at{z, VectorXd(n), {}, {}, {}, {}, 0};
+  if (!(Measure(f, num_free, row_scale, var_scale, options, at.z, at.F, at.J) <= options.tolerance))
     return result;
   result.converged = true;
-  MatrixXd N = SolutionSetDirections(J, z, F, num_free, row_scale, var_scale, options.tolerance);
-  result.directions = static_cast<int>(N.cols());
-  result.start_energy = result.energy = Energy(energy, z, r, &R);
+  directions(at);
+  result.directions = static_cast<int>(at.N.cols());
+  result.start_energy = result.energy = at.energy = Energy(energy, at.z, at.r, &at.R);
 
   McpOptions land = options;
   land.minimum_norm_steps = true;
-  // the solution at z + alpha dx (scaled), back on the set, with its energy and E's slope along
-  // the set there in the direction of dx
-  const auto step_to = [&](const VectorXd& dx, double alpha, VectorXd& trial, double& e,
+  // the solution at z + alpha dx (scaled), back on the set, if its E is at most `allowed`; and
+  // E's slope along the set there in the direction of dx
+  const auto step_to = [&](const VectorXd& dx, double alpha, double allowed, Point& trial,
                            double& slope) {
-    trial = z + alpha * var_scale.cwiseProduct(dx);
-    for (int i = num_free; i < n; ++i) trial[i] = std::max(trial[i], 0.0);
-    if (!SolveMcp(f, num_free, row_scale, var_scale, trial, land, workspace).converged)
+    trial.z = at.z + alpha * var_scale.cwiseProduct(dx);
+    for (int i = num_free; i < n; ++i) trial.z[i] = std::max(trial.z[i], 0.0);
+    if (!SolveMcp(f, num_free, row_scale, var_scale, trial.z, land, workspace).converged)
       return false;
-    VectorXd trial_r, trial_F(n);
-    MatrixXd trial_R, trial_J;
-    e = Energy(energy, trial, trial_r, &trial_R);
-    Measure(f, num_free, row_scale, var_scale, options, trial, trial_F, trial_J);
-    const MatrixXd along = SolutionSetDirections(trial_J, trial, trial_F, num_free, row_scale,
-                                                 var_scale, options.tolerance);
-    slope = (trial_R * var_scale.asDiagonal() * along)
+    trial.energy = Energy(energy, trial.z, trial.r, &trial.R);
+    if (!(trial.energy <= allowed)) return false;
+    trial.F.resize(n);
+    Measure(f, num_free, row_scale, var_scale, options, trial.z, trial.F, trial.J);
+    directions(trial);
+    slope = (trial.R * var_scale.asDiagonal() * trial.N)
                 .transpose()
-                .lazyProduct(trial_r)
-                .dot(along.transpose() * dx);
+                .lazyProduct(trial.r)
+                .dot(trial.N.transpose() * dx);
     return true;
   };
-  while (N.cols() > 0 && result.steps < kMaxSelectionSteps) {
-    const MatrixXd R_x = R * var_scale.asDiagonal();
-    const VectorXd dx = N * (R_x * N).completeOrthogonalDecomposition().solve(-r);
+  Point trial, other;
+  while (at.N.cols() > 0 && result.steps < kMaxSelectionSteps) {
+    const MatrixXd R_x = at.R * var_scale.asDiagonal();
+    const VectorXd dx = at.N * (R_x * at.N).completeOrthogonalDecomposition().solve(-at.r);
     if (!(dx.lpNorm<Eigen::Infinity>() > options.tolerance)) break;
     // as far as the nearest active pair's boundary x_i = 0
     double alpha = 1;
     for (int i = num_free; i < n; ++i) {
-      const double x = z[i] / var_scale[i];
+      const double x = at.z[i] / var_scale[i];
       if (x > options.tolerance && dx[i] < 0) alpha = std::min(alpha, x / -dx[i]);
     }
     // a step that raises E by more than its round-off is halved (near the least point E is
     // flat to round-off, and the steps are taken on the step's own size)
-    const double allowed = result.energy * (1 + kEnergyRoundOff);
-    VectorXd trial;
-    double trial_energy = 0, trial_slope = 0;
+    const double allowed = at.energy * (1 + kEnergyRoundOff);
+    double trial_slope = 0;
     bool landed = false;
     for (int k = 0; k <= kSelectionHalvings && !landed; ++k) {
-      landed = step_to(dx, alpha, trial, trial_energy, trial_slope) && trial_energy <= allowed;
+      landed = step_to(dx, alpha, allowed, trial, trial_slope);
       if (!landed) alpha *= 0.5;
     }
     if (!landed) break;
     // a curved set: Gauss–Newton does not see its curvature, the secant of E's slope along the
     // step does (slopes, unlike E, keep their precision near the least point)
-    const double slope = R_x.transpose().lazyProduct(r).dot(dx);
+    const double slope = R_x.transpose().lazyProduct(at.r).dot(dx);
     if (slope < trial_slope) {
       const double secant = alpha * slope / (slope - trial_slope);
-      VectorXd other;
-      double other_energy = 0, other_slope = 0;
+      double other_slope = 0;
       if (std::abs(secant - alpha) > kSecantChange * alpha &&
-          step_to(dx, secant, other, other_energy, other_slope) && other_energy <= allowed &&
+          step_to(dx, secant, allowed, other, other_slope) &&
           std::abs(other_slope) < std::abs(trial_slope)) {
-        trial.swap(other);
-        trial_energy = other_energy;
+        std::swap(trial, other);
       }
     }
-    z = trial;
-    result.energy = trial_energy;
+    std::swap(at, trial);
     ++result.steps;
-    Measure(f, num_free, row_scale, var_scale, options, z, F, J);
-    Energy(energy, z, r, &R);
-    N = SolutionSetDirections(J, z, F, num_free, row_scale, var_scale, options.tolerance);
   }
+  z = at.z;
+  result.energy = at.energy;
   return result;
 }
 
