@@ -1,5 +1,6 @@
 #include "engine/models/hull_model.h"
 
+#include <algorithm>
 #include <cmath>
 #include <iterator>
 #include <optional>
@@ -19,6 +20,7 @@
 #include "engine/models/hull_selection.h"
 #include "engine/models/hull_stall_recovery.h"
 #include "engine/models/hull_tuning.h"
+#include "engine/models/hull_warm_start.h"
 #include "engine/solver/complementarity_solver.h"
 
 namespace ecpsim::engine {
@@ -70,8 +72,16 @@ class LadderRun {
     if (scene.solver.selection == Selection::kLeastEnergy && Coupled(problem)) {
       select_ = [this](const IslandProblem& root_problem, const IslandLayout& root_layout,
                        VectorXd& z) {
+        std::optional<VectorXd> last;
+        const auto has_warm_start = [](const ContactState& c) {
+          return c.warm_start.Get<HullWarmStart>() != nullptr;
+        };
+        if (std::any_of(state_.contacts.begin(), state_.contacts.end(), has_warm_start)) {
+          IslandProblem scratch = root_problem;  // (MakeGuess sets the same tangent references)
+          last = MakeGuess(Guess::kWarm, scene_.gravity, scratch, root_layout, state_, scales_);
+        }
         SelectLeastEnergyRoot(scene_, island_, root_problem, root_layout, scales_, ejection_energy_,
-                              options_.tolerance, workspace_, z);
+                              options_.tolerance, workspace_, z, last ? &*last : nullptr);
       };
     }
   }

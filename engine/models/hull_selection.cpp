@@ -27,6 +27,9 @@ constexpr int kEnergyRows = 6;  // per contact
 constexpr double kFeatureWidthRel = 1e-3;
 // a second moment this much below the other is a line's across it: no offset to weigh
 constexpr double kNegligibleMomentRel = 1e-12;
+// two selections whose energies differ by less than this are one: the first is kept (the
+// energies of one least point, each evaluated with the patches at its own root)
+constexpr double kEnergyTieRel = 1e-9;
 
 struct PatchFrame {
   geometry::PatchMoments moments;
@@ -130,7 +133,8 @@ EnergyResiduals PatchEnergy(const Scene& scene, const Island& island, const Isla
 RootSelection SelectLeastEnergyRoot(const Scene& scene, const Island& island,
                                     const IslandProblem& problem, const IslandLayout& layout,
                                     const IslandScales& scales, double ejection_energy,
-                                    double tolerance, StepWorkspace& workspace, VectorXd& z) {
+                                    double tolerance, StepWorkspace& workspace, VectorXd& z,
+                                    const VectorXd* last) {
   RootSelection selection;
   IslandProblem exact = problem;
   for (IslandContact& cp : exact.contacts) cp.stick_creep = 0;
@@ -150,17 +154,37 @@ RootSelection SelectLeastEnergyRoot(const Scene& scene, const Island& island,
     EvaluateIslandMncp(exact, layout, zz, F, J, /*jacobian_is_zero=*/true);
   };
   McpWorkspace& solver_workspace = workspace.Part<McpWorkspace>();
+  const double allowed_gain =
+      kMaxEnergyGainRel * IslandEnergyScale(exact, scales) + ejection_energy;
+  // the exact root nearest `start`, moved along its set to the least energy; its E, or NaN
+  const auto select_from = [&](VectorXd& root, SelectionResult& result) -> double {
+    if (!SolveMcp(f, layout.num_free, row_scale, var_scale, root, options, solver_workspace)
+             .converged)
+      return NAN;
+    result = SelectLeastEnergySolution(f, layout.num_free, row_scale, var_scale,
+                                       PatchEnergy(scene, island, exact, layout, root), root,
+                                       options, solver_workspace);
+    if (!result.converged || IslandStepEnergyGain(exact, layout, root) > allowed_gain) return NAN;
+    return result.energy;
+  };
   VectorXd root = z;
-  if (!SolveMcp(f, layout.num_free, row_scale, var_scale, root, options, solver_workspace)
-           .converged)
-    return selection;
-  const SelectionResult result = SelectLeastEnergySolution(
-      f, layout.num_free, row_scale, var_scale, PatchEnergy(scene, island, exact, layout, root),
-      root, options, solver_workspace);
-  if (!result.converged) return selection;
-  if (IslandStepEnergyGain(exact, layout, root) >
-      kMaxEnergyGainRel * IslandEnergyScale(exact, scales) + ejection_energy)
-    return selection;
+  SelectionResult result;
+  double energy = select_from(root, result);
+  // the set may come in pieces that no path along it joins (a held grasp's, and a slipping one's
+  // where its pads' ECPs left the centre): the piece the last step's solution continues is
+  // searched too, and the lesser energy taken
+  if (last != nullptr) {
+    VectorXd other = *last;
+    SelectionResult other_result;
+    const double other_energy = select_from(other, other_result);
+    if (other_energy < energy * (1 - kEnergyTieRel) ||
+        (std::isnan(energy) && !std::isnan(other_energy))) {
+      root.swap(other);
+      result = other_result;
+      energy = other_energy;
+    }
+  }
+  if (std::isnan(energy)) return selection;
   selection.selected = true;
   selection.directions = result.directions;
   selection.steps = result.steps;

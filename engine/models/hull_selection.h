@@ -32,12 +32,14 @@ struct RootSelection {
 
 /// A root `z` of `problem` (solved with its sticking creep) taken onto the exact MNCP's set of
 /// solutions (no creep: minimum-norm Newton steps, the nearest root) and along it to the least
-/// PatchEnergy. z is left as it is where the exact problem has no root near it, or where the
-/// selected root gains more energy than the step's allowance (`ejection_energy` as for any root,
-/// SolveAttempt).
+/// PatchEnergy; where `last` (the last step's solution laid out as `layout`) is given, the same
+/// from it too, and the lesser energy taken (the set may come in pieces no path along it joins).
+/// z is left as it is where neither selection succeeds, or where the selected root gains more
+/// energy than the step's allowance (`ejection_energy` as for any root, SolveAttempt).
 RootSelection SelectLeastEnergyRoot(const Scene& scene, const Island& island,
                                     const IslandProblem& problem, const IslandLayout& layout,
                                     const IslandScales& scales, double ejection_energy,
-                                    double tolerance, StepWorkspace& workspace, Eigen::VectorXd& z);
+                                    double tolerance, StepWorkspace& workspace, Eigen::VectorXd& z,
+                                    const Eigen::VectorXd* last = nullptr);
 
 }  // namespace ecpsim::engine::hull

@@ -121,7 +121,12 @@ SelectionResult SelectLeastEnergySolution(const McpFunction& f, int num_free,
   Point trial, other;
   while (at.N.cols() > 0 && result.steps < kMaxSelectionSteps) {
     const MatrixXd R_x = at.R * var_scale.asDiagonal();
-    const VectorXd dx = at.N * (R_x * at.N).completeOrthogonalDecomposition().solve(-at.r);
+    // (directions E barely sees, such as an unloaded contact's, are left where they are: the
+    // decomposition's rank is set as the minimum-norm steps set theirs)
+    Eigen::CompleteOrthogonalDecomposition<MatrixXd> gauss_newton;
+    gauss_newton.setThreshold(kMinimumNormRankTolerance);
+    gauss_newton.compute(R_x * at.N);
+    const VectorXd dx = at.N * gauss_newton.solve(-at.r);
     if (!(dx.lpNorm<Eigen::Infinity>() > options.tolerance)) break;
     // as far as the nearest active pair's boundary x_i = 0
     double alpha = 1;
