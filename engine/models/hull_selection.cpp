@@ -156,7 +156,8 @@ RootSelection SelectLeastEnergyRoot(const Scene& scene, const Island& island,
   McpWorkspace& solver_workspace = workspace.Part<McpWorkspace>();
   const double allowed_gain =
       kMaxEnergyGainRel * IslandEnergyScale(exact, scales) + ejection_energy;
-  // the exact root nearest `start`, moved along its set to the least energy; its E, or NaN
+  // `root` taken to the exact root nearest it and along that root's set to the least energy;
+  // its E, or NaN
   const auto select_from = [&](VectorXd& root, SelectionResult& result) -> double {
     if (!SolveMcp(f, layout.num_free, row_scale, var_scale, root, options, solver_workspace)
              .converged)
