@@ -1,5 +1,6 @@
 #include "engine/models/hull_selection.h"
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -168,18 +169,37 @@ RootSelection SelectLeastEnergyRoot(const Scene& scene, const Island& island,
     if (!result.converged || IslandStepEnergyGain(exact, layout, root) > allowed_gain) return NAN;
     return result.energy;
   };
+  const auto loaded = [&](const VectorXd& zz, const MncpLayout::Contact& L) {
+    return zz[L.p_n] > tolerance * var_scale[L.p_n];
+  };
+  // whether every loaded contact of a selected root sticks with its friction inside its limit
+  // (σ = 0 and its pair not degenerate)
+  const auto sticks = [&](const VectorXd& zz, const SelectionResult& r) {
+    return std::none_of(layout.contacts.begin(), layout.contacts.end(), [&](const auto& L) {
+      return loaded(zz, L) &&
+             (zz[L.sigma] > tolerance * var_scale[L.sigma] ||
+              std::find(r.degenerate.begin(), r.degenerate.end(), L.sigma) != r.degenerate.end());
+    });
+  };
   VectorXd root = z;
   SelectionResult result;
   double energy = select_from(root, result);
   // the set may come in pieces that no path along it joins (a held grasp's, and a slipping one's
   // where its pads' ECPs left the centre): the piece the last step's solution continues is
-  // searched too, and the lesser energy taken
+  // searched too. A piece that sticks everywhere inside the friction limits is taken over one
+  // that slips (compliance holds what friction can hold at its least point); else the lesser
+  // energy
   if (last != nullptr) {
     VectorXd other = *last;
     SelectionResult other_result;
     const double other_energy = select_from(other, other_result);
-    if (other_energy < energy * (1 - kEnergyTieRel) ||
-        (std::isnan(energy) && !std::isnan(other_energy))) {
+    const bool root_sticks = !std::isnan(energy) && sticks(root, result);
+    const bool other_sticks = !std::isnan(other_energy) && sticks(other, other_result);
+    const bool take_other =
+        !std::isnan(other_energy) &&
+        (std::isnan(energy) || (other_sticks && !root_sticks) ||
+         (other_sticks == root_sticks && other_energy < energy * (1 - kEnergyTieRel)));
+    if (take_other) {
       root.swap(other);
       result = other_result;
       energy = other_energy;

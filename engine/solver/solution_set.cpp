@@ -161,6 +161,11 @@ SelectionResult SelectLeastEnergySolution(const McpFunction& f, int num_free,
   }
   z = at.z;
   result.energy = at.energy;
+  for (int i = num_free; i < n; ++i) {
+    if (HoldOf(i, at.z[i] / var_scale[i], row_scale[i] * at.F[i], num_free, options.tolerance) ==
+        Hold::kBoth)
+      result.degenerate.push_back(i);
+  }
   return result;
 }
 

@@ -5,6 +5,7 @@
 // whose solutions form a set").
 
 #include <functional>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -38,6 +39,9 @@ struct SelectionResult {
   int steps = 0;            // steps taken along the set
   double start_energy = 0;  // E at the given solution ...
   double energy = 0;        // ... and at the returned one
+  // the complementarity unknowns i whose pair is degenerate at the returned solution (x_i and
+  // F̃_i both ≤ tolerance: a pair on the edge of its set, such as friction at its limit unslipped)
+  std::vector<int> degenerate;
 };
 
 /// Moves a solution z of the MCP along its set of solutions to the point where E is least.

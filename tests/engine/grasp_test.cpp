@@ -143,10 +143,11 @@ class SlipOnsetTest : public testing::TestWithParam<SlipOnsetCase> {};
 
 constexpr double kPadTorsion = 0.01;     // m, the scene's pads' e_r
 constexpr double kBoxHalfWidth = 0.025;  // m
-// the issue's bar for slip onset against the prediction. Measured (examples/grasp_slip.py): within
-// one ramp step (0.58 %) where the grip is centred, up to 1.8 % early off centre, where the
-// selection compares the held piece of the set with a slipping one by energy
-constexpr double kOnsetTolerance = 0.02;
+// slip onset against the prediction (the issue asks for 2 %). Measured (examples/grasp_slip.py):
+// within one ramp step (0.58 %) where the grip is centred, within 0.6 % off centre, where the
+// held piece's least point is found to the selection's tolerance rather than exactly at the
+// friction limit
+constexpr double kOnsetTolerance = 0.01;
 // the grip from kLiftFrom: kRampStart × the prediction while the frame lifts 5 mm at 12.5 mm/s
 // (a jerk the spare friction takes in one step, so the box starts the ramp as placed) until
 // kRampFrom, then less by kRampRate of it per second. Slip shows as a move or turn relative to the
