@@ -4,6 +4,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <cmath>
+#include <optional>
 #include <utility>
 
 #include "engine/report/penetration.h"
@@ -426,50 +427,28 @@ void CheckOutput(const OutputSettings& out) {
 // ---- initial overlap -------------------------------------------------------------------------
 
 void CheckInitialPenetration(const Scene& scene) {
-  const PenetrationProbe probe(scene);
-  const State state = InitialState(scene);
-  for (size_t b = 0; b < scene.bodies.size(); ++b) {
-    const Body& body = scene.bodies[b];
-    // a kinematic body goes where its motion says, through the ground too
-    if (body.allow_initial_penetration || body.IsKinematic()) continue;
-    const double size = MeshAcross(body.mesh);
-    const double tolerance = kInitialPenetrationTolerance * size;
-    for (size_t o = 0; o < scene.obstacles.size(); ++o) {
-      const double depth = probe.Depth(scene, state, static_cast<int>(b), static_cast<int>(o));
-      if (depth > tolerance) {
-        const std::string at = Index("bodies", b);
-        Fail(Keys(at, {"position", "lowest_point_height", "on_ground"}), Show(body.p0),
-             fmt::format("an initial pose of body \"{}\" whose mesh stays out of obstacle \"{}\": "
-                         "a vertex is {:.3g} m inside, more than {:.3g} m ({:g} × the body's "
-                         "size {:.3g} m); move the body, or allow it with "
-                         "{}.allow_initial_penetration: true",
-                         body.name, scene.obstacles[o].name, depth, tolerance,
-                         kInitialPenetrationTolerance, size, at));
-      }
-    }
+  const std::optional<Overlap> overlap = FindOverlap(scene, InitialState(scene));
+  if (!overlap) return;
+  const Body& body = scene.bodies[overlap->body];
+  const std::string at = Index("bodies", overlap->body);
+  if (overlap->obstacle >= 0) {
+    Fail(Keys(at, {"position", "lowest_point_height", "on_ground"}), Show(body.p0),
+         fmt::format("an initial pose of body \"{}\" whose mesh stays out of obstacle \"{}\": "
+                     "a vertex is {:.3g} m inside, more than {:.3g} m ({:g} × the body's "
+                     "size {:.3g} m); move the body, or allow it with "
+                     "{}.allow_initial_penetration: true",
+                     body.name, scene.obstacles[overlap->obstacle].name, overlap->depth,
+                     overlap->tolerance, kInitialPenetrationTolerance, overlap->size, at));
   }
-  // bodies that can touch must start apart too (a kinematic body included: it would shoot the
-  // other out at the first step); excluded pairs are not contact pairs and may overlap
-  for (const ContactPair& pair : scene.contacts) {
-    if (!pair.WithBody()) continue;
-    const Body& a = scene.bodies[pair.body];
-    const Body& b = scene.bodies[pair.other_body];
-    if (a.allow_initial_penetration || b.allow_initial_penetration) continue;
-    const double size = std::min(MeshAcross(a.mesh), MeshAcross(b.mesh));
-    const double tolerance = kInitialPenetrationTolerance * size;
-    const double depth = probe.BodyDepth(scene, state, pair.body, pair.other_body);
-    if (depth > tolerance) {
-      const std::string at = Index("bodies", pair.body);
-      Fail(Keys(at, {"position"}), Show(a.p0),
-           fmt::format("an initial pose of body \"{}\" apart from body \"{}\": they overlap by "
-                       "{:.3g} m, more than {:.3g} m ({:g} × the "
-                       "smaller body's size {:.3g} m); move one of them, exclude the pair "
-                       "(pairs: [{{bodies: [{}, {}], exclude: true}}]), or allow it with "
-                       "{}.allow_initial_penetration: true",
-                       a.name, b.name, depth, tolerance, kInitialPenetrationTolerance, size, a.name,
-                       b.name, at));
-    }
-  }
+  const Body& other = scene.bodies[overlap->other_body];
+  Fail(Keys(at, {"position"}), Show(body.p0),
+       fmt::format("an initial pose of body \"{}\" apart from body \"{}\": they overlap by "
+                   "{:.3g} m, more than {:.3g} m ({:g} × the "
+                   "smaller body's size {:.3g} m); move one of them, exclude the pair "
+                   "(pairs: [{{bodies: [{}, {}], exclude: true}}]), or allow it with "
+                   "{}.allow_initial_penetration: true",
+                   body.name, other.name, overlap->depth, overlap->tolerance,
+                   kInitialPenetrationTolerance, overlap->size, body.name, other.name, at));
 }
 
 // the checks in the order of the docs; `output` (may be null) among the settings
@@ -492,6 +471,36 @@ SceneError::SceneError(std::vector<std::string> keys, std::string value, std::st
       keys_(std::move(keys)),
       value_(std::move(value)),
       expected_(std::move(expected)) {}
+
+std::optional<Overlap> FindOverlap(const Scene& scene, const State& state) {
+  const PenetrationProbe probe(scene);
+  for (size_t b = 0; b < scene.bodies.size(); ++b) {
+    const Body& body = scene.bodies[b];
+    // a kinematic body goes where its motion says, through the ground too
+    if (body.allow_initial_penetration || body.IsKinematic()) continue;
+    const double size = MeshAcross(body.mesh);
+    const double tolerance = kInitialPenetrationTolerance * size;
+    for (size_t o = 0; o < scene.obstacles.size(); ++o) {
+      const double depth = probe.Depth(scene, state, static_cast<int>(b), static_cast<int>(o));
+      if (depth > tolerance) {
+        return Overlap{static_cast<int>(b), -1, static_cast<int>(o), depth, tolerance, size};
+      }
+    }
+  }
+  // bodies that can touch must be apart too (a kinematic body included: it would shoot the
+  // other out at the first step); excluded pairs are not contact pairs and may overlap
+  for (const ContactPair& pair : scene.contacts) {
+    if (!pair.WithBody()) continue;
+    const Body& a = scene.bodies[pair.body];
+    const Body& b = scene.bodies[pair.other_body];
+    if (a.allow_initial_penetration || b.allow_initial_penetration) continue;
+    const double size = std::min(MeshAcross(a.mesh), MeshAcross(b.mesh));
+    const double tolerance = kInitialPenetrationTolerance * size;
+    const double depth = probe.BodyDepth(scene, state, pair.body, pair.other_body);
+    if (depth > tolerance) return Overlap{pair.body, pair.other_body, -1, depth, tolerance, size};
+  }
+  return std::nullopt;
+}
 
 void ValidateScene(const Scene& scene) { Validate(scene, nullptr); }
 

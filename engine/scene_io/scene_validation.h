@@ -5,12 +5,14 @@
 // (code), the Python module's make_scene — and reports the SceneError in its own terms (file
 // line, option, dict key); evaluation::MakeStepper checks again the scenes a sweep edits.
 
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "common/errors.h"
 #include "engine/scene.h"
 #include "engine/scene_io/loaded_scene.h"
+#include "engine/state.h"
 
 namespace ecpsim::engine {
 
@@ -36,6 +38,23 @@ class SceneError : public InputError {
   std::string value_;
   std::string expected_;
 };
+
+/// Two things of a scene inside each other deeper than kInitialPenetrationTolerance × the
+/// size (the body's, or the smaller body's): body `body` in obstacle `obstacle` or in body
+/// `other_body` (the other index −1), by `depth` m against `tolerance` m.
+struct Overlap {
+  int body = -1;
+  int other_body = -1;
+  int obstacle = -1;
+  double depth = 0;
+  double tolerance = 0;
+  double size = 0;  // m, across the body's mesh (of a pair: the smaller one's)
+};
+
+/// The first overlap of `state`'s poses: a dynamic body in an obstacle, then the bodies of a
+/// contact pair in each other; bodies with allow_initial_penetration are skipped, as kinematic
+/// ones against obstacles (they go where their motion says). None when all are apart.
+std::optional<Overlap> FindOverlap(const Scene& scene, const State& state);
 
 /// Checks `scene` as a whole (docs/scene_format.md, "Checks and error messages"):
 /// - h and duration finite and in range, h ≤ duration, at most kMaxSteps steps;

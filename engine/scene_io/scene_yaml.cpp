@@ -287,18 +287,13 @@ LoadedScene ReadScene(const Context& ctx, const YAML::Node& root) {
   return loaded;
 }
 
-}  // namespace
-
-LoadedScene LoadScene(const std::string& path, const std::vector<std::string>& overrides) {
-  Context ctx;
-  ctx.file = path;
-  ctx.folder = fs::path(path).parent_path();
-  YAML::Node root = ReadFile(path);
+// LoadScene's work on a parsed tree: the overrides applied, read, validated
+LoadedScene LoadTree(Context ctx, YAML::Node root, const std::vector<std::string>& overrides) {
   if (root.IsNull() && overrides.empty()) {
     throw InputError(
-        fmt::format("{}:1:1: the scene file is empty; expected a mapping with at least "
-                    "`duration` and `bodies`",
-                    path));
+        fmt::format("{}{}: the scene is empty; expected a mapping with at least `duration` and "
+                    "`bodies`",
+                    ctx.file, ctx.has_lines ? ":1:1" : ""));
   }
   std::vector<yaml::Override> applied;
   for (const std::string& o : overrides) yaml::ApplyOverride(ctx, root, o, applied);
@@ -311,6 +306,30 @@ LoadedScene LoadScene(const std::string& path, const std::vector<std::string>& o
     throw Locate(ctx, root, e);
   }
   return loaded;
+}
+
+}  // namespace
+
+LoadedScene LoadScene(const std::string& path, const std::vector<std::string>& overrides) {
+  Context ctx;
+  ctx.file = path;
+  ctx.folder = fs::path(path).parent_path();
+  return LoadTree(std::move(ctx), ReadFile(path), overrides);
+}
+
+LoadedScene LoadSceneText(const std::string& text, const std::string& source,
+                          const std::string& folder, const std::vector<std::string>& overrides) {
+  Context ctx;
+  ctx.file = source;
+  ctx.folder = folder;
+  ctx.has_lines = false;
+  YAML::Node root;
+  try {
+    root = YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    throw InputError(fmt::format("{}: not a YAML tree: {}", source, yaml::Printable(e.msg)));
+  }
+  return LoadTree(std::move(ctx), std::move(root), overrides);
 }
 
 }  // namespace ecpsim::engine

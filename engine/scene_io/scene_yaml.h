@@ -24,4 +24,12 @@ namespace ecpsim::engine {
 ///         the tree is named as `--set key=value`.
 LoadedScene LoadScene(const std::string& path, const std::vector<std::string>& overrides = {});
 
+/// As LoadScene, for a scene given as YAML text that no file holds (the Python module's dicts,
+/// written as flow YAML): `source` names it in messages, which give the key path instead of a
+/// line:col of a text the user never saw, and mesh paths are relative to `folder`.
+/// @throws InputError `source: key = value: expected ...` as LoadScene.
+LoadedScene LoadSceneText(const std::string& text, const std::string& source,
+                          const std::string& folder,
+                          const std::vector<std::string>& overrides = {});
+
 }  // namespace ecpsim::engine

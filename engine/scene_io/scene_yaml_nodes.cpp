@@ -76,7 +76,7 @@ std::string Where(const Context& ctx, const YAML::Node& node, const std::string&
     }
   }
   const YAML::Mark mark = node.IsDefined() ? node.Mark() : YAML::Mark::null_mark();
-  if (mark.is_null()) {
+  if (mark.is_null() || !ctx.has_lines) {
     return ctx.file;
   }
   return fmt::format("{}:{}:{}", ctx.file, mark.line + 1, mark.column + 1);

@@ -30,12 +30,14 @@ struct Override {
 };
 
 struct Context {
-  std::string file;              // the scene file as given
+  std::string file;              // the scene file as given, or what made the text
   std::filesystem::path folder;  // mesh paths are relative to it
   std::vector<Override> overrides;
+  bool has_lines = true;  // false for generated text, whose line:col the user never saw
 };
 
-/// "file:line:col" (1-based) of `node`, or "file: --set TEXT" when an override made `key`.
+/// "file:line:col" (1-based) of `node`, or "file: --set TEXT" when an override made `key`;
+/// "file" alone for generated text (the key names the place).
 std::string Where(const Context& ctx, const YAML::Node& node, const std::string& key);
 
 /// The node's text for messages: scalars as written, lists and maps in flow style, cut to 60
