@@ -74,9 +74,8 @@ def grasp_scene(pad_across, pad_along, offset):
         "pairs.0.friction.e_r": E_R, "pairs.1.friction.e_r": E_R,
         "bodies.1.shape.box.size": pad, "bodies.2.shape.box.size": pad,
         "bodies.1.position": [-0.05, offset, 0.04], "bodies.2.position": [0.05, offset, 0.04],
-        # (quoted: string overrides are read as YAML, issue 32)
         "grippers.0.force":
-            f'"t < 0.3 ? 0.2 : {force!r} * (t < {RAMP_FROM} ? 1 : 1 - {RAMP_RATE} * (t - {RAMP_FROM}))"',
+            f"t < 0.3 ? 0.2 : {force!r} * (t < {RAMP_FROM} ? 1 : 1 - {RAMP_RATE} * (t - {RAMP_FROM}))",
         "grippers.0.motion.waypoints": [{"t": 0.5, "position": [0, offset, 0.04]},
                                         {"t": 0.9, "position": [0, offset, 0.045]}],
     })

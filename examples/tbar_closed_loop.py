@@ -89,12 +89,13 @@ class ClosedLoopResult:
 def tbar_scene(duration):
     """The T-bar of scenes/tbar.yaml (mass, start pose, friction) on the table without its loads:
     the controller is the only actuator."""
-    tbar = ecpsim.load_scene(str(TBAR_SCENE)).bodies[0]
-    return ecpsim.make_scene(
-        bodies=[{"name": "tbar", "mesh": str(TBAR_MESH), "mass": tbar["mass"],
-                 "position": tbar["position"].tolist(),
-                 "quaternion": tbar["quaternion"].tolist()}],
-        h=0.01, duration=duration, friction=tbar["friction"])
+    original = ecpsim.load_scene(str(TBAR_SCENE))
+    tbar = original.bodies[0]
+    return ecpsim.make_scene({
+        "gravity": original.gravity, "h": 0.01, "duration": duration,
+        "ground": {"friction": tbar["friction"]},
+        "bodies": [{"name": "tbar", "mesh": str(TBAR_MESH), "mass": tbar["mass"],
+                    "position": tbar["position"], "quaternion": tbar["quaternion"]}]})
 
 
 def yaw_of(quaternion):

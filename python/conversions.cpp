@@ -38,8 +38,26 @@ int IndexByName(const std::vector<Item>& items, const py::handle& key, const std
                                names.empty() ? "the scene has none" : names, items.size()));
 }
 
-// a Python value as the YAML text `--set key=value` takes
+// a YAML double-quoted scalar: a string stays a string ("t < 0.3 ? 0.2 : 3" is no mapping)
+std::string Quoted(const std::string& text) {
+  std::string out = "\"";
+  for (const char c : text) {
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += c;
+    } else if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) {
+      out += fmt::format("\\x{:02x}", static_cast<unsigned char>(c));
+    } else {
+      out += c;
+    }
+  }
+  return out + "\"";
+}
+
+}  // namespace
+
 std::string YamlText(const py::handle& value) {
+  if (value.is_none()) return "null";
   if (py::isinstance<py::bool_>(value)) return value.cast<bool>() ? "true" : "false";
   if (py::isinstance<py::int_>(value)) return py::str(value).cast<std::string>();
   if (py::isinstance<py::float_>(value) ||
@@ -49,7 +67,7 @@ std::string YamlText(const py::handle& value) {
     if (std::isinf(x)) return x > 0 ? ".inf" : "-.inf";
     return py::repr(py::float_(x)).cast<std::string>();
   }
-  if (py::isinstance<py::str>(value)) return value.cast<std::string>();
+  if (py::isinstance<py::str>(value)) return Quoted(value.cast<std::string>());
   if (py::isinstance<py::dict>(value)) {
     std::string text;
     for (const auto& item : value.cast<py::dict>()) {
@@ -66,10 +84,8 @@ std::string YamlText(const py::handle& value) {
     }
     return "[" + text + "]";
   }
-  return py::str(value).cast<std::string>();
+  return Quoted(py::str(value).cast<std::string>());
 }
-
-}  // namespace
 
 py::array_t<double> Array(const double* data, std::vector<py::ssize_t> shape) {
   py::array_t<double> a(shape);

@@ -46,7 +46,12 @@ Eigen::Quaterniond ToQuaternion(const pybind11::object& quaternion, const std::s
 /// A contact's friction as {"mu", "e_t", "e_o", "e_r"}.
 pybind11::dict FrictionDict(const engine::Friction& f);
 
-/// {"bodies.0.mass": 3} or ["bodies.0.mass=3"] as the CLI's --set strings.
+/// A Python value (dict, list, tuple, numpy array, number, bool, str, None) as flow YAML text:
+/// numbers to the last bit, strings double-quoted so that they stay strings.
+std::string YamlText(const pybind11::handle& value);
+
+/// {"bodies.0.mass": 3} or ["bodies.0.mass=3"] as the CLI's --set strings (a dict's values as
+/// YamlText, a list's strings as the CLI's, parsed as YAML).
 std::vector<std::string> Overrides(const pybind11::object& overrides);
 
 }  // namespace ecpsim::python

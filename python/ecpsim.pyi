@@ -95,7 +95,9 @@ class Simulation:
     @property
     def body_names(self) -> List[str]: ...
     @property
-    def last_report(self) -> Dict[str, Any]: ...
+    def last_report(self) -> Dict[str, Any]:
+        """{converged, iterations, residual, retries, substeps, models, failure}: of a failed
+        step, converged False and failure its message."""
     positions: npt.NDArray[np.float64]
     """(n, 3) centres of mass, m; settable for dynamic bodies."""
     quaternions: npt.NDArray[np.float64]
@@ -105,7 +107,8 @@ class Simulation:
     angular_velocities: npt.NDArray[np.float64]
     """(n, 3) rad/s, world frame."""
     def get_state(self) -> State: ...
-    def set_state(self, state: State) -> None: ...
+    def set_state(self, state: State) -> None:
+        """Raises InputError for poses inside an obstacle or another body."""
     def apply_wrench(
         self,
         body: BodyRef,
@@ -145,17 +148,15 @@ def load_scene(
     """A YAML scene with the CLI's --set overrides, validated."""
 
 def make_scene(
-    bodies: Sequence[Mapping[str, Any]],
-    obstacles: Optional[Sequence[Mapping[str, Any]]] = None,
-    h: float = 0.01,
-    duration: float = 1.0,
-    gravity: Vector3 = ...,
-    friction: Optional[Mapping[str, float]] = None,
-    loads: Optional[Sequence[Mapping[str, Any]]] = None,
-    model: str = "auto",
+    tree: Mapping[str, Any],
+    overrides: Optional[Union[Mapping[str, Any], Sequence[str]]] = None,
+    base_dir: str = ".",
 ) -> Scene:
-    """A scene from Python dicts (box or mesh bodies, kinematic ones at a constant twist,
-    half-space obstacles, loads), validated as a file's."""
+    """A scene from a dict that is the YAML format's tree, read by the file's loader; mesh
+    paths relative to base_dir."""
+
+class SceneWarning(UserWarning):
+    """A scene loaded with a note that is no error (a mesh of implausible size)."""
 
 def run(
     scene: Scene, duration: Optional[float] = None, every: Optional[int] = None

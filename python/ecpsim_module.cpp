@@ -1,7 +1,7 @@
 // The `ecpsim` Python module (pybind11): scenes, simulations stepped from Python, trajectories as
 // numpy columns, frames as numpy images, convex hulls of meshes. Reference: docs/python.md. This
 // file holds the bindings; the stateful part is python/simulation.h, and conversions, state
-// arrays and make_scene's schema are python/conversions.h, state_arrays.h and scene_dict.h.
+// arrays are python/conversions.h and state_arrays.h.
 
 #include <dlfcn.h>
 #include <unistd.h>
@@ -35,7 +35,6 @@
 #include "geometry/mass_properties.h"
 #include "geometry/mesh_topology.h"
 #include "python/conversions.h"
-#include "python/scene_dict.h"
 #include "python/simulation.h"
 #include "python/state_arrays.h"
 #include "python/state_pickle.h"
@@ -288,6 +287,17 @@ py::dict Hull(const std::string& path, const std::optional<double>& scale,
   return d;
 }
 
+// ecpsim.SceneWarning, made when the module loads
+PyObject* scene_warning = nullptr;
+
+// each of the scene's warnings as a SceneWarning, so that Python's filters see it (and an
+// "error" filter raises it)
+void WarnOf(const engine::LoadedScene& loaded) {
+  for (const std::string& warning : loaded.warnings) {
+    if (PyErr_WarnEx(scene_warning, warning.c_str(), 2) != 0) throw py::error_already_set();
+  }
+}
+
 // the mesh reader helper installed beside the module (cmake --install) when none is chosen
 void FindMeshReader() {
   if (const char* chosen = std::getenv("ECPSIM_MESH_READER"); chosen != nullptr && *chosen) return;
@@ -314,6 +324,12 @@ PYBIND11_MODULE(ecpsim, m) {
   py::register_exception<ecpsim::InputError>(m, "InputError", PyExc_ValueError).doc() =
       "Bad input: a scene file, an override, a mesh, an argument. The message names the file:line, "
       "key, value and what was expected, as the CLI's (exit code 1).";
+  scene_warning = PyErr_NewExceptionWithDoc(
+      "ecpsim.SceneWarning",
+      "A scene loaded, with a note that is no error (a mesh of implausible size: wrong units?).",
+      PyExc_UserWarning, nullptr);
+  if (scene_warning == nullptr) throw py::error_already_set();
+  m.attr("SceneWarning") = py::handle(scene_warning);
   py::register_exception<engine::SolverFailure>(m, "SolverFailure", PyExc_RuntimeError).doc() =
       "A step could not be solved after every retry; the message names time, body, residual and "
       "what was tried (the CLI's exit code 3). The simulation keeps the last good state.";
@@ -417,14 +433,22 @@ PYBIND11_MODULE(ecpsim, m) {
       "load_scene",
       [](const std::string& path, const py::object& overrides) {
         const std::vector<std::string> strings = Overrides(overrides);
-        py::gil_scoped_release release;
-        return std::make_shared<engine::LoadedScene>(engine::LoadScene(path, strings));
+        SceneHandle loaded;
+        {
+          py::gil_scoped_release release;
+          loaded = std::make_shared<engine::LoadedScene>(engine::LoadScene(path, strings));
+        }
+        WarnOf(*loaded);
+        return loaded;
       },
       py::arg("path"), py::arg("overrides") = py::none(),
       "Reads a YAML scene (docs/scene_format.md) and validates it.\n\n"
       "overrides: the CLI's --set, as a dict {'bodies.0.mass': 3, 'h': 0.005} (values as "
-      "Python numbers, bools, strings or lists) or a list of 'key=value' strings.\n"
-      "Raises InputError with the CLI's file:line:col message.");
+      "Python numbers, bools, strings, lists or dicts; a string stays a string, e.g. "
+      "{'grippers.0.force': 't < 0.3 ? 0.2 : 3'}) or a list of 'key=value' strings, parsed as "
+      "YAML as the CLI's.\n"
+      "Raises InputError with the CLI's file:line:col message; each of Scene.warnings (a mesh "
+      "of implausible size: wrong units?) is also warned as SceneWarning.");
 
   py::class_<engine::State>(
       m, "State",
@@ -512,12 +536,16 @@ PYBIND11_MODULE(ecpsim, m) {
           "last_report",
           [](PySimulation& self) {
             const std::lock_guard<std::mutex> lock(self.mutex);
-            return ReportDict(self.sim.scene(), self.sim.last_report());
+            py::dict report = ReportDict(self.sim.scene(), self.sim.last_report());
+            const std::string& failure = self.sim.last_failure();
+            report["failure"] = failure.empty() ? py::object(py::none()) : py::str(failure);
+            return report;
           },
-          "The last step's {converged, iterations, residual, retries, substeps, models}: models "
-          "maps "
-          "each body's name to what solved its step (free, planar, hull, multipatch, point, "
-          "kinematic).")
+          "The last step's {converged, iterations, residual, retries, substeps, models, "
+          "failure}: models maps each body's name to what solved its step (free, planar, hull, "
+          "multipatch, point, kinematic); of a step that raised SolverFailure or ModelInvalid, "
+          "converged is False, residual and retries are the failure's and failure its message "
+          "(None after a step that succeeded).")
       .def(
           "get_state",
           [](PySimulation& self) {
@@ -627,23 +655,27 @@ PYBIND11_MODULE(ecpsim, m) {
 
   m.def(
       "make_scene",
-      [](const py::list& bodies, const py::object& obstacles, double h, double duration,
-         const py::object& gravity, const py::object& friction, const py::object& loads,
-         const std::string& model) {
-        return MakeScene(bodies, obstacles, h, duration, gravity, friction, loads, model);
+      [](const py::dict& tree, const py::object& overrides, const std::string& base_dir) {
+        const std::string text = YamlText(tree);
+        const std::vector<std::string> strings = Overrides(overrides);
+        SceneHandle loaded;
+        {
+          py::gil_scoped_release release;
+          loaded = std::make_shared<engine::LoadedScene>(
+              engine::LoadSceneText(text, "make_scene", base_dir, strings));
+        }
+        WarnOf(*loaded);
+        return loaded;
       },
-      py::arg("bodies"), py::arg("obstacles") = py::none(), py::arg("h") = 0.01,
-      py::arg("duration") = 1.0, py::arg("gravity") = py::make_tuple(0, 0, -9.8),
-      py::arg("friction") = py::none(), py::arg("loads") = py::none(), py::arg("model") = "auto",
-      "A scene built in Python, checked by the same validation as a file's (ValidateScene).\n"
-      "bodies: dicts {name, mass, box: [x, y, z] m | mesh: path (scale), position (the CM), "
-      "quaternion (w, x, y, z), velocity, angular_velocity, friction {mu, e_t, e_o, e_r (m, or "
-      "\"patch\")}, "
-      "kinematic: {velocity, angular_velocity} (a constant twist), allow_initial_penetration}.\n"
-      "obstacles: dicts {name, normal, offset, friction}: half-spaces normal · x ≤ offset "
-      "(default: the ground z ≤ 0 with `friction`). loads: dicts {body, force | torque: 3 "
-      "numbers or expressions of t, at (body frame), start, end}. Raises InputError naming "
-      "the key (bodies[0].mass = -1: expected ...).");
+      py::arg("tree"), py::arg("overrides") = py::none(), py::arg("base_dir") = ".",
+      "A scene from a dict that is the YAML format's tree (docs/scene_format.md: the same keys, "
+      "defaults, ranges and checks as a file's, read by the same loader), e.g. {'duration': 1, "
+      "'ground': {'friction': {'mu': 0.3}}, 'bodies': [{'name': 'box', 'shape': {'box': {'size': "
+      "[0.1, 0.1, 0.1]}}, 'mass': 1, 'position': [0, 0, 0.05]}]}. Values may be Python or numpy "
+      "numbers and arrays; strings stay strings. overrides: as load_scene's. base_dir: the "
+      "folder mesh paths are relative to (default: the working directory).\n"
+      "Raises InputError naming the key path (make_scene: bodies[0].mass = -1: expected ...); "
+      "warns SceneWarning as load_scene.");
 
   m.def(
       "run",

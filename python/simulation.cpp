@@ -10,6 +10,7 @@
 #include "engine/models/hull_warm_start.h"
 #include "engine/scene_limits.h"
 #include "engine/time_step.h"
+#include "python/state_arrays.h"
 
 namespace ecpsim::python {
 namespace {
@@ -96,7 +97,7 @@ engine::StepReport Simulation::Step(std::int64_t n) {
     const size_t base = scene_.loads.size();
     scene_.loads.insert(scene_.loads.end(), pending_.begin(), pending_.end());
     try {
-      report_ = engine::Step(scene_, state_, workspace_);
+      StepOnce();
     } catch (...) {
       scene_.loads.resize(base);
       throw;
@@ -105,10 +106,27 @@ engine::StepReport Simulation::Step(std::int64_t n) {
     pending_.clear();
     --n;
   }
-  for (std::int64_t k = 0; k < n; ++k) {
-    report_ = engine::Step(scene_, state_, workspace_);
-  }
+  for (std::int64_t k = 0; k < n; ++k) StepOnce();
   return report_;
+}
+
+void Simulation::StepOnce() {
+  try {
+    report_ = engine::Step(scene_, state_, workspace_);
+    failure_.clear();
+  } catch (const engine::SolverFailure& e) {
+    report_ = engine::StepReport();
+    if (const engine::StepFailure* failure = e.step_failure()) {
+      report_.residual = failure->residual;
+      report_.retries = static_cast<int>(failure->tried.size());
+    }
+    failure_ = e.what();
+    throw;
+  } catch (const engine::ModelInvalid& e) {
+    report_ = engine::StepReport();
+    failure_ = e.what();
+    throw;
+  }
 }
 
 void Simulation::Reset() {
@@ -117,6 +135,7 @@ void Simulation::Reset() {
   state_ = engine::InitialState(scene_);
   report_ = engine::StepReport();
   report_.converged = true;
+  failure_.clear();
 }
 
 void Simulation::SetState(const engine::State& state) {
@@ -137,6 +156,7 @@ void Simulation::SetState(const engine::State& state) {
   for (size_t k = 0; k < state.contacts.size(); ++k) {
     RequireFittingWarmStart(scene_, k, state.contacts[k].warm_start);
   }
+  RequireApart(scene_, state, "set_state");
   state_ = state;
 }
 

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -71,17 +72,23 @@ class Simulation {
   const engine::State& state() const { return state_; }
   /// The state for direct edits of poses and velocities (callers keep it finite).
   engine::State& mutable_state() { return state_; }
-  /// The report of the last step (iterations 0, converged before any step).
+  /// The report of the last step (iterations 0, converged before any step); of a step that
+  /// failed: converged false, its residual and the number of starts it tried.
   const engine::StepReport& last_report() const { return report_; }
+  /// The message of the last step's failure; empty when it succeeded.
+  const std::string& last_failure() const { return failure_; }
 
  private:
   void RequireBody(int body) const;
+  // one engine::Step, its report or failure recorded
+  void StepOnce();
 
   std::shared_ptr<const engine::Scene> original_;
   engine::Scene scene_;  // *original_ plus kinematic targets; the next step's wrenches as loads
   engine::State state_;
   std::vector<engine::Load> pending_;  // the next step's wrenches
   engine::StepReport report_;
+  std::string failure_;
   engine::StepWorkspace workspace_;  // the steps' memory, kept from step to step
 };
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <string>
 
 #include <fmt/format.h>
@@ -11,6 +12,7 @@
 
 #include "common/errors.h"
 #include "engine/report/trajectory_columns.h"
+#include "engine/scene_io/scene_validation.h"
 #include "engine/scene_limits.h"
 #include "python/conversions.h"
 
@@ -136,7 +138,26 @@ void SetBodyArray(const engine::Scene& scene, engine::State& state, BodyField fi
                       FieldName(field), b, scene.bodies[b].name));
     }
   }
+  if (field == BodyField::kPosition || field == BodyField::kQuaternion) {
+    engine::State posed = state;
+    posed.bodies = bodies;
+    RequireApart(scene, posed, FieldName(field));
+  }
   state.bodies = std::move(bodies);
+}
+
+void RequireApart(const engine::Scene& scene, const engine::State& state,
+                  const std::string& where) {
+  const std::optional<engine::Overlap> overlap = engine::FindOverlap(scene, state);
+  if (!overlap) return;
+  const std::string other =
+      overlap->obstacle >= 0 ? fmt::format("obstacle '{}'", scene.obstacles[overlap->obstacle].name)
+                             : fmt::format("body '{}'", scene.bodies[overlap->other_body].name);
+  throw InputError(fmt::format(
+      "{}: body '{}' is {:.3g} m inside {}, more than {:.3g} m ({:g} × the size {:.3g} m): "
+      "expected poses apart (or the scene's bodies[{}].allow_initial_penetration: true)",
+      where, scene.bodies[overlap->body].name, overlap->depth, other, overlap->tolerance,
+      engine::kInitialPenetrationTolerance, overlap->size, overlap->body));
 }
 
 py::dict ReportDict(const engine::Scene& scene, const engine::StepReport& report) {

@@ -26,8 +26,14 @@ const char* FieldName(BodyField field);
 /// `field` of every body: an (n, 3) array, (n, 4) as w, x, y, z for quaternions.
 pybind11::array_t<double> BodyArray(const engine::State& state, BodyField field);
 
+/// Requires `state`'s bodies apart from the obstacles and from each other (engine::FindOverlap,
+/// the check of a scene's initial poses).
+/// @throws InputError "WHERE: body 'A' is D m inside obstacle|body 'B' ..." naming the pair, the
+///         depth and how to allow it.
+void RequireApart(const engine::Scene& scene, const engine::State& state, const std::string& where);
+
 /// Writes an (n, 3) or (n, 4) array into the state's dynamic bodies; kinematic bodies' rows must
-/// equal their current values (their motion sets them).
+/// equal their current values (their motion sets them), and new poses be apart (RequireApart).
 /// @throws InputError naming the field, the row and what was expected.
 void SetBodyArray(const engine::Scene& scene, engine::State& state, BodyField field,
                   const pybind11::handle& value);

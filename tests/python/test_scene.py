@@ -44,6 +44,23 @@ def test_overrides_as_dict_and_as_set_strings(scenes):
     assert ecpsim.load_scene(path, {"h": np.float64(0.002)}).h == 0.002
 
 
+def test_a_string_override_stays_a_string(scenes):
+    # "t < 0.3 ? 0.2 : 3" parsed as YAML is a mapping {t < 0.3 ? 0.2: 3}; from a dict it is the
+    # gripper's force expression, 3 N after 0.3 s, as the same --set quoted on the command line
+    path = str(scenes / "gripper.yaml")
+    force = "t < 0.3 ? 0.2 : 3"
+    from_dict = ecpsim.load_scene(path, {"grippers.0.force": force})
+    quoted = ecpsim.load_scene(path, [f'grippers.0.force="{force}"'])
+    a, b = ecpsim.Simulation(from_dict), ecpsim.Simulation(quoted)
+    a.step(70)
+    b.step(70)
+    np.testing.assert_array_equal(a.positions, b.positions)
+    assert a.positions.tolist() != ecpsim.Simulation(ecpsim.load_scene(path)).positions.tolist()
+    # quotes and backslashes inside survive too: the loader sees the string, and names it
+    with pytest.raises(ecpsim.InputError, match=r'grippers\.0\.force=.*a \\"b'):
+        ecpsim.load_scene(path, {"grippers.0.force": 'a \\"b'})
+
+
 def test_override_errors_carry_the_set_message(scenes):
     path = str(scenes / "slide.yaml")
     with pytest.raises(ecpsim.InputError) as error:

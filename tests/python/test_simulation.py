@@ -48,7 +48,7 @@ def test_slide_follows_the_closed_form(scenes):
     assert sim.body_names == ["box"]
     for _ in range(40):
         sim.step()
-        assert sim.last_report["converged"]
+        assert sim.last_report["converged"] and sim.last_report["failure"] is None
         expected = max(0.0, v0 - mu * g * sim.time)
         assert sim.velocities[0, 0] == pytest.approx(expected, abs=SLIDE_VELOCITY_TOL)
         assert sim.velocities.shape == (1, 3)
@@ -261,6 +261,37 @@ def test_solver_failure_names_time_body_and_residual(scenes):
     # the state is the last good one, finite
     assert np.all(np.isfinite(sim.positions))
     assert isinstance(error.value, RuntimeError)
+    # the report is the failed step's, not the last good one's
+    report = sim.last_report
+    assert not report["converged"] and report["failure"] == message
+    assert f"residual {report['residual']:.3g} > tolerance" in message and report["retries"] > 0
+
+
+def test_poses_set_into_an_obstacle_or_a_body_are_refused(scenes):
+    # the scene's check of initial poses holds for poses set later: 0.4 m into the ground, tilted
+    # 45° about x (0.25 sin 45° + 0.05 cos 45° − 0.05 = 0.162 m), or a box inside the other, is an InputError naming the pair and the depth, and nothing changes
+    sim = ecpsim.Simulation(ecpsim.load_scene(str(scenes / "slide.yaml")))
+    before = sim.positions
+    with pytest.raises(ecpsim.InputError,
+                       match=r"^positions: body 'box' is 0\.4 m inside obstacle 'ground'"):
+        sim.positions = [[0, 0, -0.35]]
+    np.testing.assert_array_equal(sim.positions, before)
+    with pytest.raises(ecpsim.InputError, match=r"^quaternions: body 'box' is 0\.162 m inside"):
+        sim.quaternions = [[np.cos(np.pi / 8), np.sin(np.pi / 8), 0, 0]]
+    stack = ecpsim.Simulation(ecpsim.load_scene(str(scenes / "stack.yaml")))
+    state = stack.get_state()
+    inside = stack.positions
+    inside[1] = inside[0] + [0, 0, 0.01]
+    with pytest.raises(ecpsim.InputError, match=r"^positions: body '\w+' is .* m inside body"):
+        stack.positions = inside
+    stack.step(5)
+    stack.set_state(state)  # a state of the run is apart
+    # the scene's allow_initial_penetration lets it through
+    scene = ecpsim.load_scene(str(scenes / "slide.yaml"),
+                              {"bodies.0.allow_initial_penetration": True})
+    allowed = ecpsim.Simulation(scene)
+    allowed.positions = [[0, 0, 0.04]]
+    assert allowed.positions[0, 2] == 0.04
 
 
 def test_model_invalid(scenes):

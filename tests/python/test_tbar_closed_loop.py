@@ -59,7 +59,7 @@ def test_main_writes_the_plot_and_maps_errors_to_the_cli_exit_codes(tmp_path, ca
     assert [p.name for p in tmp_path.iterdir()] == [plot.name]  # no temporary left behind
     assert "final error after 0.50 s" in capsys.readouterr().out
     assert tbar_closed_loop.main(["-o", str(tmp_path), "--duration", "-1"]) == 1
-    assert "duration = -1: expected a finite duration > 0 s" in capsys.readouterr().err
+    assert "make_scene: duration = -1.0: expected a finite duration > 0 s" in capsys.readouterr().err
     assert tbar_closed_loop.main(["-o", str(tmp_path), "--omega", "0"]) == 1
     assert "controller omega = 0.0: expected a finite value > 0" in capsys.readouterr().err
 
