@@ -11,6 +11,9 @@ import numpy.typing as npt
 Vector3 = Union[Sequence[float], npt.NDArray[np.float64]]
 BodyRef = Union[str, int]
 
+__version__: str
+"""The version of CMakeLists.txt's project(ecpsim VERSION ...), e.g. "0.1.0"."""
+
 class InputError(ValueError):
     """Bad input, with the CLI's message (file:line:col: key = value: expected ...); exit code 1."""
 

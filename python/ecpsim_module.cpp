@@ -319,6 +319,8 @@ PYBIND11_MODULE(ecpsim, m) {
       "ecpsim: rigid bodies with planar non-convex contact (Xie & Chakraborty), stepped from "
       "Python. Quaternions are (w, x, y, z), everything else SI in the world frame. Reference: "
       "docs/python.md.";
+  // project(VERSION) of CMakeLists.txt, where the version is written once (python/CMakeLists.txt)
+  m.attr("__version__") = ECPSIM_VERSION;
 
   // errors: the CLI's messages; InputError (exit code 1) is a ValueError
   py::register_exception<ecpsim::InputError>(m, "InputError", PyExc_ValueError).doc() =

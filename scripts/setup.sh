@@ -15,6 +15,9 @@ packages=(
   assimp-testmodels python3
   # the Python module (python/) and its tests (tests/python/), for Debian's python3
   pybind11-dev python3-dev python3-numpy python3-pytest
+  # `pip install --no-build-isolation .` into a venv (pyproject.toml, setup.py: setuptools runs
+  # CMake, whose pybind11 is pybind11-dev's; no pybind11 Python package needed)
+  python3-venv python3-pip python3-setuptools python3-wheel
   # the examples (examples/): Dask sweeps on a LocalCluster or a cluster, matplotlib plots
   python3-distributed python3-matplotlib
   libmujoco-dev libbullet-dev libode-dev
