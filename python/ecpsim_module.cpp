@@ -35,6 +35,7 @@
 #include "geometry/mass_properties.h"
 #include "geometry/mesh_topology.h"
 #include "python/conversions.h"
+#include "python/py_simulation.h"
 #include "python/simulation.h"
 #include "python/state_arrays.h"
 #include "python/state_pickle.h"
@@ -47,9 +48,6 @@ namespace ecpsim::python {
 namespace {
 
 using Eigen::Vector3d;
-// the Python Scene: the physics with its output settings and warnings; pybind11 holds it by a
-// shared_ptr to non-const, and nothing here changes one once loaded
-using SceneHandle = std::shared_ptr<engine::LoadedScene>;
 
 // ---- scenes -------------------------------------------------------------------------------
 
@@ -71,26 +69,6 @@ py::dict BodyDict(const engine::Body& body) {
 }
 
 // ---- the Python Simulation ----------------------------------------------------------------
-
-// the renderer of one size, made on the thread that uses it (an OpenGL context is per thread)
-struct RenderCache {
-  std::unique_ptr<render::Renderer> renderer;
-  std::unique_ptr<render::SceneFrameBuilder> frames;
-  int width = 0, height = 0;
-  std::thread::id thread;
-};
-
-struct PySimulation {
-  // the simulation shares the handle's ownership of the physics
-  explicit PySimulation(SceneHandle scene_handle)
-      : scene(std::move(scene_handle)),
-        sim(std::shared_ptr<const engine::Scene>(scene, &scene->scene)) {}
-  SceneHandle scene;
-  Simulation sim;
-  // one thread at a time in `sim` (stepping and rendering run without the GIL)
-  std::mutex mutex;
-  RenderCache render;
-};
 
 render::CameraSpec CameraOf(const engine::OutputSettings& output, const py::object& camera) {
   render::CameraSpec spec;
