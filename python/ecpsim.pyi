@@ -3,7 +3,7 @@
 Units are SI, vectors in the world frame, quaternions (w, x, y, z) body → world.
 """
 
-from typing import Any, Dict, List, Mapping, Optional, Sequence, Union
+from typing import Any, Dict, List, Literal, Mapping, Optional, Sequence, Union, overload
 
 import numpy as np
 import numpy.typing as npt
@@ -133,9 +133,16 @@ class Simulation:
     ) -> None:
         """A gripper frame's pose at the end of the next step, and its closing force (N on each
         jaw, ≥ 0) from the next step on."""
-    def contacts(self) -> List[Dict[str, Any]]:
+    @overload
+    def contacts(self, as_arrays: Literal[False] = ...) -> List[Dict[str, Any]]:
         """Per potential contact: name, body, other, other_is_body, a1, a2, normal, tangent,
         tangent2, p_n, p_t, p_o, p_r, sigma, f_n, f_t, f_o, f_r, force, mode, model, friction."""
+    @overload
+    def contacts(self, as_arrays: Literal[True]) -> Dict[str, Any]:
+        """The same keys (but friction) as numpy arrays, a row per contact; lists of names,
+        modes and models."""
+    def sensor(self, body: BodyRef) -> npt.NDArray[np.float64]:
+        """(6,) force (N) and moment (N·m) a kinematic body's sensor read over the last step."""
     def render(
         self,
         width: int = 640,

@@ -600,15 +600,40 @@ PYBIND11_MODULE(ecpsim, m) {
           "step on; both hold until the next target.")
       .def(
           "contacts",
-          [](PySimulation& self) {
+          [](PySimulation& self, bool as_arrays) -> py::object {
             const std::lock_guard<std::mutex> lock(self.mutex);
+            if (as_arrays) {
+              return ContactArrays(self.sim.scene(), self.sim.state(), self.sim.last_report());
+            }
             return ContactList(self.sim.scene(), self.sim.state(), self.sim.last_report());
           },
+          py::arg("as_arrays") = false,
           "The contacts' solutions of the last step, one dict per potential contact: name, body, "
           "other (obstacle or body), other_is_body, a1 and a2 (the ECPs, m), normal, tangent, "
           "tangent2, the impulses p_n p_t p_o (N·s) p_r (N·m·s), sigma (m/s), the average forces "
           "f_n f_t f_o (N) f_r (N·m) and force (3,) on the body, mode (separated, sticking or "
-          "sliding), model, friction.")
+          "sliding), model, friction.\n"
+          "as_arrays=True: one dict of the same keys (but friction), each a numpy array with a "
+          "row per contact ((k,) or (k, 3)), or a list for name, body, other, mode and model.")
+      .def(
+          "sensor",
+          [](PySimulation& self, const py::handle& body) {
+            const std::lock_guard<std::mutex> lock(self.mutex);
+            const engine::Scene& scene = self.sim.scene();
+            const int b = BodyIndex(scene, body, "sensor");
+            if (!scene.bodies[static_cast<size_t>(b)].IsKinematic()) {
+              throw ecpsim::InputError(fmt::format(
+                  "sensor: body '{}' is dynamic: expected a kinematic body (a finger, a jaw), "
+                  "whose sensor reads what it pushes",
+                  scene.bodies[static_cast<size_t>(b)].name));
+            }
+            return SensorArray(scene, self.sim.state(), b);
+          },
+          py::arg("body"),
+          "What a force/torque sensor on a kinematic body (name or index) read over the last "
+          "step: a (6,) array, the force (N) and moment (N·m, about its reference point) that the "
+          "bodies it touches exert on it, world axes — trajectory.csv's <K>.fx … <K>.mz. Zero "
+          "before the first step.")
       .def("render", &Render, py::arg("width") = 640, py::arg("height") = 480,
            py::arg("camera") = py::none(), py::arg("overlays") = true,
            "The current state as a uint8 image (height, width, 3), top row first. camera: None "

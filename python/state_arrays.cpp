@@ -11,6 +11,7 @@
 #include <pybind11/stl.h>
 
 #include "common/errors.h"
+#include "engine/report/contact_wrench.h"
 #include "engine/report/trajectory_columns.h"
 #include "engine/scene_io/scene_validation.h"
 #include "engine/scene_limits.h"
@@ -211,6 +212,74 @@ py::list ContactList(const engine::Scene& scene, const engine::State& state,
     contacts.append(d);
   }
   return contacts;
+}
+
+py::array_t<double> SensorArray(const engine::Scene& scene, const engine::State& state, int body) {
+  const engine::Wrench w = engine::SensorWrench(scene, state, body);
+  const double values[6] = {w.force.x(),  w.force.y(),  w.force.z(),
+                            w.moment.x(), w.moment.y(), w.moment.z()};
+  return Array(values, {6});
+}
+
+py::dict ContactArrays(const engine::Scene& scene, const engine::State& state,
+                       const engine::StepReport& report) {
+  const size_t count = scene.contacts.size();
+  const py::ssize_t rows = static_cast<py::ssize_t>(count);
+  const double h = scene.h;
+  // each array written through its pointer: a per-row accessor costs more than the numbers
+  const auto vectors = [&](auto&& of) {
+    py::array_t<double> a({rows, py::ssize_t{3}});
+    double* out = a.mutable_data();
+    for (size_t k = 0; k < count; ++k) {
+      const Vector3d v = of(state.contacts[k]);
+      out[3 * k] = v.x(), out[3 * k + 1] = v.y(), out[3 * k + 2] = v.z();
+    }
+    return a;
+  };
+  const auto scalars = [&](auto&& of) {
+    py::array_t<double> a(rows);
+    double* out = a.mutable_data();
+    for (size_t k = 0; k < count; ++k) out[k] = of(state.contacts[k]);
+    return a;
+  };
+  using C = engine::ContactState;
+  py::dict d;
+  py::list names, bodies, others, modes, models;
+  py::array_t<bool> other_is_body(rows);
+  for (size_t k = 0; k < count; ++k) {
+    const engine::ContactPair& pair = scene.contacts[k];
+    names.append(ContactName(scene, pair));
+    bodies.append(scene.bodies[pair.body].name);
+    others.append(pair.WithBody() ? scene.bodies[pair.other_body].name
+                                  : scene.obstacles[pair.obstacle].name);
+    other_is_body.mutable_data()[k] = pair.WithBody();
+    modes.append(ContactMode(scene, state, pair, state.contacts[k]));
+    models.append(report.models.empty() ? engine::ContactModelName(scene.model)
+                                        : engine::StepModelName(report.models[pair.body]));
+  }
+  d["name"] = names;
+  d["body"] = bodies;
+  d["other"] = others;
+  d["other_is_body"] = other_is_body;
+  d["a1"] = vectors([](const C& c) { return c.a1; });
+  d["a2"] = vectors([](const C& c) { return c.a2; });
+  d["normal"] = vectors([](const C& c) { return c.n; });
+  d["tangent"] = vectors([](const C& c) { return c.t; });
+  d["tangent2"] = vectors([](const C& c) { return c.o; });
+  d["p_n"] = scalars([](const C& c) { return c.p_n; });
+  d["p_t"] = scalars([](const C& c) { return c.p_t; });
+  d["p_o"] = scalars([](const C& c) { return c.p_o; });
+  d["p_r"] = scalars([](const C& c) { return c.p_r; });
+  d["sigma"] = scalars([](const C& c) { return c.sigma; });
+  d["f_n"] = scalars([h](const C& c) { return c.p_n / h; });
+  d["f_t"] = scalars([h](const C& c) { return c.p_t / h; });
+  d["f_o"] = scalars([h](const C& c) { return c.p_o / h; });
+  d["f_r"] = scalars([h](const C& c) { return c.p_r / h; });
+  d["force"] =
+      vectors([h](const C& c) { return Vector3d((c.n * c.p_n + c.t * c.p_t + c.o * c.p_o) / h); });
+  d["mode"] = modes;
+  d["model"] = models;
+  return d;
 }
 
 }  // namespace ecpsim::python

@@ -41,6 +41,17 @@ void SetBodyArray(const engine::Scene& scene, engine::State& state, BodyField fi
 /// The step's report as a dict (converged, iterations, residual, retries, substeps, models).
 pybind11::dict ReportDict(const engine::Scene& scene, const engine::StepReport& report);
 
+/// What a force/torque sensor on kinematic body `body` read over the last step (engine::
+/// SensorWrench): a (6,) array, force (N) and moment (N·m) about the body's reference point,
+/// world axes — trajectory.csv's `<K>.fx … mz`.
+pybind11::array_t<double> SensorArray(const engine::Scene& scene, const engine::State& state,
+                                      int body);
+
+/// Every contact of the state as one dict of arrays, a row per contact in the scene's order:
+/// the numbers of ContactList stacked ((k,) or (k, 3)), names, modes and models as lists.
+pybind11::dict ContactArrays(const engine::Scene& scene, const engine::State& state,
+                             const engine::StepReport& report);
+
 /// Every contact of the state as a dict: its name, mode, ECPs, impulses and forces.
 pybind11::list ContactList(const engine::Scene& scene, const engine::State& state,
                            const engine::StepReport& report);

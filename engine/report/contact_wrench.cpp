@@ -14,4 +14,21 @@ Wrench WrenchOnOther(const Scene& scene, const State& state, int k, double h) {
   return w;
 }
 
+std::vector<int> SensedContacts(const Scene& scene, int body) {
+  std::vector<int> sensed;
+  for (size_t k = 0; k < scene.contacts.size(); ++k)
+    if (scene.contacts[k].other_body == body) sensed.push_back(static_cast<int>(k));
+  return sensed;
+}
+
+Wrench SensorWrench(const Scene& scene, const State& state, int body) {
+  Wrench total;
+  for (int k : SensedContacts(scene, body)) {
+    const Wrench w = WrenchOnOther(scene, state, k, scene.h);
+    total.force += w.force;
+    total.moment += w.moment;
+  }
+  return total;
+}
+
 }  // namespace ecpsim::engine

@@ -2,6 +2,8 @@
 // The wrench a contact's impulses exert over a step, as forces: what a force/torque sensor on a
 // kinematic finger reads, and the average contact force of every pair.
 
+#include <vector>
+
 #include <Eigen/Core>
 
 #include "engine/scene.h"
@@ -22,5 +24,13 @@ struct Wrench {
 /// a body, about the world origin when G is an obstacle. Equal and opposite to what it exerted
 /// on F (at a1 = a2 while touching).
 Wrench WrenchOnOther(const Scene& scene, const State& state, int k, double h);
+
+/// The contacts a force/torque sensor on kinematic body `body` senses: those whose G side it is
+/// (a kinematic body is never a contact's F), in the scene's order.
+std::vector<int> SensedContacts(const Scene& scene, int body);
+
+/// What a force/torque sensor on kinematic body `body` read over the step that ended in
+/// `state`: the sum of WrenchOnOther over its SensedContacts, moments about its reference point.
+Wrench SensorWrench(const Scene& scene, const State& state, int body);
 
 }  // namespace ecpsim::engine

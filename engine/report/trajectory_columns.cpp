@@ -13,14 +13,6 @@ const char* const kContactColumns[] = {"a1x", "a1y", "a1z",   "a2x", "a2y", "a2z
                                        "po",  "pr",  "sigma", "fn",  "ft",  "fo",  "fr"};
 const char* const kWrenchColumns[] = {"fx", "fy", "fz", "mx", "my", "mz"};
 
-// the contacts whose G side is kinematic body b, in scene order
-std::vector<int> SensedContacts(const Scene& scene, int b) {
-  std::vector<int> sensed;
-  for (size_t k = 0; k < scene.contacts.size(); ++k)
-    if (scene.contacts[k].other_body == b) sensed.push_back(static_cast<int>(k));
-  return sensed;
-}
-
 void AppendWrench(const Wrench& w, std::vector<double>& values) {
   values.insert(values.end(),
                 {w.force.x(), w.force.y(), w.force.z(), w.moment.x(), w.moment.y(), w.moment.z()});
@@ -99,14 +91,10 @@ std::vector<double> TrajectoryValues(const Scene& scene, const State& state,
   }
   for (size_t b = 0; b < scene.bodies.size(); ++b) {
     if (!scene.bodies[b].IsKinematic()) continue;
-    Wrench total;
     for (int k : SensedContacts(scene, static_cast<int>(b))) {
-      const Wrench w = WrenchOnOther(scene, state, k, scene.h);
-      AppendWrench(w, values);
-      total.force += w.force;
-      total.moment += w.moment;
+      AppendWrench(WrenchOnOther(scene, state, k, scene.h), values);
     }
-    AppendWrench(total, values);
+    AppendWrench(SensorWrench(scene, state, static_cast<int>(b)), values);
   }
   for (const Gripper& gripper : scene.grippers) {
     // the opening: the jaws' centres apart along the frame's closing axis at t; the force of the
