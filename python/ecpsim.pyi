@@ -3,6 +3,7 @@
 Units are SI, vectors in the world frame, quaternions (w, x, y, z) body → world.
 """
 
+import os
 from typing import Any, Dict, List, Literal, Mapping, Optional, Sequence, Union, overload
 
 import numpy as np
@@ -153,14 +154,14 @@ class Simulation:
         """(height, width, 3) RGB, top row first."""
 
 def load_scene(
-    path: str, overrides: Optional[Union[Mapping[str, Any], Sequence[str]]] = None
+    path: Union[str, os.PathLike], overrides: Optional[Union[Mapping[str, Any], Sequence[str]]] = None
 ) -> Scene:
     """A YAML scene with the CLI's --set overrides, validated."""
 
 def make_scene(
     tree: Mapping[str, Any],
     overrides: Optional[Union[Mapping[str, Any], Sequence[str]]] = None,
-    base_dir: str = ".",
+    base_dir: Union[str, os.PathLike] = ".",
 ) -> Scene:
     """A scene from a dict that is the YAML format's tree, read by the file's loader; mesh
     paths relative to base_dir."""
@@ -174,7 +175,7 @@ def run(
     """The trajectory as trajectory.csv's columns."""
 
 def hull(
-    mesh_path: str,
+    mesh_path: Union[str, os.PathLike],
     scale: Optional[float] = None,
     units: Optional[str] = None,
     mass: Optional[float] = None,

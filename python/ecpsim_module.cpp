@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -22,6 +23,7 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
 
 #include "common/errors.h"
 #include "engine/report/trajectory_columns.h"
@@ -411,12 +413,12 @@ PYBIND11_MODULE(ecpsim, m) {
 
   m.def(
       "load_scene",
-      [](const std::string& path, const py::object& overrides) {
+      [](const std::filesystem::path& path, const py::object& overrides) {
         const std::vector<std::string> strings = Overrides(overrides);
         SceneHandle loaded;
         {
           py::gil_scoped_release release;
-          loaded = std::make_shared<engine::LoadedScene>(engine::LoadScene(path, strings));
+          loaded = std::make_shared<engine::LoadedScene>(engine::LoadScene(path.string(), strings));
         }
         WarnOf(*loaded);
         return loaded;
@@ -660,14 +662,14 @@ PYBIND11_MODULE(ecpsim, m) {
 
   m.def(
       "make_scene",
-      [](const py::dict& tree, const py::object& overrides, const std::string& base_dir) {
+      [](const py::dict& tree, const py::object& overrides, const std::filesystem::path& base_dir) {
         const std::string text = YamlText(tree);
         const std::vector<std::string> strings = Overrides(overrides);
         SceneHandle loaded;
         {
           py::gil_scoped_release release;
           loaded = std::make_shared<engine::LoadedScene>(
-              engine::LoadSceneText(text, "make_scene", base_dir, strings));
+              engine::LoadSceneText(text, "make_scene", base_dir.string(), strings));
         }
         WarnOf(*loaded);
         return loaded;
@@ -697,9 +699,11 @@ PYBIND11_MODULE(ecpsim, m) {
 
   m.def(
       "hull",
-      [](const std::string& path, const std::optional<double>& scale,
+      [](const std::filesystem::path& path, const std::optional<double>& scale,
          const std::optional<std::string>& units, const std::optional<double>& mass,
-         const std::optional<double>& density) { return Hull(path, scale, units, mass, density); },
+         const std::optional<double>& density) {
+        return Hull(path.string(), scale, units, mass, density);
+      },
       py::arg("mesh_path"), py::arg("scale") = py::none(), py::arg("units") = py::none(),
       py::arg("mass") = py::none(), py::arg("density") = py::none(),
       "Mass properties and convex hull of a mesh file (as `ecpsim hull`): a dict with A (m, 3) "

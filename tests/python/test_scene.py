@@ -44,6 +44,15 @@ def test_overrides_as_dict_and_as_set_strings(scenes):
     assert ecpsim.load_scene(path, {"h": np.float64(0.002)}).h == 0.002
 
 
+def test_paths_may_be_pathlib_paths(scenes):
+    # a pathlib.Path wherever a path is taken, as str
+    assert ecpsim.load_scene(scenes / "slide.yaml").source == str(scenes / "slide.yaml")
+    tbar = {"duration": 1, "bodies": [{"name": "t", "mesh": "meshes/tbar.obj", "mass": 2,
+                                       "position": [0, 0, 1]}]}
+    assert ecpsim.make_scene(tbar, base_dir=scenes).body_names == ["t"]
+    assert ecpsim.hull(scenes / "meshes" / "tbar.obj")["volume"] > 0
+
+
 def test_a_string_override_stays_a_string(scenes):
     # "t < 0.3 ? 0.2 : 3" parsed as YAML is a mapping {t < 0.3 ? 0.2: 3}; from a dict it is the
     # gripper's force expression, 3 N after 0.3 s, as the same --set quoted on the command line
