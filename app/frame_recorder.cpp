@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "common/errors.h"
+#include "render/frame_times.h"
 #include "render/png_writer.h"
 
 namespace ecpsim::app {
@@ -42,9 +43,7 @@ render::RenderSettings RecorderSettings(const engine::OutputSettings& output,
 }  // namespace
 
 int FramesUpTo(const engine::LoadedScene& loaded, double t) {
-  int frames = 0;
-  while (frames / loaded.output.fps <= t + loaded.scene.h / 2) ++frames;
-  return frames;
+  return render::FramesDue(loaded.output.fps, loaded.scene.h, t);
 }
 
 FrameRecorder::FrameRecorder(const engine::LoadedScene& loaded, const std::string& out_dir,
@@ -99,8 +98,8 @@ FrameRecorder::FrameRecorder(const engine::LoadedScene& loaded, const std::strin
 }
 
 void FrameRecorder::Observe(const engine::State& state, const engine::StepReport& report) {
-  // frame k shows the state nearest to t = k / fps (FramesUpTo)
-  while (frames_ / loaded_.output.fps <= state.t + loaded_.scene.h / 2) {
+  // frame k shows the state nearest to t = k / fps (render/frame_times.h)
+  while (render::FrameDue(frames_, loaded_.output.fps, loaded_.scene.h, state.t)) {
     render::FrameInput frame = builder_.Build(state, report.iterations, report.models);
     ApplyCamera(loaded_, frame);
     if (png_) {

@@ -169,4 +169,43 @@ py::dict FrictionDict(const engine::Friction& f) {
   return d;
 }
 
+render::CameraSpec CameraOf(const engine::OutputSettings& output, const py::object& camera) {
+  render::CameraSpec spec;
+  if (camera.is_none()) {
+    if (output.camera_fixed) {
+      spec.automatic = false;
+      spec.position = output.camera_position;
+      spec.target = output.camera_target;
+      spec.fov_y_deg = output.camera_fov_deg;
+    }
+    return spec;
+  }
+  if (!py::isinstance<py::dict>(camera)) {
+    throw InputError(
+        fmt::format("camera = {}: expected None (the scene's camera) or a dict with "
+                    "position, target, and optionally up and fov (degrees)",
+                    py::repr(camera).cast<std::string>()));
+  }
+  spec.automatic = false;
+  spec.position = output.camera_position;
+  spec.target = output.camera_target;
+  spec.fov_y_deg = output.camera_fov_deg;
+  for (const auto& item : camera.cast<py::dict>()) {
+    const std::string key = py::str(item.first).cast<std::string>();
+    if (key == "position") {
+      spec.position = ToVector3(item.second, "camera.position");
+    } else if (key == "target") {
+      spec.target = ToVector3(item.second, "camera.target");
+    } else if (key == "up") {
+      spec.up = ToVector3(item.second, "camera.up");
+    } else if (key == "fov") {
+      spec.fov_y_deg = item.second.cast<double>();
+    } else {
+      throw InputError(
+          fmt::format("camera.{}: unknown key; expected position, target, up or fov", key));
+    }
+  }
+  return spec;
+}
+
 }  // namespace ecpsim::python

@@ -12,6 +12,8 @@
 #include <Eigen/Geometry>
 
 #include "engine/scene.h"
+#include "engine/scene_io/loaded_scene.h"
+#include "render/frame_input.h"
 
 namespace ecpsim::python {
 
@@ -53,5 +55,11 @@ std::string YamlText(const pybind11::handle& value);
 /// {"bodies.0.mass": 3} or ["bodies.0.mass=3"] as the CLI's --set strings (a dict's values as
 /// YamlText, a list's strings as the CLI's, parsed as YAML).
 std::vector<std::string> Overrides(const pybind11::object& overrides);
+
+/// The camera of `camera`: None for the scene's `output` camera (automatic framing unless
+/// fixed), or a dict with position and target (m, world) and optionally up and fov (degrees),
+/// the scene's fixed camera filling in what is left out.
+/// @throws InputError for another type or an unknown key, naming it.
+render::CameraSpec CameraOf(const engine::OutputSettings& output, const pybind11::object& camera);
 
 }  // namespace ecpsim::python

@@ -4,13 +4,16 @@ Units are SI, vectors in the world frame, quaternions (w, x, y, z) body → worl
 """
 
 import os
-from typing import Any, Dict, List, Literal, Mapping, Optional, Sequence, Union, overload
+from types import TracebackType
+from typing import Any, Dict, List, Literal, Mapping, Optional, Sequence, Type, Union, overload
 
 import numpy as np
 import numpy.typing as npt
 
 Vector3 = Union[Sequence[float], npt.NDArray[np.float64]]
 BodyRef = Union[str, int]
+PathLike = Union[str, "os.PathLike[str]"]
+ImageRef = Union[PathLike, npt.NDArray[np.uint8]]
 
 __version__: str
 """The version of CMakeLists.txt's project(ecpsim VERSION ...), e.g. "0.1.0"."""
@@ -152,6 +155,49 @@ class Simulation:
         overlays: bool = True,
     ) -> npt.NDArray[np.uint8]:
         """(height, width, 3) RGB, top row first."""
+    def record(
+        self,
+        path: PathLike,
+        fps: Optional[float] = None,
+        duration: Optional[float] = None,
+        width: Optional[int] = None,
+        height: Optional[int] = None,
+        camera: Optional[Mapping[str, Any]] = None,
+        overlays: bool = True,
+    ) -> Dict[str, Any]:
+        """Steps `duration` s (default scene.duration) and writes an MP4 as `ecpsim run --video`:
+        {path, frames, steps, time}. fps, width, height default to the scene's output block."""
+    def recorder(
+        self,
+        path: PathLike,
+        fps: Optional[float] = None,
+        width: Optional[int] = None,
+        height: Optional[int] = None,
+        camera: Optional[Mapping[str, Any]] = None,
+        overlays: bool = True,
+    ) -> Recorder:
+        """An MP4 fed by your loop: `with sim.recorder(p) as rec: sim.step(); rec.capture()`."""
+
+class Recorder:
+    """An MP4 being written from a Simulation (Simulation.recorder())."""
+
+    def capture(self) -> None:
+        """Renders the frames due at the Simulation's time (frame k at k / fps)."""
+    def close(self) -> None:
+        """Finishes the video and renames it to its path."""
+    def __enter__(self) -> Recorder: ...
+    def __exit__(
+        self,
+        exc_type: Optional[Type[BaseException]],
+        exc_value: Optional[BaseException],
+        traceback: Optional[TracebackType],
+    ) -> Literal[False]: ...
+    @property
+    def frames(self) -> int: ...
+    @property
+    def path(self) -> str: ...
+    @property
+    def closed(self) -> bool: ...
 
 def load_scene(
     path: Union[str, os.PathLike], overrides: Optional[Union[Mapping[str, Any], Sequence[str]]] = None
@@ -182,3 +228,13 @@ def hull(
     density: Optional[float] = None,
 ) -> Dict[str, Any]:
     """A, b (A y ≤ b, body frame), vertices, faces, volume, mass, inertia, ..."""
+
+def compare_images(
+    expected: ImageRef,
+    actual: ImageRef,
+    threshold: int = 24,
+    max_fraction: float = 0.0005,
+    diff: Optional[PathLike] = None,
+) -> Dict[str, Any]:
+    """As `ecpsim compare`: match, same_size, total_pixels, differing_pixels,
+    differing_fraction, max_channel_difference, summary, diff_image, diff."""

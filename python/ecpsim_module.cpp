@@ -37,6 +37,7 @@
 #include "geometry/mass_properties.h"
 #include "geometry/mesh_topology.h"
 #include "python/conversions.h"
+#include "python/media_bindings.h"
 #include "python/py_simulation.h"
 #include "python/simulation.h"
 #include "python/state_arrays.h"
@@ -71,45 +72,6 @@ py::dict BodyDict(const engine::Body& body) {
 }
 
 // ---- the Python Simulation ----------------------------------------------------------------
-
-render::CameraSpec CameraOf(const engine::OutputSettings& output, const py::object& camera) {
-  render::CameraSpec spec;
-  if (camera.is_none()) {
-    if (output.camera_fixed) {
-      spec.automatic = false;
-      spec.position = output.camera_position;
-      spec.target = output.camera_target;
-      spec.fov_y_deg = output.camera_fov_deg;
-    }
-    return spec;
-  }
-  if (!py::isinstance<py::dict>(camera)) {
-    throw InputError(
-        fmt::format("camera = {}: expected None (the scene's camera) or a dict with "
-                    "position, target, and optionally up and fov (degrees)",
-                    py::repr(camera).cast<std::string>()));
-  }
-  spec.automatic = false;
-  spec.position = output.camera_position;
-  spec.target = output.camera_target;
-  spec.fov_y_deg = output.camera_fov_deg;
-  for (const auto& item : camera.cast<py::dict>()) {
-    const std::string key = py::str(item.first).cast<std::string>();
-    if (key == "position") {
-      spec.position = ToVector3(item.second, "camera.position");
-    } else if (key == "target") {
-      spec.target = ToVector3(item.second, "camera.target");
-    } else if (key == "up") {
-      spec.up = ToVector3(item.second, "camera.up");
-    } else if (key == "fov") {
-      spec.fov_y_deg = item.second.cast<double>();
-    } else {
-      throw InputError(
-          fmt::format("camera.{}: unknown key; expected position, target, up or fov", key));
-    }
-  }
-  return spec;
-}
 
 py::array_t<std::uint8_t> Render(PySimulation& self, int width, int height,
                                  const py::object& camera, bool overlays) {
@@ -641,6 +603,8 @@ PYBIND11_MODULE(ecpsim, m) {
            "The current state as a uint8 image (height, width, 3), top row first. camera: None "
            "(the scene's: automatic framing unless fixed) or a dict with position, target, and "
            "optionally up and fov (degrees). overlays: hulls, contact forces, inset and text.");
+
+  BindMedia(m, sim);
 
   // per-body arrays: read as fresh numpy copies, written whole (dynamic bodies)
   for (const BodyField field : {BodyField::kPosition, BodyField::kQuaternion, BodyField::kVelocity,
