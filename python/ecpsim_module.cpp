@@ -36,6 +36,7 @@
 #include "geometry/mesh_topology.h"
 #include "python/conversions.h"
 #include "python/py_simulation.h"
+#include "python/rollout_bindings.h"
 #include "python/simulation.h"
 #include "python/state_arrays.h"
 #include "python/state_pickle.h"
@@ -632,6 +633,8 @@ PYBIND11_MODULE(ecpsim, m) {
             ? "(n, 4) orientations body → world as (w, x, y, z); settable (normalized)."
             : "(n, 3) per body (m, m/s or rad/s, world frame); settable for dynamic bodies.");
   }
+
+  BindRollout(m, sim);
 
   m.def(
       "make_scene",
