@@ -69,24 +69,25 @@ void CheckControls(const RolloutJob& job, size_t index, std::int64_t steps) {
     for (size_t b = 0; b < n; ++b) {
       const engine::Body& body = job.scene->bodies[b];
       const double* w = job.controls + (static_cast<size_t>(k) * n + b) * kWrenchSize;
-      const std::string where =
-          fmt::format("rollout: controls[{}, {}, {}] (simulation {}, step {}, body '{}')", index, k,
-                      b, index, k, body.name);
-      const std::string shown =
-          fmt::format("[{}, {}, {}, {}, {}, {}]", w[0], w[1], w[2], w[3], w[4], w[5]);
-      for (int i = 0; i < kWrenchSize; ++i) {
-        const std::string problem = engine::OutOfMagnitude(w[i]);
-        if (!problem.empty()) {
-          throw InputError(fmt::format("{} = {}: expected force (N) and torque (N·m), each {}",
-                                       where, shown, problem));
-        }
+      const auto out_of_magnitude = [](double x) { return !engine::OutOfMagnitude(x).empty(); };
+      const double* first_bad = std::find_if(w, w + kWrenchSize, out_of_magnitude);
+      const bool bad = first_bad != w + kWrenchSize;
+      const bool pushes_kinematic =
+          body.IsKinematic() && std::any_of(w, w + kWrenchSize, [](double x) { return x != 0; });
+      if (!bad && !pushes_kinematic) continue;
+      // the message, made for the row that fails only
+      const std::string where = fmt::format(
+          "rollout: controls[{}, {}, {}] (simulation {}, step {}, body '{}') = [{}, {}, {}, {}, "
+          "{}, {}]",
+          index, k, b, index, k, body.name, w[0], w[1], w[2], w[3], w[4], w[5]);
+      if (bad) {
+        throw InputError(fmt::format("{}: expected force (N) and torque (N·m), each {}", where,
+                                     engine::OutOfMagnitude(*first_bad)));
       }
-      if (body.IsKinematic() && std::any_of(w, w + kWrenchSize, [](double x) { return x != 0; })) {
-        throw InputError(fmt::format(
-            "{} = {}: a kinematic body: expected zeros (a kinematic body follows its motion; "
-            "set_kinematic_target moves it)",
-            where, shown));
-      }
+      throw InputError(
+          fmt::format("{}: a kinematic body: expected zeros (a kinematic body follows its "
+                      "motion; set_kinematic_target moves it)",
+                      where));
     }
   }
 }
