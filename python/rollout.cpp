@@ -77,9 +77,9 @@ void CheckControls(const RolloutJob& job, size_t index, std::int64_t steps) {
       if (!bad && !pushes_kinematic) continue;
       // the message, made for the row that fails only
       const std::string where = fmt::format(
-          "rollout: controls[{}, {}, {}] (simulation {}, step {}, body '{}') = [{}, {}, {}, {}, "
-          "{}, {}]",
-          index, k, b, index, k, body.name, w[0], w[1], w[2], w[3], w[4], w[5]);
+          "rollout: controls[{}, {}, {}] (body '{}' of simulation {} on its step {}) = [{}, {}, "
+          "{}, {}, {}, {}]",
+          index, k, b, body.name, index, k + 1, w[0], w[1], w[2], w[3], w[4], w[5]);
       if (bad) {
         throw InputError(fmt::format("{}: expected force (N) and torque (N·m), each {}", where,
                                      engine::OutOfMagnitude(*first_bad)));

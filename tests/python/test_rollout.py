@@ -110,9 +110,9 @@ def test_bad_arguments_raise_input_error_before_any_step(scenes):
         (lambda: ecpsim.rollout(sims, 3, controls=np.zeros((2, 3, 1, 3))),
          r"^rollout: controls of shape \(2, 3, 1, 3\): expected .* shape \(2, 3, 1, 6\)"),
         (lambda: ecpsim.rollout(sims, 3, controls=np.full((2, 3, 1, 6), np.nan)),
-         r"^rollout: controls\[0, 0, 0\] \(simulation 0, step 0, body 'box'\) = \[nan"),
+         r"^rollout: controls\[0, 0, 0\] \(body 'box' of simulation 0 on its step 1\) = \[nan"),
         (lambda: ecpsim.rollout(pushes, 3, controls=kinematic),
-         r"^rollout: controls\[1, 2, 1\] \(simulation 1, step 2, body 'pusher'\) = "
+         r"^rollout: controls\[1, 2, 1\] \(body 'pusher' of simulation 1 on its step 3\) = "
          r"\[1, 0, 0, 0, 0, 0\]: a kinematic body: expected zeros"),
     ]
     for call, message in cases:
