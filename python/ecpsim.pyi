@@ -137,6 +137,26 @@ class Simulation:
     ) -> None:
         """A gripper frame's pose at the end of the next step, and its closing force (N on each
         jaw, ≥ 0) from the next step on."""
+    def set_mass(
+        self, body: BodyRef, mass: float, inertia: Optional[npt.ArrayLike] = None
+    ) -> None:
+        """A dynamic body's mass (kg) from the next step on, in this Simulation only; the inertia
+        scales with it unless given (3 principal moments or (3, 3), kg·m²). reset() restores
+        the scene's. Raises InputError (the loader's message) and changes nothing for a bad
+        value."""
+    def set_inertia(self, body: BodyRef, inertia: npt.ArrayLike) -> None:
+        """A dynamic body's inertia (kg·m², about the CM in body axes): 3 principal moments or a
+        (3, 3) symmetric positive definite matrix; as set_mass."""
+    def set_friction(
+        self,
+        contact: Union[str, int],
+        mu: Optional[float] = None,
+        e_t: Optional[float] = None,
+        e_o: Optional[float] = None,
+        e_r: Optional[float] = None,
+    ) -> None:
+        """A contact's friction (a Scene.contact_names name such as 'box.ground', or an index);
+        None keeps a value; as set_mass."""
     @overload
     def contacts(self, as_arrays: Literal[False] = ...) -> List[Dict[str, Any]]:
         """Per potential contact: name, body, other, other_is_body, a1, a2, normal, tangent,
@@ -219,6 +239,22 @@ def run(
     scene: Scene, duration: Optional[float] = None, every: Optional[int] = None
 ) -> Dict[str, npt.NDArray[np.float64]]:
     """The trajectory as trajectory.csv's columns."""
+
+def rollout(
+    simulations: Sequence[Simulation],
+    steps: int,
+    threads: Optional[int] = None,
+    controls: Optional[npt.ArrayLike] = None,
+) -> Dict[str, npt.NDArray[Any]]:
+    """Steps each Simulation `steps` times on C++ threads (None: the machine's) without the GIL;
+    returns positions (n_sims, steps, n_bodies, 3), quaternions (..., 4), velocities,
+    angular_velocities, time (n_sims, steps) and converged (n_sims, steps, bool), the same
+    doubles whatever `threads` is. The simulations need as many bodies each. controls: None or
+    (n_sims, steps, n_bodies, 6) force (N, world, at the CM) and torque (N·m) per step, as
+    apply_wrench; zero on kinematic bodies. A failed step stops its simulation at its last good
+    state; after the others finish the first failure is raised (SolverFailure, ModelInvalid or
+    InputError) with attributes simulation, steps_done, failures and results (the completed
+    simulations' arrays and their indices, results['simulations'])."""
 
 def hull(
     mesh_path: Union[str, os.PathLike],

@@ -39,6 +39,7 @@
 #include "python/conversions.h"
 #include "python/media_bindings.h"
 #include "python/py_simulation.h"
+#include "python/rollout_bindings.h"
 #include "python/simulation.h"
 #include "python/state_arrays.h"
 #include "python/state_pickle.h"
@@ -623,6 +624,8 @@ PYBIND11_MODULE(ecpsim, m) {
             ? "(n, 4) orientations body → world as (w, x, y, z); settable (normalized)."
             : "(n, 3) per body (m, m/s or rad/s, world frame); settable for dynamic bodies.");
   }
+
+  BindRollout(m, sim);
 
   m.def(
       "make_scene",

@@ -8,6 +8,7 @@
 
 #include "common/errors.h"
 #include "engine/models/hull_warm_start.h"
+#include "engine/scene_io/scene_validation.h"
 #include "engine/scene_limits.h"
 #include "engine/time_step.h"
 #include "python/state_arrays.h"
@@ -130,7 +131,10 @@ void Simulation::StepOnce() {
 }
 
 void Simulation::Reset() {
+  // everything the setters change in scene_: kinematic motions, masses, inertias (bodies) and
+  // friction (contacts)
   scene_.bodies = original_->bodies;
+  scene_.contacts = original_->contacts;
   pending_.clear();
   state_ = engine::InitialState(scene_);
   report_ = engine::StepReport();
@@ -190,6 +194,67 @@ void Simulation::ApplyWrench(int body, const Eigen::Vector3d& force, const Eigen
   }
   if (torque.any()) {
     pending_.push_back(ConstantLoad(engine::Load::Kind::kTorque, body, torque));
+  }
+}
+
+void Simulation::SetMassProperties(int body, double mass, const Eigen::Matrix3d& inertia,
+                                   const char* call) {
+  RequireBody(body);
+  engine::Body& b = scene_.bodies[static_cast<size_t>(body)];
+  const std::string where = fmt::format("{}(body '{}')", call, b.name);
+  if (b.IsKinematic()) {
+    throw InputError(
+        fmt::format("{}: a kinematic body: expected a dynamic body (a kinematic one "
+                    "follows its motion; its mass is unused)",
+                    where));
+  }
+  // the edit, checked as the loader checks a scene, undone when refused
+  const double old_mass = b.mass;
+  const Eigen::Matrix3d old_inertia = b.inertia;
+  b.mass = mass;
+  b.inertia = inertia;
+  try {
+    engine::ValidateMassProperties(scene_, body);
+  } catch (const engine::SceneError& e) {
+    b.mass = old_mass;
+    b.inertia = old_inertia;
+    throw InputError(fmt::format("{}: {}", where, e.what()));
+  }
+}
+
+void Simulation::SetMass(int body, double mass, const std::optional<Eigen::Matrix3d>& inertia) {
+  RequireBody(body);
+  const engine::Body& b = scene_.bodies[static_cast<size_t>(body)];
+  // a uniform density: the inertia scales with the mass (a NaN or negative mass is refused
+  // before the inertia is looked at)
+  SetMassProperties(body, mass, inertia ? *inertia : Eigen::Matrix3d(b.inertia * (mass / b.mass)),
+                    "set_mass");
+}
+
+void Simulation::SetInertia(int body, const Eigen::Matrix3d& inertia) {
+  RequireBody(body);
+  SetMassProperties(body, scene_.bodies[static_cast<size_t>(body)].mass, inertia, "set_inertia");
+}
+
+void Simulation::SetFriction(int contact, const FrictionChange& change) {
+  ECPSIM_DEMAND(contact >= 0 && static_cast<size_t>(contact) < scene_.contacts.size());
+  engine::ContactPair& pair = scene_.contacts[static_cast<size_t>(contact)];
+  const engine::Friction old = pair.friction;
+  if (change.mu) pair.friction.mu = *change.mu;
+  if (change.e_t) pair.friction.e_t = *change.e_t;
+  if (change.e_o) pair.friction.e_o = *change.e_o;
+  if (change.e_r) {
+    pair.friction.e_r = *change.e_r;
+    pair.friction.e_r_patch = false;
+  }
+  try {
+    engine::ValidateContactFriction(scene_, contact);
+  } catch (const engine::SceneError& e) {
+    pair.friction = old;
+    // the contact's own key (contacts[k].friction.*), the last of those the loader names
+    throw InputError(fmt::format("set_friction(contact '{}'): {} = {}: expected {}",
+                                 ContactName(scene_, pair), e.keys().back(), e.value(),
+                                 e.expected()));
   }
 }
 

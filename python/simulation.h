@@ -34,7 +34,8 @@ class Simulation {
   ///         stay pending.
   engine::StepReport Step(std::int64_t n);
 
-  /// Back to the initial state; pending wrenches dropped, kinematic targets undone.
+  /// Back to the initial state; pending wrenches dropped, kinematic targets undone, and the
+  /// masses, inertias and friction of SetMass, SetInertia and SetFriction restored to the scene's.
   void Reset();
 
   /// Replaces the state (e.g. one saved by state()); stepping on from it is bit-identical to
@@ -67,7 +68,36 @@ class Simulation {
   void SetGripperTarget(int gripper, const engine::KinematicPose& frame,
                         std::optional<double> force);
 
-  /// The scene as stepped: the scene given, with the kinematic targets set so far.
+  /// Sets dynamic body `body`'s mass (kg) from the next step on, in this simulation's copy of the
+  /// scene (the scene given stays as it was; Reset restores its value). Its inertia becomes
+  /// `inertia` (kg·m², about the CM in body axes) when given, else the present one scaled by the
+  /// ratio of the masses (a uniform density: the loader's m · unit inertia, to the last bit when
+  /// the ratio is a power of two).
+  /// @throws InputError for a kinematic body, or a mass or inertia that ValidateScene refuses
+  ///         (engine::ValidateMassProperties: its message, prefixed "set_mass(body '...')");
+  ///         nothing changes then.
+  void SetMass(int body, double mass, const std::optional<Eigen::Matrix3d>& inertia);
+
+  /// Sets dynamic body `body`'s inertia (kg·m², about the CM in body axes), as SetMass.
+  /// @throws InputError for a kinematic body or an inertia that ValidateScene refuses (not
+  ///         symmetric positive definite, the triangle inequality, a moment or radius of gyration
+  ///         out of range); nothing changes then.
+  void SetInertia(int body, const Eigen::Matrix3d& inertia);
+
+  /// New values of a contact's friction; the ones left empty keep theirs.
+  struct FrictionChange {
+    std::optional<double> mu, e_t, e_o;
+    std::optional<double> e_r;  // m; a number replaces `e_r: patch`
+  };
+
+  /// Changes contact `contact`'s friction (scene.contacts order) from the next step on, in this
+  /// simulation's copy of the scene, as SetMass.
+  /// @throws InputError for a value that ValidateScene refuses (engine::ValidateContactFriction:
+  ///         μ ≥ 0, e_t, e_o > 0, e_r a length > 0, each finite); nothing changes then.
+  void SetFriction(int contact, const FrictionChange& change);
+
+  /// The scene as stepped: the scene given, with the kinematic targets, masses, inertias and
+  /// friction set so far.
   const engine::Scene& scene() const { return scene_; }
   const engine::State& state() const { return state_; }
   /// The state for direct edits of poses and velocities (callers keep it finite).
@@ -83,8 +113,13 @@ class Simulation {
   // one engine::Step, its report or failure recorded
   void StepOnce();
 
+  // dynamic body `body`'s mass and inertia, kept if ValidateMassProperties accepts them
+  void SetMassProperties(int body, double mass, const Eigen::Matrix3d& inertia, const char* call);
+
   std::shared_ptr<const engine::Scene> original_;
-  engine::Scene scene_;  // *original_ plus kinematic targets; the next step's wrenches as loads
+  // *original_ plus kinematic targets, masses, inertias and friction; the next step's wrenches as
+  // loads
+  engine::Scene scene_;
   engine::State state_;
   std::vector<engine::Load> pending_;  // the next step's wrenches
   engine::StepReport report_;

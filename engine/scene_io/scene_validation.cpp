@@ -267,6 +267,23 @@ void CheckDynamic(const Scene& scene, const std::string& key, int body) {
   }
 }
 
+// contact k's friction (its body and its other body or obstacle checked before)
+void CheckContactFriction(const Scene& scene, size_t k) {
+  const ContactPair& pair = scene.contacts[k];
+  const std::string at = Index("contacts", k);
+  if (pair.WithBody()) {
+    CheckFriction({"pairs", at + ".friction"}, pair.friction,
+                  fmt::format("the contact of body \"{}\" with body \"{}\"",
+                              scene.bodies[pair.body].name, scene.bodies[pair.other_body].name));
+    return;
+  }
+  CheckFriction({Index("bodies", pair.body) + ".friction",
+                 Index("obstacles", pair.obstacle) + ".friction", at + ".friction"},
+                pair.friction,
+                fmt::format("the contact of body \"{}\" with obstacle \"{}\"",
+                            scene.bodies[pair.body].name, scene.obstacles[pair.obstacle].name));
+}
+
 void CheckContacts(const Scene& scene) {
   for (size_t k = 0; k < scene.contacts.size(); ++k) {
     const ContactPair& pair = scene.contacts[k];
@@ -283,20 +300,11 @@ void CheckContacts(const Scene& scene) {
         Fail({at + ".other_body"}, fmt::format("{}", pair.other_body),
              "another body: a kinematic one, or a dynamic one of larger index than `body`");
       }
-      CheckFriction({"pairs", at + ".friction"}, pair.friction,
-                    fmt::format("the contact of body \"{}\" with body \"{}\"",
-                                scene.bodies[pair.body].name, scene.bodies[pair.other_body].name));
-      continue;
-    }
-    if (pair.obstacle < 0 || pair.obstacle >= static_cast<int>(scene.obstacles.size())) {
+    } else if (pair.obstacle < 0 || pair.obstacle >= static_cast<int>(scene.obstacles.size())) {
       Fail({at + ".obstacle"}, fmt::format("{}", pair.obstacle),
            fmt::format("an obstacle index 0..{}", static_cast<int>(scene.obstacles.size()) - 1));
     }
-    CheckFriction({Index("bodies", pair.body) + ".friction",
-                   Index("obstacles", pair.obstacle) + ".friction", at + ".friction"},
-                  pair.friction,
-                  fmt::format("the contact of body \"{}\" with obstacle \"{}\"",
-                              scene.bodies[pair.body].name, scene.obstacles[pair.obstacle].name));
+    CheckContactFriction(scene, k);
   }
 }
 
@@ -471,6 +479,18 @@ SceneError::SceneError(std::vector<std::string> keys, std::string value, std::st
       keys_(std::move(keys)),
       value_(std::move(value)),
       expected_(std::move(expected)) {}
+
+void ValidateMassProperties(const Scene& scene, int body) {
+  ECPSIM_DEMAND(body >= 0 && static_cast<size_t>(body) < scene.bodies.size());
+  const Body& b = scene.bodies[static_cast<size_t>(body)];
+  CheckMassAndInertia(b, Index("bodies", static_cast<size_t>(body)),
+                      fmt::format("body \"{}\"", b.name));
+}
+
+void ValidateContactFriction(const Scene& scene, int contact) {
+  ECPSIM_DEMAND(contact >= 0 && static_cast<size_t>(contact) < scene.contacts.size());
+  CheckContactFriction(scene, static_cast<size_t>(contact));
+}
 
 std::optional<Overlap> FindOverlap(const Scene& scene, const State& state) {
   const PenetrationProbe probe(scene);

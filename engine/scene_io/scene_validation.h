@@ -70,6 +70,19 @@ std::optional<Overlap> FindOverlap(const Scene& scene, const State& state);
 /// @throws SceneError for the first problem found.
 void ValidateScene(const Scene& scene);
 
+/// ValidateScene's checks of body `body`'s mass and inertia alone, for a validated scene whose
+/// copy is edited (the Python module's Simulation.set_mass): the mass, principal moments and radii
+/// of gyration in range, the inertia symmetric positive definite with the triangle inequality.
+/// Precondition: 0 ≤ body < scene.bodies.size().
+/// @throws SceneError as ValidateScene (keys bodies[body].*).
+void ValidateMassProperties(const Scene& scene, int body);
+
+/// ValidateScene's check of contact `contact`'s friction alone (Simulation.set_friction): μ ≥ 0,
+/// e_t, e_o > 0 and e_r a length > 0 unless `patch`, each finite within scene_limits.h's ranges.
+/// Precondition: 0 ≤ contact < scene.contacts.size() and the contact's indices valid.
+/// @throws SceneError as ValidateScene.
+void ValidateContactFriction(const Scene& scene, int contact);
+
 /// ValidateScene of `loaded.scene`, with `loaded.output` checked after the solver settings and
 /// before the initial overlap (so a file's first problem is the same whichever it is): `every`
 /// ≥ 1, fps in range, width and height in [kMinFramePixels, kMaxFramePixels], a finite camera
