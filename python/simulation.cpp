@@ -131,10 +131,11 @@ void Simulation::StepOnce() {
 }
 
 void Simulation::Reset() {
-  // everything the setters change in scene_: kinematic motions, masses, inertias (bodies) and
-  // friction (contacts)
+  // everything the setters change in scene_: kinematic motions, masses, inertias (bodies),
+  // friction (contacts), grippers' motions and forces
   scene_.bodies = original_->bodies;
   scene_.contacts = original_->contacts;
+  scene_.grippers = original_->grippers;
   pending_.clear();
   state_ = engine::InitialState(scene_);
   report_ = engine::StepReport();

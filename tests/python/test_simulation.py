@@ -223,6 +223,12 @@ def test_a_gripper_driven_step_by_step_drags_what_it_holds(scenes):
         sim.set_gripper_target("hand", frame, force=-1)
     with pytest.raises(ecpsim.InputError, match=r"expected a gripper name \(hand\)"):
         sim.set_gripper_target("claw", frame)
+    # reset() drops the targets and the force: the scene's grasp again, bit for bit
+    sim.reset()
+    sim.step(60)
+    fresh = ecpsim.Simulation(scene)
+    fresh.step(60)
+    np.testing.assert_array_equal(sim.positions, fresh.positions)
 
 
 def test_contact_modes_and_forces_through_a_fall(scenes):
