@@ -37,6 +37,7 @@
 #include "geometry/mass_properties.h"
 #include "geometry/mesh_topology.h"
 #include "python/conversions.h"
+#include "python/jacobian_bindings.h"
 #include "python/media_bindings.h"
 #include "python/py_simulation.h"
 #include "python/simulation.h"
@@ -623,6 +624,8 @@ PYBIND11_MODULE(ecpsim, m) {
             ? "(n, 4) orientations body → world as (w, x, y, z); settable (normalized)."
             : "(n, 3) per body (m, m/s or rad/s, world frame); settable for dynamic bodies.");
   }
+
+  BindJacobians(sim);
 
   m.def(
       "make_scene",
