@@ -5,7 +5,8 @@ Units are SI, vectors in the world frame, quaternions (w, x, y, z) body → worl
 
 import os
 from types import TracebackType
-from typing import Any, Dict, List, Literal, Mapping, Optional, Sequence, Type, Union, overload
+from typing import (Any, Dict, Iterator, List, Literal, Mapping, Optional, Sequence, Type, Union,
+                    overload)
 
 import numpy as np
 import numpy.typing as npt
@@ -157,6 +158,35 @@ class Simulation:
     ) -> None:
         """A contact's friction (a Scene.contact_names name such as 'box.ground', or an index);
         None keeps a value; as set_mass."""
+    class StepJacobians:
+        """The derivatives of one step; unpacks as A, B. State coordinates per dynamic body (in
+        the order of `bodies`): [p (m), θ (rad), v (m/s), ω (rad/s)], world frame, θ a turn
+        applied in the world frame (q = exp(θ) ⊗ q₀); inputs per dynamic body: [force (N) at
+        the CM, torque (N·m)] over the step."""
+
+        @property
+        def A(self) -> npt.NDArray[np.float64]:
+            """(12 n, 12 n) ∂x⁺/∂x."""
+        @property
+        def B(self) -> npt.NDArray[np.float64]:
+            """(12 n, 6 n) ∂x⁺/∂u."""
+        @property
+        def bodies(self) -> List[str]:
+            """The dynamic bodies, in the blocks' order."""
+        @property
+        def flags(self) -> Dict[str, Any]:
+            """degenerate (bool: a pair with both members ≈ 0; A, B one element of the
+            generalized Jacobian), isolated (bool: False where H is singular; minimum-norm
+            solution), method ('implicit_function' or 'implicit_function_minimum_norm'),
+            residual, A_determined and B_determined (bool arrays of A's and B's shapes),
+            islands (per island: bodies, unknowns, rank, degenerate_pairs, residual)."""
+        def __iter__(self) -> Iterator[npt.NDArray[np.float64]]: ...
+        def __len__(self) -> int: ...
+        def __getitem__(self, i: int) -> npt.NDArray[np.float64]: ...
+    def step_jacobians(self) -> "Simulation.StepJacobians":
+        """The derivatives of the next step at the current state and pending wrenches (the
+        simulation is not advanced): A, B = sim.step_jacobians(). Raises ModelInvalid for the
+        multipatch and point models and for a step that needed sub-steps."""
     @overload
     def contacts(self, as_arrays: Literal[False] = ...) -> List[Dict[str, Any]]:
         """Per potential contact: name, body, other, other_is_body, a1, a2, normal, tangent,

@@ -37,6 +37,7 @@
 #include "geometry/mass_properties.h"
 #include "geometry/mesh_topology.h"
 #include "python/conversions.h"
+#include "python/jacobian_bindings.h"
 #include "python/media_bindings.h"
 #include "python/py_simulation.h"
 #include "python/rollout_bindings.h"
@@ -626,6 +627,7 @@ PYBIND11_MODULE(ecpsim, m) {
   }
 
   BindRollout(m, sim);
+  BindJacobians(sim);
 
   m.def(
       "make_scene",

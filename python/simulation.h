@@ -107,6 +107,8 @@ class Simulation {
   const engine::StepReport& last_report() const { return report_; }
   /// The message of the last step's failure; empty when it succeeded.
   const std::string& last_failure() const { return failure_; }
+  /// The wrenches given by ApplyWrench for the next step, as the loads it adds to the scene.
+  const std::vector<engine::Load>& pending_wrenches() const { return pending_; }
 
  private:
   void RequireBody(int body) const;
