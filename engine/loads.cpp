@@ -69,6 +69,11 @@ TimeFunction::~TimeFunction() = default;
 TimeFunction::TimeFunction(const TimeFunction&) = default;
 TimeFunction& TimeFunction::operator=(const TimeFunction&) = default;
 
+TimeFunction TimeFunction::Recompiled() const {
+  return compiled_->parser ? TimeFunction(expression_, where_)
+                           : TimeFunction(compiled_->constant);
+}
+
 double TimeFunction::operator()(double t) const {
   if (!compiled_->parser) {
     return compiled_->constant;

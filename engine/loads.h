@@ -27,6 +27,11 @@ class TimeFunction {
   double operator()(double t) const;
   const std::string& expression() const { return expression_; }
 
+  /// The same function with a compiled expression of its own: copies share one, whose
+  /// evaluations take turns (a lock), so threads that step copies of a scene side by side each
+  /// want their own.
+  TimeFunction Recompiled() const;
+
  private:
   struct Compiled;
   std::string expression_;

@@ -1,6 +1,9 @@
 #include "engine/scene.h"
 
 #include <cmath>
+#include <memory>
+#include <utility>
+#include <variant>
 
 #include "common/errors.h"
 
@@ -57,6 +60,35 @@ void AddGripper(Scene& scene, Gripper gripper) {
   const double length = gripper.axis.norm();
   if (length > 0 && std::isfinite(length)) gripper.axis /= length;
   scene.grippers.push_back(std::move(gripper));
+}
+
+namespace {
+
+// a motion given by expressions with compiled expressions of its own; the other forms have none
+std::shared_ptr<const KinematicMotion> Recompiled(
+    const std::shared_ptr<const KinematicMotion>& motion) {
+  const auto* given = motion ? std::get_if<PoseExpressions>(&motion->form()) : nullptr;
+  if (given == nullptr) return motion;
+  PoseExpressions own = *given;
+  for (TimeFunction& f : own.position) f = f.Recompiled();
+  for (TimeFunction& f : own.rpy_deg) f = f.Recompiled();
+  own.angle = own.angle.Recompiled();
+  return std::make_shared<const KinematicMotion>(std::move(own), motion->where());
+}
+
+}  // namespace
+
+void RecompileExpressions(Scene& scene) {
+  for (Load& load : scene.loads) {
+    load.x = load.x.Recompiled();
+    load.y = load.y.Recompiled();
+    load.z = load.z.Recompiled();
+  }
+  for (Body& body : scene.bodies) body.motion = Recompiled(body.motion);
+  for (Gripper& gripper : scene.grippers) {
+    gripper.motion = Recompiled(gripper.motion);
+    gripper.force = gripper.force.Recompiled();
+  }
 }
 
 KinematicPose JawOnFrame(const Gripper& gripper, int jaw, const KinematicPose& frame) {

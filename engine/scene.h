@@ -150,6 +150,11 @@ struct Scene {
 /// Adds `gripper` to `scene`: its jaws' poses in the frame (jaw_in_frame) from the jaws' initial
 /// poses (Body::p0, q0) and the frame's pose at t = 0, the axis normalized (a zero or non-finite
 /// one is left for ValidateScene to report), and each jaw marked as its (Body::gripper).
+/// Gives `scene` compiled expressions of its own (TimeFunction::Recompiled): its loads', its
+/// kinematic bodies' and grippers' motions and its grippers' forces, which a copy of a scene
+/// shares with the original. For a copy that a thread steps beside other copies.
+void RecompileExpressions(Scene& scene);
+
 /// ECPSIM_DEMAND: a motion and jaws that are bodies of the scene.
 void AddGripper(Scene& scene, Gripper gripper);
 

@@ -88,6 +88,9 @@ engine::Load ConstantLoad(engine::Load::Kind kind, int body, const Eigen::Vector
 
 Simulation::Simulation(std::shared_ptr<const engine::Scene> scene)
     : original_(std::move(scene)), scene_(*original_), state_(engine::InitialState(scene_)) {
+  // Simulations of one scene step on threads side by side (rollout): none waits for another's
+  // evaluation of a shared expression
+  engine::RecompileExpressions(scene_);
   report_.converged = true;
 }
 
@@ -136,6 +139,7 @@ void Simulation::Reset() {
   scene_.bodies = original_->bodies;
   scene_.contacts = original_->contacts;
   scene_.grippers = original_->grippers;
+  engine::RecompileExpressions(scene_);
   pending_.clear();
   state_ = engine::InitialState(scene_);
   report_ = engine::StepReport();

@@ -50,6 +50,15 @@ TEST(TimeFunctionTest, CopiesEvaluateIndependentlyOfTheOriginal) {
   EXPECT_EQ(f(0), 1);
 }
 
+TEST(TimeFunctionTest, ARecompiledCopyIsTheSameFunctionWithItsOwnMessages) {
+  const TimeFunction f("1/(t-1)", "s.yaml:9:3: loads[0].force[0]");
+  const TimeFunction own = f.Recompiled();
+  for (const double t : {0.0, 0.25, 2.0, 1e3}) EXPECT_EQ(own(t), f(t));
+  EXPECT_EQ(own.expression(), f.expression());
+  EXPECT_THAT([&] { own(1); }, ThrowsMessage<InputError>(HasSubstr("s.yaml:9:3")));
+  EXPECT_EQ(TimeFunction(2.5).Recompiled()(7), 2.5);
+}
+
 TEST(TimeFunctionTest, SyntaxErrorNamesWhereExpressionAndMuparserMessage) {
   EXPECT_THAT([] { TimeFunction("2*(t", "s.yaml:4:7: loads[1].torque[2]"); },
               ThrowsMessage<InputError>(AllOf(
