@@ -18,10 +18,13 @@ BINARY_DIR = os.environ.get("ECPSIM_BINARY_DIR", str(SOURCE_DIR / "build"))
 # s: for one command (the venv ≈ 3 s, pip on a built tree ≈ 2 s, a cold build minutes); a
 # timeout names the stuck command instead of hanging ctest
 COMMAND_TIMEOUT = 300
-# tests/python/ files run against the installed module (≈ 3 s): stepping and state arrays, meshes
-# read through the installed helper, run() against the CLI, frames, and the docs' examples
+# tests/python/ files run against the installed module (≈ 5 s): each item of the module —
+# stepping and state arrays, meshes read through the installed helper, run() against the CLI,
+# frames and videos, scenes from files and dicts, sensors, rollouts, step Jacobians — and the
+# docs' examples
 INSTALLED_TESTS = ["test_simulation.py", "test_hull.py", "test_run.py", "test_render.py",
-                   "test_docs.py"]
+                   "test_docs.py", "test_scene.py", "test_make_scene.py", "test_sensors.py",
+                   "test_rollout.py", "test_step_jacobians.py", "test_media.py"]
 
 # run by the venv's python in an empty folder: what the installed module gives
 PROBE = """\
