@@ -154,7 +154,7 @@ class Simulation:
         mu: Optional[float] = None,
         e_t: Optional[float] = None,
         e_o: Optional[float] = None,
-        e_r: Optional[float] = None,
+        e_r: Optional[Union[float, str]] = None,
     ) -> None:
         """A contact's friction (a Scene.contact_names name such as 'box.ground', or an index);
         None keeps a value; as set_mass."""

@@ -312,14 +312,24 @@ void BindRollout(py::module_& m, py::class_<PySimulation>& sim) {
             change.mu = OptionalDouble(mu, "set_friction: mu");
             change.e_t = OptionalDouble(e_t, "set_friction: e_t");
             change.e_o = OptionalDouble(e_o, "set_friction: e_o");
-            change.e_r = OptionalDouble(e_r, "set_friction: e_r");
+            if (py::isinstance<py::str>(e_r)) {
+              if (e_r.cast<std::string>() != "patch") {
+                throw InputError(
+                    fmt::format("set_friction: e_r = {}: expected a length > 0 m or \"patch\"",
+                                py::repr(e_r).cast<std::string>()));
+              }
+              change.e_r_patch = true;
+            } else {
+              change.e_r = OptionalDouble(e_r, "set_friction: e_r");
+            }
             self.sim.SetFriction(k, change);
           },
           py::arg("contact"), py::arg("mu") = py::none(), py::arg("e_t") = py::none(),
           py::arg("e_o") = py::none(), py::arg("e_r") = py::none(),
           "Sets a contact's friction (named as in Scene.contact_names, 'box.ground', or by "
           "index) from the next step on, in this Simulation only: mu ≥ 0, the ellipsoid's e_t, "
-          "e_o > 0 and e_r > 0 (m; a number replaces `e_r: patch`); None keeps a value. reset() "
+          "e_o > 0 and e_r > 0 (m; a number replaces `e_r: patch`) or \"patch\" (the contact "
+          "patch's, docs/scene_format.md); None keeps a value. reset() "
           "restores the scene's.\n"
           "Raises InputError with the loader's message for a value it refuses; nothing changes "
           "then.");

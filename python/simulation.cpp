@@ -252,6 +252,7 @@ void Simulation::SetFriction(int contact, const FrictionChange& change) {
     pair.friction.e_r = *change.e_r;
     pair.friction.e_r_patch = false;
   }
+  if (change.e_r_patch) pair.friction.e_r_patch = true;
   try {
     engine::ValidateContactFriction(scene_, contact);
   } catch (const engine::SceneError& e) {

@@ -88,6 +88,7 @@ class Simulation {
   struct FrictionChange {
     std::optional<double> mu, e_t, e_o;
     std::optional<double> e_r;  // m; a number replaces `e_r: patch`
+    bool e_r_patch = false;     // `e_r: patch` (docs/scene_format.md) instead of a number
   };
 
   /// Changes contact `contact`'s friction (scene.contacts order) from the next step on, in this

@@ -220,6 +220,14 @@ def test_set_friction_equals_the_friction_override(scenes):
     k = names.index("box.pusher")
     push.set_friction("box.pusher", mu=0.05)
     assert push.contacts()[k]["friction"]["mu"] == 0.05
+    # e_r: patch, as the override of the same key
+    sim = ecpsim.Simulation(ecpsim.load_scene(path))
+    sim.set_friction("box.ground", e_r="patch")
+    loaded = ecpsim.Simulation(ecpsim.load_scene(path, {"ground.friction.e_r": "patch"}))
+    np.testing.assert_array_equal(poses(sim, 30), poses(loaded, 30))
+    assert sim.contacts()[0]["friction"]["e_r"] == "patch"
+    with pytest.raises(ecpsim.InputError, match=r"^set_friction: e_r = 'pach': expected a length"):
+        sim.set_friction("box.ground", e_r="pach")
 
 
 def test_bad_values_raise_the_loaders_message_and_change_nothing(scenes):
