@@ -36,6 +36,9 @@ struct WorkPrecisionRow {
   // of steps in which the contact broke (f ≤ 0); −1 where there is no push or the run failed
   double push_force_error = -1;
   double push_contact_breaks = -1;
+  // m, drift (Scenario::measure_drift): the largest projected CM displacement of any dynamic
+  // body from its start (RunRecord::max_drift); −1 where not measured or the run failed
+  double drift = -1;
   std::string failure;  // message of the failure (commas and newlines replaced)
 };
 
@@ -63,7 +66,8 @@ std::vector<WorkPrecisionRow> RunWorkPrecision(const std::vector<Scenario>& scen
 /// The CSV text (header + one line per row).
 std::string WorkPrecisionCsv(const std::vector<WorkPrecisionRow>& rows);
 
-/// Parses a file written by WorkPrecisionCsv.
+/// Parses a file written by WorkPrecisionCsv, or by its earlier writer without the `drift`
+/// column (drift −1).
 /// @throws InputError naming the file, line and column for anything else.
 std::vector<WorkPrecisionRow> ReadWorkPrecisionCsv(const std::string& path);
 
