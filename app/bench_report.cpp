@@ -108,7 +108,9 @@ void WorkPrecisionCharts(PlotWriter& writer, const std::vector<WorkPrecisionRow>
     for (const std::string& method : InOrder(rows, MethodOf<WorkPrecisionRow>, MethodOrder())) {
       std::vector<const WorkPrecisionRow*> points;
       for (const WorkPrecisionRow& r : rows) {
-        if (r.scenario == scenario && r.method == method && !r.failed && r.error_state >= 0) {
+        // a point needs both numbers: failed and zero-time runs have no cost (−1)
+        if (r.scenario == scenario && r.method == method && !r.failed && r.error_state >= 0 &&
+            r.cpu_per_sim_s >= 0) {
           points.push_back(&r);
         }
       }

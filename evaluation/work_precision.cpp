@@ -125,7 +125,9 @@ std::vector<WorkPrecisionRow> RunWorkPrecision(const std::vector<Scenario>& scen
         row.h = h;
         row.steps = run.steps;
         row.failed = run.failed;
-        row.cpu_per_sim_s = run.cpu_seconds / std::max(1e-300, run.steps * h);
+        // a failed run's cost is that of a different computation (its restarts, sub-steps and
+        // the step that threw), and a run that simulated no time has none per second
+        row.cpu_per_sim_s = run.failed || run.steps == 0 ? -1 : run.cpu_seconds / (run.steps * h);
         row.max_penetration = run.max_penetration;
         row.iterations_mean = run.iterations_mean;
         row.iterations_max = run.iterations_max;

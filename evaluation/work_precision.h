@@ -19,7 +19,9 @@ struct WorkPrecisionRow {
   double h = 0;    // s
   long steps = 0;  // steps completed
   bool failed = false;
-  double cpu_per_sim_s = 0;     // CPU seconds per simulated second (thread CPU time of Step())
+  // CPU seconds per simulated second (thread CPU time of Step()); −1 where the run failed or
+  // simulated no time
+  double cpu_per_sim_s = -1;
   double error_state = -1;      // m, vs the scenario's reference (TrajectoryErrors::state)
   double error_position = -1;   // m
   double error_angle = -1;      // rad

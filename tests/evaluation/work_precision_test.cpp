@@ -149,6 +149,39 @@ TEST(WorkPrecisionTest, TheHullModelsTrainPushForceIsMuSumMg) {
   EXPECT_LE(rows[0].drift, kTransverseDrift);
 }
 
+// the bug: a run that failed in its first step reported its CPU time over 1e-300 simulated
+// seconds, ~1e296 CPU s per simulated s, in the CSV and results.md (ODE on the pyramid)
+TEST(WorkPrecisionTest, AFailedRunHasNoCpuPerSimulatedSecond) {
+  Scenario stack = ScenarioCut("stack", 0.02);
+  SweepOptions options;
+  options.steps = {0.01};
+  // the planar model throws in the first step: the boxes touch each other
+  stack.planar_applies = true;
+  const auto at_once = RunWorkPrecision({stack}, {FindMethod("planar")}, options);
+  ASSERT_EQ(at_once.size(), 1u);
+  ASSERT_TRUE(at_once[0].failed);
+  EXPECT_THAT(at_once[0].failure, HasSubstr("planar model"));
+  EXPECT_EQ(at_once[0].steps, 0);
+  EXPECT_EQ(at_once[0].cpu_per_sim_s, -1);
+  // a run stopped by the CPU limit after its first step: a cost, but of an unfinished run
+  options.cpu_limit_s = 0;
+  const auto stopped = RunWorkPrecision({stack}, {FindMethod("hull")}, options);
+  ASSERT_EQ(stopped.size(), 1u);
+  ASSERT_TRUE(stopped[0].failed);
+  EXPECT_THAT(stopped[0].failure, HasSubstr("CPU limit"));
+  EXPECT_EQ(stopped[0].steps, 1);
+  EXPECT_EQ(stopped[0].cpu_per_sim_s, -1);
+  // the same run completed has its cost: positive, and under the 300 s default limit per
+  // simulated 0.02 s
+  options.cpu_limit_s = SweepOptions().cpu_limit_s;
+  const auto completed = RunWorkPrecision({stack}, {FindMethod("hull")}, options);
+  ASSERT_EQ(completed.size(), 1u);
+  ASSERT_FALSE(completed[0].failed) << completed[0].failure;
+  EXPECT_EQ(completed[0].steps, 2);
+  EXPECT_GT(completed[0].cpu_per_sim_s, 0);
+  EXPECT_LT(completed[0].cpu_per_sim_s, options.cpu_limit_s / 0.02);
+}
+
 TEST(WorkPrecisionTest, CsvRoundTripKeepsNineDigits) {
   WorkPrecisionRow row;
   row.scenario = "slide";
