@@ -108,7 +108,9 @@ void WorkPrecisionCharts(PlotWriter& writer, const std::vector<WorkPrecisionRow>
     for (const std::string& method : InOrder(rows, MethodOf<WorkPrecisionRow>, MethodOrder())) {
       std::vector<const WorkPrecisionRow*> points;
       for (const WorkPrecisionRow& r : rows) {
-        if (r.scenario == scenario && r.method == method && !r.failed && r.error_state >= 0) {
+        // a point needs both numbers: failed and zero-time runs have no cost (−1)
+        if (r.scenario == scenario && r.method == method && !r.failed && r.error_state >= 0 &&
+            r.cpu_per_sim_s >= 0) {
           points.push_back(&r);
         }
       }
@@ -217,9 +219,10 @@ std::string PushForceTable(const std::vector<WorkPrecisionRow>& wp, const std::s
     if (r.scenario == scenario && r.push_force_error >= 0) steps.insert(r.h);
   if (steps.empty()) return "";
   std::string md = fmt::format(
-      "The pusher's force on the box after it settled ({:g} s after the first contact), each "
-      "step against the closed form μ m g: max |f − μ m g| / μ m g, and in parentheses the "
-      "share of steps in which the contact broke (f ≤ 0).\n\n| method |",
+      "The pusher's force on the body it touches after it settled ({:g} s after the first "
+      "contact), each step against the closed form F = Σ μ m g, the ground friction of the "
+      "bodies it pushes: max |f − F| / F, and in parentheses the share of steps in which the "
+      "contact broke (f ≤ 0).\n\n| method |",
       evaluation::kPushSettleTime);
   for (auto h = steps.rbegin(); h != steps.rend(); ++h) md += fmt::format(" h = {:g} |", *h);
   md += "\n|---|";
@@ -234,6 +237,35 @@ std::string PushForceTable(const std::vector<WorkPrecisionRow>& wp, const std::s
         cell = r.push_force_error < 0 ? (r.failed ? " failed |" : " |")
                                       : fmt::format(" {} ({:.0f} %) |", Sci(r.push_force_error),
                                                     100 * r.push_contact_breaks);
+      }
+      line += cell;
+    }
+    if (line.find_first_not_of(" |") != std::string::npos) md += "| " + method + " |" + line + "\n";
+  }
+  return md + "\n";
+}
+
+// a scenario's drift (WorkPrecisionRow::drift) per method at each step size (empty when the
+// scenario does not measure it)
+std::string DriftTable(const std::vector<WorkPrecisionRow>& wp, const std::string& scenario) {
+  std::set<double> steps;
+  for (const WorkPrecisionRow& r : wp)
+    if (r.scenario == scenario && r.drift >= 0) steps.insert(r.h);
+  if (steps.empty()) return "";
+  std::string md =
+      "Drift: the largest displacement (m) of any body's CM from its start over the run "
+      "(for a push, across the push direction only).\n\n| method |";
+  for (auto h = steps.rbegin(); h != steps.rend(); ++h) md += fmt::format(" h = {:g} |", *h);
+  md += "\n|---|";
+  for (size_t i = 0; i < steps.size(); ++i) md += "---|";
+  md += "\n";
+  for (const std::string& method : InOrder(wp, MethodOf<WorkPrecisionRow>, MethodOrder())) {
+    std::string line;
+    for (auto h = steps.rbegin(); h != steps.rend(); ++h) {
+      std::string cell = " |";
+      for (const WorkPrecisionRow& r : wp) {
+        if (r.scenario != scenario || r.method != method || r.h != *h) continue;
+        cell = r.drift < 0 ? (r.failed ? " failed |" : " |") : fmt::format(" {} |", Sci(r.drift));
       }
       line += cell;
     }
@@ -281,7 +313,7 @@ std::string ResultsMarkdown(const std::vector<WorkPrecisionRow>& wp,
             Sci(fine->cpu_per_sim_s), Sci(fine->reference_uncertainty), Sci(penetration),
             100 * wrong, Sci(fine->error_vs_hull), failures);
       }
-      md += "\n" + PushForceTable(wp, scenario);
+      md += "\n" + PushForceTable(wp, scenario) + DriftTable(wp, scenario);
     }
   }
   if (!stability.empty()) {

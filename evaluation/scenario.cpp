@@ -163,43 +163,84 @@ Scenario Stack(const std::string& scenes_dir) {
   return s;
 }
 
-// scenes/push_box.yaml: the pusher's face reaches the box after gap / speed and from then on
-// carries it at its own speed (closed form: a sticking push at constant speed)
-Scenario PushBox(const std::string& scenes_dir) {
-  Scenario s =
-      SceneScenario(scenes_dir, "push_box", "push_box.yaml", "box", kBodyScenarioDuration, 0.15,
-                    "flat pusher at 0.1 m/s pushing a box through its CM, mu = "
-                    "0.3 (closed form: the box at the pusher's speed)");
-  const engine::Body& pusher = s.scene.bodies[s.body == 0 ? 1 : 0];
-  ECPSIM_DEMAND(pusher.IsKinematic());
-  const engine::BodyState box = engine::InitialState(s.scene).bodies[s.body];
-  const engine::KinematicPose start = pusher.motion->PoseAt(0);
-  const Vector3d velocity = pusher.motion->StepTwist(0, s.scene.h).v;
-  // the gap between the pusher's leading face and the box's back face along the push
+// a scene whose kinematic pusher moves at constant velocity and reaches the measured body, the
+// first of the bodies it pushes, after gap / speed; from then on the bodies move at the pusher's
+// speed and its force is their whole ground friction Σ μ m g (closed form: a sticking push)
+Scenario Push(const std::string& scenes_dir, const std::string& name, const std::string& file,
+              const std::string& body, double duration, double length,
+              const std::string& description) {
+  Scenario s = SceneScenario(scenes_dir, name, file, body, duration, length, description);
+  const auto& bodies = s.scene.bodies;
+  const auto pusher = std::find_if(bodies.begin(), bodies.end(),
+                                   [](const engine::Body& b) { return b.IsKinematic(); });
+  ECPSIM_DEMAND(pusher != bodies.end());
+  const engine::BodyState pushed = engine::InitialState(s.scene).bodies[s.body];
+  const engine::KinematicPose start = pusher->motion->PoseAt(0);
+  const Vector3d velocity = pusher->motion->StepTwist(0, s.scene.h).v;
+  // the gap between the pusher's leading face and the pushed body's back face along the push
   const Vector3d u = velocity.normalized();
   const double pusher_front =
-      u.dot(start.p) + u.dot(start.q * pusher.hull->Support(start.q.inverse() * u));
-  const double box_back =
-      u.dot(box.p_WB) +
-      u.dot(box.Q_WB * s.scene.bodies[s.body].hull->Support(box.Q_WB.inverse() * -u));
-  const double contact_time = (box_back - pusher_front) / velocity.norm();
-  // pushed at constant speed, the box's friction on the ground is the whole push: μ m g
-  s.pusher = s.body == 0 ? 1 : 0;
+      u.dot(start.p) + u.dot(start.q * pusher->hull->Support(start.q.inverse() * u));
+  const double pushed_back =
+      u.dot(pushed.p_WB) +
+      u.dot(pushed.Q_WB * bodies[s.body].hull->Support(pushed.Q_WB.inverse() * -u));
+  const double contact_time = (pushed_back - pusher_front) / velocity.norm();
+  // pushed at constant speed, the bodies' friction on the ground is the whole push: Σ μ m g
+  s.pusher = static_cast<int>(pusher - bodies.begin());
   s.push_direction = u;
   s.push_contact_time = contact_time;
   for (const engine::ContactPair& pair : s.scene.contacts) {
-    if (pair.body == s.body && !pair.WithBody()) {
-      s.push_force = pair.friction.mu * s.scene.bodies[s.body].mass * s.scene.gravity.norm();
+    if (!pair.WithBody() && !bodies[pair.body].IsKinematic()) {
+      s.push_force += pair.friction.mu * bodies[pair.body].mass * s.scene.gravity.norm();
     }
   }
   s.analytic = [=](double t) {
-    engine::BodyState b = box;
+    engine::BodyState b = pushed;
     if (t > contact_time) {
       b.p_WB += (t - contact_time) * velocity;
       b.v_WB = velocity;
     }
     return b;
   };
+  return s;
+}
+
+// scenes/push_box.yaml: the pusher's face reaches the box after 0.1 s and from then on carries
+// it at its own speed; its force is μ m g
+Scenario PushBox(const std::string& scenes_dir) {
+  return Push(scenes_dir, "push_box", "push_box.yaml", "box", kBodyScenarioDuration, 0.15,
+              "flat pusher at 0.1 m/s pushing a box through its CM, mu = "
+              "0.3 (closed form: the box at the pusher's speed)");
+}
+
+// scenes/pyramid.yaml: ten boxes stacked 4-3-2-1 at rest; the top box is measured against no
+// motion at all, and every box's drift from its start is measured
+Scenario Pyramid(const std::string& scenes_dir) {
+  Scenario s =
+      SceneScenario(scenes_dir, "pyramid", "pyramid.yaml", "top", kManyBodyScenarioDuration, 0.1,
+                    "ten boxes stacked 4-3-2-1 at rest, the top one measured (closed "
+                    "form: no motion; drift: every box's)");
+  const engine::BodyState start = engine::InitialState(s.scene).bodies[s.body];
+  s.analytic = [=](double) {
+    engine::BodyState b = start;
+    b.v_WB = b.w_WB = Vector3d::Zero();
+    return b;
+  };
+  s.stop_time = 0;
+  s.measure_drift = true;
+  return s;
+}
+
+// scenes/train.yaml: a flat pusher drives a row of six touching boxes from t = 0; the first box
+// (the one the pusher touches) is measured, the push force is μ Σ m g of the row, and the drift
+// is the boxes' displacement across the row (sideways and up: the row buckling or skewing)
+Scenario Train(const std::string& scenes_dir) {
+  Scenario s = Push(scenes_dir, "train", "train.yaml", "c1", kManyBodyScenarioDuration, 0.1,
+                    "flat pusher at 0.1 m/s driving a row of six boxes, mu = 0.3 (closed "
+                    "form: the row at the pusher's speed, force mu sum m g)");
+  s.measure_drift = true;
+  s.drift_projection =
+      Eigen::Matrix3d::Identity() - s.push_direction * s.push_direction.transpose();
   return s;
 }
 
@@ -236,8 +277,8 @@ double MeanRadiusOfRectangle(double a, double b) {
 }
 
 std::vector<std::string> WorkPrecisionScenarioNames() {
-  return {"slide", "spin",     "push_slide", "rest",     "desk",
-          "tbar",  "dumbbell", "stack",      "push_box", "tbar_push"};
+  return {"slide",    "spin",  "push_slide", "rest",      "desk",    "tbar",
+          "dumbbell", "stack", "push_box",   "tbar_push", "pyramid", "train"};
 }
 
 std::vector<Scenario> WorkPrecisionScenarios(const std::string& scenes_dir,
@@ -263,6 +304,8 @@ std::vector<Scenario> WorkPrecisionScenarios(const std::string& scenes_dir,
                     "a kinematic finger pushing and turning the T-bar on the "
                     "table (converged reference)");
   scenarios.push_back(tbar_push);
+  scenarios.push_back(Pyramid(scenes_dir));
+  scenarios.push_back(Train(scenes_dir));
   return scenarios;
 }
 

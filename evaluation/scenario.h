@@ -1,7 +1,7 @@
 #pragma once
 // The benchmark's scenarios: bodies on the ground, one of them measured, each with a reference
-// trajectory, either in closed form (slide, spin, push-slide, rest, stack, push_box) or a
-// converged solution (desk, T-bar, dumbbell).
+// trajectory, either in closed form (slide, spin, push-slide, rest, stack, push_box, pyramid,
+// train) or a converged solution (desk, T-bar, dumbbell).
 
 #include <functional>
 #include <string>
@@ -39,6 +39,11 @@ struct Scenario {
   Eigen::Vector3d push_direction = Eigen::Vector3d::UnitX();
   double push_contact_time = 0;
   double push_force = 0;
+  // drift (RunRecord::max_drift, WorkPrecisionRow::drift): every dynamic body's CM displacement
+  // from its start, projected by `drift_projection` (world frame), the largest over the bodies
+  // and the steps; for scenes of many bodies, where the measured one shows only its own
+  bool measure_drift = false;
+  Eigen::Matrix3d drift_projection = Eigen::Matrix3d::Identity();
 };
 
 /// s after a push's first contact that its force is not compared: the pusher strikes the body
@@ -47,8 +52,9 @@ struct Scenario {
 constexpr double kPushSettleTime = 0.1;
 
 /// The work–precision scenarios. `scenes_dir` holds desk.yaml, tbar.yaml, dumbbell.yaml,
-/// stack.yaml, push_box.yaml and tbar_push.yaml (desk, tbar, dumbbell and tbar_push are cut to
-/// `converged_duration` seconds, stack and push_box to kBodyScenarioDuration, to keep the sweep
+/// stack.yaml, push_box.yaml, tbar_push.yaml, pyramid.yaml and train.yaml (desk, tbar, dumbbell
+/// and tbar_push are cut to `converged_duration` seconds, stack and push_box to
+/// kBodyScenarioDuration, pyramid and train to kManyBodyScenarioDuration, to keep the sweep
 /// affordable).
 /// @throws InputError if a scene file is missing or invalid.
 std::vector<Scenario> WorkPrecisionScenarios(const std::string& scenes_dir,
@@ -60,6 +66,10 @@ std::vector<std::string> WorkPrecisionScenarioNames();
 /// s: how long the stack and push_box scenarios run in the sweep (the scenes' 10 s and 2 s
 /// would make their runs at h = 2e-4 s the sweep's longest).
 constexpr double kBodyScenarioDuration = 1.0;
+
+/// s: how long the pyramid and train scenarios run in the sweep: the scenes' whole 2 s (issue
+/// 30's rest and push, long enough for the whole row to move at the pusher's speed).
+constexpr double kManyBodyScenarioDuration = 2.0;
 
 /// The scenario of a scene file `scenes_dir`/`file` measuring body `body` (by name), cut to
 /// `duration`; the reference is `analytic` when given, else the converged solution.

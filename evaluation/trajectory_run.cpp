@@ -144,6 +144,9 @@ RunRecord RunTrajectory(const Method& method, const Scenario& scenario, double h
     run.energies.push_back(Energy(scene, measured, b));
   };
   record(stepper->state());
+  // the dynamic bodies' starts, for the drift
+  const std::vector<engine::BodyState> starts = stepper->state().bodies;
+  if (scenario.measure_drift) run.max_drift = 0;
 
   double last_fast_t =
       Speed(stepper->state().bodies[measured], scenario.length) >= kStopSpeed ? 0 : -1;
@@ -182,6 +185,13 @@ RunRecord RunTrajectory(const Method& method, const Scenario& scenario, double h
       run.drift_late = std::max(run.drift_late, PoseDistance(b, late_start, scenario.length));
     }
     if (k % per_sample == 0) record(state);
+    if (scenario.measure_drift) {
+      for (size_t i = 0; i < starts.size(); ++i) {
+        if (scene.bodies[i].IsKinematic()) continue;
+        const Vector3d moved = state.bodies[i].p_WB - starts[i].p_WB;
+        run.max_drift = std::max(run.max_drift, (scenario.drift_projection * moved).norm());
+      }
+    }
     if (scenario.pusher >= 0 && state.t > scenario.push_contact_time + kPushSettleTime) {
       run.push_forces.push_back(
           scenario.push_direction.dot(stepper->ContactForce(measured, scenario.pusher)));

@@ -48,6 +48,9 @@ struct RunRecord {
   // a push (Scenario::pusher ≥ 0): per step from kPushSettleTime after the first contact on,
   // the pusher's mean force on the measured body over the step along the push direction, N
   std::vector<double> push_forces;
+  // m, Scenario::measure_drift: the largest projected CM displacement of a dynamic body from its
+  // start after any step (Scenario::drift_projection); −1 where not measured
+  double max_drift = -1;
 };
 
 /// Runs `method` on `scenario` with step h until scenario.scene.duration.

@@ -1,6 +1,7 @@
 #include "evaluation/work_precision.h"
 
 #include <algorithm>
+#include <fstream>
 #include <map>
 
 #include <fmt/format.h>
@@ -36,8 +37,18 @@ const std::vector<CsvColumn<Row>> kColumns = {
     WholeColumn<Row>("iterations_max", &Row::iterations_max),
     NumberColumn<Row>("push_force_error", kDigits, &Row::push_force_error),
     NumberColumn<Row>("push_contact_breaks", kDigits, &Row::push_contact_breaks),
+    NumberColumn<Row>("drift", kDigits, &Row::drift),
     TextColumn<Row>("failure", &Row::failure),
 };
+
+// the columns before `drift` was added: shards of that build still merge
+std::vector<CsvColumn<Row>> EarlierColumns() {
+  std::vector<CsvColumn<Row>> columns;
+  for (const CsvColumn<Row>& c : kColumns) {
+    if (c.name != "drift") columns.push_back(c);
+  }
+  return columns;
+}
 
 // The reference trajectories of one scenario, computed on first use.
 class References {
@@ -114,7 +125,9 @@ std::vector<WorkPrecisionRow> RunWorkPrecision(const std::vector<Scenario>& scen
         row.h = h;
         row.steps = run.steps;
         row.failed = run.failed;
-        row.cpu_per_sim_s = run.cpu_seconds / std::max(1e-300, run.steps * h);
+        // a failed run's cost is that of a different computation (its restarts, sub-steps and
+        // the step that threw), and a run that simulated no time has none per second
+        row.cpu_per_sim_s = run.failed || run.steps == 0 ? -1 : run.cpu_seconds / (run.steps * h);
         row.max_penetration = run.max_penetration;
         row.iterations_mean = run.iterations_mean;
         row.iterations_max = run.iterations_max;
@@ -130,6 +143,7 @@ std::vector<WorkPrecisionRow> RunWorkPrecision(const std::vector<Scenario>& scen
           row.push_force_error = worst;
           row.push_contact_breaks = static_cast<double>(breaks) / run.push_forces.size();
         }
+        if (scenario.measure_drift && !run.failed) row.drift = run.max_drift;
         if (!run.failed && !reference.failed) {
           const TrajectoryErrors e = CompareTrajectories(run, reference, scenario.length);
           row.error_state = e.state;
@@ -162,6 +176,13 @@ std::string WorkPrecisionCsv(const std::vector<WorkPrecisionRow>& rows) {
 }
 
 std::vector<WorkPrecisionRow> ReadWorkPrecisionCsv(const std::string& path) {
+  // the earlier header: its rows, without a drift
+  std::ifstream file(path);
+  std::string header;
+  std::getline(file, header);
+  std::string earlier;
+  for (const CsvColumn<Row>& c : EarlierColumns()) earlier += (earlier.empty() ? "" : ",") + c.name;
+  if (header == earlier) return ReadCsv(path, EarlierColumns());
   return ReadCsv(path, kColumns);
 }
 

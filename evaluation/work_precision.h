@@ -19,7 +19,9 @@ struct WorkPrecisionRow {
   double h = 0;    // s
   long steps = 0;  // steps completed
   bool failed = false;
-  double cpu_per_sim_s = 0;     // CPU seconds per simulated second (thread CPU time of Step())
+  // CPU seconds per simulated second (thread CPU time of Step()); −1 where the run failed or
+  // simulated no time
+  double cpu_per_sim_s = -1;
   double error_state = -1;      // m, vs the scenario's reference (TrajectoryErrors::state)
   double error_position = -1;   // m
   double error_angle = -1;      // rad
@@ -36,6 +38,9 @@ struct WorkPrecisionRow {
   // of steps in which the contact broke (f ≤ 0); −1 where there is no push or the run failed
   double push_force_error = -1;
   double push_contact_breaks = -1;
+  // m, drift (Scenario::measure_drift): the largest projected CM displacement of any dynamic
+  // body from its start (RunRecord::max_drift); −1 where not measured or the run failed
+  double drift = -1;
   std::string failure;  // message of the failure (commas and newlines replaced)
 };
 
@@ -63,7 +68,8 @@ std::vector<WorkPrecisionRow> RunWorkPrecision(const std::vector<Scenario>& scen
 /// The CSV text (header + one line per row).
 std::string WorkPrecisionCsv(const std::vector<WorkPrecisionRow>& rows);
 
-/// Parses a file written by WorkPrecisionCsv.
+/// Parses a file written by WorkPrecisionCsv, or by its earlier writer without the `drift`
+/// column (drift −1).
 /// @throws InputError naming the file, line and column for anything else.
 std::vector<WorkPrecisionRow> ReadWorkPrecisionCsv(const std::string& path);
 

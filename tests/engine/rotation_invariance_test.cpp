@@ -28,12 +28,15 @@ constexpr double kTurnedMotionTolerance = 1e-6;
 const double kTurns[] = {M_PI / 2, 37 * M_PI / 180};
 
 // the shipped multi-body scenes that meet the criterion today, asserted below
-const std::vector<std::string> kAsserted = {"push_box.yaml", "stack.yaml"};
+const std::vector<std::string> kAsserted = {"push_box.yaml", "stack.yaml", "train.yaml"};
 // those that do not yet: their steps' solutions form sets (non-isolated solutions) and the
 // engine has no rule yet that picks one point of a set independently of the world frame
 // (engine/README.md, "Non-isolated solutions: the minimum-norm pass"); the rule, when built,
-// moves them to kAsserted
-const std::vector<std::string> kNotYet = {"dominoes.yaml", "gripper.yaml", "tbar_push.yaml"};
+// moves them to kAsserted. The pyramid (each box on two below) meets it at 90° (4.3e-15 m over
+// its 2 s), but its copy turned by 37° fails its first step: SolverFailure after every guess
+// at h down to h/16 (ecpsim_rotation_check)
+const std::vector<std::string> kNotYet = {"dominoes.yaml", "gripper.yaml", "pyramid.yaml",
+                                          "tbar_push.yaml"};
 
 void ExpectTurnedMotion(const std::string& name, const std::vector<std::string>& overrides = {}) {
   const Scene scene =
@@ -60,6 +63,12 @@ TEST(RotationInvarianceTest, StackRestsTheSameWayTurned) {
 TEST(RotationInvarianceTest, PushBoxMovesTheSameWayTurned) {
   // a pusher at constant velocity pushes a box through its CM for 2 s
   ExpectTurnedMotion("push_box.yaml");
+}
+
+TEST(RotationInvarianceTest, TrainMovesTheSameWayTurned) {
+  // a pusher at constant velocity pushes a row of six boxes for 2 s (ecpsim_rotation_check:
+  // 2.4e-14 m at both turns); most of its CPU is the first step of each run, the strike
+  ExpectTurnedMotion("train.yaml");
 }
 
 TEST(RotationInvarianceTest, GripperUnderTheLeastEnergySelectionGraspsTheSameWayTurned) {

@@ -121,6 +121,37 @@ TEST_F(WorkPrecisionScenariosTest, PushBoxMovesAtThePushersSpeedFromContactOn) {
   EXPECT_FALSE(push.planar_applies);  // body–body contact: the planar model refuses it
 }
 
+TEST_F(WorkPrecisionScenariosTest, PyramidIsTenTouchingBoxesMeasuredAgainstRest) {
+  const Scenario& pyramid = Find("pyramid");
+  ASSERT_EQ(pyramid.scene.bodies.size(), 10u);
+  EXPECT_EQ(pyramid.scene.bodies[pyramid.body].name, "top");
+  EXPECT_DOUBLE_EQ(pyramid.scene.duration, kManyBodyScenarioDuration);
+  EXPECT_TRUE(pyramid.measure_drift);
+  EXPECT_EQ(pyramid.drift_projection, Eigen::Matrix3d::Identity());
+  // rows 4-3-2-1 of 0.1 m cubes: the top one's CM at 3.5 boxes, and it never moves
+  EXPECT_NEAR(pyramid.scene.bodies[pyramid.body].p0.z(), 0.35, kUnitRoundOff);
+  const engine::BodyState end = pyramid.analytic(pyramid.scene.duration);
+  EXPECT_EQ(end.p_WB, pyramid.scene.bodies[pyramid.body].p0);
+  EXPECT_EQ(end.v_WB.norm(), 0);
+  EXPECT_FALSE(pyramid.planar_applies);  // body–body contact: the planar model refuses it
+}
+
+TEST_F(WorkPrecisionScenariosTest, TrainPushesTheRowFromTheStart) {
+  const Scenario& train = Find("train");
+  ASSERT_EQ(train.scene.bodies.size(), 7u);  // six boxes and the pusher
+  EXPECT_EQ(train.scene.bodies[train.body].name, "c1");
+  EXPECT_TRUE(train.scene.bodies[train.pusher].IsKinematic());
+  // the pusher touches c1 at t = 0 and the row moves at its 0.1 m/s along +x from then on
+  EXPECT_NEAR(train.push_contact_time, 0, kUnitRoundOff);
+  EXPECT_NEAR(train.push_direction.x(), 1, kUnitRoundOff);
+  EXPECT_NEAR(train.push_force, 0.3 * 6 * kG, kUnitRoundOff);
+  const engine::BodyState later = train.analytic(1.0);
+  EXPECT_NEAR(later.p_WB.x() - train.scene.bodies[train.body].p0.x(), 0.1, kUnitRoundOff);
+  // the drift is the part across the push: x is dropped, y and z kept
+  EXPECT_NEAR((train.drift_projection * Eigen::Vector3d(1, 2, 3)).norm(), std::sqrt(13.0),
+              kUnitRoundOff);
+}
+
 TEST(SceneScenarioTest, NamesTheFileAndTheMissingBody) {
   EXPECT_THROW(SceneScenario(std::string(ECPSIM_SOURCE_DIR) + "/scenes", "x", "stack.yaml",
                              "nobody", 1, 0.1, "x"),

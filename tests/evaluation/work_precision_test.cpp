@@ -95,6 +95,93 @@ TEST(WorkPrecisionTest, TheHullModelsPushForceIsMuMgAtEveryStepAndNeverBreaks) {
   EXPECT_EQ(rows[0].push_contact_breaks, 0);
 }
 
+// the scenario `name` of the sweep, cut to `duration` s
+Scenario ScenarioCut(const std::string& name, double duration) {
+  for (Scenario& s : WorkPrecisionScenarios(std::string(ECPSIM_SOURCE_DIR) + "/scenes", 0.5)) {
+    if (s.name != name) continue;
+    s.scene.duration = duration;
+    return s;
+  }
+  ADD_FAILURE() << "no scenario " << name;
+  return {};
+}
+
+TEST(WorkPrecisionTest, TheHullModelHoldsThePyramidAtRest) {
+  // 0.5 s at h = 0.01 s: 50 steps of ten boxes in 15 contacts
+  const Scenario pyramid = ScenarioCut("pyramid", 0.5);
+  SweepOptions options;
+  options.steps = {0.01};
+  const auto rows = RunWorkPrecision({pyramid}, {FindMethod("hull")}, options);
+  ASSERT_EQ(rows.size(), 1u);
+  ASSERT_FALSE(rows[0].failed) << rows[0].failure;
+  EXPECT_EQ(rows[0].steps, 50);
+  // m: the exact rest is a solution of every step, found to the solver's 1e-12 tolerance; 1e-9
+  // of the 0.1 m box leaves room for round-off over the steps, far below any sag or creep
+  constexpr double kRestDrift = 1e-9 * 0.1;
+  EXPECT_GE(rows[0].drift, 0);
+  EXPECT_LE(rows[0].drift, kRestDrift);
+  EXPECT_LE(rows[0].error_position, kRestDrift);  // the top box against the initial pose
+  EXPECT_LE(rows[0].max_penetration, kRestDrift);
+}
+
+TEST(WorkPrecisionTest, TheHullModelsTrainPushForceIsMuSumMg) {
+  // 0.5 s at h = 0.01 s: the whole row moves from the first step, its force compared from 0.1 s
+  const Scenario train = ScenarioCut("train", 0.5);
+  EXPECT_DOUBLE_EQ(train.push_force, 0.3 * 6 * 9.8);  // μ Σ m g of the scene's six 1 kg boxes
+  SweepOptions options;
+  options.steps = {0.01};
+  const auto rows = RunWorkPrecision({train}, {FindMethod("hull")}, options);
+  ASSERT_EQ(rows.size(), 1u);
+  ASSERT_FALSE(rows[0].failed) << rows[0].failure;
+  // relative: the boxes slide on the ground with μ p_n exactly, and Σ p_n is Σ m g but for the
+  // pusher's own vertical friction on the first box (sticking with the creep), known to
+  // μ τ / kStickCreepFraction of its normal force: μ_g μ_pair 1e-7, times 10 for the rows it
+  // sums (as push_box's test)
+  constexpr double kMuGround = 0.3, kMuPair = 0.22, kSolverTolerance = 1e-12;  // train.yaml's
+  constexpr double kPushForceRel =
+      10 * kMuGround * kMuPair * kSolverTolerance / engine::kStickCreepFraction;
+  EXPECT_LE(rows[0].push_force_error, kPushForceRel);
+  EXPECT_EQ(rows[0].push_contact_breaks, 0);
+  // m: the row neither skews nor climbs (the push is along it, through the CMs), to the rest's
+  // bar: 1e-9 of the box
+  constexpr double kTransverseDrift = 1e-9 * 0.1;
+  EXPECT_GE(rows[0].drift, 0);
+  EXPECT_LE(rows[0].drift, kTransverseDrift);
+}
+
+// the bug: a run that failed in its first step reported its CPU time over 1e-300 simulated
+// seconds, ~1e296 CPU s per simulated s, in the CSV and results.md (ODE on the pyramid)
+TEST(WorkPrecisionTest, AFailedRunHasNoCpuPerSimulatedSecond) {
+  Scenario stack = ScenarioCut("stack", 0.02);
+  SweepOptions options;
+  options.steps = {0.01};
+  // the planar model throws in the first step: the boxes touch each other
+  stack.planar_applies = true;
+  const auto at_once = RunWorkPrecision({stack}, {FindMethod("planar")}, options);
+  ASSERT_EQ(at_once.size(), 1u);
+  ASSERT_TRUE(at_once[0].failed);
+  EXPECT_THAT(at_once[0].failure, HasSubstr("planar model"));
+  EXPECT_EQ(at_once[0].steps, 0);
+  EXPECT_EQ(at_once[0].cpu_per_sim_s, -1);
+  // a run stopped by the CPU limit after its first step: a cost, but of an unfinished run
+  options.cpu_limit_s = 0;
+  const auto stopped = RunWorkPrecision({stack}, {FindMethod("hull")}, options);
+  ASSERT_EQ(stopped.size(), 1u);
+  ASSERT_TRUE(stopped[0].failed);
+  EXPECT_THAT(stopped[0].failure, HasSubstr("CPU limit"));
+  EXPECT_EQ(stopped[0].steps, 1);
+  EXPECT_EQ(stopped[0].cpu_per_sim_s, -1);
+  // the same run completed has its cost: positive, and under the 300 s default limit per
+  // simulated 0.02 s
+  options.cpu_limit_s = SweepOptions().cpu_limit_s;
+  const auto completed = RunWorkPrecision({stack}, {FindMethod("hull")}, options);
+  ASSERT_EQ(completed.size(), 1u);
+  ASSERT_FALSE(completed[0].failed) << completed[0].failure;
+  EXPECT_EQ(completed[0].steps, 2);
+  EXPECT_GT(completed[0].cpu_per_sim_s, 0);
+  EXPECT_LT(completed[0].cpu_per_sim_s, options.cpu_limit_s / 0.02);
+}
+
 TEST(WorkPrecisionTest, CsvRoundTripKeepsNineDigits) {
   WorkPrecisionRow row;
   row.scenario = "slide";
@@ -106,6 +193,7 @@ TEST(WorkPrecisionTest, CsvRoundTripKeepsNineDigits) {
   row.failure = "solver failed, at t = 1";
   row.push_force_error = 0.25;
   row.push_contact_breaks = 0.125;
+  row.drift = 3.5e-15;
   const std::string path = WriteTemporary("wp.csv", WorkPrecisionCsv({row, row}));
   const std::vector<WorkPrecisionRow> back = ReadWorkPrecisionCsv(path);
   ASSERT_EQ(back.size(), 2u);
@@ -118,13 +206,14 @@ TEST(WorkPrecisionTest, CsvRoundTripKeepsNineDigits) {
   EXPECT_EQ(back[0].failure, "solver failed; at t = 1");  // commas cannot split the row
   EXPECT_EQ(back[0].push_force_error, 0.25);
   EXPECT_EQ(back[0].push_contact_breaks, 0.125);
+  EXPECT_EQ(back[0].drift, 3.5e-15);
   std::filesystem::remove(path);
 }
 
 TEST(WorkPrecisionTest, MalformedCsvNamesFileLineAndColumn) {
   const std::string header = WorkPrecisionCsv({}).substr(0, WorkPrecisionCsv({}).find('\n'));
   const std::string path =
-      WriteTemporary("bad.csv", header + "\nslide,hull,abc,1,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,\n");
+      WriteTemporary("bad.csv", header + "\nslide,hull,abc,1,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,\n");
   EXPECT_THAT(
       [&] { ReadWorkPrecisionCsv(path); },
       ThrowsMessage<InputError>(HasSubstr(path + ":2: column `h`: 'abc' is not a finite number")));
@@ -168,7 +257,7 @@ auto Fields(const WorkPrecisionRow& r) {
                          r.error_state, r.error_position, r.error_angle, r.error_velocity,
                          r.wrong_mode, r.stop_time_error, r.error_vs_hull, r.reference_uncertainty,
                          r.max_penetration, r.iterations_mean, r.iterations_max, r.push_force_error,
-                         r.push_contact_breaks, r.failure);
+                         r.push_contact_breaks, r.drift, r.failure);
 }
 
 TEST(WorkPrecisionTest, CsvRowsReadBackEqual) {
@@ -181,7 +270,7 @@ TEST(WorkPrecisionTest, CsvRowsReadBackEqual) {
 }
 
 // TwoRows() as the writer of the hand-written schema wrote them (before the columns were
-// declared once): shards written then still read, and the table is written byte for byte alike
+// declared once, and before the drift column): shards written then still read, drift −1
 const char* const kEarlierCsv =
     "scenario,method,h,steps,failed,cpu_per_sim_s,error_state,error_position,error_angle,"
     "error_velocity,wrong_mode,stop_time_error,error_vs_hull,reference_uncertainty,"
@@ -191,13 +280,24 @@ const char* const kEarlierCsv =
     "push_slide,mujoco-default,0.0005,1000,1,12.5,-1,-1,-1,-1,-1,-1,-1,-1,0.00012,0,0,0.25,0.0625,"
     "solver failed; at t = 1 s\n";
 
+// TwoRows() as this writer writes them: the earlier table with `drift` before `failure`
+const char* const kCsvWithDrift =
+    "scenario,method,h,steps,failed,cpu_per_sim_s,error_state,error_position,error_angle,"
+    "error_velocity,wrong_mode,stop_time_error,error_vs_hull,reference_uncertainty,"
+    "max_penetration,iterations_mean,iterations_max,push_force_error,push_contact_breaks,drift,"
+    "failure\n"
+    "slide,hull,0.002,250,0,0.00383123456,1.5e-12,2.5e-07,123456789,1e+20,0.125,-1,3.14159265,0,"
+    "1e-300,4.75,12,-1,-1,-1,\n"
+    "push_slide,mujoco-default,0.0005,1000,1,12.5,-1,-1,-1,-1,-1,-1,-1,-1,0.00012,0,0,0.25,0.0625,"
+    "-1,solver failed; at t = 1 s\n";
+
 TEST(WorkPrecisionTest, CsvOfTheEarlierWriterReadsTheSame) {
   const std::vector<WorkPrecisionRow> rows = TwoRows();
   const std::string path = WriteTemporary("wp_earlier.csv", kEarlierCsv);
   const std::vector<WorkPrecisionRow> back = ReadWorkPrecisionCsv(path);
   ASSERT_EQ(back.size(), rows.size());
   for (size_t i = 0; i < rows.size(); ++i) EXPECT_EQ(Fields(back[i]), Fields(rows[i])) << i;
-  EXPECT_EQ(WorkPrecisionCsv(rows), kEarlierCsv);
+  EXPECT_EQ(WorkPrecisionCsv(rows), kCsvWithDrift);
   std::filesystem::remove(path);
 }
 
