@@ -32,18 +32,21 @@ using Eigen::VectorXd;
 // The ladder as it is first; only when every guess fails, again with iterates kept in the
 // orthant of the complementarity unknowns ("Impacts": stationary points with σ < 0 capture
 // Newton at hard impacts); only when that fails too, with minimum-norm Newton steps, for
-// solutions that are not isolated ("Non-isolated solutions"). The last resort takes
-// minimum-norm steps on the plain iteration with a larger budget: where such a set ends at a
-// degenerate pair Newton converges only linearly, which the stall test takes for a stall.
+// solutions that are not isolated ("Non-isolated solutions"), and then with proximal terms in
+// the Newton matrix (sparse, for any size). The last resort takes both kinds of steps on the
+// plain iteration with a larger budget: where such a set ends at a degenerate pair Newton
+// converges only linearly, which the stall test takes for a stall.
 struct Pass {
-  bool project, minimum_norm, plain_newton;
+  bool project, minimum_norm, proximal, plain_newton;
   const char* name;
 };
-constexpr Pass kPasses[] = {{false, false, false, ""},
-                            {true, false, false, " (projected)"},
-                            {false, true, false, " (minimum-norm)"},
-                            {false, true, true, " (minimum-norm, plain Newton)"}};
-constexpr int kLastResortPass = 3;
+constexpr Pass kPasses[] = {{false, false, false, false, ""},
+                            {true, false, false, false, " (projected)"},
+                            {false, true, false, false, " (minimum-norm)"},
+                            {false, false, true, false, " (proximal)"},
+                            {false, true, false, true, " (minimum-norm, plain Newton)"},
+                            {false, false, true, true, " (proximal, plain Newton)"}};
+constexpr int kLastResortPass = 4;
 constexpr int kPassCount = static_cast<int>(std::size(kPasses));
 
 // The passes of one island step over its ladder of guesses. They share the problem, whose
@@ -93,6 +96,7 @@ class LadderRun {
     if (pass.minimum_norm && layout_.size > kMaxMinimumNormUnknowns) return false;
     options_.project_nonnegative = pass.project;
     options_.minimum_norm_steps = pass.minimum_norm;
+    options_.proximal_weight = pass.proximal ? kProximalWeight : 0;
     options_.levenberg_marquardt_rescue = !pass.plain_newton;
     options_.max_iterations =
         scene_.solver.max_iterations * (pass.plain_newton ? kPlainNewtonBudgetFactor : 1);

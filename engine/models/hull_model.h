@@ -22,11 +22,11 @@ class HullModel final : public ContactModelStepper {
   HullModel(const Scene& scene, StepWorkspace& workspace) : scene_(scene), workspace_(workspace) {}
   /// Free flight in closed form when no hull can reach its obstacle within the step; else the
   /// warm start and the restart ladder (plain, then with projected iterates, then with
-  /// minimum-norm Newton steps), each with the hull window grown until the solution holds for
-  /// the whole hull. As the last resort, the ladder's guesses once more with minimum-norm
-  /// Newton steps on the plain iteration and four times the iteration budget, for steps whose
-  /// solutions form a set that ends at a degenerate pair (engine/README.md, "Non-isolated
-  /// solutions").
+  /// minimum-norm Newton steps, then with proximal terms), each with the hull window grown until
+  /// the solution holds for the whole hull. As the last resort, the ladder's guesses once more
+  /// with minimum-norm Newton steps and then proximal terms on the plain iteration and four
+  /// times the iteration budget, for steps whose solutions form a set that ends at a degenerate
+  /// pair (engine/README.md, "Non-isolated solutions").
   AdvanceResult Advance(const Island& island, double t, double h, IslandState& state,
                         Effort effort) const override;
   bool HasLastResort() const override { return true; }

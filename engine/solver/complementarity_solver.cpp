@@ -53,6 +53,9 @@ template <typename Matrix>
 struct Reformulation {
   Eigen::VectorXd phi;  // Φ(x)
   Matrix H;             // an element of the generalized Jacobian of Φ
+  // the proximal term's diagonal E in H's units (McpOptions::proximal_weight): ε on a free row,
+  // ε ∂φ/∂F̃ on a complementarity row; empty without the option
+  Eigen::VectorXd proximal;
 };
 
 // penalized Fischer–Burmeister φ_λ(a, b) = λ(√(a²+b²) − a − b) − (1−λ) a₊ b₊, with
@@ -139,13 +142,14 @@ class ScaledProblem {
   using Function = std::function<void(const Eigen::VectorXd&, Eigen::VectorXd*, Matrix*)>;
   ScaledProblem(const Function& f, int num_free, const Eigen::VectorXd& row_scale,
                 const Eigen::VectorXd& var_scale, double lambda, double smoothing,
-                ScaledStorage<Matrix>& storage)
+                double proximal, ScaledStorage<Matrix>& storage)
       : f_(f),
         num_free_(num_free),
         row_scale_(row_scale),
         var_scale_(var_scale),
         lambda_(lambda),
         smoothing_(smoothing),
+        proximal_(proximal),
         storage_(storage) {}
 
   // Φ and (optionally) its Jacobian at scaled x; F is the unscaled residual at z = var_scale ⊙ x
@@ -183,6 +187,13 @@ class ScaledProblem {
       diagonal[i] = da;
     }
     FormNewtonMatrix(storage_, row_factor, var_scale_, diagonal, out->H);
+    if (proximal_ > 0) {
+      // the scaled problem's F̃_i + ε (x_i − x_i,k), differentiated through φ as F̃ is
+      out->proximal.resize(n);
+      out->proximal.head(num_free_).setConstant(proximal_);
+      for (int i = num_free_; i < n; ++i)
+        out->proximal[i] = proximal_ * row_factor[i] / row_scale_[i];
+    }
   }
 
  private:
@@ -192,6 +203,7 @@ class ScaledProblem {
   const Eigen::VectorXd& var_scale_;
   double lambda_;
   double smoothing_;
+  double proximal_;
   ScaledStorage<Matrix>& storage_;
 };
 
@@ -225,12 +237,19 @@ class DenseNewtonAlgebra {
   // the dense elimination (in `order`, McpOptions::elimination_order, when not empty), or
   // (replay) the pattern's schedule with threshold pivoting, or (minimum_norm) the complete
   // orthogonal decomposition
-  void Factor(const Matrix& H, bool replay, bool minimum_norm, const std::vector<int>& order) {
+  void Factor(const Matrix& H, const Eigen::VectorXd* shift, bool replay, bool minimum_norm,
+              const std::vector<int>& order) {
     minimum_norm_ = minimum_norm;
+    const Matrix* factored = &H;
+    if (shift) {
+      shifted_ = H;
+      shifted_.diagonal() += *shift;
+      factored = &shifted_;
+    }
     if (minimum_norm) {
-      minimum_norm_solver_.Factor(H);
+      minimum_norm_solver_.Factor(*factored);
     } else {
-      lu_.Compute(H, replay, order);
+      lu_.Compute(*factored, replay, order);
     }
   }
   // x ← H⁻¹ x (non-finite where H is singular), or the minimum-norm least-squares solution
@@ -253,6 +272,7 @@ class DenseNewtonAlgebra {
   PatternLu lu_;
   MinimumNormSolver minimum_norm_solver_;
   bool minimum_norm_ = false;
+  Matrix shifted_;  // H + diag(shift)
 };
 
 // The same on a sparse H (an island's: bodies' 6 × 6 blocks coupled only through their shared
@@ -266,8 +286,16 @@ class SparseNewtonAlgebra {
   // (the sparse LU keeps its analysis per pattern anyway: `replay` changes nothing here, and its
   // COLAMD ordering is the fill-reducing one; the minimum-norm solve factors H dense: a rescue's
   // cost, not a step's)
-  void Factor(const Matrix& H, bool /*replay*/, bool minimum_norm,
-              const std::vector<int>& /*order*/) {
+  void Factor(const Matrix& matrix, const Eigen::VectorXd* shift, bool /*replay*/,
+              bool minimum_norm, const std::vector<int>& /*order*/) {
+    const Matrix* factored = &matrix;
+    if (shift) {
+      shifted_ = matrix;
+      for (Eigen::Index j = 0; j < shifted_.cols(); ++j) shifted_.coeffRef(j, j) += (*shift)[j];
+      shifted_.makeCompressed();
+      factored = &shifted_;
+    }
+    const Matrix& H = *factored;
     // a non-finite entry would reach the LU's pivot search, whose comparisons it defeats
     factored_ = AllFinite(H);
     minimum_norm_ = minimum_norm;
@@ -326,6 +354,7 @@ class SparseNewtonAlgebra {
   Eigen::SparseLU<Matrix, Eigen::COLAMDOrdering<int>> lu_;
   std::vector<int> outer_, inner_;  // the pattern lu_ was analysed for
   Eigen::VectorXd rhs_;
+  Matrix shifted_;  // H + diag(shift)
   Matrix normal_;
   Eigen::SimplicialLDLT<Matrix, Eigen::Lower, Eigen::AMDOrdering<int>> ldlt_;
 };
@@ -406,7 +435,7 @@ McpResult SolveMcpWith(const std::function<void(const Eigen::VectorXd&, Eigen::V
   const int n = static_cast<int>(z.size());
   Workspace<Algebra>& w = lease.Get();
   ScaledProblem<Matrix> problem(f, num_free, row_scale, var_scale, options.fb_lambda,
-                                options.jacobian_smoothing, w.scaled);
+                                options.jacobian_smoothing, options.proximal_weight, w.scaled);
   Eigen::VectorXd& x = w.x;
   Eigen::VectorXd& F = w.F;
   Eigen::VectorXd& F_trial = w.F_trial;
@@ -469,14 +498,17 @@ McpResult SolveMcpWith(const std::function<void(const Eigen::VectorXd&, Eigen::V
 
     // semismooth Newton direction, else Levenberg–Marquardt with μ = ‖Φ‖² (Yamashita–Fukushima:
     // fast local convergence even where solutions are not isolated), else steepest descent
-    algebra.Factor(current.H, options.replay_pivots, options.minimum_norm_steps,
+    const Eigen::VectorXd* proximal = options.proximal_weight > 0 ? &current.proximal : nullptr;
+    algebra.Factor(current.H, proximal, options.replay_pivots, options.minimum_norm_steps,
                    options.elimination_order);
     direction = -current.phi;
     algebra.Solve(direction);
     bool newton_ok = AllFinite(direction);
     if (newton_ok) {
+      // (of the system solved: with the proximal term, (H + E) d = −Φ)
       linear_residual.noalias() = current.H * direction;
       linear_residual += current.phi;
+      if (proximal) linear_residual += proximal->cwiseProduct(direction);
       newton_ok =
           linear_residual.norm() <= kLinearSolveRelTol * current.phi.norm() &&
           gradient.dot(direction) <= -kMinDescentCosine * gradient.norm() * direction.norm();

@@ -81,6 +81,9 @@ struct McpOptions {
   // (engine/README.md, "Non-isolated solutions"). Dense O(n³) with a larger constant than the LU
   // (a sparse H is factored dense): for rescues, not for every step
   bool minimum_norm_steps = false;
+  // a proximal-point term ε (x − x_k) in the scaled problem, in the factored Newton matrix only
+  // (engine/README.md, "Non-isolated solutions"): 0 is off
+  double proximal_weight = 0;
 };
 
 /// Relative rank threshold of McpOptions::minimum_norm_steps: a pivot of the complete orthogonal

@@ -198,6 +198,77 @@ TEST(ComplementaritySolverTest, MinimumNormStepsStayNearTheStartOnANonIsolatedSo
   EXPECT_LT((z_sparse - nearest).cwiseAbs().maxCoeff(), kRoundOff);
 }
 
+// The same line of solutions with proximal terms instead (McpOptions::proximal_weight): each
+// step solves (A + εI) d = −F, nonsingular, with no component along the line because A is
+// symmetric, so the iteration lands on the same nearest solution; it converges at the rate
+// ε / (2 + ε) in the range, which a few iterations take to the tolerance, dense and sparse alike
+TEST(ComplementaritySolverTest, ProximalStepsStayNearTheStartOnANonIsolatedSolutionSet) {
+  Eigen::Matrix3d A;
+  A << 1, 1, 0, 1, 1, 0, 0, 0, 1;
+  const Eigen::Vector3d b(2, 2, 3);
+  const Eigen::Vector3d nearest(4, -2, 3);
+  McpOptions options;
+  options.tolerance = kSolveTolerance;
+  options.proximal_weight = 1e-6;
+  const Eigen::VectorXd ones = Eigen::VectorXd::Ones(3);
+  const McpFunction dense = [&](const Eigen::VectorXd& z, Eigen::VectorXd* F, Eigen::MatrixXd* J) {
+    *F = A * z - b;
+    if (J) *J = A;
+  };
+  const SparseMcpFunction sparse = [&](const Eigen::VectorXd& z, Eigen::VectorXd* F,
+                                       SparseMatrix* J) {
+    *F = A * z - b;
+    if (J) *J = A.sparseView();
+  };
+  Eigen::VectorXd z_dense = Eigen::Vector3d(5, -1, 0), z_sparse = z_dense;
+  const McpResult a = SolveMcp(dense, 3, ones, ones, z_dense, options);
+  const McpResult c = SolveMcp(sparse, 3, ones, ones, z_sparse, options);
+  // iterations: residual 3 → 3e-6 → 3e-12 → below the tolerance
+  constexpr int kMaxProximalIterations = 3;
+  for (const McpResult& result : {a, c}) {
+    EXPECT_TRUE(result.converged);
+    EXPECT_LE(result.iterations, kMaxProximalIterations);
+  }
+  // nothing moves along the line but round-off: (A + εI)'s smallest eigenvalue is ε, so each
+  // step's LU round-off (1e-16 of the O(1) residual) is amplified 1/ε along it, ≈ 3e-10 a step
+  constexpr double kNear = 1e-9;
+  EXPECT_LT((z_dense - nearest).cwiseAbs().maxCoeff(), kNear);
+  EXPECT_LT((z_sparse - nearest).cwiseAbs().maxCoeff(), kNear);
+
+  // without either remedy the LU's matrix is singular: its step is refused and the solve falls
+  // back on Levenberg–Marquardt steps, which stop short of the tolerance in as many iterations
+  options.proximal_weight = 0;
+  Eigen::VectorXd z_plain = Eigen::Vector3d(5, -1, 0);
+  options.max_iterations = kMaxProximalIterations;
+  EXPECT_FALSE(SolveMcp(dense, 3, ones, ones, z_plain, options).converged);
+}
+
+// Where the root is isolated the proximal terms change the path only: a planted MCP with
+// complementarity rows (active and inactive) solves to the same root, dense and sparse
+TEST(ComplementaritySolverTest, ProximalStepsFindAnIsolatedRootExactly) {
+  const PlantedMcp p = MakePlantedMcp(30, 12);
+  McpOptions options;
+  options.tolerance = kSolveTolerance;
+  options.proximal_weight = 1e-6;
+  const Eigen::VectorXd ones = Eigen::VectorXd::Ones(30);
+  const McpFunction dense = [&](const Eigen::VectorXd& z, Eigen::VectorXd* F, Eigen::MatrixXd* J) {
+    *F = p.M * z + p.q;
+    if (J) *J = p.M;
+  };
+  const SparseMcpFunction sparse = [&](const Eigen::VectorXd& z, Eigen::VectorXd* F,
+                                       SparseMatrix* J) {
+    *F = p.M * z + p.q;
+    if (J) *J = p.M.sparseView();
+  };
+  Eigen::VectorXd z_dense = Eigen::VectorXd::Ones(30), z_sparse = z_dense;
+  EXPECT_TRUE(SolveMcp(dense, 12, ones, ones, z_dense, options).converged);
+  EXPECT_TRUE(SolveMcp(sparse, 12, ones, ones, z_sparse, options).converged);
+  // the tolerance 1e-12 on rows of M's size 4: the root to a few times that
+  constexpr double kRootError = 1e-11;
+  EXPECT_LT((z_dense - p.z_star).cwiseAbs().maxCoeff(), kRootError);
+  EXPECT_LT((z_sparse - p.z_star).cwiseAbs().maxCoeff(), kRootError);
+}
+
 TEST(ComplementaritySolverTest, NestedSolveInTheCallbackKeepsTheOuterWorkspace) {
   // the outer callback solves an inner problem on every evaluation in the same workspace, which
   // the outer solve holds: the inner one works in storage of its own and both converge
