@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <set>
 
@@ -211,19 +212,13 @@ void StabilityCharts(PlotWriter& writer, const std::vector<StabilityRow>& rows) 
   }
 }
 
-// a push scenario's force against its closed form, per method at each step size (empty when
-// the scenario has no push)
-std::string PushForceTable(const std::vector<WorkPrecisionRow>& wp, const std::string& scenario) {
-  std::set<double> steps;
-  for (const WorkPrecisionRow& r : wp)
-    if (r.scenario == scenario && r.push_force_error >= 0) steps.insert(r.h);
-  if (steps.empty()) return "";
-  std::string md = fmt::format(
-      "The pusher's force on the body it touches after it settled ({:g} s after the first "
-      "contact), each step against the closed form F = Σ μ m g, the ground friction of the "
-      "bodies it pushes: max |f − F| / F, and in parentheses the share of steps in which the "
-      "contact broke (f ≤ 0).\n\n| method |",
-      evaluation::kPushSettleTime);
+// the columns "h = …" (largest first) of a scenario's table and a row per method that has a
+// value: `cell(row)` formats a measured row, an unmeasured one is blank or "failed"
+std::string MethodByStepTable(const std::vector<WorkPrecisionRow>& wp, const std::string& scenario,
+                              const std::set<double>& steps,
+                              const std::function<double(const WorkPrecisionRow&)>& value,
+                              const std::function<std::string(const WorkPrecisionRow&)>& cell) {
+  std::string md = "| method |";
   for (auto h = steps.rbegin(); h != steps.rend(); ++h) md += fmt::format(" h = {:g} |", *h);
   md += "\n|---|";
   for (size_t i = 0; i < steps.size(); ++i) md += "---|";
@@ -231,47 +226,55 @@ std::string PushForceTable(const std::vector<WorkPrecisionRow>& wp, const std::s
   for (const std::string& method : InOrder(wp, MethodOf<WorkPrecisionRow>, MethodOrder())) {
     std::string line;
     for (auto h = steps.rbegin(); h != steps.rend(); ++h) {
-      std::string cell = " |";
+      std::string entry = " |";
       for (const WorkPrecisionRow& r : wp) {
         if (r.scenario != scenario || r.method != method || r.h != *h) continue;
-        cell = r.push_force_error < 0 ? (r.failed ? " failed |" : " |")
-                                      : fmt::format(" {} ({:.0f} %) |", Sci(r.push_force_error),
-                                                    100 * r.push_contact_breaks);
+        entry = value(r) < 0 ? (r.failed ? " failed |" : " |") : " " + cell(r) + " |";
       }
-      line += cell;
+      line += entry;
     }
     if (line.find_first_not_of(" |") != std::string::npos) md += "| " + method + " |" + line + "\n";
   }
   return md + "\n";
 }
 
+// the step sizes at which `value` was measured for `scenario` (it is negative where not)
+std::set<double> MeasuredSteps(const std::vector<WorkPrecisionRow>& wp, const std::string& scenario,
+                               const std::function<double(const WorkPrecisionRow&)>& value) {
+  std::set<double> steps;
+  for (const WorkPrecisionRow& r : wp)
+    if (r.scenario == scenario && value(r) >= 0) steps.insert(r.h);
+  return steps;
+}
+
+// a push scenario's force against its closed form, per method at each step size (empty when
+// the scenario has no push)
+std::string PushForceTable(const std::vector<WorkPrecisionRow>& wp, const std::string& scenario) {
+  const auto value = [](const WorkPrecisionRow& r) { return r.push_force_error; };
+  const std::set<double> steps = MeasuredSteps(wp, scenario, value);
+  if (steps.empty()) return "";
+  return fmt::format(
+             "The pusher's force on the body it touches after it settled ({:g} s after the first "
+             "contact), each step against the closed form F = Σ μ m g, the ground friction of the "
+             "bodies it pushes: max |f − F| / F, and in parentheses the share of steps in which "
+             "the contact broke (f ≤ 0).\n\n",
+             evaluation::kPushSettleTime) +
+         MethodByStepTable(wp, scenario, steps, value, [](const WorkPrecisionRow& r) {
+           return fmt::format("{} ({:.0f} %)", Sci(r.push_force_error),
+                              100 * r.push_contact_breaks);
+         });
+}
+
 // a scenario's drift (WorkPrecisionRow::drift) per method at each step size (empty when the
 // scenario does not measure it)
 std::string DriftTable(const std::vector<WorkPrecisionRow>& wp, const std::string& scenario) {
-  std::set<double> steps;
-  for (const WorkPrecisionRow& r : wp)
-    if (r.scenario == scenario && r.drift >= 0) steps.insert(r.h);
+  const auto value = [](const WorkPrecisionRow& r) { return r.drift; };
+  const std::set<double> steps = MeasuredSteps(wp, scenario, value);
   if (steps.empty()) return "";
-  std::string md =
-      "Drift: the largest displacement (m) of any body's CM from its start over the run "
-      "(for a push, across the push direction only).\n\n| method |";
-  for (auto h = steps.rbegin(); h != steps.rend(); ++h) md += fmt::format(" h = {:g} |", *h);
-  md += "\n|---|";
-  for (size_t i = 0; i < steps.size(); ++i) md += "---|";
-  md += "\n";
-  for (const std::string& method : InOrder(wp, MethodOf<WorkPrecisionRow>, MethodOrder())) {
-    std::string line;
-    for (auto h = steps.rbegin(); h != steps.rend(); ++h) {
-      std::string cell = " |";
-      for (const WorkPrecisionRow& r : wp) {
-        if (r.scenario != scenario || r.method != method || r.h != *h) continue;
-        cell = r.drift < 0 ? (r.failed ? " failed |" : " |") : fmt::format(" {} |", Sci(r.drift));
-      }
-      line += cell;
-    }
-    if (line.find_first_not_of(" |") != std::string::npos) md += "| " + method + " |" + line + "\n";
-  }
-  return md + "\n";
+  return "Drift: the largest displacement (m) of any body's CM from its start over the run "
+         "(for a push, across the push direction only).\n\n" +
+         MethodByStepTable(wp, scenario, steps, value,
+                           [](const WorkPrecisionRow& r) { return Sci(r.drift); });
 }
 
 std::string ResultsMarkdown(const std::vector<WorkPrecisionRow>& wp,

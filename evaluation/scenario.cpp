@@ -147,12 +147,8 @@ Scenario PaperScene(const std::string& scenes_dir, const std::string& name, doub
   return s;
 }
 
-// scenes/stack.yaml: three boxes stacked at rest; the top box is measured, and the closed form
-// is no motion at all (the drift test)
-Scenario Stack(const std::string& scenes_dir) {
-  Scenario s = SceneScenario(scenes_dir, "stack", "stack.yaml", "top", kBodyScenarioDuration, 0.1,
-                             "three boxes stacked at rest, the top one measured (closed form: "
-                             "no motion)");
+// the closed form of a body at rest: its start, no motion at all, from t = 0
+void MeasureAgainstRest(Scenario& s) {
   const engine::BodyState start = engine::InitialState(s.scene).bodies[s.body];
   s.analytic = [=](double) {
     engine::BodyState b = start;
@@ -160,6 +156,15 @@ Scenario Stack(const std::string& scenes_dir) {
     return b;
   };
   s.stop_time = 0;
+}
+
+// scenes/stack.yaml: three boxes stacked at rest; the top box is measured, and the closed form
+// is no motion at all (the drift test)
+Scenario Stack(const std::string& scenes_dir) {
+  Scenario s = SceneScenario(scenes_dir, "stack", "stack.yaml", "top", kBodyScenarioDuration, 0.1,
+                             "three boxes stacked at rest, the top one measured (closed form: "
+                             "no motion)");
+  MeasureAgainstRest(s);
   return s;
 }
 
@@ -220,13 +225,7 @@ Scenario Pyramid(const std::string& scenes_dir) {
       SceneScenario(scenes_dir, "pyramid", "pyramid.yaml", "top", kManyBodyScenarioDuration, 0.1,
                     "ten boxes stacked 4-3-2-1 at rest, the top one measured (closed "
                     "form: no motion; drift: every box's)");
-  const engine::BodyState start = engine::InitialState(s.scene).bodies[s.body];
-  s.analytic = [=](double) {
-    engine::BodyState b = start;
-    b.v_WB = b.w_WB = Vector3d::Zero();
-    return b;
-  };
-  s.stop_time = 0;
+  MeasureAgainstRest(s);
   s.measure_drift = true;
   return s;
 }

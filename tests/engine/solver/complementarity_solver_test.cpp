@@ -163,66 +163,65 @@ TEST(ComplementaritySolverTest, SparseAndDenseFallbacksReachTheSameDoubleRoot) {
   EXPECT_NEAR(z_sparse[1], 2, kLinearRowRoundOff);
 }
 
-// F(z) = A z − b with A of rank 2 and b in its range: the solutions form the line
-// (t, 2 − t, 3), the Newton matrix is singular everywhere, and the minimum-norm Newton step from
-// z₀ lands on the solution nearest z₀ — (4, −2, 3) from (5, −1, 0) — in one iteration, moving
-// nothing along the line (McpOptions::minimum_norm_steps), dense and sparse alike
-TEST(ComplementaritySolverTest, MinimumNormStepsStayNearTheStartOnANonIsolatedSolutionSet) {
+// F(z) = A z − b with A symmetric of rank 2 and b in its range: the solutions form the line
+// (t, 2 − t, 3), and the Newton matrix is singular everywhere. From (5, −1, 0) the nearest
+// solution is (4, −2, 3)
+struct SolutionLine {
+  SolutionLine() {
+    A << 1, 1, 0, 1, 1, 0, 0, 0, 1;
+    dense = [this](const Eigen::VectorXd& z, Eigen::VectorXd* F, Eigen::MatrixXd* J) {
+      *F = A * z - b;
+      if (J) *J = A;
+    };
+    sparse = [this](const Eigen::VectorXd& z, Eigen::VectorXd* F, SparseMatrix* J) {
+      *F = A * z - b;
+      if (J) *J = A.sparseView();
+    };
+  }
+  SolutionLine(const SolutionLine&) = delete;
+  SolutionLine& operator=(const SolutionLine&) = delete;
   Eigen::Matrix3d A;
-  A << 1, 1, 0, 1, 1, 0, 0, 0, 1;
-  const Eigen::Vector3d b(2, 2, 3);
-  const Eigen::Vector3d nearest(4, -2, 3);
+  Eigen::Vector3d b{2, 2, 3};
+  Eigen::Vector3d start{5, -1, 0};
+  Eigen::Vector3d nearest{4, -2, 3};
+  Eigen::VectorXd ones = Eigen::VectorXd::Ones(3);
+  McpFunction dense;
+  SparseMcpFunction sparse;
+};
+
+// On SolutionLine the minimum-norm Newton step from the start lands on the nearest solution in
+// one iteration, moving nothing along the line (McpOptions::minimum_norm_steps), dense and sparse
+// alike
+TEST(ComplementaritySolverTest, MinimumNormStepsStayNearTheStartOnANonIsolatedSolutionSet) {
+  const SolutionLine line;
   McpOptions options;
   options.tolerance = kSolveTolerance;
   options.minimum_norm_steps = true;
-  const Eigen::VectorXd ones = Eigen::VectorXd::Ones(3);
-  const McpFunction dense = [&](const Eigen::VectorXd& z, Eigen::VectorXd* F, Eigen::MatrixXd* J) {
-    *F = A * z - b;
-    if (J) *J = A;
-  };
-  const SparseMcpFunction sparse = [&](const Eigen::VectorXd& z, Eigen::VectorXd* F,
-                                       SparseMatrix* J) {
-    *F = A * z - b;
-    if (J) *J = A.sparseView();
-  };
-  Eigen::VectorXd z_dense = Eigen::Vector3d(5, -1, 0), z_sparse = z_dense;
-  const McpResult a = SolveMcp(dense, 3, ones, ones, z_dense, options);
-  const McpResult c = SolveMcp(sparse, 3, ones, ones, z_sparse, options);
+  Eigen::VectorXd z_dense = line.start, z_sparse = z_dense;
+  const McpResult a = SolveMcp(line.dense, 3, line.ones, line.ones, z_dense, options);
+  const McpResult c = SolveMcp(line.sparse, 3, line.ones, line.ones, z_sparse, options);
   for (const McpResult& result : {a, c}) {
     EXPECT_TRUE(result.converged);
     EXPECT_EQ(result.iterations, 1);
   }
   // one orthogonal decomposition's round-off on O(1) entries
   constexpr double kRoundOff = 1e-14;
-  EXPECT_LT((z_dense - nearest).cwiseAbs().maxCoeff(), kRoundOff);
-  EXPECT_LT((z_sparse - nearest).cwiseAbs().maxCoeff(), kRoundOff);
+  EXPECT_LT((z_dense - line.nearest).cwiseAbs().maxCoeff(), kRoundOff);
+  EXPECT_LT((z_sparse - line.nearest).cwiseAbs().maxCoeff(), kRoundOff);
 }
 
-// The same line of solutions with proximal terms instead (McpOptions::proximal_weight): each
+// SolutionLine with proximal terms instead (McpOptions::proximal_weight): each
 // step solves (A + εI) d = −F, nonsingular, with no component along the line because A is
 // symmetric, so the iteration lands on the same nearest solution; it converges at the rate
 // ε / (2 + ε) in the range, which a few iterations take to the tolerance, dense and sparse alike
 TEST(ComplementaritySolverTest, ProximalStepsStayNearTheStartOnANonIsolatedSolutionSet) {
-  Eigen::Matrix3d A;
-  A << 1, 1, 0, 1, 1, 0, 0, 0, 1;
-  const Eigen::Vector3d b(2, 2, 3);
-  const Eigen::Vector3d nearest(4, -2, 3);
+  const SolutionLine line;
   McpOptions options;
   options.tolerance = kSolveTolerance;
   options.proximal_weight = 1e-6;
-  const Eigen::VectorXd ones = Eigen::VectorXd::Ones(3);
-  const McpFunction dense = [&](const Eigen::VectorXd& z, Eigen::VectorXd* F, Eigen::MatrixXd* J) {
-    *F = A * z - b;
-    if (J) *J = A;
-  };
-  const SparseMcpFunction sparse = [&](const Eigen::VectorXd& z, Eigen::VectorXd* F,
-                                       SparseMatrix* J) {
-    *F = A * z - b;
-    if (J) *J = A.sparseView();
-  };
-  Eigen::VectorXd z_dense = Eigen::Vector3d(5, -1, 0), z_sparse = z_dense;
-  const McpResult a = SolveMcp(dense, 3, ones, ones, z_dense, options);
-  const McpResult c = SolveMcp(sparse, 3, ones, ones, z_sparse, options);
+  Eigen::VectorXd z_dense = line.start, z_sparse = z_dense;
+  const McpResult a = SolveMcp(line.dense, 3, line.ones, line.ones, z_dense, options);
+  const McpResult c = SolveMcp(line.sparse, 3, line.ones, line.ones, z_sparse, options);
   // iterations: residual 3 → 3e-6 → 3e-12 → below the tolerance
   constexpr int kMaxProximalIterations = 3;
   for (const McpResult& result : {a, c}) {
@@ -232,15 +231,15 @@ TEST(ComplementaritySolverTest, ProximalStepsStayNearTheStartOnANonIsolatedSolut
   // nothing moves along the line but round-off: (A + εI)'s smallest eigenvalue is ε, so each
   // step's LU round-off (1e-16 of the O(1) residual) is amplified 1/ε along it, ≈ 3e-10 a step
   constexpr double kNear = 1e-9;
-  EXPECT_LT((z_dense - nearest).cwiseAbs().maxCoeff(), kNear);
-  EXPECT_LT((z_sparse - nearest).cwiseAbs().maxCoeff(), kNear);
+  EXPECT_LT((z_dense - line.nearest).cwiseAbs().maxCoeff(), kNear);
+  EXPECT_LT((z_sparse - line.nearest).cwiseAbs().maxCoeff(), kNear);
 
   // without either remedy the LU's matrix is singular: its step is refused and the solve falls
   // back on Levenberg–Marquardt steps, which stop short of the tolerance in as many iterations
   options.proximal_weight = 0;
-  Eigen::VectorXd z_plain = Eigen::Vector3d(5, -1, 0);
+  Eigen::VectorXd z_plain = line.start;
   options.max_iterations = kMaxProximalIterations;
-  EXPECT_FALSE(SolveMcp(dense, 3, ones, ones, z_plain, options).converged);
+  EXPECT_FALSE(SolveMcp(line.dense, 3, line.ones, line.ones, z_plain, options).converged);
 }
 
 // Where the root is isolated the proximal terms change the path only: a planted MCP with
