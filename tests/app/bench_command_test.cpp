@@ -2,11 +2,13 @@
 
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <sstream>
 
 #include <gtest/gtest.h>
 
 #include "evaluation/drop_sweep.h"
+#include "evaluation/scaling.h"
 #include "evaluation/stability_map.h"
 #include "evaluation/work_precision.h"
 #include "tests/cli_test.h"
@@ -21,11 +23,15 @@ class BenchCommandTest : public CliTest {};
 // a sweep small enough for CI: two closed-form scenarios, one map, two step sizes
 const char* kSmallSweep =
     "bench --methods hull,point --scenarios slide,push_slide --maps impact --steps 0.01,0.002 "
-    "--no-drops";
+    "--no-drops --no-scaling";
 // the drop sweep's smallest useful part: one seed of two kinds and one collection file
 const char* kSmallDrops =
-    "bench --no-work-precision --no-stability --drop-kinds l_shape,u_shape,file --drop-seeds 1 "
-    "--drop-poses 1";
+    "bench --no-work-precision --no-stability --no-scaling --drop-kinds l_shape,u_shape,file "
+    "--drop-seeds 1 --drop-poses 1";
+// the scaling benchmark alone, two models on a box and two stacks, one step per timed block
+const char* kSmallScaling =
+    "bench --no-work-precision --no-stability --no-drops --methods hull,auto --scaling-sizes "
+    "1,4,8 --scaling-steps 1";
 
 TEST_F(BenchCommandTest, WritesCsvChartsAndResults) {
   const fs::path out = dir_ / "bench";
@@ -98,6 +104,51 @@ TEST_F(BenchCommandTest, DropSweepShardsMergeIntoOneTable) {
   EXPECT_NE(text.str().find("| u_shape | scaled | 1 |"), std::string::npos) << text.str();
 }
 
+TEST_F(BenchCommandTest, ScalingWritesItsTableChartAndSection) {
+  const fs::path out = dir_ / "scaling";
+  const CliResult r = Run(fmt::format("{} -o '{}'", kSmallScaling, out.string()));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(fs::exists(out / "scaling.png")) << r.output;
+  const auto rows = evaluation::ReadScalingCsv((out / "scaling.csv").string());
+  ASSERT_EQ(rows.size(), 2u * 3);
+  for (const auto& row : rows) {
+    EXPECT_FALSE(row.failed) << row.method << " " << row.bodies << ": " << row.failure;
+    EXPECT_GT(row.cpu_per_step, 0);
+  }
+  std::ifstream results(out / "results.md");
+  std::stringstream text;
+  text << results.rdbuf();
+  EXPECT_NE(text.str().find("## Scaling: cost per step against the number of bodies"),
+            std::string::npos)
+      << text.str();
+  // N = 4 and 8 are two sizes from the first whole stack: each method has a slope
+  EXPECT_NE(text.str().find("| method | N = 1 | N = 4 | N = 8 | slope |"), std::string::npos)
+      << text.str();
+  for (const char* method : {"hull", "auto"}) {
+    const std::regex with_slope(
+        fmt::format(R"(\| {} \|( [^|]+ \|){{3}} -?\d+\.\d\d \|)", method));
+    EXPECT_TRUE(std::regex_search(text.str(), with_slope)) << method << "\n" << text.str();
+    EXPECT_NE(r.output.find(fmt::format("scaling {}: slope ", method)), std::string::npos)
+        << r.output;
+  }
+}
+
+TEST_F(BenchCommandTest, ScalingShardsMerge) {
+  for (int shard = 1; shard <= 2; ++shard) {
+    const CliResult r = Run(fmt::format("{} --shard {}/2 -o '{}'", kSmallScaling, shard,
+                                        (dir_ / fmt::format("s{}", shard)).string()));
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_FALSE(fs::exists(dir_ / fmt::format("s{}", shard) / "scaling.png"));
+  }
+  const CliResult merged =
+      Run(fmt::format("bench --merge '{}' '{}' -o '{}'", (dir_ / "s1").string(),
+                      (dir_ / "s2").string(), (dir_ / "all").string()));
+  ASSERT_EQ(merged.exit_code, 0) << merged.output;
+  EXPECT_EQ(evaluation::ReadScalingCsv((dir_ / "all" / "scaling.csv").string()).size(), 6u);
+  EXPECT_TRUE(fs::exists(dir_ / "all" / "scaling.png"));
+  EXPECT_NE(merged.output.find("merged 6 scaling rows"), std::string::npos) << merged.output;
+}
+
 TEST_F(BenchCommandTest, BadInputIsNamed) {
   CliResult r = Run("bench --shard 3/2 -o " + (dir_ / "x").string());
   EXPECT_EQ(r.exit_code, 1);
@@ -119,6 +170,13 @@ TEST_F(BenchCommandTest, BadInputIsNamed) {
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.output.find("drop sweep kind 'cube': expected one of convex"), std::string::npos)
       << r.output;
+  r = Run("bench --no-work-precision --no-stability --no-drops --scaling-sizes 8,0 -o " +
+          (dir_ / "never").string());
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("--scaling-sizes = 0: expected an integer in [1, 10000]"),
+            std::string::npos)
+      << r.output;
+  EXPECT_FALSE(fs::exists(dir_ / "never")) << r.output;
   r = Run("bench --merge " + dir_.string() + " -o " + (dir_ / "x").string());
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.output.find("neither work_precision.csv nor stability.csv"), std::string::npos)
