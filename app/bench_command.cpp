@@ -47,6 +47,7 @@ struct BenchOptions {
   bool skip_scaling = false;
   std::vector<int> scaling_sizes;  // empty: evaluation::DefaultScalingSizes() or kQuickScalingSizes
   int scaling_steps = evaluation::ScalingOptions{}.steps_per_repeat;
+  int scaling_rounds = evaluation::ScalingOptions{}.rounds;
   int scaling_memory_gib = 8;  // evaluation::ScalingOptions::memory_limit_bytes
   std::vector<std::string> drop_kinds;
   std::vector<std::string> drop_steps;
@@ -75,6 +76,8 @@ constexpr int kQuickDropFiles = 10;
 // the most steps per timed block of the scaling benchmark: 100 s of one step of a millisecond
 // per block, far past what a median needs
 constexpr int kMaxScalingSteps = 100000;
+// the most --scaling-rounds: a median of this many is far past any noise it could still remove
+constexpr int kMaxScalingRounds = 100;
 // GiB: the largest --scaling-memory-limit, a large server's memory
 constexpr int kMaxScalingMemoryGib = 4096;
 constexpr double kGibibyte = 1024.0 * 1024.0 * 1024.0;  // bytes
@@ -262,6 +265,7 @@ void Run(const BenchOptions& o) {
     scaling_options.sizes = kQuickScalingSizes;
   }
   scaling_options.steps_per_repeat = o.scaling_steps;
+  scaling_options.rounds = o.scaling_rounds;
   scaling_options.cpu_limit_s = o.cpu_limit_s;
   scaling_options.memory_limit_bytes = o.scaling_memory_gib * kGibibyte;
   scaling_options.shard_index = shard_index;
@@ -373,6 +377,12 @@ void AddBenchCommand(CLI::App& app) {
                                evaluation::ScalingOptions{}.warmup_steps))
       ->capture_default_str()
       ->check(IntegerInRange("--scaling-steps", 1, kMaxScalingSteps));
+  bench
+      ->add_option("--scaling-rounds", o->scaling_rounds,
+                   "scaling: times each measurement is made, all once per round; the report "
+                   "gives the median")
+      ->capture_default_str()
+      ->check(IntegerInRange("--scaling-rounds", 1, kMaxScalingRounds));
   bench
       ->add_option("--scaling-memory-limit", o->scaling_memory_gib,
                    "scaling: GiB of address space each measurement's process may take; a run "

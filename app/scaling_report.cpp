@@ -64,18 +64,23 @@ void ScalingChart(PlotWriter& writer, const std::vector<ScalingRow>& rows) {
   for (const std::string& method : InOrder(rows, MethodOf<ScalingRow>, MethodOrder())) {
     std::string data = "# bodies cpu_ms_per_step\n";
     int points = 0;
+    long largest_fitted = 0;
     for (long n : Sizes(rows)) {
       for (const ScalingRow& r : rows) {
         if (r.method == method && r.bodies == n && !r.failed) {
           data += fmt::format("{} {:.9g}\n", n, 1e3 * r.cpu_per_step);
           ++points;
+          largest_fitted = n;
         }
       }
     }
     if (points == 0) continue;
     const auto fit = evaluation::FitScaling(rows, method, false);
+    // a fit that stops short of the largest N says where (the larger runs failed)
+    const std::string reach =
+        largest_fitted < *Sizes(rows).rbegin() ? fmt::format(" to N = {}", largest_fitted) : "";
     const std::string title =
-        fit ? fmt::format("{} (slope {:.2f})", method, fit->exponent) : method;
+        fit ? fmt::format("{} (slope {:.2f}{})", method, fit->exponent, reach) : method;
     plot += fmt::format("{}{} using 1:2 with linespoints lw 2 {} title {}",
                         plot.empty() ? "plot " : ", \\\n  ",
                         writer.Data("scaling_" + method, data), MethodLineStyle(method),
@@ -109,15 +114,17 @@ std::string ScalingMarkdown(const std::vector<ScalingRow>& rows) {
       "## Scaling: cost per step against the number of bodies\n\n"
       "N boxes of {:g} m, {:g} kg, in stacks of {} at rest on a square grid {:g} m apart "
       "(`evaluation/stack_grid.h`; contact pairs: each box with the ground and the boxes of its "
-      "stack), h = {:g} s. Each method and N runs in a process of its own (forked), ",
+      "stack), h = {:g} s. Each method and N is measured in rounds (all of them once per round, "
+      "so that a group's rounds lie minutes apart), each in a process of its own (forked): ",
       evaluation::kGridBoxSize, evaluation::kGridBoxMass, evaluation::kStackHeight,
       evaluation::kStackSpacing, evaluation::kGridStep);
   if (done) {
     const long k = done->steps / 2;
     md += fmt::format(
         "{} warm-up steps, then {} timed blocks of {} steps (K = {} steps), then K steps more; "
-        "times are the median over the blocks of a block's time per step",
-        k - done->timed_steps, done->repeats, done->timed_steps / done->repeats, k);
+        "times are the median over {} rounds of the median over the blocks of a block's time "
+        "per step",
+        k - done->timed_steps, done->repeats, done->timed_steps / done->repeats, k, done->rounds);
   } else {
     md += "every run failed";
   }

@@ -1,5 +1,6 @@
 #include "evaluation/scaling.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstring>
 #include <new>
@@ -30,6 +31,7 @@ const std::vector<CsvColumn<Row>> kColumns = {
     WholeColumn<Row>("steps", &Row::steps),
     WholeColumn<Row>("repeats", &Row::repeats),
     WholeColumn<Row>("timed_steps", &Row::timed_steps),
+    WholeColumn<Row>("rounds", &Row::rounds),
     FlagColumn<Row>("failed", &Row::failed),
     NumberColumn<Row>("cpu_per_step", kDigits, &Row::cpu_per_step),
     NumberColumn<Row>("wall_per_step", kDigits, &Row::wall_per_step),
@@ -138,6 +140,32 @@ ScalingRow MeasureInChild(const Method& method, int bodies, const ScalingOptions
   return row;
 }
 
+// one row of a group's rounds: the median of their times, the most memory any of them took and
+// the largest growth; failed when any round failed (its message and steps)
+ScalingRow CombineRounds(const std::vector<ScalingRow>& rounds) {
+  ScalingRow row = rounds.front();
+  row.rounds = static_cast<int>(rounds.size());
+  ReservoirMedian cpu, wall;
+  for (const ScalingRow& r : rounds) {
+    if (r.failed && !row.failed) {
+      row.failed = true;
+      row.failure = r.failure;
+      row.steps = r.steps;
+    }
+    cpu.Add(r.cpu_per_step);
+    wall.Add(r.wall_per_step);
+    row.rss_start_mib = std::max(row.rss_start_mib, r.rss_start_mib);
+    row.rss_peak_mib = std::max(row.rss_peak_mib, r.rss_peak_mib);
+    if (r.rss_2k_mib - r.rss_k_mib > row.rss_2k_mib - row.rss_k_mib) {
+      row.rss_k_mib = r.rss_k_mib;
+      row.rss_2k_mib = r.rss_2k_mib;
+    }
+  }
+  row.cpu_per_step = row.failed ? -1 : cpu.Median();
+  row.wall_per_step = row.failed ? -1 : wall.Median();
+  return row;
+}
+
 }  // namespace
 
 const std::vector<int>& DefaultScalingSizes() {
@@ -155,28 +183,40 @@ std::vector<ScalingRow> RunScaling(const std::vector<Method>& methods,
   ECPSIM_DEMAND(options.shard_count >= 1 && options.shard_index >= 1 &&
                 options.shard_index <= options.shard_count);
   ECPSIM_DEMAND(options.warmup_steps >= 0 && options.repeats >= 1 &&
-                options.steps_per_repeat >= 1);
+                options.steps_per_repeat >= 1 && options.rounds >= 1);
   for (int bodies : options.sizes) ECPSIM_DEMAND(bodies >= 1 && bodies <= kMaxGridBodies);
-  std::vector<ScalingRow> rows;
+  // this shard's groups
+  std::vector<std::pair<const Method*, int>> groups;
   int group = -1;
   for (const Method& method : methods) {
     if (!AppliesToStackGrid(method)) continue;
     for (int bodies : options.sizes) {
-      ++group;
-      if (group % options.shard_count != options.shard_index - 1) continue;
-      rows.push_back(MeasureInChild(method, bodies, options));
-      if (options.progress) {
-        const ScalingRow& r = rows.back();
-        options.progress(
-            r.failed ? fmt::format("scaling {} / {} bodies: failed after {} steps: {}",
-                                   method.name, bodies, r.steps, r.failure)
-                     : fmt::format("scaling {} / {} bodies: {:.3g} ms CPU per step, peak RSS "
-                                   "{:.1f} MiB, {:+.1f} MiB from K to 2K steps",
-                                   method.name, bodies, 1e3 * r.cpu_per_step, r.rss_peak_mib,
-                                   r.rss_2k_mib - r.rss_k_mib));
+      if (++group % options.shard_count == options.shard_index - 1) {
+        groups.emplace_back(&method, bodies);
       }
     }
   }
+  // every group once per round, so that a group's rounds lie minutes apart
+  std::vector<std::vector<ScalingRow>> measured(groups.size());
+  for (int round = 1; round <= options.rounds; ++round) {
+    for (size_t g = 0; g < groups.size(); ++g) {
+      const auto [method, bodies] = groups[g];
+      measured[g].push_back(MeasureInChild(*method, bodies, options));
+      if (!options.progress) continue;
+      const ScalingRow& r = measured[g].back();
+      const std::string what =
+          fmt::format("scaling {} / {} bodies (round {} of {})", method->name, bodies, round,
+                      options.rounds);
+      options.progress(
+          r.failed ? fmt::format("{}: failed after {} steps: {}", what, r.steps, r.failure)
+                   : fmt::format("{}: {:.3g} ms CPU per step, peak RSS {:.1f} MiB, {:+.1f} MiB "
+                                 "from K to 2K steps",
+                                 what, 1e3 * r.cpu_per_step, r.rss_peak_mib,
+                                 r.rss_2k_mib - r.rss_k_mib));
+    }
+  }
+  std::vector<ScalingRow> rows;
+  for (const std::vector<ScalingRow>& rounds : measured) rows.push_back(CombineRounds(rounds));
   return rows;
 }
 

@@ -22,13 +22,15 @@ struct ScalingRow {
   long steps = 0;  // steps completed: warm-up, timed and the memory check's
   int repeats = 0;       // timed blocks (ScalingOptions::repeats)
   long timed_steps = 0;  // steps in the timed blocks, all of them
+  int rounds = 0;        // measurements combined (ScalingOptions::rounds)
   bool failed = false;
-  // s, the median over the repeats of a repeat's time divided by its steps: the thread's CPU time
-  // and the wall-clock time; −1 where the run failed
+  // s, the median over the rounds of the median over the repeats of a repeat's time divided by
+  // its steps: the thread's CPU time and the wall-clock time; −1 where a round failed
   double cpu_per_step = -1;
   double wall_per_step = -1;
   // MiB resident: when the measurement's process began (the bench's own memory, before the
-  // scene), after K steps and after 2K (K = warm-up and timed steps), and the process's peak
+  // scene), after K steps and after 2K (K = warm-up and timed steps), and the process's peak;
+  // over the rounds the most at the start and at the peak, K and 2K of the largest growth
   double rss_start_mib = -1;
   double rss_k_mib = -1;
   double rss_2k_mib = -1;
@@ -45,6 +47,9 @@ struct ScalingOptions {
   int warmup_steps = 5;      // untimed: the stacks settle from their exact start, caches fill
   int repeats = 5;           // timed blocks; the median of their per-step times is reported
   int steps_per_repeat = 10;  // steps in a timed block (one clock read per block, not per step)
+  // times every group is measured, each round over all groups before the next: a noisy minute
+  // of a shared machine then spoils one round of a group, which the median of the rounds drops
+  int rounds = 3;
   double cpu_limit_s = 300;  // CPU seconds per (method, N), every step counted
   // bytes of address space per (method, N) (its process's RLIMIT_AS): a run that needs more
   // fails instead of paging out the machine (MuJoCo 2.2's dense constraint buffers grow with the
@@ -61,9 +66,10 @@ bool AppliesToStackGrid(const Method& method);
 
 /// Runs this shard's part of the measurement: (method, N) groups, methods outermost, N in the
 /// given order; group g (0-based, counting the methods that apply) belongs to shard
-/// (g mod shard_count) + 1. Each group runs in a forked child process (common/
-/// child_process_call.h): the grid is built, then warmup_steps, repeats × steps_per_repeat timed
-/// steps (K in all), the resident memory read, K more steps, the memory read again. A solver
+/// (g mod shard_count) + 1. Every group is measured once per round, each time in a forked child
+/// process (common/child_process_call.h): the grid is built, then warmup_steps, repeats ×
+/// steps_per_repeat timed steps (K in all), the resident memory read, K more steps, the memory
+/// read again. A group's row combines its rounds (ScalingRow says how). A solver
 /// failure, an engine's InputError, a crash, the CPU limit or the memory limit make a failed row
 /// with the message.
 /// Precondition (ECPSIM_DEMAND): the options as documented, every size in [1, kMaxGridBodies].

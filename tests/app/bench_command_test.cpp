@@ -28,10 +28,11 @@ const char* kSmallSweep =
 const char* kSmallDrops =
     "bench --no-work-precision --no-stability --no-scaling --drop-kinds l_shape,u_shape,file "
     "--drop-seeds 1 --drop-poses 1";
-// the scaling benchmark alone, two models on a box and two stacks, one step per timed block
+// the scaling benchmark alone, two models on a box and two stacks, one step per timed block,
+// two rounds
 const char* kSmallScaling =
     "bench --no-work-precision --no-stability --no-drops --methods hull,auto --scaling-sizes "
-    "1,4,8 --scaling-steps 1";
+    "1,4,8 --scaling-steps 1 --scaling-rounds 2";
 
 TEST_F(BenchCommandTest, WritesCsvChartsAndResults) {
   const fs::path out = dir_ / "bench";

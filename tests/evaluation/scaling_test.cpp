@@ -16,13 +16,15 @@
 namespace ecpsim::evaluation {
 namespace {
 
-// one box and two stacks, a few steps: the protocol whole, in well under a second per method
+// one box and two stacks, a few steps, two rounds: the protocol whole, in well under a second
+// per method
 ScalingOptions SmallRun() {
   ScalingOptions options;
   options.sizes = {1, 8};
   options.warmup_steps = 1;
   options.repeats = 2;
   options.steps_per_repeat = 2;
+  options.rounds = 2;
   return options;
 }
 
@@ -55,6 +57,7 @@ TEST(Scaling, EveryMethodHasARowPerSizeWithFinitePositiveTimes) {
     ASSERT_FALSE(r.failed) << r.method << " " << r.bodies << ": " << r.failure;
     EXPECT_EQ(r.steps, 2 * k);
     EXPECT_EQ(r.repeats, options.repeats);
+    EXPECT_EQ(r.rounds, options.rounds);
     EXPECT_EQ(r.timed_steps, options.repeats * options.steps_per_repeat);
     for (double t : {r.cpu_per_step, r.wall_per_step}) {
       EXPECT_TRUE(std::isfinite(t) && t > 0) << r.method << " " << r.bodies << ": " << t;
@@ -114,6 +117,7 @@ TEST(Scaling, CsvReadsBackWhatItWrote) {
   r.steps = 110;
   r.repeats = 5;
   r.timed_steps = 50;
+  r.rounds = 3;
   r.failed = true;
   r.cpu_per_step = 1.25e-3;
   r.rss_peak_mib = 42.5;
@@ -128,6 +132,7 @@ TEST(Scaling, CsvReadsBackWhatItWrote) {
   EXPECT_EQ(back[0].steps, r.steps);
   EXPECT_EQ(back[0].repeats, r.repeats);
   EXPECT_EQ(back[0].timed_steps, r.timed_steps);
+  EXPECT_EQ(back[0].rounds, r.rounds);
   EXPECT_TRUE(back[0].failed);
   EXPECT_EQ(back[0].cpu_per_step, r.cpu_per_step);
   EXPECT_EQ(back[0].wall_per_step, -1);
