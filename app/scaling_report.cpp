@@ -165,10 +165,14 @@ std::string ScalingMarkdown(const std::vector<ScalingRow>& rows) {
     if (!r.failed) continue;
     std::string message = r.failure;
     std::replace(message.begin(), message.end(), '|', '/');  // a table cell's delimiter
-    failures += fmt::format("| {} | {} | {} | {} |\n", r.method, r.bodies, r.steps, message);
+    failures += fmt::format("| {} | {} | {} | {} | {} |\n", r.method, r.bodies, r.steps,
+                            Mib(r.rss_peak_mib), message);
   }
   if (!failures.empty()) {
-    md += "Failures:\n\n| method | N | steps done | message |\n|---|---|---|---|\n" + failures + "\n";
+    md +=
+        "Failures (a round's; the peak resident set when it failed, – where not read):\n\n"
+        "| method | N | steps done | peak RSS (MiB) | message |\n|---|---|---|---|---|\n" +
+        failures + "\n";
   }
   return md;
 }
