@@ -123,10 +123,10 @@ void PrintScalingSlopes(const std::vector<evaluation::ScalingRow>& rows) {
     const auto cpu = evaluation::FitScaling(rows, method, false);
     const auto wall = evaluation::FitScaling(rows, method, true);
     if (!cpu || !wall) continue;
-    std::printf("scaling %s: slope %.2f (CPU), %.2f (wall) of log(time per step) against log N "
-                "over %d sizes from N = %ld (1: linear)\n",
-                method.c_str(), cpu->exponent, wall->exponent, cpu->points,
-                evaluation::kSlopeFitMinBodies);
+    std::printf(
+        "scaling %s: slope %.2f (CPU), %.2f (wall) of log(time per step) against log N "
+        "over %d sizes from N = %ld (1: linear)\n",
+        method.c_str(), cpu->exponent, wall->exponent, cpu->points, evaluation::kSlopeFitMinBodies);
   }
 }
 
@@ -361,12 +361,12 @@ void AddBenchCommand(CLI::App& app) {
   bench->add_flag("--no-scaling", o->skip_scaling,
                   "skip the scaling benchmark (cost per step against the number of bodies)");
   bench
-      ->add_option("--scaling-sizes", o->scaling_sizes,
-                   fmt::format("scaling: body counts, boxes in stacks of {} on a grid (default "
-                               "{}; --quick {})",
-                               evaluation::kStackHeight,
-                               fmt::join(evaluation::DefaultScalingSizes(), ","),
-                               fmt::join(kQuickScalingSizes, ",")))
+      ->add_option(
+          "--scaling-sizes", o->scaling_sizes,
+          fmt::format("scaling: body counts, boxes in stacks of {} on a grid (default "
+                      "{}; --quick {})",
+                      evaluation::kStackHeight, fmt::join(evaluation::DefaultScalingSizes(), ","),
+                      fmt::join(kQuickScalingSizes, ",")))
       ->delimiter(',')
       ->check(IntegerInRange("--scaling-sizes", 1, evaluation::kMaxGridBodies));
   bench

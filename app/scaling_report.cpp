@@ -45,7 +45,8 @@ std::string MethodBySizeTable(const std::vector<ScalingRow>& rows,
     for (long n : sizes) {
       std::string entry = " |";
       for (const ScalingRow& r : rows) {
-        if (r.method == method && r.bodies == n) entry = r.failed ? " failed |" : " " + cell(r) + " |";
+        if (r.method == method && r.bodies == n)
+          entry = r.failed ? " failed |" : " " + cell(r) + " |";
       }
       md += entry;
     }
@@ -82,9 +83,8 @@ void ScalingChart(PlotWriter& writer, const std::vector<ScalingRow>& rows) {
     const std::string title =
         fit ? fmt::format("{} (slope {:.2f}{})", method, fit->exponent, reach) : method;
     plot += fmt::format("{}{} using 1:2 with linespoints lw 2 {} title {}",
-                        plot.empty() ? "plot " : ", \\\n  ",
-                        writer.Data("scaling_" + method, data), MethodLineStyle(method),
-                        GnuplotQuote(title));
+                        plot.empty() ? "plot " : ", \\\n  ", writer.Data("scaling_" + method, data),
+                        MethodLineStyle(method), GnuplotQuote(title));
   }
   if (plot.empty()) return;
   writer.BeginPng("scaling.png", 1100, 750);
@@ -144,7 +144,9 @@ std::string ScalingMarkdown(const std::vector<ScalingRow>& rows) {
   md += "CPU time per body per step (µs):\n\n" +
         MethodBySizeTable(
             rows,
-            [](const ScalingRow& r) { return fmt::format("{:.3g}", 1e6 * r.cpu_per_step / r.bodies); },
+            [](const ScalingRow& r) {
+              return fmt::format("{:.3g}", 1e6 * r.cpu_per_step / r.bodies);
+            },
             SlopeColumn::kNone);
   md +=
       "Memory: the measuring process's peak resident set (MiB; VmHWM, the bench's own memory "
@@ -158,8 +160,9 @@ std::string ScalingMarkdown(const std::vector<ScalingRow>& rows) {
           SlopeColumn::kNone);
   double start = -1;
   for (const ScalingRow& r : rows) start = std::max(start, r.rss_start_mib);
-  md += fmt::format("Resident at a measurement's start (the bench before any scene): up to {} MiB.\n\n",
-                    Mib(start));
+  md += fmt::format(
+      "Resident at a measurement's start (the bench before any scene): up to {} MiB.\n\n",
+      Mib(start));
   std::string failures;
   for (const ScalingRow& r : rows) {
     if (!r.failed) continue;

@@ -26,9 +26,8 @@ template <typename Result>
 std::string CallInChildProcess(Result& result, const std::function<void(Result&)>& work) {
   // bytes copied across processes: no pointers, no owned memory
   static_assert(std::is_trivially_copyable_v<Result>);
-  return detail::CallInChildProcess(&result, sizeof(Result), [&work](void* shared) {
-    work(*static_cast<Result*>(shared));
-  });
+  return detail::CallInChildProcess(&result, sizeof(Result),
+                                    [&work](void* shared) { work(*static_cast<Result*>(shared)); });
 }
 
 }  // namespace ecpsim

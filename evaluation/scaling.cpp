@@ -50,8 +50,7 @@ struct Measured {
 };
 
 double WallSeconds() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch())
-      .count();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
 // steps one grid with `method` as ScalingOptions says, filling `out` as it goes (in the child)
@@ -66,8 +65,8 @@ void Measure(const Method& method, int bodies, const ScalingOptions& options, Me
     cpu_used += ThreadCpuSeconds() - start;
     ++out.steps;
     if (cpu_used > options.cpu_limit_s) {
-      throw std::runtime_error(fmt::format("CPU limit of {} s reached after {} steps",
-                                           options.cpu_limit_s, out.steps));
+      throw std::runtime_error(
+          fmt::format("CPU limit of {} s reached after {} steps", options.cpu_limit_s, out.steps));
     }
   };
   const auto check_finite = [&] {
@@ -204,9 +203,8 @@ std::vector<ScalingRow> RunScaling(const std::vector<Method>& methods,
       measured[g].push_back(MeasureInChild(*method, bodies, options));
       if (!options.progress) continue;
       const ScalingRow& r = measured[g].back();
-      const std::string what =
-          fmt::format("scaling {} / {} bodies (round {} of {})", method->name, bodies, round,
-                      options.rounds);
+      const std::string what = fmt::format("scaling {} / {} bodies (round {} of {})", method->name,
+                                           bodies, round, options.rounds);
       options.progress(
           r.failed ? fmt::format("{}: failed after {} steps: {}", what, r.steps, r.failure)
                    : fmt::format("{}: {:.3g} ms CPU per step, peak RSS {:.1f} MiB, {:+.1f} MiB "

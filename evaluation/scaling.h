@@ -19,7 +19,7 @@ namespace ecpsim::evaluation {
 struct ScalingRow {
   std::string method;
   long bodies = 0;
-  long steps = 0;  // steps completed: warm-up, timed and the memory check's
+  long steps = 0;        // steps completed: warm-up, timed and the memory check's
   int repeats = 0;       // timed blocks (ScalingOptions::repeats)
   long timed_steps = 0;  // steps in the timed blocks, all of them
   int rounds = 0;        // measurements combined (ScalingOptions::rounds)
@@ -44,8 +44,8 @@ const std::vector<int>& DefaultScalingSizes();
 
 struct ScalingOptions {
   std::vector<int> sizes = DefaultScalingSizes();  // bodies, each in [1, kMaxGridBodies]
-  int warmup_steps = 5;      // untimed: the stacks settle from their exact start, caches fill
-  int repeats = 5;           // timed blocks; the median of their per-step times is reported
+  int warmup_steps = 5;       // untimed: the stacks settle from their exact start, caches fill
+  int repeats = 5;            // timed blocks; the median of their per-step times is reported
   int steps_per_repeat = 10;  // steps in a timed block (one clock read per block, not per step)
   // times every group is measured, each round over all groups before the next: a noisy minute
   // of a shared machine then spoils one round of a group, which the median of the rounds drops
@@ -55,7 +55,7 @@ struct ScalingOptions {
   // fails instead of paging out the machine (MuJoCo 2.2's dense constraint buffers grow with the
   // square of the contacts)
   double memory_limit_bytes = 8.0 * (1 << 30);
-  int shard_index = 1;       // this process runs shard shard_index of shard_count (1-based)
+  int shard_index = 1;  // this process runs shard shard_index of shard_count (1-based)
   int shard_count = 1;
   std::function<void(const std::string& message)> progress;  // one line per (method, N)
 };

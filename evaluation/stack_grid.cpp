@@ -27,8 +27,7 @@ engine::Scene MakeStackGrid(int bodies) {
     const int stack = i / kStackHeight, level = i % kStackHeight;
     box.name = fmt::format("s{}b{}", stack, level);
     box.p0 = Eigen::Vector3d((stack % side) * kStackSpacing - offset,
-                             (stack / side) * kStackSpacing - offset,
-                             (level + 0.5) * kGridBoxSize);
+                             (stack / side) * kStackSpacing - offset, (level + 0.5) * kGridBoxSize);
     boxes.push_back(box);
   }
   engine::Scene scene = engine::MakeGroundScene(std::move(boxes), kGridStep, friction);

@@ -18,7 +18,30 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class BenchCommandTest : public CliTest {};
+class BenchCommandTest : public CliTest {
+ protected:
+  // runs `command` as shards 1/2 and 2/2 into dir_/s1 and dir_/s2, each of which must succeed and
+  // must not draw `chart` (it would show a part of the sweep; "" for none), then merges them into
+  // dir_/all
+  CliResult ShardAndMerge(const std::string& command, const std::string& chart) {
+    for (int shard = 1; shard <= 2; ++shard) {
+      const fs::path part = dir_ / fmt::format("s{}", shard);
+      const CliResult r =
+          Run(fmt::format("{} --shard {}/2 -o '{}'", command, shard, part.string()));
+      EXPECT_EQ(r.exit_code, 0) << r.output;
+      if (!chart.empty()) EXPECT_FALSE(fs::exists(part / chart)) << chart;
+    }
+    return Run(fmt::format("bench --merge '{}' '{}' -o '{}'", (dir_ / "s1").string(),
+                           (dir_ / "s2").string(), (dir_ / "all").string()));
+  }
+
+  static std::string ReadText(const fs::path& path) {
+    std::ifstream file(path);
+    std::stringstream text;
+    text << file.rdbuf();
+    return text.str();
+  }
+};
 
 // a sweep small enough for CI: two closed-form scenarios, one map, two step sizes
 const char* kSmallSweep =
@@ -61,16 +84,7 @@ TEST_F(BenchCommandTest, WritesCsvChartsAndResults) {
 }
 
 TEST_F(BenchCommandTest, ShardsMergeIntoTheWholeSweep) {
-  for (int shard = 1; shard <= 2; ++shard) {
-    const CliResult r = Run(fmt::format("{} --shard {}/2 -o '{}'", kSmallSweep, shard,
-                                        (dir_ / fmt::format("s{}", shard)).string()));
-    ASSERT_EQ(r.exit_code, 0) << r.output;
-    // a shard draws no charts: they would show a part of the sweep
-    EXPECT_FALSE(fs::exists(dir_ / fmt::format("s{}", shard) / "work_precision_slide.png"));
-  }
-  const CliResult merged =
-      Run(fmt::format("bench --merge '{}' '{}' -o '{}'", (dir_ / "s1").string(),
-                      (dir_ / "s2").string(), (dir_ / "all").string()));
+  const CliResult merged = ShardAndMerge(kSmallSweep, "work_precision_slide.png");
   ASSERT_EQ(merged.exit_code, 0) << merged.output;
   EXPECT_EQ(evaluation::ReadWorkPrecisionCsv((dir_ / "all" / "work_precision.csv").string()).size(),
             8u);
@@ -83,26 +97,17 @@ TEST_F(BenchCommandTest, DropSweepShardsMergeIntoOneTable) {
   fs::create_directories(dir_ / "meshes");
   std::ofstream(dir_ / "meshes" / "tetra.obj")
       << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
-  for (int shard = 1; shard <= 2; ++shard) {
-    const CliResult r = Run(fmt::format("{} --drop-meshes '{}' --shard {}/2 -o '{}'", kSmallDrops,
-                                        (dir_ / "meshes").string(), shard,
-                                        (dir_ / fmt::format("s{}", shard)).string()));
-    ASSERT_EQ(r.exit_code, 0) << r.output;
-  }
-  const CliResult merged =
-      Run(fmt::format("bench --merge '{}' '{}' -o '{}'", (dir_ / "s1").string(),
-                      (dir_ / "s2").string(), (dir_ / "all").string()));
+  const CliResult merged = ShardAndMerge(
+      fmt::format("{} --drop-meshes '{}'", kSmallDrops, (dir_ / "meshes").string()), "");
   ASSERT_EQ(merged.exit_code, 0) << merged.output;
   // 2 kinds × 1 seed + 1 file × 1 pose, each at the fixed and the scaled step
   const auto rows = evaluation::ReadDropSweepCsv((dir_ / "all" / "drop_sweep.csv").string());
   ASSERT_EQ(rows.size(), 6u);
   EXPECT_EQ(evaluation::DropCaseKey(rows.front().Case()), "l_shape:0");
   EXPECT_EQ(rows.back().kind, evaluation::kFileKind);
-  std::ifstream results(dir_ / "all" / "results.md");
-  std::stringstream text;
-  text << results.rdbuf();
-  EXPECT_NE(text.str().find("## Drop sweep"), std::string::npos) << text.str();
-  EXPECT_NE(text.str().find("| u_shape | scaled | 1 |"), std::string::npos) << text.str();
+  const std::string text = ReadText(dir_ / "all" / "results.md");
+  EXPECT_NE(text.find("## Drop sweep"), std::string::npos) << text;
+  EXPECT_NE(text.find("| u_shape | scaled | 1 |"), std::string::npos) << text;
 }
 
 TEST_F(BenchCommandTest, ScalingWritesItsTableChartAndSection) {
@@ -116,34 +121,21 @@ TEST_F(BenchCommandTest, ScalingWritesItsTableChartAndSection) {
     EXPECT_FALSE(row.failed) << row.method << " " << row.bodies << ": " << row.failure;
     EXPECT_GT(row.cpu_per_step, 0);
   }
-  std::ifstream results(out / "results.md");
-  std::stringstream text;
-  text << results.rdbuf();
-  EXPECT_NE(text.str().find("## Scaling: cost per step against the number of bodies"),
-            std::string::npos)
-      << text.str();
+  const std::string text = ReadText(out / "results.md");
+  EXPECT_NE(text.find("## Scaling: cost per step against the number of bodies"), std::string::npos)
+      << text;
   // N = 4 and 8 are two sizes from the first whole stack: each method has a slope
-  EXPECT_NE(text.str().find("| method | N = 1 | N = 4 | N = 8 | slope |"), std::string::npos)
-      << text.str();
+  EXPECT_NE(text.find("| method | N = 1 | N = 4 | N = 8 | slope |"), std::string::npos) << text;
   for (const char* method : {"hull", "auto"}) {
-    const std::regex with_slope(
-        fmt::format(R"(\| {} \|( [^|]+ \|){{3}} -?\d+\.\d\d \|)", method));
-    EXPECT_TRUE(std::regex_search(text.str(), with_slope)) << method << "\n" << text.str();
+    const std::regex with_slope(fmt::format(R"(\| {} \|( [^|]+ \|){{3}} -?\d+\.\d\d \|)", method));
+    EXPECT_TRUE(std::regex_search(text, with_slope)) << method << "\n" << text;
     EXPECT_NE(r.output.find(fmt::format("scaling {}: slope ", method)), std::string::npos)
         << r.output;
   }
 }
 
 TEST_F(BenchCommandTest, ScalingShardsMerge) {
-  for (int shard = 1; shard <= 2; ++shard) {
-    const CliResult r = Run(fmt::format("{} --shard {}/2 -o '{}'", kSmallScaling, shard,
-                                        (dir_ / fmt::format("s{}", shard)).string()));
-    ASSERT_EQ(r.exit_code, 0) << r.output;
-    EXPECT_FALSE(fs::exists(dir_ / fmt::format("s{}", shard) / "scaling.png"));
-  }
-  const CliResult merged =
-      Run(fmt::format("bench --merge '{}' '{}' -o '{}'", (dir_ / "s1").string(),
-                      (dir_ / "s2").string(), (dir_ / "all").string()));
+  const CliResult merged = ShardAndMerge(kSmallScaling, "scaling.png");
   ASSERT_EQ(merged.exit_code, 0) << merged.output;
   EXPECT_EQ(evaluation::ReadScalingCsv((dir_ / "all" / "scaling.csv").string()).size(), 6u);
   EXPECT_TRUE(fs::exists(dir_ / "all" / "scaling.png"));

@@ -3,12 +3,12 @@
 
 #include "common/child_process_call.h"
 
+#include <unistd.h>
 #include <csignal>
 #include <stdexcept>
-#include <unistd.h>
 
-#include <gmock/gmock.h>
 #include <fmt/format.h>
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 namespace ecpsim {

@@ -31,7 +31,8 @@ AlignedBox3d WorldBox(const engine::Body& body) {
 
 // the stack a body belongs to: its column on the grid, (x, y) to round-off
 std::pair<long, long> Column(const engine::Body& body) {
-  return {std::lround(body.p0.x() / kStackSpacing * 2), std::lround(body.p0.y() / kStackSpacing * 2)};
+  return {std::lround(body.p0.x() / kStackSpacing * 2),
+          std::lround(body.p0.y() / kStackSpacing * 2)};
 }
 
 TEST(StackGrid, HasTheBodiesInStacksOfFour) {
