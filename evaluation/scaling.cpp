@@ -59,15 +59,18 @@ void Measure(const Method& method, int bodies, const ScalingOptions& options, Me
   out.rss_start = ReadMemoryUsage().resident_bytes;
   const std::unique_ptr<Stepper> stepper = MakeStepper(method, MakeStackGrid(bodies));
   double cpu_used = 0;
-  const auto step = [&] {
-    const double start = ThreadCpuSeconds();
-    stepper->Step();
-    cpu_used += ThreadCpuSeconds() - start;
-    ++out.steps;
+  const auto charge = [&](double cpu_seconds) {
+    cpu_used += cpu_seconds;
     if (cpu_used > options.cpu_limit_s) {
       throw std::runtime_error(
           fmt::format("CPU limit of {} s reached after {} steps", options.cpu_limit_s, out.steps));
     }
+  };
+  const auto step = [&] {
+    const double start = ThreadCpuSeconds();
+    stepper->Step();
+    ++out.steps;
+    charge(ThreadCpuSeconds() - start);
   };
   const auto check_finite = [&] {
     for (const engine::BodyState& b : stepper->state().bodies) {
@@ -85,7 +88,7 @@ void Measure(const Method& method, int bodies, const ScalingOptions& options, Me
     const double cpu_block = ThreadCpuSeconds() - cpu_start;
     wall.Add((WallSeconds() - wall_start) / options.steps_per_repeat);
     cpu.Add(cpu_block / options.steps_per_repeat);
-    cpu_used += cpu_block;
+    charge(cpu_block);
   }
   check_finite();
   out.cpu_per_step = cpu.Median();

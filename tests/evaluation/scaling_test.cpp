@@ -70,6 +70,23 @@ TEST(Scaling, EveryMethodHasARowPerSizeWithFinitePositiveTimes) {
   }
 }
 
+TEST(Scaling, ARunPastTheCpuLimitIsAFailedRowWithoutTimes) {
+  // any step takes more CPU than a nanosecond: the first one ends the run
+  constexpr double kNoCpu = 1e-9;  // s
+  ScalingOptions options = SmallRun();
+  options.sizes = {4};
+  options.cpu_limit_s = kNoCpu;
+  const std::vector<ScalingRow> rows = RunScaling({FindMethod("hull")}, options);
+  ASSERT_EQ(rows.size(), 1u);
+  EXPECT_TRUE(rows[0].failed);
+  EXPECT_EQ(rows[0].steps, 1);
+  EXPECT_EQ(rows[0].failure, "CPU limit of 1e-09 s reached after 1 steps");
+  EXPECT_EQ(rows[0].cpu_per_step, -1);
+  EXPECT_EQ(rows[0].wall_per_step, -1);
+  // the memory read when it failed
+  EXPECT_GT(rows[0].rss_peak_mib, 0);
+}
+
 TEST(Scaling, ShardsSplitTheGroups) {
   ScalingOptions options = SmallRun();
   options.steps_per_repeat = 1;
