@@ -1,6 +1,6 @@
-// `ecpsim bench`: the work–precision sweep and the stability maps of every method (issue 6) and
-// the drop sweep (issue 14), as CSV, PNG charts and results.md; shards of it for job
-// schedulers, and their merge.
+// `ecpsim bench`: the work–precision sweep and the stability maps of every method (issue 6), the
+// drop sweep (issue 14) and the cost per step against the number of bodies (issue 30), as CSV,
+// PNG charts and results.md; shards of it for job schedulers, and their merge.
 
 #include <cmath>
 #include <cstdio>
@@ -14,11 +14,13 @@
 
 #include "app/bench_report.h"
 #include "app/commands.h"
+#include "app/method_style.h"
 #include "app/option_checks.h"
 #include "common/atomic_file.h"
 #include "common/errors.h"
 #include "evaluation/drop_sweep.h"
 #include "evaluation/method.h"
+#include "evaluation/scaling.h"
 #include "evaluation/scenario.h"
 #include "evaluation/stability_map.h"
 #include "evaluation/work_precision.h"
@@ -42,6 +44,11 @@ struct BenchOptions {
   bool skip_work_precision = false;
   bool skip_stability = false;
   bool skip_drops = false;
+  bool skip_scaling = false;
+  std::vector<int> scaling_sizes;  // empty: evaluation::DefaultScalingSizes() or kQuickScalingSizes
+  int scaling_steps = evaluation::ScalingOptions{}.steps_per_repeat;
+  int scaling_rounds = evaluation::ScalingOptions{}.rounds;
+  int scaling_memory_gib = 8;  // evaluation::ScalingOptions::memory_limit_bytes
   std::vector<std::string> drop_kinds;
   std::vector<std::string> drop_steps;
   int drop_seeds = -1;  // per generated kind; −1: kFullDropSeeds or kQuickDropSeeds
@@ -66,7 +73,18 @@ constexpr int kFullDropPoses = 3;
 constexpr int kQuickDropSeeds = 3;
 constexpr int kQuickDropPoses = 1;
 constexpr int kQuickDropFiles = 10;
+// the most steps per timed block of the scaling benchmark: 100 s of one step of a millisecond
+// per block, far past what a median needs
+constexpr int kMaxScalingSteps = 100000;
+// the most --scaling-rounds: a median of this many is far past any noise it could still remove
+constexpr int kMaxScalingRounds = 100;
+// GiB: the largest --scaling-memory-limit, a large server's memory
+constexpr int kMaxScalingMemoryGib = 4096;
+constexpr double kGibibyte = 1024.0 * 1024.0 * 1024.0;  // bytes
 const char* const kDropCsv = "drop_sweep.csv";
+// the scaling benchmark in --quick: up to a few stacks, seconds in all
+const std::vector<int> kQuickScalingSizes = {1, 4, 16};
+const char* const kScalingCsv = "scaling.csv";
 const char* const kDropFailuresDir = "drop_failures";
 const char* const kDropScratchDir = "drop_scratch";
 
@@ -99,21 +117,40 @@ std::vector<T> Select(const std::vector<T>& all, const std::vector<std::string>&
 
 void Progress(const std::string& line) { std::fprintf(stderr, "bench: %s\n", line.c_str()); }
 
+// the fitted exponent of each method's cost against the number of bodies, a line per method
+void PrintScalingSlopes(const std::vector<evaluation::ScalingRow>& rows) {
+  for (const std::string& method : InOrder(rows, MethodOf<evaluation::ScalingRow>, MethodOrder())) {
+    const auto cpu = evaluation::FitScaling(rows, method, false);
+    const auto wall = evaluation::FitScaling(rows, method, true);
+    if (!cpu || !wall) continue;
+    std::printf(
+        "scaling %s: slope %.2f (CPU), %.2f (wall) of log(time per step) against log N "
+        "over %d sizes from N = %ld (1: linear)\n",
+        method.c_str(), cpu->exponent, wall->exponent, cpu->points, evaluation::kSlopeFitMinBodies);
+  }
+}
+
 void Merge(const BenchOptions& o) {
   std::vector<evaluation::WorkPrecisionRow> wp;
   std::vector<evaluation::StabilityRow> st;
   std::vector<evaluation::DropRow> drops;
+  std::vector<evaluation::ScalingRow> scaling;
   fs::create_directories(o.out_dir);
   for (const std::string& dir : o.merge) {
     const fs::path wp_csv = fs::path(dir) / "work_precision.csv";
     const fs::path st_csv = fs::path(dir) / "stability.csv";
     const fs::path drop_csv = fs::path(dir) / kDropCsv;
-    if (!fs::exists(wp_csv) && !fs::exists(st_csv) && !fs::exists(drop_csv)) {
+    const fs::path scaling_csv = fs::path(dir) / kScalingCsv;
+    if (!fs::exists(wp_csv) && !fs::exists(st_csv) && !fs::exists(drop_csv) &&
+        !fs::exists(scaling_csv)) {
       throw InputError(
           fmt::format("--merge {}: neither work_precision.csv nor stability.csv "
-                      "nor {} there (expected the output folder of an `ecpsim "
+                      "nor {} nor {} there (expected the output folder of an `ecpsim "
                       "bench --shard` run)",
-                      dir, kDropCsv));
+                      dir, kDropCsv, kScalingCsv));
+    }
+    if (fs::exists(scaling_csv)) {
+      for (auto& row : evaluation::ReadScalingCsv(scaling_csv.string())) scaling.push_back(row);
     }
     if (fs::exists(drop_csv)) {
       for (auto& row : evaluation::ReadDropSweepCsv(drop_csv.string())) drops.push_back(row);
@@ -144,13 +181,19 @@ void Merge(const BenchOptions& o) {
     evaluation::SortDropRows(drops);
     WriteFileAtomically((fs::path(o.out_dir) / kDropCsv).string(), evaluation::DropSweepCsv(drops));
   }
-  for (const std::string& path : WriteBenchReport(o.out_dir, wp, st, drops, o.charts)) {
+  if (!scaling.empty()) {
+    WriteFileAtomically((fs::path(o.out_dir) / kScalingCsv).string(),
+                        evaluation::ScalingCsv(scaling));
+  }
+  for (const std::string& path : WriteBenchReport(o.out_dir, wp, st, drops, scaling, o.charts)) {
     std::printf("wrote %s\n", path.c_str());
   }
   std::printf(
       "merged %zu work-precision rows, %zu stability rows and %zu drop rows from %zu "
       "folders\n",
       wp.size(), st.size(), drops.size(), o.merge.size());
+  if (!scaling.empty()) std::printf("merged %zu scaling rows\n", scaling.size());
+  PrintScalingSlopes(scaling);
 }
 
 // the drop sweep of this shard, every option checked (PlanDropSweep)
@@ -215,8 +258,30 @@ void Run(const BenchOptions& o) {
   const evaluation::DropSweepOptions drop_sweep = DropSweep(o, shard_index, shard_count);
   const evaluation::DropPlan drop_plan =
       o.skip_drops ? evaluation::DropPlan{} : evaluation::PlanDropSweep(drop_sweep);
+  evaluation::ScalingOptions scaling_options;
+  if (!o.scaling_sizes.empty()) {
+    scaling_options.sizes = o.scaling_sizes;
+  } else if (o.quick) {
+    scaling_options.sizes = kQuickScalingSizes;
+  }
+  scaling_options.steps_per_repeat = o.scaling_steps;
+  scaling_options.rounds = o.scaling_rounds;
+  scaling_options.cpu_limit_s = o.cpu_limit_s;
+  scaling_options.memory_limit_bytes = o.scaling_memory_gib * kGibibyte;
+  scaling_options.shard_index = shard_index;
+  scaling_options.shard_count = shard_count;
+  scaling_options.progress = Progress;
 
   fs::create_directories(o.out_dir);
+  // first, while this process holds little: each measurement's process starts with its memory
+  std::vector<evaluation::ScalingRow> scaling;
+  if (!o.skip_scaling) {
+    scaling = evaluation::RunScaling(methods, scaling_options);
+    WriteFileAtomically((fs::path(o.out_dir) / kScalingCsv).string(),
+                        evaluation::ScalingCsv(scaling));
+    // a shard's slopes would fit a part of the sizes: the merge prints them
+    if (shard_count == 1) PrintScalingSlopes(scaling);
+  }
   std::vector<evaluation::WorkPrecisionRow> wp;
   std::vector<evaluation::StabilityRow> st;
   if (!o.skip_work_precision) {
@@ -245,7 +310,7 @@ void Run(const BenchOptions& o) {
   }
   // a shard's charts would show a part of the sweep: they are drawn by the merge
   for (const std::string& path :
-       WriteBenchReport(o.out_dir, wp, st, drops, o.charts && shard_count == 1)) {
+       WriteBenchReport(o.out_dir, wp, st, drops, scaling, o.charts && shard_count == 1)) {
     std::printf("wrote %s\n", path.c_str());
   }
 }
@@ -293,6 +358,37 @@ void AddBenchCommand(CLI::App& app) {
   bench->add_flag("--no-work-precision", o->skip_work_precision, "skip the work-precision sweep");
   bench->add_flag("--no-stability", o->skip_stability, "skip the stability maps");
   bench->add_flag("--no-drops", o->skip_drops, "skip the drop sweep");
+  bench->add_flag("--no-scaling", o->skip_scaling,
+                  "skip the scaling benchmark (cost per step against the number of bodies)");
+  bench
+      ->add_option(
+          "--scaling-sizes", o->scaling_sizes,
+          fmt::format("scaling: body counts, boxes in stacks of {} on a grid (default "
+                      "{}; --quick {})",
+                      evaluation::kStackHeight, fmt::join(evaluation::DefaultScalingSizes(), ","),
+                      fmt::join(kQuickScalingSizes, ",")))
+      ->delimiter(',')
+      ->check(IntegerInRange("--scaling-sizes", 1, evaluation::kMaxGridBodies));
+  bench
+      ->add_option("--scaling-steps", o->scaling_steps,
+                   fmt::format("scaling: steps per timed block ({} blocks after {} warm-up "
+                               "steps, then as many steps again for the memory check)",
+                               evaluation::ScalingOptions{}.repeats,
+                               evaluation::ScalingOptions{}.warmup_steps))
+      ->capture_default_str()
+      ->check(IntegerInRange("--scaling-steps", 1, kMaxScalingSteps));
+  bench
+      ->add_option("--scaling-rounds", o->scaling_rounds,
+                   "scaling: times each measurement is made, all once per round; the report "
+                   "gives the median")
+      ->capture_default_str()
+      ->check(IntegerInRange("--scaling-rounds", 1, kMaxScalingRounds));
+  bench
+      ->add_option("--scaling-memory-limit", o->scaling_memory_gib,
+                   "scaling: GiB of address space each measurement's process may take; a run "
+                   "that needs more fails (it would page out the machine)")
+      ->capture_default_str()
+      ->check(IntegerInRange("--scaling-memory-limit", 1, kMaxScalingMemoryGib));
   bench
       ->add_option("--drop-kinds", o->drop_kinds,
                    "drop sweep: mesh kinds (default all): convex, l_shape, t_shape, u_shape, "

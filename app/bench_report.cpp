@@ -9,7 +9,9 @@
 
 #include <fmt/format.h>
 
+#include "app/method_style.h"
 #include "app/plot_writer.h"
+#include "app/scaling_report.h"
 #include "common/atomic_file.h"
 #include "evaluation/method.h"
 #include "evaluation/scenario.h"
@@ -28,31 +30,6 @@ constexpr double kErrorFloor = 1e-16;  // m
 constexpr size_t kSlowestDrops = 10;
 constexpr size_t kMessageLength = 300;  // characters
 
-// the distinct values of a field over rows, in the order of `canonical` (the order the sweep
-// runs them), then any others in first-seen order: merged shards interleave their rows
-template <typename Row, typename Field>
-std::vector<std::string> InOrder(const std::vector<Row>& rows, Field field,
-                                 const std::vector<std::string>& canonical) {
-  std::vector<std::string> seen;
-  for (const Row& r : rows) {
-    if (std::find(seen.begin(), seen.end(), field(r)) == seen.end()) seen.push_back(field(r));
-  }
-  std::vector<std::string> names;
-  for (const std::string& name : canonical) {
-    if (std::find(seen.begin(), seen.end(), name) != seen.end()) names.push_back(name);
-  }
-  for (const std::string& name : seen) {
-    if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
-  }
-  return names;
-}
-
-std::vector<std::string> MethodOrder() {
-  std::vector<std::string> names;
-  for (const evaluation::Method& m : evaluation::AllMethods()) names.push_back(m.name);
-  return names;
-}
-
 std::vector<std::string> MapOrder() {
   std::vector<std::string> names;
   // names only: a map reads its scene files when its scenarios are made, not here
@@ -63,10 +40,6 @@ std::vector<std::string> MapOrder() {
 
 std::string ScenarioOf(const WorkPrecisionRow& r) { return r.scenario; }
 std::string MapOf(const StabilityRow& r) { return r.map; }
-template <typename Row>
-std::string MethodOf(const Row& r) {
-  return r.method;
-}
 
 std::vector<double> SortedValues(const std::vector<StabilityRow>& rows, const std::string& map,
                                  bool steps) {
@@ -78,29 +51,6 @@ std::vector<double> SortedValues(const std::vector<StabilityRow>& rows, const st
 }
 
 std::string Sci(double value) { return value < 0 ? "–" : fmt::format("{:.2g}", value); }
-
-// one look per method, the same in every chart: ecpsim's models in blues and oranges, each
-// engine its own hue, its default settings dashed
-std::string LineStyle(const std::string& method) {
-  static const std::vector<std::pair<std::string, std::string>> kStyles = {
-      {"hull", "lc rgb '#08306b' pt 7"},
-      {"hull-tol1e-08", "lc rgb '#2171b5' pt 6"},
-      {"hull-tol1e-05", "lc rgb '#6baed6' pt 4"},
-      {"auto", "lc rgb '#a50f15' pt 3"},
-      {"planar", "lc rgb '#ff7f00' pt 9"},
-      {"multipatch", "lc rgb '#e6ab02' pt 11"},
-      {"point", "lc rgb '#7f3b08' pt 5"},
-      {"mujoco-default", "lc rgb '#e7298a' pt 7 dt 2"},
-      {"mujoco-coulomb", "lc rgb '#e7298a' pt 7"},
-      {"bullet-default", "lc rgb '#1b9e77' pt 13 dt 2"},
-      {"bullet-coulomb", "lc rgb '#1b9e77' pt 13"},
-      {"ode-default", "lc rgb '#7570b3' pt 15 dt 2"},
-      {"ode-coulomb", "lc rgb '#7570b3' pt 15"}};
-  for (const auto& [name, style] : kStyles) {
-    if (name == method) return style;
-  }
-  return "lc rgb '#555555' pt 1";
-}
 
 void WorkPrecisionCharts(PlotWriter& writer, const std::vector<WorkPrecisionRow>& rows) {
   for (const std::string& scenario :
@@ -125,7 +75,7 @@ void WorkPrecisionCharts(PlotWriter& writer, const std::vector<WorkPrecisionRow>
       }
       const std::string file = writer.Data(fmt::format("wp_{}_{}", scenario, method), data);
       plot += fmt::format("{}{} using 1:2 with linespoints lw 2 {} title {}",
-                          plot.empty() ? "plot " : ", \\\n  ", file, LineStyle(method),
+                          plot.empty() ? "plot " : ", \\\n  ", file, MethodLineStyle(method),
                           GnuplotQuote(method));
     }
     if (plot.empty()) continue;
@@ -488,17 +438,20 @@ std::vector<std::string> WriteBenchReport(const std::string& dir,
                                           const std::vector<WorkPrecisionRow>& work_precision,
                                           const std::vector<StabilityRow>& stability,
                                           const std::vector<evaluation::DropRow>& drops,
+                                          const std::vector<evaluation::ScalingRow>& scaling,
                                           bool charts) {
   std::vector<std::string> written;
-  if (charts && (!work_precision.empty() || !stability.empty())) {
+  if (charts && (!work_precision.empty() || !stability.empty() || !scaling.empty())) {
     PlotWriter writer(dir);
     WorkPrecisionCharts(writer, work_precision);
     StabilityCharts(writer, stability);
+    ScalingChart(writer, scaling);
     written = writer.Run();
   }
   const std::string results = (fs::path(dir) / "results.md").string();
   std::string markdown = ResultsMarkdown(work_precision, stability);
   if (!drops.empty()) markdown += DropMarkdown(drops);
+  markdown += ScalingMarkdown(scaling);
   WriteFileAtomically(results, markdown);
   written.push_back(results);
   return written;

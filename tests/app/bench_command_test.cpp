@@ -2,11 +2,13 @@
 
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <sstream>
 
 #include <gtest/gtest.h>
 
 #include "evaluation/drop_sweep.h"
+#include "evaluation/scaling.h"
 #include "evaluation/stability_map.h"
 #include "evaluation/work_precision.h"
 #include "tests/cli_test.h"
@@ -16,16 +18,44 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class BenchCommandTest : public CliTest {};
+class BenchCommandTest : public CliTest {
+ protected:
+  // runs `command` as shards 1/2 and 2/2 into dir_/s1 and dir_/s2, each of which must succeed and
+  // must not draw `chart` (it would show a part of the sweep; "" for none), then merges them into
+  // dir_/all
+  CliResult ShardAndMerge(const std::string& command, const std::string& chart) {
+    for (int shard = 1; shard <= 2; ++shard) {
+      const fs::path part = dir_ / fmt::format("s{}", shard);
+      const CliResult r =
+          Run(fmt::format("{} --shard {}/2 -o '{}'", command, shard, part.string()));
+      EXPECT_EQ(r.exit_code, 0) << r.output;
+      if (!chart.empty()) EXPECT_FALSE(fs::exists(part / chart)) << chart;
+    }
+    return Run(fmt::format("bench --merge '{}' '{}' -o '{}'", (dir_ / "s1").string(),
+                           (dir_ / "s2").string(), (dir_ / "all").string()));
+  }
+
+  static std::string ReadText(const fs::path& path) {
+    std::ifstream file(path);
+    std::stringstream text;
+    text << file.rdbuf();
+    return text.str();
+  }
+};
 
 // a sweep small enough for CI: two closed-form scenarios, one map, two step sizes
 const char* kSmallSweep =
     "bench --methods hull,point --scenarios slide,push_slide --maps impact --steps 0.01,0.002 "
-    "--no-drops";
+    "--no-drops --no-scaling";
 // the drop sweep's smallest useful part: one seed of two kinds and one collection file
 const char* kSmallDrops =
-    "bench --no-work-precision --no-stability --drop-kinds l_shape,u_shape,file --drop-seeds 1 "
-    "--drop-poses 1";
+    "bench --no-work-precision --no-stability --no-scaling --drop-kinds l_shape,u_shape,file "
+    "--drop-seeds 1 --drop-poses 1";
+// the scaling benchmark alone, two models on a box and two stacks, one step per timed block,
+// two rounds
+const char* kSmallScaling =
+    "bench --no-work-precision --no-stability --no-drops --methods hull,auto --scaling-sizes "
+    "1,4,8 --scaling-steps 1 --scaling-rounds 2";
 
 TEST_F(BenchCommandTest, WritesCsvChartsAndResults) {
   const fs::path out = dir_ / "bench";
@@ -54,16 +84,7 @@ TEST_F(BenchCommandTest, WritesCsvChartsAndResults) {
 }
 
 TEST_F(BenchCommandTest, ShardsMergeIntoTheWholeSweep) {
-  for (int shard = 1; shard <= 2; ++shard) {
-    const CliResult r = Run(fmt::format("{} --shard {}/2 -o '{}'", kSmallSweep, shard,
-                                        (dir_ / fmt::format("s{}", shard)).string()));
-    ASSERT_EQ(r.exit_code, 0) << r.output;
-    // a shard draws no charts: they would show a part of the sweep
-    EXPECT_FALSE(fs::exists(dir_ / fmt::format("s{}", shard) / "work_precision_slide.png"));
-  }
-  const CliResult merged =
-      Run(fmt::format("bench --merge '{}' '{}' -o '{}'", (dir_ / "s1").string(),
-                      (dir_ / "s2").string(), (dir_ / "all").string()));
+  const CliResult merged = ShardAndMerge(kSmallSweep, "work_precision_slide.png");
   ASSERT_EQ(merged.exit_code, 0) << merged.output;
   EXPECT_EQ(evaluation::ReadWorkPrecisionCsv((dir_ / "all" / "work_precision.csv").string()).size(),
             8u);
@@ -76,26 +97,49 @@ TEST_F(BenchCommandTest, DropSweepShardsMergeIntoOneTable) {
   fs::create_directories(dir_ / "meshes");
   std::ofstream(dir_ / "meshes" / "tetra.obj")
       << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
-  for (int shard = 1; shard <= 2; ++shard) {
-    const CliResult r = Run(fmt::format("{} --drop-meshes '{}' --shard {}/2 -o '{}'", kSmallDrops,
-                                        (dir_ / "meshes").string(), shard,
-                                        (dir_ / fmt::format("s{}", shard)).string()));
-    ASSERT_EQ(r.exit_code, 0) << r.output;
-  }
-  const CliResult merged =
-      Run(fmt::format("bench --merge '{}' '{}' -o '{}'", (dir_ / "s1").string(),
-                      (dir_ / "s2").string(), (dir_ / "all").string()));
+  const CliResult merged = ShardAndMerge(
+      fmt::format("{} --drop-meshes '{}'", kSmallDrops, (dir_ / "meshes").string()), "");
   ASSERT_EQ(merged.exit_code, 0) << merged.output;
   // 2 kinds × 1 seed + 1 file × 1 pose, each at the fixed and the scaled step
   const auto rows = evaluation::ReadDropSweepCsv((dir_ / "all" / "drop_sweep.csv").string());
   ASSERT_EQ(rows.size(), 6u);
   EXPECT_EQ(evaluation::DropCaseKey(rows.front().Case()), "l_shape:0");
   EXPECT_EQ(rows.back().kind, evaluation::kFileKind);
-  std::ifstream results(dir_ / "all" / "results.md");
-  std::stringstream text;
-  text << results.rdbuf();
-  EXPECT_NE(text.str().find("## Drop sweep"), std::string::npos) << text.str();
-  EXPECT_NE(text.str().find("| u_shape | scaled | 1 |"), std::string::npos) << text.str();
+  const std::string text = ReadText(dir_ / "all" / "results.md");
+  EXPECT_NE(text.find("## Drop sweep"), std::string::npos) << text;
+  EXPECT_NE(text.find("| u_shape | scaled | 1 |"), std::string::npos) << text;
+}
+
+TEST_F(BenchCommandTest, ScalingWritesItsTableChartAndSection) {
+  const fs::path out = dir_ / "scaling";
+  const CliResult r = Run(fmt::format("{} -o '{}'", kSmallScaling, out.string()));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(fs::exists(out / "scaling.png")) << r.output;
+  const auto rows = evaluation::ReadScalingCsv((out / "scaling.csv").string());
+  ASSERT_EQ(rows.size(), 2u * 3);
+  for (const auto& row : rows) {
+    EXPECT_FALSE(row.failed) << row.method << " " << row.bodies << ": " << row.failure;
+    EXPECT_GT(row.cpu_per_step, 0);
+  }
+  const std::string text = ReadText(out / "results.md");
+  EXPECT_NE(text.find("## Scaling: cost per step against the number of bodies"), std::string::npos)
+      << text;
+  // N = 4 and 8 are two sizes from the first whole stack: each method has a slope
+  EXPECT_NE(text.find("| method | N = 1 | N = 4 | N = 8 | slope |"), std::string::npos) << text;
+  for (const char* method : {"hull", "auto"}) {
+    const std::regex with_slope(fmt::format(R"(\| {} \|( [^|]+ \|){{3}} -?\d+\.\d\d \|)", method));
+    EXPECT_TRUE(std::regex_search(text, with_slope)) << method << "\n" << text;
+    EXPECT_NE(r.output.find(fmt::format("scaling {}: slope ", method)), std::string::npos)
+        << r.output;
+  }
+}
+
+TEST_F(BenchCommandTest, ScalingShardsMerge) {
+  const CliResult merged = ShardAndMerge(kSmallScaling, "scaling.png");
+  ASSERT_EQ(merged.exit_code, 0) << merged.output;
+  EXPECT_EQ(evaluation::ReadScalingCsv((dir_ / "all" / "scaling.csv").string()).size(), 6u);
+  EXPECT_TRUE(fs::exists(dir_ / "all" / "scaling.png"));
+  EXPECT_NE(merged.output.find("merged 6 scaling rows"), std::string::npos) << merged.output;
 }
 
 TEST_F(BenchCommandTest, BadInputIsNamed) {
@@ -119,6 +163,13 @@ TEST_F(BenchCommandTest, BadInputIsNamed) {
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.output.find("drop sweep kind 'cube': expected one of convex"), std::string::npos)
       << r.output;
+  r = Run("bench --no-work-precision --no-stability --no-drops --scaling-sizes 8,0 -o " +
+          (dir_ / "never").string());
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("--scaling-sizes = 0: expected an integer in [1, 10000]"),
+            std::string::npos)
+      << r.output;
+  EXPECT_FALSE(fs::exists(dir_ / "never")) << r.output;
   r = Run("bench --merge " + dir_.string() + " -o " + (dir_ / "x").string());
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.output.find("neither work_precision.csv nor stability.csv"), std::string::npos)

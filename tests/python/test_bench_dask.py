@@ -18,7 +18,7 @@ ECPSIM = BINARY_DIR / "app" / "ecpsim"
 # cells, 4 drops
 OPTIONS = ["--methods", "hull,point", "--scenarios", "slide,push_slide", "--maps", "impact",
            "--steps", "0.01,0.002", "--drop-kinds", "l_shape,u_shape", "--drop-seeds", "1",
-           "--no-charts"]
+           "--no-charts", "--no-scaling"]
 TABLES = {"work_precision.csv": 8, "stability.csv": 28, "drop_sweep.csv": 4}
 # columns that time the run (CPU and wall seconds) and so differ between any two runs
 TIMING_COLUMNS = {"cpu_per_sim_s", "cpu_s", "wall_s", "max_step_cpu_s"}
