@@ -93,7 +93,10 @@ class LadderRun {
   bool RunPass(int p, const GuessLadder& ladder) {
     const Pass& pass = kPasses[p];
     // (the layout's size only on the failure path: most steps end in the first pass)
-    if (pass.minimum_norm && layout_.size > kMaxMinimumNormUnknowns) return false;
+    if (pass.minimum_norm &&
+        layout_.size > (pass.plain_newton ? kMaxMinimumNormUnknowns : kMaxMinimumNormPassUnknowns)) {
+      return false;
+    }
     options_.project_nonnegative = pass.project;
     options_.minimum_norm_steps = pass.minimum_norm;
     options_.proximal_weight = pass.proximal ? kProximalWeight : 0;
@@ -103,6 +106,7 @@ class LadderRun {
     // a body alone whose warm start stalled far from a root in the first pass is re-solved from
     // that stall only once every other guess has failed too ("Which stalls are re-solved")
     std::optional<std::pair<IslandProblem, VectorXd>> far_stall;
+    tried_starts_.clear();
     for (Guess guess : ladder) {
       options_.stall_iterations =
           StallIterations(guess, p == 0, pass.plain_newton, problem_.bodies.size());
@@ -129,6 +133,9 @@ class LadderRun {
       // too, and a polished start its step: each is verified on the residual alone
       options_.verify_start_first =
           (guess == Guess::kWarm && !moving_) || balance == StartBalance::kPolished;
+      // two guesses may make the same start (an island's resting and sliding guesses where no
+      // contact has a warm start): its solve would fail again, iteration for iteration
+      if (RepeatsStart(z)) return false;
       const Attempt attempt = SolveAttempt(problem_, layout_, z, options_, scales_,
                                            ejection_energy_, workspace_, result_);
       result_.residual = attempt.residual;
@@ -151,6 +158,7 @@ class LadderRun {
       // around the constraints it violates, and the step is solved again
       if (GrowViolatedWindows(problem_, layout_, z, scales_)) {
         layout_ = MakeIslandLayout(problem_);
+        ++windows_grown_;
         if (growth < kMaxWindowGrowth) continue;
         Note(guess, pass,
              fmt::format("the hull window still left out violated faces after {} growths",
@@ -160,6 +168,17 @@ class LadderRun {
       CommitSolution(problem_, layout_, z, state_);
       return true;
     }
+    return false;
+  }
+
+  // whether this pass has solved from the start `z` with the same windows and options already;
+  // if not, the start is recorded
+  bool RepeatsStart(const VectorXd& z) {
+    const TriedStart start{z, windows_grown_, options_.stall_iterations,
+                           options_.start_tolerance, options_.verify_start_first};
+    if (std::find(tried_starts_.begin(), tried_starts_.end(), start) != tried_starts_.end())
+      return true;
+    tried_starts_.push_back(start);
     return false;
   }
 
@@ -181,6 +200,21 @@ class LadderRun {
   AdvanceResult& result_;
   McpOptions options_;
   RootSelector select_;  // empty: the root as solved
+  // the starts solved from in this pass: a solve's outcome is a function of them
+  struct TriedStart {
+    VectorXd z;
+    int windows_grown;
+    int stall_iterations;
+    double start_tolerance;
+    bool verify_start_first;
+    bool operator==(const TriedStart& o) const {
+      return windows_grown == o.windows_grown && stall_iterations == o.stall_iterations &&
+             start_tolerance == o.start_tolerance && verify_start_first == o.verify_start_first &&
+             z.size() == o.z.size() && z == o.z;
+    }
+  };
+  std::vector<TriedStart> tried_starts_;
+  int windows_grown_ = 0;  // the problem's windows' growths so far (each changes its layout)
 };
 
 // One step of length h from `state`; not solved if every guess failed. As the last resort, the

@@ -275,6 +275,26 @@ class DenseNewtonAlgebra {
   Matrix shifted_;  // H + diag(shift)
 };
 
+// The non-zero pattern a sparse factorization was analysed for: its fill-reducing ordering and
+// symbolic factorization depend on nothing else, so they are redone only when it changes
+class SparsityPattern {
+ public:
+  // true when `A`'s compressed pattern differs from the last one (which it then becomes)
+  bool Update(const SparseMatrix& A) {
+    const bool same = static_cast<Eigen::Index>(outer_.size()) == A.outerSize() + 1 &&
+                      static_cast<Eigen::Index>(inner_.size()) == A.nonZeros() &&
+                      std::equal(outer_.begin(), outer_.end(), A.outerIndexPtr()) &&
+                      std::equal(inner_.begin(), inner_.end(), A.innerIndexPtr());
+    if (same) return false;
+    outer_.assign(A.outerIndexPtr(), A.outerIndexPtr() + A.outerSize() + 1);
+    inner_.assign(A.innerIndexPtr(), A.innerIndexPtr() + A.nonZeros());
+    return true;
+  }
+
+ private:
+  std::vector<int> outer_, inner_;
+};
+
 // The same on a sparse H (an island's: bodies' 6 × 6 blocks coupled only through their shared
 // contacts, engine/README.md "The island's linear algebra"): a supernodal LU with a
 // fill-reducing column ordering (COLAMD), analysed again only when the pattern changes, and the
@@ -304,11 +324,7 @@ class SparseNewtonAlgebra {
       minimum_norm_solver_.Factor(Eigen::MatrixXd(H));
       return;
     }
-    if (!SamePattern(H)) {
-      lu_.analyzePattern(H);
-      outer_.assign(H.outerIndexPtr(), H.outerIndexPtr() + H.outerSize() + 1);
-      inner_.assign(H.innerIndexPtr(), H.innerIndexPtr() + H.nonZeros());
-    }
+    if (lu_pattern_.Update(H)) lu_.analyzePattern(H);
     lu_.factorize(H);
     factored_ = lu_.info() == Eigen::Success;
   }
@@ -329,7 +345,9 @@ class SparseNewtonAlgebra {
     normal_ = H.transpose() * H;
     for (Eigen::Index j = 0; j < normal_.cols(); ++j) normal_.coeffRef(j, j) += mu;
     normal_.makeCompressed();
-    ldlt_.compute(normal_);
+    // (the ordering is the pattern's alone: computed again only when that changes)
+    if (ldlt_pattern_.Update(normal_)) ldlt_.analyzePattern(normal_);
+    ldlt_.factorize(normal_);
     if (ldlt_.info() != Eigen::Success) {
       direction.setConstant(gradient.size(), std::numeric_limits<double>::quiet_NaN());
       return;
@@ -341,22 +359,17 @@ class SparseNewtonAlgebra {
   static bool AllFinite(const Matrix& H) {
     return Eigen::Map<const Eigen::VectorXd>(H.valuePtr(), H.nonZeros()).allFinite();
   }
-  bool SamePattern(const Matrix& H) const {
-    return static_cast<Eigen::Index>(outer_.size()) == H.outerSize() + 1 &&
-           static_cast<Eigen::Index>(inner_.size()) == H.nonZeros() &&
-           std::equal(outer_.begin(), outer_.end(), H.outerIndexPtr()) &&
-           std::equal(inner_.begin(), inner_.end(), H.innerIndexPtr());
-  }
 
   bool factored_ = false;
   bool minimum_norm_ = false;
   MinimumNormSolver minimum_norm_solver_;
   Eigen::SparseLU<Matrix, Eigen::COLAMDOrdering<int>> lu_;
-  std::vector<int> outer_, inner_;  // the pattern lu_ was analysed for
+  SparsityPattern lu_pattern_;  // the pattern lu_ was analysed for
   Eigen::VectorXd rhs_;
   Matrix shifted_;  // H + diag(shift)
   Matrix normal_;
   Eigen::SimplicialLDLT<Matrix, Eigen::Lower, Eigen::AMDOrdering<int>> ldlt_;
+  SparsityPattern ldlt_pattern_;  // the pattern ldlt_ was analysed for
 };
 
 // the storage of one solve, kept from solve to solve (one per thread and algebra), so that a

@@ -6,9 +6,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 #include <gtest/gtest.h>
 
+#include "engine/scene_io/scene_yaml.h"
+#include "engine/step_report.h"
 #include "engine/time_step.h"
 #include "tests/engine/test_bodies.h"
 
@@ -70,6 +73,32 @@ TEST(HullModelTest, ThePredictedStartSavesAnIterationOnTheDeskAndKeepsItsAnswer)
   EXPECT_LE(max_dv, kDeskTableAgreement);
   EXPECT_LE(max_dw, kDeskTableAgreement);
   EXPECT_LE(iterations, kMeanIterations * 400);
+}
+
+// The train's first step has no warm starts, so the resting and the sliding guess make the same
+// start (every contact separated, the bodies at their free-flight velocities): with a budget too
+// small to solve it, the failure lists each pass at each step length with the resting guess and
+// without the sliding guess, whose solve would have repeated the resting guess's iteration for
+// iteration ("Restart ladder")
+TEST(HullModelTest, APassNeverSolvesTwiceFromTheSameStart) {
+  const Scene scene = LoadScene(std::string(ECPSIM_SOURCE_DIR) + "/scenes/train.yaml",
+                                {"model=hull", "solver.max_iterations=2"})
+                          .scene;
+  State state = InitialState(scene);
+  try {
+    Step(scene, state);
+    FAIL() << "the step solved with 2 iterations an attempt";
+  } catch (const SolverFailure& e) {
+    ASSERT_NE(e.step_failure(), nullptr) << e.what();
+    int resting = 0;
+    for (const FailedAttempt& attempt : e.step_failure()->tried) {
+      EXPECT_EQ(attempt.start.rfind("sliding guess", 0), std::string::npos) << attempt.start;
+      resting += attempt.start.rfind("resting guess", 0) == 0;
+    }
+    // 4 step lengths, 4 passes at usual effort (the minimum-norm one too: 264 unknowns) and 2 in
+    // the last resort
+    EXPECT_EQ(resting, 4 * (4 + 2));
+  }
 }
 
 }  // namespace
