@@ -93,10 +93,7 @@ class LadderRun {
   bool RunPass(int p, const GuessLadder& ladder) {
     const Pass& pass = kPasses[p];
     // (the layout's size only on the failure path: most steps end in the first pass)
-    if (pass.minimum_norm &&
-        layout_.size > (pass.plain_newton ? kMaxMinimumNormUnknowns : kMaxMinimumNormPassUnknowns)) {
-      return false;
-    }
+    if (pass.minimum_norm && layout_.size > kMaxMinimumNormUnknowns) return false;
     options_.project_nonnegative = pass.project;
     options_.minimum_norm_steps = pass.minimum_norm;
     options_.proximal_weight = pass.proximal ? kProximalWeight : 0;

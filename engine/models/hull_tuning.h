@@ -75,13 +75,11 @@ inline constexpr int kMaxWindowGrowth = 6;
 // an island of several bodies with at least this many unknowns is solved with a sparse
 // Jacobian, smaller ones dense: the dominoes' fastest split ("The island's linear algebra")
 inline constexpr int kMinSparseUnknowns = 200;
-// the minimum-norm passes factor their Newton matrix dense, O(n³) an iteration: the last
-// resort's beyond this size is left out ("Non-isolated solutions")
-inline constexpr int kMaxMinimumNormUnknowns = 600;
-// ... and the usual passes' beyond this one: on the nine dominoes' pile (372 … 540 unknowns) that
-// pass solved none of its 60 attempts while taking a third of the run's CPU (about 16 ms an
-// iteration at 540, 7 × the sparse LU's); the pile of five (DominoesTest, ≤ 300) settles by it
-inline constexpr int kMaxMinimumNormPassUnknowns = 300;
+// the minimum-norm passes factor their Newton matrix dense, O(n³) an iteration: beyond this size
+// they are left out. On the nine dominoes' pile (372 … 540 unknowns) they took two thirds of the
+// run's CPU (about 16 ms an iteration at 540, 7 × the sparse LU's) and solved 3 of 67 attempts,
+// steps that the proximal passes then solve; the pile of five (DominoesTest, ≤ 300) settles by them
+inline constexpr int kMaxMinimumNormUnknowns = 300;
 // the proximal pass's ε (McpOptions::proximal_weight) against the scaled Newton matrix's O(1)
 // entries: far above their round-off, and a rate of 1e-6 per iteration along the determined
 // directions. On the dominoes' landings 1e-6 took 25 % less CPU than 1e-8 ("Non-isolated
