@@ -35,6 +35,7 @@ json TotalsJson(const RunTotals& totals) {
           {"wall_s", ExactJson(totals.wall_s)},
           {"step_us_count", totals.step_us.count()},
           {"model_steps", totals.model_steps},
+          {"sleeping_body_steps", totals.sleeping_body_steps},
           {"step_us_sample", sample}};
 }
 
@@ -52,6 +53,9 @@ RunTotals ReadTotals(const json& node) {
   // a checkpoint of a run before `model: auto` counted no models
   if (node.contains("model_steps"))
     totals.model_steps = node.at("model_steps").get<std::array<long, engine::kNumStepModels>>();
+  // (nor one before sleeping islands its sleeping bodies)
+  if (node.contains("sleeping_body_steps"))
+    totals.sleeping_body_steps = node.at("sleeping_body_steps").get<long>();
   const Eigen::VectorXd sample =
       ReadExactVector(node.at("step_us_sample"), "totals.step_us_sample", -1);
   totals.step_us =

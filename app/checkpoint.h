@@ -30,6 +30,7 @@ struct RunTotals {
   ReservoirMedian step_us;     // µs, wall time of engine::Step
   // body-steps solved by each engine::StepModel (indexed by it)
   std::array<long, engine::kNumStepModels> model_steps{};
+  long sleeping_body_steps = 0;  // Σ StepReport::sleeping_bodies
 };
 
 struct Checkpoint {

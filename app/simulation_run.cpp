@@ -78,6 +78,7 @@ void WriteSummary(const engine::Scene& scene, const RunSummary& s, const std::st
       models[engine::StepModelName(static_cast<engine::StepModel>(m))] = s.model_steps[m];
   }
   json["models"] = models;
+  json["sleeping_body_steps"] = s.sleeping_body_steps;
   if (s.interrupt_signal != 0) {
     json["signal"] = SignalName(s.interrupt_signal);
   }
@@ -162,6 +163,7 @@ RunSummary RunSimulation(const engine::LoadedScene& loaded, const std::string& o
       totals.residual_max = std::max(totals.residual_max, report.residual);
       totals.substeps_max = std::max(totals.substeps_max, report.substeps);
       for (engine::StepModel model : report.models) ++totals.model_steps[static_cast<int>(model)];
+      totals.sleeping_body_steps += report.sleeping_bodies;
       totals.max_penetration = std::max(totals.max_penetration, probe.MaxDepth(scene, state));
       row_written = k % loaded.output.every == 0 || k == summary.planned_steps;
       if (row_written) {
@@ -217,6 +219,7 @@ RunSummary RunSimulation(const engine::LoadedScene& loaded, const std::string& o
   summary.residual_max = totals.residual_max;
   summary.substeps_max = totals.substeps_max;
   summary.model_steps = totals.model_steps;
+  summary.sleeping_body_steps = totals.sleeping_body_steps;
   summary.max_penetration = totals.max_penetration;
   summary.median_step_us = totals.step_us.Median();
   summary.converged = totals.all_converged && !failure && summary.interrupt_signal == 0;

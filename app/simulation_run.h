@@ -37,6 +37,9 @@ struct RunSummary {
   std::string error;            // the failure's message, empty on success
   // body-steps solved by each engine::StepModel (indexed by it): summary.json's "models"
   std::array<long, engine::kNumStepModels> model_steps{};
+  // body-steps that replayed their island's last step (engine/README.md, "Sleeping islands"):
+  // summary.json's "sleeping_body_steps"
+  long sleeping_body_steps = 0;
 };
 
 /// How RunSimulation runs, besides the scene and the folder.

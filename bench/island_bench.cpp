@@ -2,7 +2,9 @@
 // The bars, read as ratios of medians of one run (README.md, "Islands"):
 //   BM_IslandStack3 ≤ 4 × BM_IslandRestingBox (three boxes stacked against one box at rest);
 //   BM_IslandScattered/64 ≤ 1.2 × 64 × BM_IslandRestingBox (each body an island of its own);
-//   BM_IslandFreeFall: a body that can touch nothing costs the closed-form free flight.
+//   BM_IslandFreeFall: a body that can touch nothing costs the closed-form free flight;
+//   BM_IslandSleep/<scene>/1 against BM_IslandSleep/<scene>/0: resting scenes with sleeping
+//   islands on and off (engine/README.md, "Sleeping islands").
 // Every scene is stepped with the hull model, whose islands these are (model: auto would turn
 // the single resting box into a planar step and the comparison into one of two models).
 
@@ -11,9 +13,11 @@
 #include <vector>
 
 #include <benchmark/benchmark.h>
+#include <fmt/format.h>
 
 #include "bench/step_loop.h"
 #include "engine/scene_io/scene_builders.h"
+#include "engine/scene_io/scene_yaml.h"
 #include "tests/engine/test_bodies.h"
 
 namespace ecpsim::engine {
@@ -55,15 +59,20 @@ void BM_IslandRestingBox(benchmark::State& bench) {
 }
 BENCHMARK(BM_IslandRestingBox)->Unit(benchmark::kMicrosecond);
 
+// three boxes stacked at rest, 0.3, 0.2 and 0.1 m wide, centred at (x, y) on the ground
+void AddStack(double x, double y, const std::string& name, std::vector<Body>& boxes) {
+  const double sizes[3] = {0.3, 0.2, 0.1};
+  for (int i = 0; i < 3; ++i) {
+    boxes.push_back(RestingBox({sizes[i], sizes[i], 0.1}, 3 - i, {x, y, 0.05 + 0.1 * i},
+                               name + std::to_string(i)));
+  }
+}
+
 // three boxes stacked at rest (tests/engine/body_contact_test.cpp's stack): one island of three
 // bodies and three contacts
 void BM_IslandStack3(benchmark::State& bench) {
   std::vector<Body> boxes;
-  const double sizes[3] = {0.3, 0.2, 0.1};
-  for (int i = 0; i < 3; ++i) {
-    boxes.push_back(RestingBox({sizes[i], sizes[i], 0.1}, 3 - i, {0, 0, 0.05 + 0.1 * i},
-                               "box" + std::to_string(i)));
-  }
+  AddStack(0, 0, "box", boxes);
   RunIslandSteps(bench, HullScene(boxes));
 }
 BENCHMARK(BM_IslandStack3)->Unit(benchmark::kMicrosecond);
@@ -88,6 +97,37 @@ void BM_IslandFreeFall(benchmark::State& bench) {
   RunIslandSteps(bench, HullScene({RestingBox({0.2, 0.2, 0.1}, 1, {0, 0, 200}, "box")}));
 }
 BENCHMARK(BM_IslandFreeFall)->Unit(benchmark::kMicrosecond);
+
+// resting scenes stepped from 0.5 s on, once at rest, with sleeping on (second argument 1) and
+// off (0): scenes/stack.yaml (0), scenes/pyramid.yaml (1), and a 4 × 4 grid of the stack of
+// BM_IslandStack3, 0.5 m apart (2: 48 bodies in 16 islands)
+void BM_IslandSleep(benchmark::State& bench) {
+  Scene scene;
+  if (bench.range(0) == 2) {
+    std::vector<Body> boxes;
+    for (int i = 0; i < 16; ++i)
+      AddStack(0.5 * (i % 4), 0.5 * (i / 4), fmt::format("s{}_", i), boxes);
+    scene = HullScene(boxes);
+  } else {
+    const char* file = bench.range(0) == 0 ? "/scenes/stack.yaml" : "/scenes/pyramid.yaml";
+    scene = LoadScene(std::string(ECPSIM_SOURCE_DIR) + file).scene;
+  }
+  scene.solver.sleep = bench.range(1) == 1;
+  State state = InitialState(scene);
+  StepWorkspace workspace;
+  constexpr int kSettleSteps = 50;
+  for (int k = 0; k < kSettleSteps; ++k) Step(scene, state, workspace);
+  long sleeping = 0, count = 0;
+  for (auto _ : bench) {
+    sleeping += Step(scene, state, workspace).sleeping_bodies;
+    ++count;
+  }
+  bench.counters["sleeping"] = static_cast<double>(sleeping) / (count * scene.bodies.size());
+}
+BENCHMARK(BM_IslandSleep)
+    ->ArgNames({"scene", "sleep"})
+    ->ArgsProduct({{0, 1, 2}, {0, 1}})
+    ->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 }  // namespace ecpsim::engine

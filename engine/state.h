@@ -8,6 +8,7 @@
 #include <Eigen/Geometry>
 
 #include "engine/scene.h"
+#include "engine/step_report.h"
 #include "engine/warm_start.h"
 
 namespace ecpsim::engine {
@@ -32,11 +33,28 @@ struct ContactState {
   WarmStart warm_start;  // the unknowns of the model that solved it last
 };
 
+/// The sleep rule's memory (engine/README.md, "Sleeping islands"; island_sleep.h): what decides
+/// whether an island replays its last step, so it is state, and checkpoints carry it. Empty (or
+/// of other sizes than the scene's) reads as every body awake.
+struct RestRecord {
+  // per body: consecutive steps its island ended at rest with its contacts and loads unchanged
+  std::vector<std::int64_t> steps;
+  // per body: the model that solved its island's last step that a model solved (what a replay
+  // repeats, and what trajectory.csv's model column says of it)
+  std::vector<StepModel> models;
+  // per body: that step's residual (StepReport::residual's part of its island), which a replay
+  // reports as its own: it commits the same solution
+  std::vector<double> residuals;
+  // per contact: whether it was in an island's step at the last step
+  std::vector<char> in_step;
+};
+
 struct State {
   double t = 0;            // s: steps · h (AdvanceTime), never a sum of roundings
   std::int64_t steps = 0;  // steps taken since t = 0
   std::vector<BodyState> bodies;
   std::vector<ContactState> contacts;  // one per Scene::contacts entry
+  RestRecord rest;
 };
 
 /// Whether a body's pose and velocities are all finite numbers.

@@ -5,6 +5,7 @@
 #include <iterator>
 #include <utility>
 
+#include "engine/island_sleep.h"
 #include "engine/islands.h"
 
 namespace ecpsim::engine {
@@ -21,12 +22,18 @@ struct StepScratch {
   // FormIslandsInto's storage and its islands
   IslandScratch island_scratch;
   std::vector<Island> islands;
+  // which islands sleep (PlanSleep), and per island what solved it, in how many sub-steps and
+  // to what residual, and whether it repeated its start
+  SleepPlan sleep;
+  std::vector<StepModel> island_models;
+  std::vector<int> island_substeps;
+  std::vector<double> island_residuals;
+  std::vector<char> island_repeats;
   // StepIslands: per island its state at the step's end, its contacts' impulses summed over the
-  // sub-steps; the bodies at the step's end; the contacts in an island
+  // sub-steps; the bodies at the step's end
   std::vector<IslandState> solved;
   std::vector<Eigen::Vector4d> impulse;
   std::vector<BodyState> next_bodies;
-  std::vector<char> in_island;
 };
 
 // the island's part of `state` copied into `local` (over its last contents, reusing them)
@@ -54,10 +61,30 @@ StepReport StepIslands(const Scene& scene, State& state, const ContactModelStepp
   FormIslandsInto(scene, state, scratch.island_scratch, islands);
   std::vector<IslandState>& solved = scratch.solved;
   solved.resize(islands.size());
+  const SleepPlan& sleep = scratch.sleep;
+  PlanSleep(scene, state, islands, scratch.sleep);
+  scratch.island_models.assign(islands.size(), StepModel::kFree);
+  scratch.island_substeps.assign(islands.size(), 1);
+  scratch.island_residuals.assign(islands.size(), 0.0);
+  // (a replay repeats its start)
+  scratch.island_repeats.assign(islands.size(), true);
 
   for (size_t island_index = 0; island_index < islands.size(); ++island_index) {
     const Island& island = islands[island_index];
     IslandState& local = solved[island_index];
+    // a sleeping island replays its last step: its bodies' poses advance, nothing else changes
+    if (sleep.sleeps[island_index]) {
+      local.bodies.resize(island.bodies.size());
+      for (size_t i = 0; i < island.bodies.size(); ++i) {
+        local.bodies[i] = state.bodies[island.bodies[i]];
+        report.models[island.bodies[i]] = state.rest.models[island.bodies[i]];
+        report.residual = std::max(report.residual, state.rest.residuals[island.bodies[i]]);
+      }
+      ReplayStep(scene.h, local.bodies);
+      ++report.sleeping_islands;
+      report.sleeping_bodies += static_cast<int>(island.bodies.size());
+      continue;
+    }
     std::vector<FailedAttempt> tried;
     double residual = 0;
     bool island_solved = false;
@@ -100,6 +127,10 @@ StepReport StepIslands(const Scene& scene, State& state, const ContactModelStepp
       }
       if (!ok) continue;
       for (int b : island.bodies) report.models[b] = island_model;
+      scratch.island_models[island_index] = island_model;
+      scratch.island_substeps[island_index] = substeps;
+      scratch.island_residuals[island_index] = island_residual;
+      scratch.island_repeats[island_index] = RepeatsItsStart(island, state, local);
       for (size_t i = 0; i < island.contacts.size(); ++i) {
         ContactState& c = local.contacts[i];
         c.p_n = impulse[i][0];
@@ -137,26 +168,26 @@ StepReport StepIslands(const Scene& scene, State& state, const ContactModelStepp
 
   // every island solved: the step is committed (copied over the state's own storage)
   state.bodies.swap(next_bodies);
-  std::vector<char>& in_island = scratch.in_island;
-  in_island.assign(scene.contacts.size(), false);
   for (size_t i = 0; i < islands.size(); ++i) {
     const Island& island = islands[i];
     for (size_t j = 0; j < island.bodies.size(); ++j)
       state.bodies[island.bodies[j]] = solved[i].bodies[j];
+    // (a replay leaves its contacts as they are)
+    if (sleep.sleeps[i]) continue;
     // copied over the state's contacts, warm starts into their own storage (swapping would move
     // each warm start three times: it lives inside its contact)
-    for (size_t j = 0; j < island.contacts.size(); ++j) {
+    for (size_t j = 0; j < island.contacts.size(); ++j)
       state.contacts[island.contacts[j]] = solved[i].contacts[j];
-      in_island[island.contacts[j]] = true;
-    }
   }
   // contacts in no island: their bodies are apart for the whole step
   for (size_t k = 0; k < scene.contacts.size(); ++k) {
-    if (in_island[k]) continue;
+    if (sleep.in_step[k]) continue;
     ContactState& c = state.contacts[k];
     c.p_n = c.p_t = c.p_o = c.p_r = c.sigma = 0;
     c.warm_start.Reset();
   }
+  RecordRest(scene, islands, sleep, scratch.island_models, scratch.island_substeps,
+             scratch.island_repeats, scratch.island_residuals, state);
   AdvanceTime(scene.h, state);
   return report;
 }

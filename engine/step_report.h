@@ -22,6 +22,10 @@ struct StepReport {
   double residual = 0;  // max over bodies of the unscaled residual (see engine/README.md)
   int retries = 0;      // restarts of the ladder used (0 when the warm start converged)
   int substeps = 1;     // 1, 2, 4 or 16
+  // islands that slept (replayed their last step, engine/README.md "Sleeping islands") and their
+  // bodies
+  int sleeping_islands = 0;
+  int sleeping_bodies = 0;
   // per body of the scene: what solved its step (of its sub-steps, the dearest); empty for a
   // state no step produced (the initial one)
   std::vector<StepModel> models;

@@ -168,6 +168,44 @@ ContactState ReadContact(const json& node, const std::string& key) {
   return c;
 }
 
+// {"steps", "models", "in_step"}: the sleep rule's memory, models by name
+json RestJson(const RestRecord& rest) {
+  json models = json::array();
+  for (StepModel model : rest.models) models.push_back(StepModelName(model));
+  json residuals = json::array();
+  for (double residual : rest.residuals) residuals.push_back(ExactJson(residual));
+  return {{"steps", rest.steps},
+          {"models", models},
+          {"residuals", residuals},
+          {"in_step", std::vector<int>(rest.in_step.begin(), rest.in_step.end())}};
+}
+
+RestRecord ReadRest(const json& node, const std::string& key) {
+  RestRecord rest;
+  rest.steps = node.at("steps").get<std::vector<std::int64_t>>();
+  for (std::int64_t steps : rest.steps) {
+    if (steps < 0)
+      throw InputError(fmt::format("{}.steps: {}: expected counts >= 0", key, steps));
+  }
+  const json& models = node.at("models");
+  for (std::size_t i = 0; i < models.size(); ++i) {
+    const std::string name = models[i].get<std::string>();
+    int m = 0;
+    while (m < kNumStepModels && name != StepModelName(static_cast<StepModel>(m))) ++m;
+    if (m == kNumStepModels) {
+      throw InputError(fmt::format("{}.models[{}] = \"{}\": expected a model's name (free, "
+                                   "planar, hull, multipatch, point, kinematic)",
+                                   key, i, name));
+    }
+    rest.models.push_back(static_cast<StepModel>(m));
+  }
+  const Eigen::VectorXd residuals = ReadExactVector(node.at("residuals"), key + ".residuals", -1);
+  rest.residuals.assign(residuals.data(), residuals.data() + residuals.size());
+  for (int in_step : node.at("in_step").get<std::vector<int>>())
+    rest.in_step.push_back(in_step != 0);
+  return rest;
+}
+
 }  // namespace
 
 json StateRecord(const State& state) {
@@ -177,7 +215,8 @@ json StateRecord(const State& state) {
   return {{"t", ExactJson(state.t)},
           {"steps", state.steps},
           {"bodies", bodies},
-          {"contacts", contacts}};
+          {"contacts", contacts},
+          {"rest", RestJson(state.rest)}};
 }
 
 State StateFromRecord(const json& record, const std::string& where) {
@@ -193,6 +232,8 @@ State StateFromRecord(const json& record, const std::string& where) {
       state.contacts.push_back(
           ReadContact(contacts.at(i), fmt::format("{}.contacts[{}]", where, i)));
     }
+    // (records written before sleeping islands have none: every body awake)
+    if (record.contains("rest")) state.rest = ReadRest(record.at("rest"), where + ".rest");
     return state;
   } catch (const json::exception& e) {
     throw InputError(fmt::format("{}: {}", where, e.what()));

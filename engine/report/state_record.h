@@ -29,8 +29,9 @@ Eigen::VectorXd ReadExactVector(const nlohmann::json& node, const std::string& k
                                 Eigen::Index size);
 
 /// {"t", "steps", "bodies": [{p_WB, Q_WB_wxyz, v_WB, w_WB}], "contacts": [{a1, a2, p_n, p_t,
-/// p_o, p_r, sigma, n, t, o, warm_start}]}, a warm start null, {"model": "hull", s, l_g, window,
-/// l, other_window, trend} or {"model": "multipatch", parts}.
+/// p_o, p_r, sigma, n, t, o, warm_start}], "rest": {steps, models, residuals, in_step}}, a warm start null,
+/// {"model": "hull", s, l_g, window, l, other_window, trend} or {"model": "multipatch", parts};
+/// `rest` is the sleep rule's memory (RestRecord), its models by StepModelName.
 nlohmann::json StateRecord(const State& state);
 
 /// The State of a StateRecord. Whether it fits a scene is the caller's check (its counts of

@@ -18,7 +18,7 @@ using yaml::MapNode;
 
 SolverSettings ReadSolver(const Context& ctx, const YAML::Node& node, const std::string& key) {
   const MapNode map(ctx, node, key,
-                    {"tolerance", "max_iterations", "window_rings", "use_window", "selection"});
+                    {"tolerance", "max_iterations", "window_rings", "use_window", "selection", "sleep"});
   SolverSettings solver;
   if (map.Has("tolerance")) {
     solver.tolerance = yaml::ReadNumber(ctx, map.Get("tolerance"), map.Key("tolerance"),
@@ -35,6 +35,7 @@ SolverSettings ReadSolver(const Context& ctx, const YAML::Node& node, const std:
   if (map.Has("use_window")) {
     solver.use_window = yaml::ReadBool(ctx, map.Get("use_window"), map.Key("use_window"));
   }
+  if (map.Has("sleep")) solver.sleep = yaml::ReadBool(ctx, map.Get("sleep"), map.Key("sleep"));
   if (map.Has("selection")) {
     const YAML::Node value = map.Get("selection");
     const auto named = [&](Selection s) {
