@@ -18,6 +18,7 @@
 #include "app/option_checks.h"
 #include "common/atomic_file.h"
 #include "common/errors.h"
+#include "evaluation/auto_cost.h"
 #include "evaluation/drop_sweep.h"
 #include "evaluation/method.h"
 #include "evaluation/scaling.h"
@@ -130,6 +131,23 @@ void PrintScalingSlopes(const std::vector<evaluation::ScalingRow>& rows) {
   }
 }
 
+// the auto-against-hull check (evaluation/auto_cost.h) in a line, with each scenario where auto
+// is dearer
+void PrintAutoCost(const std::vector<evaluation::WorkPrecisionRow>& rows) {
+  const std::vector<evaluation::AutoCost> costs = evaluation::CompareAutoWithHull(rows);
+  if (costs.empty()) return;
+  std::string dearer;
+  for (const evaluation::AutoCost& c : costs) {
+    if (c.Dearer())
+      dearer += fmt::format("{}{} ({:.2f})", dearer.empty() ? "" : ", ", c.scenario, c.median);
+  }
+  const std::string verdict = dearer.empty()
+                                  ? fmt::format("not dearer on any of {} scenarios", costs.size())
+                                  : "dearer on " + dearer;
+  std::printf("auto against hull (median CPU ratio over the step sizes, dearer above %g): %s\n",
+              evaluation::kMaxAutoOverHull, verdict.c_str());
+}
+
 void Merge(const BenchOptions& o) {
   std::vector<evaluation::WorkPrecisionRow> wp;
   std::vector<evaluation::StabilityRow> st;
@@ -194,6 +212,7 @@ void Merge(const BenchOptions& o) {
       wp.size(), st.size(), drops.size(), o.merge.size());
   if (!scaling.empty()) std::printf("merged %zu scaling rows\n", scaling.size());
   PrintScalingSlopes(scaling);
+  PrintAutoCost(wp);
 }
 
 // the drop sweep of this shard, every option checked (PlanDropSweep)
@@ -313,6 +332,8 @@ void Run(const BenchOptions& o) {
        WriteBenchReport(o.out_dir, wp, st, drops, scaling, o.charts && shard_count == 1)) {
     std::printf("wrote %s\n", path.c_str());
   }
+  // (a shard's ratios would cover a part of the sweep: the merge prints them)
+  if (shard_count == 1) PrintAutoCost(wp);
 }
 
 }  // namespace

@@ -14,6 +14,7 @@
 #include "app/scaling_report.h"
 #include "common/atomic_file.h"
 #include "evaluation/method.h"
+#include "evaluation/auto_cost.h"
 #include "evaluation/scenario.h"
 
 namespace ecpsim::app {
@@ -227,6 +228,23 @@ std::string DriftTable(const std::vector<WorkPrecisionRow>& wp, const std::strin
                            [](const WorkPrecisionRow& r) { return Sci(r.drift); });
 }
 
+// auto against hull per scenario (evaluation/auto_cost.h); empty where no scenario ran both
+std::string AutoCostMarkdown(const std::vector<WorkPrecisionRow>& wp) {
+  const std::vector<evaluation::AutoCost> costs = evaluation::CompareAutoWithHull(wp);
+  if (costs.empty()) return "";
+  std::string md = fmt::format(
+      "### auto against hull\n\nCPU per simulated second of `auto` over `hull`'s in this run, at "
+      "each step size both completed: the median over the sweep and the largest. `auto` is "
+      "dearer where the median exceeds {:g} (one run's noise).\n\n"
+      "| scenario | steps | median | largest (at h) | verdict |\n|---|---|---|---|---|\n",
+      evaluation::kMaxAutoOverHull);
+  for (const evaluation::AutoCost& c : costs) {
+    md += fmt::format("| {} | {} | {:.2f} | {:.2f} ({:g}) | {} |\n", c.scenario, c.steps, c.median,
+                      c.largest, c.largest_h, c.Dearer() ? "**dearer**" : "ok");
+  }
+  return md + "\n";
+}
+
 std::string ResultsMarkdown(const std::vector<WorkPrecisionRow>& wp,
                             const std::vector<StabilityRow>& stability) {
   std::string md = "# ecpsim bench results\n\n";
@@ -268,6 +286,7 @@ std::string ResultsMarkdown(const std::vector<WorkPrecisionRow>& wp,
       }
       md += "\n" + PushForceTable(wp, scenario) + DriftTable(wp, scenario);
     }
+    md += AutoCostMarkdown(wp);
   }
   if (!stability.empty()) {
     md += "## Stability maps\n\nRuns per outcome over every step size and parameter value.\n\n";

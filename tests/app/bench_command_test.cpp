@@ -83,6 +83,23 @@ TEST_F(BenchCommandTest, WritesCsvChartsAndResults) {
   EXPECT_EQ(cells.size(), 2u * 2 * evaluation::StabilityMaps("")[0].values.size());
 }
 
+// the auto-against-hull check's line and table (its verdict is a timing's, not asserted here)
+TEST_F(BenchCommandTest, ComparesAutoWithHullInTheSameRun) {
+  const fs::path out = dir_ / "auto";
+  const CliResult r = Run(fmt::format(
+      "bench --methods hull,auto,point --scenarios slide --steps 0.01,0.005 --no-stability "
+      "--no-drops --no-scaling --no-charts -o '{}'",
+      out.string()));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("auto against hull (median CPU ratio over the step sizes, dearer above "
+                          "1.1): "),
+            std::string::npos)
+      << r.output;
+  const std::string text = ReadText(out / "results.md");
+  EXPECT_NE(text.find("### auto against hull"), std::string::npos) << text;
+  EXPECT_TRUE(std::regex_search(text, std::regex(R"(\| slide \| 2 \| \d+\.\d\d \|)"))) << text;
+}
+
 TEST_F(BenchCommandTest, ShardsMergeIntoTheWholeSweep) {
   const CliResult merged = ShardAndMerge(kSmallSweep, "work_precision_slide.png");
   ASSERT_EQ(merged.exit_code, 0) << merged.output;
