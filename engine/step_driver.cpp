@@ -130,7 +130,9 @@ StepReport StepIslands(const Scene& scene, State& state, const ContactModelStepp
       scratch.island_models[island_index] = island_model;
       scratch.island_substeps[island_index] = substeps;
       scratch.island_residuals[island_index] = island_residual;
-      scratch.island_repeats[island_index] = RepeatsItsStart(island, state, local);
+      // (only sleeping reads it: a step without it pays nothing for the rule)
+      if (scene.solver.sleep)
+        scratch.island_repeats[island_index] = RepeatsItsStart(island, state, local);
       for (size_t i = 0; i < island.contacts.size(); ++i) {
         ContactState& c = local.contacts[i];
         c.p_n = impulse[i][0];
@@ -186,8 +188,14 @@ StepReport StepIslands(const Scene& scene, State& state, const ContactModelStepp
     c.p_n = c.p_t = c.p_o = c.p_r = c.sigma = 0;
     c.warm_start.Reset();
   }
-  RecordRest(scene, islands, sleep, scratch.island_models, scratch.island_substeps,
-             scratch.island_repeats, scratch.island_residuals, state);
+  // without sleeping no record is kept: one made while it was off would let an island that
+  // turned it on sleep on counts it never earned
+  if (scene.solver.sleep) {
+    RecordRest(scene, islands, sleep, scratch.island_models, scratch.island_substeps,
+               scratch.island_repeats, scratch.island_residuals, state);
+  } else if (!state.rest.steps.empty()) {
+    state.rest = RestRecord{};
+  }
   AdvanceTime(scene.h, state);
   return report;
 }

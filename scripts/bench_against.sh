@@ -37,6 +37,9 @@ for path in glob.glob(f"{out}/*.json"):
 print(f"median CPU time per step of {len(times[next(iter(times))])} runs each")
 print(f"{'benchmark':28s} {rev:>12s} {'this':>12s} {'this/' + rev:>14s}")
 for name in sorted(units):
+    if not times[(name, "base")] or not times[(name, "this")]:
+        print(f"{name:28s} (in one revision only)")
+        continue
     base, this = statistics.median(times[(name, "base")]), statistics.median(times[(name, "this")])
     unit = units[name]
     print(f"{name:28s} {base:9.3f} {unit} {this:9.3f} {unit} {this / base:14.3f}")

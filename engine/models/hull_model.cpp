@@ -49,6 +49,35 @@ constexpr Pass kPasses[] = {{false, false, false, false, ""},
 constexpr int kLastResortPass = 4;
 constexpr int kPassCount = static_cast<int>(std::size(kPasses));
 
+// What a solve's outcome depends on besides its start: the windows (their growths so far) and
+// the options a guess sets
+struct StartOptions {
+  int windows_grown;
+  int stall_iterations;
+  double start_tolerance;
+  bool verify_start_first;
+  bool operator==(const StartOptions& o) const {
+    return windows_grown == o.windows_grown && stall_iterations == o.stall_iterations &&
+           start_tolerance == o.start_tolerance && verify_start_first == o.verify_start_first;
+  }
+};
+
+// A start a solve failed from: an equal start with equal options fails alike
+struct TriedStart {
+  VectorXd z;
+  StartOptions options;
+  bool Repeats(const VectorXd& start, const StartOptions& start_options) const {
+    return options == start_options && z.size() == start.size() && z == start;
+  }
+};
+
+// The pass's failed starts and the current attempt's start, kept in the StepWorkspace: a step
+// that ends in its first attempt copies its start into storage of the size it had last step
+struct StartsOfPass {
+  VectorXd current;
+  std::vector<TriedStart> failed;
+};
+
 // The passes of one island step over its ladder of guesses. They share the problem, whose
 // windows grow where a root leaves out violated faces (and stay grown for later guesses), its
 // layout, the bodies' scales and the ejection allowance; the first root that passes every check
@@ -103,7 +132,7 @@ class LadderRun {
     // a body alone whose warm start stalled far from a root in the first pass is re-solved from
     // that stall only once every other guess has failed too ("Which stalls are re-solved")
     std::optional<std::pair<IslandProblem, VectorXd>> far_stall;
-    tried_starts_.clear();
+    starts_.failed.clear();
     for (Guess guess : ladder) {
       options_.stall_iterations =
           StallIterations(guess, p == 0, pass.plain_newton, problem_.bodies.size());
@@ -132,10 +161,17 @@ class LadderRun {
           (guess == Guess::kWarm && !moving_) || balance == StartBalance::kPolished;
       // two guesses may make the same start (an island's resting and sliding guesses where no
       // contact has a warm start): its solve would fail again, iteration for iteration
-      if (RepeatsStart(z)) return false;
+      const StartOptions start_options{windows_grown_, options_.stall_iterations,
+                                       options_.start_tolerance, options_.verify_start_first};
+      for (const TriedStart& tried : starts_.failed)
+        if (tried.Repeats(z, start_options)) return false;
+      // (kept in the workspace: the solve leaves z at its last iterate)
+      starts_.current = z;
       const Attempt attempt = SolveAttempt(problem_, layout_, z, options_, scales_,
                                            ejection_energy_, workspace_, result_);
       result_.residual = attempt.residual;
+      if (attempt.outcome != Outcome::kSolved)
+        starts_.failed.push_back({starts_.current, start_options});
       if (attempt.outcome == Outcome::kUnconverged) {
         if (IsNearSolutionStall(layout_, attempt, scene_.solver.tolerance)) {
           if (ReSolveStall(problem_, layout_, z, options_, scales_, ejection_energy_, workspace_,
@@ -168,17 +204,6 @@ class LadderRun {
     return false;
   }
 
-  // whether this pass has solved from the start `z` with the same windows and options already;
-  // if not, the start is recorded
-  bool RepeatsStart(const VectorXd& z) {
-    const TriedStart start{z, windows_grown_, options_.stall_iterations,
-                           options_.start_tolerance, options_.verify_start_first};
-    if (std::find(tried_starts_.begin(), tried_starts_.end(), start) != tried_starts_.end())
-      return true;
-    tried_starts_.push_back(start);
-    return false;
-  }
-
   // a failed guess in the failure's list of what was tried
   void Note(Guess guess, const Pass& pass, const std::string& what) {
     result_.tried.push_back({std::string(GuessName(guess)) + pass.name, problem_.h, what});
@@ -197,20 +222,7 @@ class LadderRun {
   AdvanceResult& result_;
   McpOptions options_;
   RootSelector select_;  // empty: the root as solved
-  // the starts solved from in this pass: a solve's outcome is a function of them
-  struct TriedStart {
-    VectorXd z;
-    int windows_grown;
-    int stall_iterations;
-    double start_tolerance;
-    bool verify_start_first;
-    bool operator==(const TriedStart& o) const {
-      return windows_grown == o.windows_grown && stall_iterations == o.stall_iterations &&
-             start_tolerance == o.start_tolerance && verify_start_first == o.verify_start_first &&
-             z.size() == o.z.size() && z == o.z;
-    }
-  };
-  std::vector<TriedStart> tried_starts_;
+  StartsOfPass& starts_ = workspace_.Part<StartsOfPass>();
   int windows_grown_ = 0;  // the problem's windows' growths so far (each changes its layout)
 };
 
