@@ -2,6 +2,8 @@
 // The issue's bars, read as ratios of medians of one run (README.md, "Islands"):
 //   BM_IslandStack3 ≤ 4 × BM_IslandRestingBox (three boxes stacked against one box at rest);
 //   BM_IslandScattered/64 ≤ 1.2 × 64 × BM_IslandRestingBox (each body an island of its own);
+//   BM_IslandScatteredPairs/bodies:1024/every_pair:1 against …/every_pair:0: what a YAML
+//   scene's default of every pair of bodies costs where none of them touches (issue 30);
 //   BM_IslandFreeFall: a body that can touch nothing costs the closed-form free flight;
 //   BM_IslandSleep/<scene>/1 against BM_IslandSleep/<scene>/0: resting scenes with sleeping
 //   islands on and off (engine/README.md, "Sleeping islands").
@@ -77,19 +79,47 @@ void BM_IslandStack3(benchmark::State& bench) {
 }
 BENCHMARK(BM_IslandStack3)->Unit(benchmark::kMicrosecond);
 
-// n boxes at rest on a grid 0.5 m apart: n one-body islands, the broad phase over n(n−1)/2
-// pairs
-void BM_IslandScattered(benchmark::State& bench) {
-  const int n = static_cast<int>(bench.range(0));
+// n boxes at rest on a grid 0.5 m apart
+std::vector<Body> ScatteredBoxes(int n) {
   const int side = static_cast<int>(std::ceil(std::sqrt(n)));
   std::vector<Body> boxes;
   for (int i = 0; i < n; ++i) {
     boxes.push_back(RestingBox({0.2, 0.2, 0.1}, 1, {0.5 * (i % side), 0.5 * (i / side), 0.05},
                                "box" + std::to_string(i)));
   }
-  RunIslandSteps(bench, HullScene(boxes));
+  return boxes;
+}
+
+// the scattered boxes with every pair of them a contact pair, as a YAML scene without `pairs:`
+// has them: n one-body islands, the broad phase over n(n−1)/2 pairs
+void BM_IslandScattered(benchmark::State& bench) {
+  RunIslandSteps(bench, HullScene(ScatteredBoxes(static_cast<int>(bench.range(0)))));
 }
 BENCHMARK(BM_IslandScattered)->Arg(8)->Arg(64)->Unit(benchmark::kMicrosecond);
+
+// the scattered boxes at rest, stepped after kSettleSteps untimed steps (at a thousand boxes a
+// restart from t = 0 inside the timed loop would be most of what it times), with every pair of
+// bodies a contact pair (second argument 1) or none (0): what the pairs that never touch cost
+// where a YAML scene lists none (each a ContactState in the state and a test in every step)
+void BM_IslandScatteredPairs(benchmark::State& bench) {
+  Scene scene = testing::MakeGroundScene(ScatteredBoxes(static_cast<int>(bench.range(0))), 0.01,
+                                         kFriction);
+  if (bench.range(1) == 1) AddBodyPairs(scene);
+  scene.model = ContactModel::kHull;
+  State state = InitialState(scene);
+  StepWorkspace workspace;
+  constexpr int kSettleSteps = 5;
+  for (int k = 0; k < kSettleSteps; ++k) Step(scene, state, workspace);
+  for (auto _ : bench) Step(scene, state, workspace);
+  bench.counters["pairs"] = static_cast<double>(scene.contacts.size());
+  bench.counters["per_body"] =
+      benchmark::Counter(static_cast<double>(bench.iterations()) * scene.bodies.size(),
+                         benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(BM_IslandScatteredPairs)
+    ->ArgNames({"bodies", "every_pair"})
+    ->ArgsProduct({{64, 1024}, {0, 1}})
+    ->Unit(benchmark::kMicrosecond);
 
 // a box falling from 200 m (122 m in the 5 s before each restart): every step is the
 // closed-form free flight
