@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "engine/loads.h"
+#include "geometry/convex_separation.h"
 
 namespace ecpsim::engine {
 namespace {
@@ -62,9 +63,10 @@ JawReach JawReachOf(const Scene& scene, int b, const State& state, double radius
 
 }  // namespace
 
-std::vector<Box> StepBoxes(const Scene& scene, const State& state) {
+StepReach StepReachOf(const Scene& scene, const State& state) {
   const double h = scene.h;
-  std::vector<Box> boxes;
+  StepReach reach;
+  std::vector<Box>& boxes = reach.boxes;
   std::vector<double> speed(scene.bodies.size());
   std::vector<Eigen::Vector3d> closing(scene.bodies.size(), Eigen::Vector3d::Zero());
   double fastest = 0;
@@ -96,15 +98,38 @@ std::vector<Box> StepBoxes(const Scene& scene, const State& state) {
     fastest = std::max(fastest, speed[b] + closing[b].norm());
   }
   for (size_t b = 0; b < boxes.size(); ++b) {
-    Eigen::Array3d grow = h * closing[b].cwiseAbs().array();
-    grow += h * (speed[b] + fastest) + kBroadPhaseRelMargin * boxes[b].diagonal().norm();
+    const double size = boxes[b].diagonal().norm();
+    const double isotropic = h * (speed[b] + fastest) + kBroadPhaseRelMargin * size;
+    Eigen::Array3d grow = h * closing[b].cwiseAbs().array() + isotropic;
     // a bound that overflowed (or is NaN) bounds nothing: the box then reaches everything, so a
     // contact is never missed
     if (!grow.allFinite()) grow.setConstant(INFINITY);
     boxes[b].min().array() -= grow;
     boxes[b].max().array() += grow;
+    double distance = isotropic + h * closing[b].norm();
+    if (scene.bodies[b].IsKinematic() || !std::isfinite(distance)) distance = INFINITY;
+    reach.distance.push_back(distance);
+    reach.size.push_back(size);
   }
-  return boxes;
+  return reach;
+}
+
+bool BodiesInReach(const Scene& scene, const State& state, const StepReach& reach, int k) {
+  const int a = scene.contacts[k].body, b = scene.contacts[k].other_body;
+  if (!reach.boxes[a].intersects(reach.boxes[b])) return false;
+  const double distance = reach.distance[a] + reach.distance[b];
+  if (!std::isfinite(distance)) return true;
+  // a pair that carried a load touches at the step's start: GJK would say so too, at a cost paid
+  // on every step of a pile
+  if (static_cast<size_t>(k) < state.contacts.size() && state.contacts[k].p_n > 0) return true;
+  const auto pose = [&](int body) {
+    Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+    X.linear() = state.bodies[body].Q_WB.toRotationMatrix();
+    X.translation() = state.bodies[body].p_WB;
+    return X;
+  };
+  return geometry::WithinDistance(*scene.bodies[a].hull, pose(a), *scene.bodies[b].hull, pose(b),
+                                  distance, std::max(reach.size[a], reach.size[b]));
 }
 
 bool InReach(const Box& box, const geometry::ConvexShape& obstacle) {

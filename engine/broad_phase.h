@@ -15,13 +15,32 @@ namespace ecpsim::engine {
 /// An axis-aligned box (world frame, m).
 using Box = Eigen::AlignedBox3d;
 
-/// Each body's box for the step [t, t + h]: its hull's box at the start pose grown by how far any
-/// of its points can move within the step — h (|v| + |ω| r + |p_applied| / m + h |g|) for its
-/// own motion, plus h V_max for what a contact can give it: a body struck by another, or pushed,
-/// ends the step no faster than the fastest body of the scene (V_max, kinematic ones included)
-/// brings in, plus gravity and loads. A kinematic body's box holds its hull at the step's two ends.
-/// One box per scene body, in the scene's order; a bound that is not finite reaches everything.
-std::vector<Box> StepBoxes(const Scene& scene, const State& state);
+/// What each body can reach within the step [t, t + h], in the scene's order.
+struct StepReach {
+  /// The body's world box: its hull's box at the start pose grown by `distance` — h (|v| + |ω| r +
+  /// |p_applied| / m + h |g|) for its own motion, plus h V_max for what a contact can give it: a
+  /// body struck by another, or pushed, ends the step no faster than the fastest body of the scene
+  /// (V_max, kinematic ones included) brings in, plus gravity and loads. A kinematic body's box
+  /// holds its hull at the step's two ends. A bound that is not finite reaches everything.
+  std::vector<Box> boxes;
+  /// m: how far any point of the body can move within the step (a jaw's closing included);
+  /// infinite for a kinematic body, whose box holds its motion instead.
+  std::vector<double> distance;
+  /// m: the diagonal of the hull's box at the start pose, the body's length scale.
+  std::vector<double> size;
+};
+
+/// Every body's reach for the step from `state`.
+StepReach StepReachOf(const Scene& scene, const State& state);
+
+/// Whether the bodies of contact pair `k` (between two bodies) can touch within the step: their
+/// boxes overlap and, unless one is kinematic, their hulls at the step's start come within the
+/// sum of their distances (geometry::WithinDistance) — which a pair that carried a normal impulse
+/// over the last step does without the test: it touches at the step's start. The hulls' test keeps
+/// out pairs whose boxes overlap only because a turned body's box holds more than its hull (a
+/// pile turned about z, the dominoes), so that which contacts a step solves does not depend on
+/// the world axes.
+bool BodiesInReach(const Scene& scene, const State& state, const StepReach& reach, int k);
 
 /// Whether anything in `box` can touch the fixed convex `obstacle` (world frame): a half-space's
 /// constraint at the box's point deepest into it, else the obstacle's own box.

@@ -1,6 +1,7 @@
 #include "engine/islands.h"
 
 #include <numeric>
+#include <optional>
 
 #include "engine/broad_phase.h"
 #include "engine/contact_friction.h"
@@ -20,12 +21,12 @@ void FormIslandsInto(const Scene& scene, const State& state, IslandScratch& scra
   };
   std::vector<char>& in_step = scratch.in_step;
   in_step.assign(scene.contacts.size(), true);
-  std::vector<Box> boxes;
+  std::optional<StepReach> reach;
   for (size_t k = 0; k < scene.contacts.size(); ++k) {
     const ContactPair& pair = scene.contacts[k];
     if (!pair.WithBody()) continue;
-    if (boxes.empty()) boxes = StepBoxes(scene, state);
-    in_step[k] = boxes[pair.body].intersects(boxes[pair.other_body]);
+    if (!reach) reach = StepReachOf(scene, state);
+    in_step[k] = BodiesInReach(scene, state, *reach, static_cast<int>(k));
     if (in_step[k] && !scene.bodies[pair.other_body].IsKinematic())
       root[find(pair.body)] = find(pair.other_body);
   }
@@ -54,8 +55,8 @@ void FormIslandsInto(const Scene& scene, const State& state, IslandScratch& scra
   for (size_t k = 0; k < scene.contacts.size(); ++k) {
     const ContactPair& pair = scene.contacts[k];
     if (pair.WithBody() || islands[island_of[find(pair.body)]].bodies.size() < 2) continue;
-    if (boxes.empty()) boxes = StepBoxes(scene, state);
-    in_step[k] = InReach(boxes[pair.body], *scene.obstacles[pair.obstacle].shape);
+    if (!reach) reach = StepReachOf(scene, state);
+    in_step[k] = InReach(reach->boxes[pair.body], *scene.obstacles[pair.obstacle].shape);
   }
   for (size_t k = 0; k < scene.contacts.size(); ++k) {
     if (!in_step[k]) continue;

@@ -21,8 +21,9 @@ struct IslandScratch {
 /// the broad phase bounds each body by a world box holding its hull and everything it can reach
 /// within the step (its own speed, spin, loads and gravity over h, plus what the fastest body of
 /// the scene can give it); a kinematic body's box holds its hull at the step's two ends. A
-/// contact between two bodies whose boxes overlap is in the step (two dynamic bodies then share
-/// an island); one whose boxes are apart is not, and its bodies cannot touch within the step. Every
+/// contact between two bodies is in the step (two dynamic bodies then share an island) where
+/// they can touch within it (BodiesInReach: their boxes overlap and, but for a kinematic body,
+/// their hulls lie within what the two can move); otherwise they cannot touch in the step. Every
 /// dynamic body is in exactly one island, with all its contacts with obstacles; kinematic bodies
 /// are in none (their motion is given). Each contact's friction is StepFriction's at `state`.
 std::vector<Island> FormIslands(const Scene& scene, const State& state);

@@ -1,5 +1,7 @@
 #include "geometry/convex_separation.h"
 
+#include <cmath>
+
 #include <ccd/ccd.h>
 
 #include "common/errors.h"
@@ -17,12 +19,14 @@ struct PosedShape {
   const ConvexShape* shape;
   Eigen::Matrix3d R;
   Eigen::Vector3d p;  // its frame's origin, in the query's coordinates
+  double grow = 0;    // the shape grown by a ball of this radius, in the query's units
 };
 
 void Support(const void* object, const ccd_vec3_t* direction, ccd_vec3_t* point) {
   const auto& s = *static_cast<const PosedShape*>(object);
   const Eigen::Vector3d d(direction->v[0], direction->v[1], direction->v[2]);
-  const Eigen::Vector3d x = s.p + s.R * s.shape->Support(s.R.transpose() * d);
+  Eigen::Vector3d x = s.p + s.R * s.shape->Support(s.R.transpose() * d);
+  if (s.grow > 0 && d.squaredNorm() > 0) x += s.grow * d.normalized();
   ccdVec3Set(point, x.x(), x.y(), x.z());
 }
 
@@ -36,6 +40,19 @@ void FirstDirection(const void* a, const void* b, ccd_vec3_t* direction) {
   } else {
     ccdVec3Set(direction, 1, 0, 0);
   }
+}
+
+// libccd's query settings for shapes posed as PosedShape
+ccd_t CcdQuery() {
+  ccd_t ccd;
+  CCD_INIT(&ccd);
+  ccd.first_dir = FirstDirection;
+  ccd.support1 = Support;
+  ccd.support2 = Support;
+  ccd.max_iterations = kMaxGjkIterations;
+  ccd.epa_tolerance = kPenetrationRelTolerance;
+  ccd.dist_tolerance = kPenetrationRelTolerance;
+  return ccd;
 }
 
 // the point of `shape` at X farthest along `direction` (world)
@@ -85,14 +102,7 @@ double PenetrationDepth(const ConvexShape& a, const Eigen::Isometry3d& X_a, cons
   const Eigen::Vector3d origin = X_a.translation();
   const PosedShape sa{&a, X_a.linear() / length_scale, Eigen::Vector3d::Zero()};
   const PosedShape sb{&b, X_b.linear() / length_scale, (X_b.translation() - origin) / length_scale};
-  ccd_t ccd;
-  CCD_INIT(&ccd);
-  ccd.first_dir = FirstDirection;
-  ccd.support1 = Support;
-  ccd.support2 = Support;
-  ccd.max_iterations = kMaxGjkIterations;
-  ccd.epa_tolerance = kPenetrationRelTolerance;
-  ccd.dist_tolerance = kPenetrationRelTolerance;
+  const ccd_t ccd = CcdQuery();
   ccd_real_t depth = 0;
   ccd_vec3_t direction, position;
   // 0: they overlap and depth is set; −1: apart; −2: out of memory, which no caller can recover
@@ -100,6 +110,19 @@ double PenetrationDepth(const ConvexShape& a, const Eigen::Isometry3d& X_a, cons
   ECPSIM_DEMAND(status != -2);
   if (status != 0) return 0;
   return std::max(0.0, static_cast<double>(depth)) * length_scale;
+}
+
+bool WithinDistance(const ConvexShape& a, const Eigen::Isometry3d& X_a, const ConvexShape& b,
+                    const Eigen::Isometry3d& X_b, double distance, double length_scale) {
+  ECPSIM_DEMAND(length_scale > 0 && distance >= 0);
+  ECPSIM_DEMAND(!a.IsHalfSpace() && !b.IsHalfSpace());
+  if (!std::isfinite(distance)) return true;
+  const Eigen::Vector3d origin = X_a.translation();
+  const PosedShape sa{&a, X_a.linear() / length_scale, Eigen::Vector3d::Zero(),
+                      distance / length_scale};
+  const PosedShape sb{&b, X_b.linear() / length_scale, (X_b.translation() - origin) / length_scale};
+  const ccd_t ccd = CcdQuery();
+  return ccdGJKIntersect(&sa, &sb, &ccd) != 0;
 }
 
 }  // namespace ecpsim::geometry

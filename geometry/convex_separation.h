@@ -23,6 +23,16 @@ namespace ecpsim::geometry {
 double PenetrationDepth(const ConvexShape& a, const Eigen::Isometry3d& X_a, const ConvexShape& b,
                         const Eigen::Isometry3d& X_b, double length_scale);
 
+/// Whether `a` at X_a comes within `distance` (m, ≥ 0) of `b` at X_b: GJK (libccd) on `a` grown
+/// by a ball of that radius against `b`, in units of `length_scale` (m, > 0, the shapes' size).
+/// False only where GJK finds a direction along which the grown `a` and `b` are apart, or gives
+/// up after its iterations, which it does only where they touch to round-off — the shapes then
+/// `distance` apart, which either answer is right for. Both shapes must be bounded; ECPSIM_DEMAND
+/// on a half-space, a negative distance or a non-positive length scale. An infinite distance
+/// reaches everything.
+bool WithinDistance(const ConvexShape& a, const Eigen::Isometry3d& X_a, const ConvexShape& b,
+                    const Eigen::Isometry3d& X_b, double distance, double length_scale);
+
 /// A unit axis u and the separation of two shapes along it: the gap between b's extent and a's
 /// (min over a of u·x − max over b of u·x), > 0 when the axis separates them, < 0 the overlap
 /// of their projections (which bounds their penetration depth from above).

@@ -85,5 +85,38 @@ TEST(ConvexSeparationTest, SmoothShapesOverlapByTheirRadiiLessTheirDistance) {
   EXPECT_GE(edge, 0.09 * (1 - kCurvedDepthRel));
 }
 
+TEST(ConvexSeparationTest, WithinDistanceIsTheGapBetweenTheShapesInAnyFrameAndAtAnyScale) {
+  // two boxes side by side 0.3 apart along the faces' normal, offset across it by less than a
+  // face, and turned together about z by 37°; a sphere 0.25 beyond a box's corner along its
+  // diagonal. At metre, millimetre and kilometre scale, 10⁵ sizes away from the origin
+  const double turn = 37 * M_PI / 180;
+  for (const double unit : {1.0, 1e-3, 1e3}) {
+    for (const double far : {0.0, 1e5}) {
+      const auto a = MakeBox(unit * Eigen::Vector3d(0.5, 0.5, 0.5));
+      const auto b = MakeBox(unit * Eigen::Vector3d(0.5, 0.5, 0.5));
+      const Eigen::Vector3d origin(far * unit, -far * unit, 0);
+      for (const double yaw : {0.0, turn}) {
+        const Eigen::Vector3d offset =
+            Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) * Eigen::Vector3d(1.3, 0.4, 0.2);
+        const Eigen::Isometry3d X_a = At(origin, yaw), X_b = At(origin + unit * offset, yaw);
+        EXPECT_FALSE(WithinDistance(*a, X_a, *b, X_b, 0.29 * unit, unit)) << unit << " " << yaw;
+        EXPECT_TRUE(WithinDistance(*a, X_a, *b, X_b, 0.31 * unit, unit)) << unit << " " << yaw;
+        // either way round
+        EXPECT_FALSE(WithinDistance(*b, X_b, *a, X_a, 0.29 * unit, unit)) << unit << " " << yaw;
+        EXPECT_TRUE(WithinDistance(*b, X_b, *a, X_a, 0.31 * unit, unit)) << unit << " " << yaw;
+      }
+      const auto sphere = MakeSphere(0.5 * unit);
+      const Eigen::Isometry3d corner =
+          At(origin + unit * (0.5 + 0.75 / std::sqrt(3.0)) * Eigen::Vector3d::Ones());
+      EXPECT_FALSE(WithinDistance(*a, At(origin), *sphere, corner, 0.24 * unit, unit)) << unit;
+      EXPECT_TRUE(WithinDistance(*a, At(origin), *sphere, corner, 0.26 * unit, unit)) << unit;
+    }
+  }
+  // overlapping shapes are within any distance, and an infinite one reaches everything
+  const auto box = MakeBox(Eigen::Vector3d(0.5, 0.5, 0.5));
+  EXPECT_TRUE(WithinDistance(*box, At({0, 0, 0}), *box, At({0.9, 0, 0}), 0, 1));
+  EXPECT_TRUE(WithinDistance(*box, At({0, 0, 0}), *box, At({1e3, 0, 0}), INFINITY, 1));
+}
+
 }  // namespace
 }  // namespace ecpsim::geometry
