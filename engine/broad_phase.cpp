@@ -63,12 +63,17 @@ JawReach JawReachOf(const Scene& scene, int b, const State& state, double radius
 
 }  // namespace
 
-StepReach StepReachOf(const Scene& scene, const State& state) {
+void StepReachOf(const Scene& scene, const State& state, StepReach& reach) {
   const double h = scene.h;
-  StepReach reach;
+  const size_t n = scene.bodies.size();
   std::vector<Box>& boxes = reach.boxes;
-  std::vector<double> speed(scene.bodies.size());
-  std::vector<Eigen::Vector3d> closing(scene.bodies.size(), Eigen::Vector3d::Zero());
+  boxes.clear();
+  // each body's speed bound first, its distance once the fastest body's is known
+  std::vector<double>& speed = reach.distance;
+  speed.assign(n, 0.0);
+  std::vector<Eigen::Vector3d>& closing = reach.closing;
+  closing.assign(n, Eigen::Vector3d::Zero());
+  reach.size.resize(n);
   double fastest = 0;
   for (size_t b = 0; b < scene.bodies.size(); ++b) {
     const Body& body = scene.bodies[b];
@@ -87,9 +92,9 @@ StepReach StepReachOf(const Scene& scene, const State& state) {
     const Eigen::Matrix<double, 6, 1> applied =
         AppliedImpulse(scene.loads, scene.impulses, static_cast<int>(b), state.t, h, R);
     if (body.IsJaw()) {
-      const JawReach reach = JawReachOf(scene, static_cast<int>(b), state, radius, applied);
-      speed[b] = reach.speed;
-      closing[b] = reach.closing;
+      const JawReach jaw = JawReachOf(scene, static_cast<int>(b), state, radius, applied);
+      speed[b] = jaw.speed;
+      closing[b] = jaw.closing;
     } else {
       speed[b] = s.v_WB.norm() + s.w_WB.norm() * radius + applied.head<3>().norm() / body.mass +
                  h * scene.gravity.norm();
@@ -108,10 +113,9 @@ StepReach StepReachOf(const Scene& scene, const State& state) {
     boxes[b].max().array() += grow;
     double distance = isotropic + h * closing[b].norm();
     if (scene.bodies[b].IsKinematic() || !std::isfinite(distance)) distance = INFINITY;
-    reach.distance.push_back(distance);
-    reach.size.push_back(size);
+    reach.distance[b] = distance;
+    reach.size[b] = size;
   }
-  return reach;
 }
 
 bool BodiesInReach(const Scene& scene, const State& state, const StepReach& reach, int k) {

@@ -28,10 +28,14 @@ struct StepReach {
   std::vector<double> distance;
   /// m: the diagonal of the hull's box at the start pose, the body's length scale.
   std::vector<double> size;
+  /// m/s (world): a jaw's closing speed along its gripper's axis, which grows its box along that
+  /// axis only; zero for every other body.
+  std::vector<Eigen::Vector3d> closing;
 };
 
-/// Every body's reach for the step from `state`.
-StepReach StepReachOf(const Scene& scene, const State& state);
+/// Every body's reach for the step from `state`, into `reach` over its last contents (reusing
+/// their storage: a step allocates nothing once its sizes have been seen).
+void StepReachOf(const Scene& scene, const State& state, StepReach& reach);
 
 /// Whether the bodies of contact pair `k` (between two bodies) can touch within the step: their
 /// boxes overlap and, unless one is kinematic, their hulls at the step's start come within the

@@ -1,9 +1,7 @@
 #include "engine/islands.h"
 
 #include <numeric>
-#include <optional>
 
-#include "engine/broad_phase.h"
 #include "engine/contact_friction.h"
 
 namespace ecpsim::engine {
@@ -21,12 +19,18 @@ void FormIslandsInto(const Scene& scene, const State& state, IslandScratch& scra
   };
   std::vector<char>& in_step = scratch.in_step;
   in_step.assign(scene.contacts.size(), true);
-  std::optional<StepReach> reach;
+  // the bounds, computed once and only if a contact needs them
+  StepReach& reach = scratch.reach;
+  bool reach_known = false;
+  const auto known_reach = [&]() -> const StepReach& {
+    if (!reach_known) StepReachOf(scene, state, reach);
+    reach_known = true;
+    return reach;
+  };
   for (size_t k = 0; k < scene.contacts.size(); ++k) {
     const ContactPair& pair = scene.contacts[k];
     if (!pair.WithBody()) continue;
-    if (!reach) reach = StepReachOf(scene, state);
-    in_step[k] = BodiesInReach(scene, state, *reach, static_cast<int>(k));
+    in_step[k] = BodiesInReach(scene, state, known_reach(), static_cast<int>(k));
     if (in_step[k] && !scene.bodies[pair.other_body].IsKinematic())
       root[find(pair.body)] = find(pair.other_body);
   }
@@ -55,8 +59,7 @@ void FormIslandsInto(const Scene& scene, const State& state, IslandScratch& scra
   for (size_t k = 0; k < scene.contacts.size(); ++k) {
     const ContactPair& pair = scene.contacts[k];
     if (pair.WithBody() || islands[island_of[find(pair.body)]].bodies.size() < 2) continue;
-    if (!reach) reach = StepReachOf(scene, state);
-    in_step[k] = InReach(reach->boxes[pair.body], *scene.obstacles[pair.obstacle].shape);
+    in_step[k] = InReach(known_reach().boxes[pair.body], *scene.obstacles[pair.obstacle].shape);
   }
   for (size_t k = 0; k < scene.contacts.size(); ++k) {
     if (!in_step[k]) continue;

@@ -4,6 +4,7 @@
 
 #include <vector>
 
+#include "engine/broad_phase.h"
 #include "engine/contact_model.h"
 #include "engine/scene.h"
 #include "engine/state.h"
@@ -15,6 +16,7 @@ namespace ecpsim::engine {
 struct IslandScratch {
   std::vector<int> root, island_of;  // the union–find's roots, each root's island
   std::vector<char> in_step;         // each contact's presence in the step
+  StepReach reach;                   // the broad phase's bounds, where a contact needs them
 };
 
 /// The scene's islands for the step [t, t + h] from `state` (in order of their lowest body):
