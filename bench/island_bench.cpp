@@ -45,14 +45,19 @@ Scene HullScene(std::vector<Body> bodies) {
   return scene;
 }
 
+// the counter "per_body": the time per step divided by the scene's bodies
+void CountPerBody(benchmark::State& bench, const Scene& scene) {
+  bench.counters["per_body"] =
+      benchmark::Counter(static_cast<double>(bench.iterations()) * scene.bodies.size(),
+                         benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+
 // steps `scene` (bench/step_loop.h), restarting from t = 0 every kRestartSteps steps; µs per
 // step, and per body
 void RunIslandSteps(benchmark::State& bench, const Scene& scene) {
   RunSteps(bench, scene, kRestartSteps);
   bench.counters["bodies"] = static_cast<double>(scene.bodies.size());
-  bench.counters["per_body"] =
-      benchmark::Counter(static_cast<double>(bench.iterations()) * scene.bodies.size(),
-                         benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  CountPerBody(bench, scene);
 }
 
 // one 0.2 m box at rest on the ground: the unit of the other benchmarks
@@ -112,9 +117,7 @@ void BM_IslandScatteredPairs(benchmark::State& bench) {
   for (int k = 0; k < kSettleSteps; ++k) Step(scene, state, workspace);
   for (auto _ : bench) Step(scene, state, workspace);
   bench.counters["pairs"] = static_cast<double>(scene.contacts.size());
-  bench.counters["per_body"] =
-      benchmark::Counter(static_cast<double>(bench.iterations()) * scene.bodies.size(),
-                         benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  CountPerBody(bench, scene);
 }
 BENCHMARK(BM_IslandScatteredPairs)
     ->ArgNames({"bodies", "every_pair"})
