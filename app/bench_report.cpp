@@ -13,8 +13,9 @@
 #include "app/plot_writer.h"
 #include "app/scaling_report.h"
 #include "common/atomic_file.h"
-#include "evaluation/method.h"
 #include "evaluation/auto_cost.h"
+#include "evaluation/clutter_bin.h"
+#include "evaluation/method.h"
 #include "evaluation/scenario.h"
 
 namespace ecpsim::app {
@@ -56,12 +57,19 @@ std::string Sci(double value) { return value < 0 ? "–" : fmt::format("{:.2g}",
 void WorkPrecisionCharts(PlotWriter& writer, const std::vector<WorkPrecisionRow>& rows) {
   for (const std::string& scenario :
        InOrder(rows, ScenarioOf, evaluation::WorkPrecisionScenarioNames())) {
+    // the state error where the scenario has a reference, else (a dropped pile) the drift at rest
+    const bool referenced = std::any_of(rows.begin(), rows.end(), [&](const WorkPrecisionRow& r) {
+      return r.scenario == scenario && r.error_state >= 0;
+    });
+    const auto precision = [&](const WorkPrecisionRow& r) {
+      return referenced ? r.error_state : r.drift;
+    };
     std::string plot;
     for (const std::string& method : InOrder(rows, MethodOf<WorkPrecisionRow>, MethodOrder())) {
       std::vector<const WorkPrecisionRow*> points;
       for (const WorkPrecisionRow& r : rows) {
         // a point needs both numbers: failed and zero-time runs have no cost (−1)
-        if (r.scenario == scenario && r.method == method && !r.failed && r.error_state >= 0 &&
+        if (r.scenario == scenario && r.method == method && !r.failed && precision(r) >= 0 &&
             r.cpu_per_sim_s >= 0) {
           points.push_back(&r);
         }
@@ -69,10 +77,11 @@ void WorkPrecisionCharts(PlotWriter& writer, const std::vector<WorkPrecisionRow>
       if (points.empty()) continue;
       std::sort(points.begin(), points.end(),
                 [](const auto* a, const auto* b) { return a->h > b->h; });
-      std::string data = "# cpu_per_sim_s error_state h\n";
+      std::string data =
+          fmt::format("# cpu_per_sim_s {} h\n", referenced ? "error_state" : "drift");
       for (const WorkPrecisionRow* r : points) {
         data += fmt::format("{:.9g} {:.9g} {:.9g}\n", r->cpu_per_sim_s,
-                            std::max(kErrorFloor, r->error_state), r->h);
+                            std::max(kErrorFloor, precision(*r)), r->h);
       }
       const std::string file = writer.Data(fmt::format("wp_{}_{}", scenario, method), data);
       plot += fmt::format("{}{} using 1:2 with linespoints lw 2 {} title {}",
@@ -84,10 +93,12 @@ void WorkPrecisionCharts(PlotWriter& writer, const std::vector<WorkPrecisionRow>
     writer.Line("set logscale xy\nset format x '10^{%L}'\nset format y '10^{%L}'");
     writer.Line(fmt::format("set title {} noenhanced",
                             GnuplotQuote(fmt::format("work-precision: {} (each point one step "
-                                                     "size; errors < {:g} m drawn at {:g})",
-                                                     scenario, kErrorFloor, kErrorFloor))));
+                                                     "size; {} < {:g} m drawn at {:g})",
+                                                     scenario, referenced ? "errors" : "drifts",
+                                                     kErrorFloor, kErrorFloor))));
     writer.Line("set xlabel 'CPU seconds per simulated second'");
-    writer.Line("set ylabel 'max state error |dp| + L |dtheta| (m)'");
+    writer.Line(referenced ? "set ylabel 'max state error |dp| + L |dtheta| (m)'"
+                           : "set ylabel 'drift at rest: max CM displacement after settling (m)'");
     writer.Line("set key outside right noenhanced");
     writer.Line(plot);
     writer.EndPng();
@@ -222,8 +233,17 @@ std::string DriftTable(const std::vector<WorkPrecisionRow>& wp, const std::strin
   const auto value = [](const WorkPrecisionRow& r) { return r.drift; };
   const std::set<double> steps = MeasuredSteps(wp, scenario, value);
   if (steps.empty()) return "";
-  return "Drift: the largest displacement (m) of any body's CM from its start over the run "
-         "(for a push, across the push direction only).\n\n" +
+  using evaluation::kClutterSettleTime, evaluation::kDominoesSettleTime;
+  const std::string settled =
+      kDominoesSettleTime == kClutterSettleTime
+          ? fmt::format("{:g} s", kClutterSettleTime)
+          : fmt::format("{:g} s and {:g} s", kDominoesSettleTime, kClutterSettleTime);
+  return fmt::format(
+             "Drift: the largest displacement (m) of any body's CM from its start over the run "
+             "(for a push, across the push direction only; for the dominoes and the clutter "
+             "bins, from its place at {}, when the pile has settled, to the run's end: its "
+             "drift at rest).\n\n",
+             settled) +
          MethodByStepTable(wp, scenario, steps, value,
                            [](const WorkPrecisionRow& r) { return Sci(r.drift); });
 }

@@ -69,6 +69,12 @@ constexpr double kMujocoDefaultRolling = 0.0001;  // m
 
 // constraint rows per contact: at most 6 (a pyramidal condim-4 contact)
 constexpr int kRowsPerContact = 6;
+// the contacts a body's share of the buffers holds: a box in a pile touches the floor and three
+// neighbours by four vertices each. MuJoCo 2.2 allocates the square of the rows (efc_AR): 24
+// boxes' every vertex of every pair (5,376 contacts) could not be allocated, nor 96 boxes at 32
+// a body (2.7 GB); a step that fills the buffers fails the run (mjWARN_CONTACTFULL), it never
+// drops a contact, and no step of the clutter bins does
+constexpr int kMaxContactsPerBody = 16;
 
 // radius of the point geoms at the hull vertices: the body rests this much higher than its hull
 // would, far below MuJoCo's soft-contact penetration (~1e-5 m for the 1 kg test box)
@@ -129,7 +135,8 @@ std::string MakeMjcf(const engine::Scene& scene, const MujocoSettings& s) {
     vertices.push_back(
         HullVertices(body, fmt::format("{}: bodies[{}] '{}'", scene.source, b, body.name)));
   }
-  // contact buffers sized for every vertex of every pair touching at once
+  // contact buffers sized for every vertex of every pair touching at once, up to
+  // kMaxContactsPerBody a body (a bin's every pair would ask for gigabytes)
   int max_contacts = 0;
   std::vector<bool> needs_mesh(scene.bodies.size(), false);
   for (const engine::ContactPair& pair : scene.contacts) {
@@ -138,6 +145,8 @@ std::string MakeMjcf(const engine::Scene& scene, const MujocoSettings& s) {
     max_contacts += static_cast<int>(vertices[pair.other_body].size());
     needs_mesh[pair.body] = needs_mesh[pair.other_body] = true;
   }
+  max_contacts =
+      std::min(max_contacts, kMaxContactsPerBody * static_cast<int>(scene.bodies.size()));
   double heaviest = 0;
   for (const engine::Body& body : scene.bodies)
     if (!body.IsKinematic()) heaviest = std::max(heaviest, body.mass);
@@ -227,7 +236,10 @@ std::string MakeMjcf(const engine::Scene& scene, const MujocoSettings& s) {
 }
 
 /// Compiles MJCF text from memory.
-/// @throws InputError with MuJoCo's compiler message, naming the scene.
+/// @throws engine::SolverFailure with MuJoCo's compiler message, naming the scene: the MJCF is
+///         written from a valid scene, so a model MuJoCo refuses (its data too large to allocate:
+///         the square of the constraint rows) is MuJoCo failing on that scene, a failed run in a
+///         sweep, not the user's input.
 mjModel* CompileMjcf(const std::string& xml, const std::string& source) {
   // mjVFS holds 2000 file names of 1000 bytes: too large for the stack
   auto vfs = std::make_unique<mjVFS>();
@@ -243,7 +255,7 @@ mjModel* CompileMjcf(const std::string& xml, const std::string& source) {
   mjModel* model = mj_loadXML(kModelFileName, vfs.get(), error, kErrorBufferSize);
   mj_deleteVFS(vfs.get());
   if (model == nullptr) {
-    throw InputError(
+    throw engine::SolverFailure(
         fmt::format("{}: MuJoCo could not compile the scene's model: {}", source, error));
   }
   return model;

@@ -1,8 +1,10 @@
 #pragma once
 // The benchmark's scenarios: bodies on the ground, one of them measured, each with a reference
 // trajectory, either in closed form (slide, spin, push-slide, rest, stack, push_box, pyramid,
-// train) or a converged solution (desk, T-bar, dumbbell).
+// train) or a converged solution (desk, T-bar, dumbbell), or none where no step size resolves
+// one path (the dominoes and the clutter bins: their cost, penetration and rest are measured).
 
+#include <cstdint>
 #include <functional>
 #include <string>
 #include <vector>
@@ -25,6 +27,9 @@ struct Scenario {
   // the closed-form trajectory of the measured body (continuous time); empty: converged
   // reference
   std::function<engine::BodyState(double t)> analytic;
+  // false: no reference at all (a pile dropped at random, whose path no step size resolves):
+  // the error columns stay −1
+  bool has_reference = true;
   double stop_time = -1;        // s, when the motion ends in closed form (< 0: not measured)
   bool planar_applies = false;  // flat on the ground throughout: the planar model applies
   // the body has convex `parts` (else the multi-patch model is the hull model once more)
@@ -44,6 +49,13 @@ struct Scenario {
   // and the steps; for scenes of many bodies, where the measured one shows only its own
   bool measure_drift = false;
   Eigen::Matrix3d drift_projection = Eigen::Matrix3d::Identity();
+  // s: the step sizes of the sweep this scenario is run at (empty: all of them); a pile without
+  // a reference has no error to converge, and at the sweep's finest steps its runs would take
+  // hours
+  std::vector<double> only_steps;
+  // s: the drift is measured from the bodies' places at this time (0: their start; a pile that
+  // is dropped: once it has settled, its drift at rest)
+  double drift_from = 0;
 };
 
 /// s after a push's first contact that its force is not compared: the pusher strikes the body
@@ -55,7 +67,8 @@ constexpr double kPushSettleTime = 0.1;
 /// stack.yaml, push_box.yaml, tbar_push.yaml, pyramid.yaml and train.yaml (desk, tbar, dumbbell
 /// and tbar_push are cut to `converged_duration` seconds, stack and push_box to
 /// kBodyScenarioDuration, pyramid and train to kManyBodyScenarioDuration, to keep the sweep
-/// affordable).
+/// affordable, dominoes is run on to kDominoesDuration); clutter and clutter96 are
+/// ClutterBinScene's bins of 24 and 96 boxes (seed kClutterSeed).
 /// @throws InputError if a scene file is missing or invalid.
 std::vector<Scenario> WorkPrecisionScenarios(const std::string& scenes_dir,
                                              double converged_duration = 1.0);
@@ -70,6 +83,20 @@ constexpr double kBodyScenarioDuration = 1.0;
 /// s: how long the pyramid and train scenarios run in the sweep: the scenes' whole 2 s (issue
 /// 30's rest and push, long enough for the whole row to move at the pusher's speed).
 constexpr double kManyBodyScenarioDuration = 2.0;
+
+/// s: how long the dominoes scenario runs (scenes/dominoes.yaml's last block lands flat at 0.72 s)
+/// and when its drift at rest is measured from (every block below 1e-5 m/s from 0.8 s on,
+/// `ecpsim run scenes/dominoes.yaml --set duration=1.5`).
+constexpr double kDominoesDuration = 1.5;
+constexpr double kDominoesSettleTime = 1.0;
+
+/// s: the step sizes the dominoes and the clutter bins are swept at (Scenario::only_steps): the
+/// shipped scenes' 0.01 and 0.005.
+inline const std::vector<double> kPileSteps = {0.01, 0.005};
+
+/// The clutter scenarios' seed: one fixed bin, so that every run and every method drops the same
+/// boxes the same way.
+constexpr std::uint64_t kClutterSeed = 7;
 
 /// The scenario of a scene file `scenes_dir`/`file` measuring body `body` (by name), cut to
 /// `duration`; the reference is `analytic` when given, else the converged solution.

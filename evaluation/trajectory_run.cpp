@@ -135,7 +135,14 @@ RunRecord RunTrajectory(const Method& method, const Scenario& scenario, double h
 
   RunRecord run;
   const engine::PenetrationProbe probe(scene);
-  std::unique_ptr<Stepper> stepper = MakeStepper(method, scene);
+  std::unique_ptr<Stepper> stepper;
+  try {
+    stepper = MakeStepper(method, scene);
+  } catch (const engine::SolverFailure& failure) {  // a peer that cannot build its model
+    run.failed = true;
+    run.failure = failure.what();
+    return run;
+  }
   const int measured = scenario.body;
   auto record = [&](const engine::State& state) {
     const engine::BodyState& b = state.bodies[measured];
@@ -144,8 +151,8 @@ RunRecord RunTrajectory(const Method& method, const Scenario& scenario, double h
     run.energies.push_back(Energy(scene, measured, b));
   };
   record(stepper->state());
-  // the dynamic bodies' starts, for the drift
-  const std::vector<engine::BodyState> starts = stepper->state().bodies;
+  // the dynamic bodies' places the drift is measured from (Scenario::drift_from)
+  std::vector<engine::BodyState> starts = stepper->state().bodies;
   if (scenario.measure_drift) run.max_drift = 0;
 
   double last_fast_t =
@@ -185,7 +192,8 @@ RunRecord RunTrajectory(const Method& method, const Scenario& scenario, double h
       run.drift_late = std::max(run.drift_late, PoseDistance(b, late_start, scenario.length));
     }
     if (k % per_sample == 0) record(state);
-    if (scenario.measure_drift) {
+    if (scenario.measure_drift && state.t > scenario.drift_from - 0.5 * h) {
+      if (state.t < scenario.drift_from + 0.5 * h) starts = state.bodies;
       for (size_t i = 0; i < starts.size(); ++i) {
         if (scene.bodies[i].IsKinematic()) continue;
         const Vector3d moved = state.bodies[i].p_WB - starts[i].p_WB;

@@ -49,12 +49,15 @@ struct RunRecord {
   // the pusher's mean force on the measured body over the step along the push direction, N
   std::vector<double> push_forces;
   // m, Scenario::measure_drift: the largest projected CM displacement of a dynamic body from its
-  // start after any step (Scenario::drift_projection); −1 where not measured
+  // place at Scenario::drift_from after any later step (Scenario::drift_projection); −1 where
+  // not measured
   double max_drift = -1;
 };
 
 /// Runs `method` on `scenario` with step h until scenario.scene.duration.
-/// Stops early (failed, "CPU limit …") when the steps take more than `cpu_limit_s` CPU seconds.
+/// Stops early (failed, "CPU limit …") when the steps take more than `cpu_limit_s` CPU seconds. A
+/// peer that cannot build its model of the scene (engine::SolverFailure from its adapter: MuJoCo's
+/// data too large to allocate) is a failed run of no steps.
 /// @throws InputError if h does not divide the sample interval (to 1e-9 relative), the scene with
 ///         step h fails engine::ValidateScene (MakeStepper), or an external engine cannot model
 ///         it.

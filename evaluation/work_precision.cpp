@@ -5,6 +5,7 @@
 #include <map>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "common/errors.h"
 #include "evaluation/csv_file.h"
@@ -115,9 +116,16 @@ std::vector<WorkPrecisionRow> RunWorkPrecision(const std::vector<Scenario>& scen
       ++group;
       if (group % options.shard_count != options.shard_index - 1) continue;
       double uncertainty = -1, hull_uncertainty = -1;
-      const RunRecord& reference = references.For(method, uncertainty);
-      const RunRecord& hull_reference = references.For(HullMethod(), hull_uncertainty);
+      const RunRecord* reference = nullptr;
+      const RunRecord* hull_reference = nullptr;
+      if (scenario.has_reference) {
+        reference = &references.For(method, uncertainty);
+        hull_reference = &references.For(HullMethod(), hull_uncertainty);
+      }
+      const size_t group_start = rows.size();
       for (double h : options.steps) {
+        const auto& only = scenario.only_steps;
+        if (!only.empty() && std::find(only.begin(), only.end(), h) == only.end()) continue;
         const RunRecord run = RunTrajectory(method, scenario, h, options.cpu_limit_s);
         WorkPrecisionRow row;
         row.scenario = scenario.name;
@@ -144,8 +152,8 @@ std::vector<WorkPrecisionRow> RunWorkPrecision(const std::vector<Scenario>& scen
           row.push_contact_breaks = static_cast<double>(breaks) / run.push_forces.size();
         }
         if (scenario.measure_drift && !run.failed) row.drift = run.max_drift;
-        if (!run.failed && !reference.failed) {
-          const TrajectoryErrors e = CompareTrajectories(run, reference, scenario.length);
+        if (reference != nullptr && !run.failed && !reference->failed) {
+          const TrajectoryErrors e = CompareTrajectories(run, *reference, scenario.length);
           row.error_state = e.state;
           row.error_position = e.position;
           row.error_angle = e.angle;
@@ -153,17 +161,25 @@ std::vector<WorkPrecisionRow> RunWorkPrecision(const std::vector<Scenario>& scen
           row.wrong_mode = scenario.compare_modes ? e.wrong_mode : -1;
           row.stop_time_error = e.stop_time;
         }
-        if (!scenario.analytic && !run.failed && !hull_reference.failed) {
-          row.error_vs_hull = CompareTrajectories(run, hull_reference, scenario.length).state;
+        if (hull_reference != nullptr && !scenario.analytic && !run.failed &&
+            !hull_reference->failed) {
+          row.error_vs_hull = CompareTrajectories(run, *hull_reference, scenario.length).state;
         }
         rows.push_back(row);
       }
-      if (options.progress) {
+      const size_t runs = rows.size() - group_start;
+      if (options.progress && runs == 0) {
+        options.progress(fmt::format("{} / {}: not run, it is swept only at h = {} s",
+                                     scenario.name, method.name,
+                                     fmt::join(scenario.only_steps, ", ")));
+      }
+      if (options.progress && runs > 0) {
         const WorkPrecisionRow& last = rows.back();
         options.progress(
-            fmt::format("{} / {}: {} step sizes, at h = {} s error {:.3g} m, {:.3g} "
-                        "CPU s per simulated s{}",
-                        scenario.name, method.name, options.steps.size(), last.h, last.error_state,
+            fmt::format("{} / {}: {} step sizes, at h = {} s {}, {:.3g} CPU s per simulated s{}",
+                        scenario.name, method.name, runs, last.h,
+                        scenario.has_reference ? fmt::format("error {:.3g} m", last.error_state)
+                                               : fmt::format("drift {:.3g} m", last.drift),
                         last.cpu_per_sim_s, last.failed ? " (failed: " + last.failure + ")" : ""));
       }
     }

@@ -1,10 +1,12 @@
 #include "evaluation/scenario.h"
 
 #include <cmath>
+#include <utility>
 
 #include <gtest/gtest.h>
 
 #include "common/errors.h"
+#include "evaluation/clutter_bin.h"
 #include "tests/tolerances.h"
 
 namespace ecpsim::evaluation {
@@ -150,6 +152,34 @@ TEST_F(WorkPrecisionScenariosTest, TrainPushesTheRowFromTheStart) {
   // the drift is the part across the push: x is dropped, y and z kept
   EXPECT_NEAR((train.drift_projection * Eigen::Vector3d(1, 2, 3)).norm(), std::sqrt(13.0),
               kUnitRoundOff);
+}
+
+TEST_F(WorkPrecisionScenariosTest, DominoesRunToRestWithoutAReference) {
+  const Scenario& dominoes = Find("dominoes");
+  ASSERT_EQ(dominoes.scene.bodies.size(), 9u);
+  EXPECT_EQ(dominoes.scene.bodies[dominoes.body].name, "d9");
+  // the scene stops at 0.7 s, during the cascade; the scenario runs on past the landings
+  EXPECT_DOUBLE_EQ(dominoes.scene.duration, kDominoesDuration);
+  EXPECT_FALSE(dominoes.has_reference);
+  EXPECT_FALSE(static_cast<bool>(dominoes.analytic));
+  EXPECT_TRUE(dominoes.measure_drift);
+  EXPECT_DOUBLE_EQ(dominoes.drift_from, kDominoesSettleTime);
+  EXPECT_LT(dominoes.drift_from, dominoes.scene.duration);
+  EXPECT_EQ(dominoes.only_steps, kPileSteps);
+}
+
+TEST_F(WorkPrecisionScenariosTest, ClutterBinsDropTheirBoxesWithoutAReference) {
+  for (const auto& [name, boxes] : {std::pair("clutter", 24u), std::pair("clutter96", 96u)}) {
+    const Scenario& clutter = Find(name);
+    EXPECT_EQ(clutter.scene.bodies.size(), boxes) << name;
+    EXPECT_FALSE(clutter.has_reference) << name;
+    EXPECT_FALSE(clutter.compare_modes) << name;
+    EXPECT_TRUE(clutter.measure_drift) << name;
+    EXPECT_DOUBLE_EQ(clutter.drift_from, kClutterSettleTime) << name;
+    EXPECT_DOUBLE_EQ(clutter.scene.duration, 2 * kClutterSettleTime) << name;
+    EXPECT_FALSE(clutter.planar_applies) << name;  // body–body contact
+    EXPECT_EQ(clutter.only_steps, kPileSteps) << name;
+  }
 }
 
 TEST(SceneScenarioTest, NamesTheFileAndTheMissingBody) {

@@ -149,6 +149,53 @@ TEST(WorkPrecisionTest, TheHullModelsTrainPushForceIsMuSumMg) {
   EXPECT_LE(rows[0].drift, kTransverseDrift);
 }
 
+TEST(WorkPrecisionTest, DriftFromASettleTimeIsTheRestAfterItAndNoReferenceMeasuresNoError) {
+  // the slide stops at v0/(μg) = 0.34 s, 0.17 m from its start: measured from 0.4 s, the hull
+  // model's box sticks exactly, and its drift is the round-off of sticking steps
+  Scenario slide = ScenarioCut("slide", 0.5);
+  slide.measure_drift = true;
+  SweepOptions options;
+  options.steps = {0.01};
+  const auto from_start = RunWorkPrecision({slide}, {FindMethod("hull")}, options);
+  slide.drift_from = 0.4;
+  slide.has_reference = false;
+  const auto at_rest = RunWorkPrecision({slide}, {FindMethod("hull")}, options);
+  ASSERT_EQ(from_start.size(), 1u);
+  ASSERT_EQ(at_rest.size(), 1u);
+  ASSERT_FALSE(at_rest[0].failed) << at_rest[0].failure;
+  constexpr double kSlideDistance = 1.0 / (2 * 0.3 * 9.8);  // m, v0² / (2 μ g)
+  // (to within the discrete scheme's first-order stop: one step's travel at most)
+  EXPECT_NEAR(from_start[0].drift, kSlideDistance, 0.01 * 1.0);
+  // m: 1e-12 of the 0.2 m box, the solver's relative tolerance on a sticking velocity
+  constexpr double kStuckDrift = 1e-12 * 0.2;
+  EXPECT_GE(at_rest[0].drift, 0);
+  EXPECT_LE(at_rest[0].drift, kStuckDrift);
+  // no reference: nothing to compare with, the cost and the rest still measured
+  EXPECT_EQ(at_rest[0].error_state, -1);
+  EXPECT_EQ(at_rest[0].error_vs_hull, -1);
+  EXPECT_EQ(at_rest[0].reference_uncertainty, -1);
+  EXPECT_EQ(at_rest[0].wrong_mode, -1);
+  EXPECT_GT(at_rest[0].cpu_per_sim_s, 0);
+  EXPECT_GE(from_start[0].error_state, 0);
+}
+
+TEST(WorkPrecisionTest, AScenarioSweptOnlyAtSomeStepsSkipsTheOthersAndSaysWhereNoneIsLeft) {
+  Scenario slide = ScenarioCut("slide", 0.1);
+  slide.only_steps = {0.01};
+  SweepOptions options;
+  options.steps = {0.02, 0.01};
+  std::vector<std::string> said;
+  options.progress = [&](const std::string& line) { said.push_back(line); };
+  const auto rows = RunWorkPrecision({slide}, {FindMethod("hull")}, options);
+  ASSERT_EQ(rows.size(), 1u);
+  EXPECT_EQ(rows[0].h, 0.01);
+  options.steps = {0.02};
+  said.clear();
+  EXPECT_TRUE(RunWorkPrecision({slide}, {FindMethod("hull")}, options).empty());
+  ASSERT_EQ(said.size(), 1u);
+  EXPECT_THAT(said[0], HasSubstr("slide / hull: not run, it is swept only at h = 0.01 s"));
+}
+
 // the bug: a run that failed in its first step reported its CPU time over 1e-300 simulated
 // seconds, ~1e296 CPU s per simulated s, in the CSV and results.md (ODE on the pyramid)
 TEST(WorkPrecisionTest, AFailedRunHasNoCpuPerSimulatedSecond) {
