@@ -6,10 +6,14 @@
 //   scene's default of every pair of bodies costs where none of them touches (issue 30);
 //   BM_IslandFreeFall: a body that can touch nothing costs the closed-form free flight;
 //   BM_IslandSleep/<scene>/1 against BM_IslandSleep/<scene>/0: resting scenes with sleeping
-//   islands on and off (engine/README.md, "Sleeping islands").
+//   islands on and off (engine/README.md, "Sleeping islands");
+//   BM_IslandCrossedBars/parts:1 against …/parts:0: two bars of 20 parts each, one across the
+//   other, where 4 pairs of parts touch, against the same bars touching with their hulls
+//   (issue 31's bar for bodies made of parts: ≤ 5×).
 // Every scene is stepped with the hull model, whose islands these are (model: auto would turn
 // the single resting box into a planar step and the comparison into one of two models).
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -161,6 +165,42 @@ BENCHMARK(BM_IslandSleep)
     ->ArgNames({"scene", "sleep"})
     ->ArgsProduct({{0, 1, 2}, {0, 1}})
     ->Unit(benchmark::kMicrosecond);
+
+// two bars of 20 box parts each, 0.4 m long, one along x on the ground and one along y across it,
+// 3 and 3.7 mm off the other's centre lines: 400 pairs of parts, of which the 2 × 2 at the
+// crossing touch. The parts are 2 cm long and overlap their neighbours by 2 mm each way, so no
+// seam between two parts lies on a bar's surface (docs/scene_format.md, "Decomposition")
+std::string CrossedBarsYaml(bool parts) {
+  constexpr int kParts = 20;
+  constexpr double kLength = 0.4, kPitch = kLength / kParts, kOverlap = 0.002;
+  std::string yaml =
+      "duration: 5\nh: 0.01\nmodel: hull\nground: {friction: {mu: 0.5, e_r: 0.05}}\n"
+      "bodies:\n";
+  for (const int axis : {0, 1}) {
+    yaml += fmt::format(
+        "  - name: bar{}\n    shape: {{box: {{size: [{}, {}, 0.02]}}}}\n    mass: 0.1\n"
+        "    position: [{}, {}, {}]\n    decomposition: {}\n    parts:\n",
+        axis, axis == 0 ? kLength : 0.02, axis == 0 ? 0.02 : kLength, axis == 0 ? 0.0 : 0.003,
+        axis == 0 ? 0.0 : 0.0037, axis == 0 ? 0.01 : 0.03, parts ? "parts" : "none");
+    for (int i = 0; i < kParts; ++i) {
+      const double lo = std::max(-kLength / 2, -kLength / 2 + kPitch * i - kOverlap);
+      const double hi = std::min(kLength / 2, -kLength / 2 + kPitch * (i + 1) + kOverlap);
+      const double at = 0.5 * (lo + hi), length = hi - lo;
+      yaml += fmt::format("      - {{box: {{size: [{}, {}, 0.02]}}, at: [{}, {}, 0]}}\n",
+                          axis == 0 ? length : 0.02, axis == 0 ? 0.02 : length,
+                          axis == 0 ? at : 0.0, axis == 0 ? 0.0 : at);
+    }
+  }
+  return yaml;
+}
+
+void BM_IslandCrossedBars(benchmark::State& bench) {
+  const Scene scene =
+      LoadSceneText(CrossedBarsYaml(bench.range(0) == 1), "crossed_bars.yaml", ".").scene;
+  RunIslandSteps(bench, scene);
+  bench.counters["contacts"] = static_cast<double>(scene.contacts.size());
+}
+BENCHMARK(BM_IslandCrossedBars)->ArgName("parts")->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 }  // namespace ecpsim::engine

@@ -13,9 +13,20 @@ namespace {
 // reach is a bound already; the margin only keeps round-off of the support queries out
 constexpr double kBroadPhaseRelMargin = 1e-6;
 
-// the world box of `hull` at pose (c, R): six support queries (hill climbing on a polyhedron)
+// below this many vertices a polyhedron's world box is cheaper from its vertices than from six
+// support queries (a box part has 8)
+constexpr size_t kFewVertices = 16;
+
+// the world box of `hull` at pose (c, R): six support queries (hill climbing on a polyhedron), or
+// its vertices where it has few
 Box HullBox(const geometry::ConvexShape& hull, const Eigen::Vector3d& c, const Eigen::Matrix3d& R) {
   Box box;
+  const auto* polyhedron = hull.AsPolyhedron();
+  if (polyhedron != nullptr && !polyhedron->hull().vertices.empty() &&
+      polyhedron->hull().vertices.size() <= kFewVertices) {
+    for (const Eigen::Vector3d& v : polyhedron->hull().vertices) box.extend(c + R * v);
+    return box;
+  }
   for (int i = 0; i < 3; ++i) {
     const Eigen::Vector3d axis = Eigen::Vector3d::Unit(i);
     box.extend(c + R * hull.Support(R.transpose() * axis));
@@ -74,17 +85,25 @@ void StepReachOf(const Scene& scene, const State& state, StepReach& reach) {
   std::vector<Eigen::Vector3d>& closing = reach.closing;
   closing.assign(n, Eigen::Vector3d::Zero());
   reach.size.resize(n);
+  reach.part_boxes.resize(n);
   double fastest = 0;
   for (size_t b = 0; b < scene.bodies.size(); ++b) {
     const Body& body = scene.bodies[b];
     const BodyState& s = state.bodies[b];
     const Eigen::Matrix3d R = s.Q_WB.toRotationMatrix();
     boxes.push_back(HullBox(*body.hull, s.p_WB, R));
+    std::vector<Box>& parts = reach.part_boxes[b];
+    parts.clear();
+    if (body.decomposition == Decomposition::kParts) {
+      for (const auto& part : body.parts) parts.push_back(HullBox(*part, s.p_WB, R));
+    }
     const double radius =
         0.5 * boxes.back().diagonal().norm() + (boxes.back().center() - s.p_WB).norm();
     if (body.IsKinematic()) {
       const KinematicPose end = body.motion->PoseAt(state.t + h);
       boxes.back().extend(HullBox(*body.hull, end.p, end.q.toRotationMatrix()));
+      for (size_t i = 0; i < parts.size(); ++i)
+        parts[i].extend(HullBox(*body.parts[i], end.p, end.q.toRotationMatrix()));
       speed[b] = 0;
       fastest = std::max(fastest, (end.p - s.p_WB).norm() / h + s.w_WB.norm() * radius);
       continue;
@@ -111,6 +130,10 @@ void StepReachOf(const Scene& scene, const State& state, StepReach& reach) {
     if (!grow.allFinite()) grow.setConstant(INFINITY);
     boxes[b].min().array() -= grow;
     boxes[b].max().array() += grow;
+    for (Box& part : reach.part_boxes[b]) {
+      part.min().array() -= grow;
+      part.max().array() += grow;
+    }
     double distance = isotropic + h * closing[b].norm();
     if (scene.bodies[b].IsKinematic() || !std::isfinite(distance)) distance = INFINITY;
     reach.distance[b] = distance;
@@ -119,8 +142,17 @@ void StepReachOf(const Scene& scene, const State& state, StepReach& reach) {
 }
 
 bool BodiesInReach(const Scene& scene, const State& state, const StepReach& reach, int k) {
-  const int a = scene.contacts[k].body, b = scene.contacts[k].other_body;
+  const ContactPair& pair = scene.contacts[k];
+  const int a = pair.body, b = pair.other_body;
   if (!reach.boxes[a].intersects(reach.boxes[b])) return false;
+  // the parts' own boxes (a part the body's decomposition does not use has none: the hull's)
+  const auto box_of = [&](int body, int part) -> const Box& {
+    const std::vector<Box>& parts = reach.part_boxes[body];
+    return part >= 0 && static_cast<size_t>(part) < parts.size() ? parts[part] : reach.boxes[body];
+  };
+  if ((pair.part >= 0 || pair.other_part >= 0) &&
+      !box_of(a, pair.part).intersects(box_of(b, pair.other_part)))
+    return false;
   const double distance = reach.distance[a] + reach.distance[b];
   if (!std::isfinite(distance)) return true;
   // a pair that carried a load touches at the step's start: GJK would say so too, at a cost paid
@@ -132,8 +164,8 @@ bool BodiesInReach(const Scene& scene, const State& state, const StepReach& reac
     X.translation() = state.bodies[body].p_WB;
     return X;
   };
-  return geometry::WithinDistance(*scene.bodies[a].hull, pose(a), *scene.bodies[b].hull, pose(b),
-                                  distance, std::max(reach.size[a], reach.size[b]));
+  return geometry::WithinDistance(ShapeOfBody(scene, pair), pose(a), ShapeOfOther(scene, pair),
+                                  pose(b), distance, std::max(reach.size[a], reach.size[b]));
 }
 
 bool InReach(const Box& box, const geometry::ConvexShape& obstacle) {

@@ -31,6 +31,9 @@ struct StepReach {
   /// m/s (world): a jaw's closing speed along its gripper's axis, which grows its box along that
   /// axis only; zero for every other body.
   std::vector<Eigen::Vector3d> closing;
+  /// Per body whose contacts touch its parts (Decomposition::kParts), each part's world box grown
+  /// as the body's; empty for every other body.
+  std::vector<std::vector<Box>> part_boxes;
 };
 
 /// Every body's reach for the step from `state`, into `reach` over its last contents (reusing
@@ -38,9 +41,10 @@ struct StepReach {
 void StepReachOf(const Scene& scene, const State& state, StepReach& reach);
 
 /// Whether the bodies of contact pair `k` (between two bodies) can touch within the step: their
-/// boxes overlap and, unless one is kinematic, their hulls at the step's start come within the
-/// sum of their distances (geometry::WithinDistance) — which a pair that carried a normal impulse
-/// over the last step does without the test: it touches at the step's start. The hulls' test keeps
+/// boxes (and the boxes of the parts it names) overlap and, unless one is kinematic, their hulls (or the parts contact k names) at the
+/// step's start come within the sum of their distances (geometry::WithinDistance) — which a pair
+/// that carried a normal impulse over the last step does without the test: it touches at the
+/// step's start. The hulls' test keeps
 /// out pairs whose boxes overlap only because a turned body's box holds more than its hull (a
 /// pile turned about z, the dominoes), so that which contacts a step solves does not depend on
 /// the world axes.

@@ -20,14 +20,6 @@ Eigen::Isometry3d Pose(const BodyState& b) {
   return X;
 }
 
-// a body's mesh, or its hull's tessellation (into `made`) where code built it without one
-const geometry::TriangleMesh& MeshOf(const Body& body, geometry::TriangleMesh& made) {
-  if (!body.mesh.vertices.empty()) return body.mesh;
-  ECPSIM_DEMAND(body.hull != nullptr);
-  made = body.hull->Tessellate();
-  return made;
-}
-
 // the extreme of `mesh` posed by X along `direction`: max over its vertices of direction · x
 double Extreme(const geometry::TriangleMesh& mesh, const Eigen::Isometry3d& X,
                const Vector3d& direction) {
@@ -45,6 +37,18 @@ geometry::Plane HalfSpacePlane(const geometry::ConvexShape& shape) {
 
 }  // namespace
 
+const geometry::TriangleMesh& ContactMesh(const Body& body, int part,
+                                          geometry::TriangleMesh& made) {
+  if (part >= 0) {
+    made = body.parts.at(part)->Tessellate();
+    return made;
+  }
+  if (!body.mesh.vertices.empty()) return body.mesh;
+  ECPSIM_DEMAND(body.hull != nullptr);
+  made = body.hull->Tessellate();
+  return made;
+}
+
 StepPatch ContactPatchAtStep(const Scene& scene, const State& state, int k) {
   ECPSIM_DEMAND(k >= 0 && k < static_cast<int>(scene.contacts.size()));
   ECPSIM_DEMAND(state.contacts.size() == scene.contacts.size() &&
@@ -61,9 +65,8 @@ StepPatch ContactPatchAtStep(const Scene& scene, const State& state, int k) {
   } else if (!(c.p_n > 0)) {
     const Eigen::Isometry3d X_G =
         obstacle ? Eigen::Isometry3d::Identity() : Pose(state.bodies[pair.other_body]);
-    const geometry::ConvexShape& G = obstacle ? *obstacle : *scene.bodies[pair.other_body].hull;
-    n = geometry::BestSeparatingAxis(*scene.bodies[pair.body].hull, Pose(state.bodies[pair.body]),
-                                     G, X_G, {c.n})
+    n = geometry::BestSeparatingAxis(ShapeOfBody(scene, pair), Pose(state.bodies[pair.body]),
+                                     ShapeOfOther(scene, pair), X_G, {c.n})
             .axis;
   }
   if (!(n.allFinite() && n.norm() > 0)) n = Vector3d::UnitZ();
@@ -71,7 +74,7 @@ StepPatch ContactPatchAtStep(const Scene& scene, const State& state, int k) {
 
   // F's features nearest G: its mesh's lowest level along n
   geometry::TriangleMesh made_F, made_G;
-  const geometry::TriangleMesh& mesh_F = MeshOf(scene.bodies[pair.body], made_F);
+  const geometry::TriangleMesh& mesh_F = ContactMesh(scene.bodies[pair.body], pair.part, made_F);
   const Eigen::Isometry3d X_F = Pose(state.bodies[pair.body]);
   StepPatch step;
   step.plane = {n, -Extreme(mesh_F, X_F, -n)};
@@ -82,7 +85,7 @@ StepPatch ContactPatchAtStep(const Scene& scene, const State& state, int k) {
   if (obstacle == nullptr || !obstacle->IsHalfSpace()) {
     if (obstacle != nullptr) made_G = obstacle->Tessellate();
     const geometry::TriangleMesh& mesh_G =
-        obstacle ? made_G : MeshOf(scene.bodies[pair.other_body], made_G);
+        obstacle ? made_G : ContactMesh(scene.bodies[pair.other_body], pair.other_part, made_G);
     const Eigen::Isometry3d X_G =
         obstacle ? Eigen::Isometry3d::Identity() : Pose(state.bodies[pair.other_body]);
     const geometry::Plane below{-n, -Extreme(mesh_G, X_G, n)};
@@ -105,7 +108,8 @@ StepPatch ContactPatchAtStep(const Scene& scene, const State& state, int k) {
 double PatchTorsionArm(const Scene& scene, const State& state, int k) {
   const StepPatch step = ContactPatchAtStep(scene, state, k);
   geometry::TriangleMesh made;
-  const geometry::TriangleMesh& mesh_F = MeshOf(scene.bodies[scene.contacts[k].body], made);
+  const ContactPair& pair = scene.contacts[k];
+  const geometry::TriangleMesh& mesh_F = ContactMesh(scene.bodies[pair.body], pair.part, made);
   Vector3d lo = mesh_F.vertices.front(), hi = lo;
   for (const Vector3d& v : mesh_F.vertices) {
     lo = lo.cwiseMin(v);

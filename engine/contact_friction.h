@@ -19,6 +19,12 @@ namespace ecpsim::engine {
 /// relative, so a millimetre part and a 10 m hull get the same floor in their own scale.
 inline constexpr double kPatchTorsionFloorRel = 1e-3;  // dimensionless
 
+/// The mesh of one side of a contact with body `body`: its mesh where the contact touches its hull
+/// (part < 0; its hull's tessellation, into `made`, where code built it without one), else part
+/// `part`'s tessellation (into `made`).
+const geometry::TriangleMesh& ContactMesh(const Body& body, int part,
+                                          geometry::TriangleMesh& made);
+
 /// Contact k's patch at the start of the step from `state`, and the point its e_r is taken about.
 struct StepPatch {
   geometry::Plane plane;         // the patch's plane: n out of G, through F's nearest mesh vertex
@@ -28,7 +34,8 @@ struct StepPatch {
 };
 
 /// The patch of scene.contacts[k] at the poses of `state`: the features of F's mesh within the
-/// patch tolerance (geometry::ContactPatchTolerance) of F's nearest vertex along the contact
+/// patch tolerance (geometry::ContactPatchTolerance) of F's nearest vertex (of the part's mesh
+/// where the contact names one) along the contact
 /// normal n — G's plane's for a half-space obstacle, else the last step's contact normal where it
 /// had p_n > 0, else the hulls' best separating axis (geometry::BestSeparatingAxis) — clipped,
 /// where G is a body or a bounded obstacle, to G's features nearest F (its mesh, or the obstacle's

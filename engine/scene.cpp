@@ -45,6 +45,76 @@ Friction PairFriction(const Friction& a, const Friction& b) {
   return f;
 }
 
+const char* DecompositionName(Decomposition decomposition) {
+  switch (decomposition) {
+    case Decomposition::kNone:
+      return "none";
+    case Decomposition::kParts:
+      return "parts";
+  }
+  return "unknown";
+}
+
+namespace {
+
+// the parts a body's contacts touch: -1 (its hull) alone, or each of its parts
+std::vector<int> ContactParts(const Body& body) {
+  if (body.decomposition != Decomposition::kParts || body.parts.empty()) return {-1};
+  std::vector<int> parts(body.parts.size());
+  for (size_t i = 0; i < parts.size(); ++i) parts[i] = static_cast<int>(i);
+  return parts;
+}
+
+const geometry::ConvexShape& PartOrHull(const Body& body, int part) {
+  ECPSIM_DEMAND(part < static_cast<int>(body.parts.size()));
+  const auto& shape = part < 0 ? body.hull : body.parts[part];
+  ECPSIM_DEMAND(shape != nullptr);
+  return *shape;
+}
+
+}  // namespace
+
+const geometry::ConvexShape& ShapeOfBody(const Scene& scene, const ContactPair& pair) {
+  return PartOrHull(scene.bodies[pair.body], pair.part);
+}
+
+const geometry::ConvexShape& ShapeOfOther(const Scene& scene, const ContactPair& pair) {
+  if (!pair.WithBody()) return *scene.obstacles[pair.obstacle].shape;
+  return PartOrHull(scene.bodies[pair.other_body], pair.other_part);
+}
+
+ContactPair BodyPair(const Scene& scene, int i, int j, const Friction& friction) {
+  const bool i_kinematic = scene.bodies[i].IsKinematic();
+  ContactPair pair;
+  pair.body = i_kinematic ? j : std::min(i, j);
+  pair.other_body = i_kinematic ? i : std::max(i, j);
+  pair.obstacle = -1;
+  pair.friction = friction;
+  return pair;
+}
+
+void AddBodyContacts(Scene& scene, int i, int j, const Friction& friction) {
+  ContactPair pair = BodyPair(scene, i, j, friction);
+  const std::vector<int> parts = ContactParts(scene.bodies[pair.body]);
+  const std::vector<int> other_parts = ContactParts(scene.bodies[pair.other_body]);
+  for (int part : parts) {
+    for (int other_part : other_parts) {
+      pair.part = part;
+      pair.other_part = other_part;
+      scene.contacts.push_back(pair);
+    }
+  }
+}
+
+void AddObstacleContacts(Scene& scene, int b, int o, const Friction& friction) {
+  ContactPair pair{b, o, friction};
+  const bool half_space = scene.obstacles[o].shape && scene.obstacles[o].shape->IsHalfSpace();
+  for (int part : half_space ? std::vector<int>{-1} : ContactParts(scene.bodies[b])) {
+    pair.part = part;
+    scene.contacts.push_back(pair);
+  }
+}
+
 void AddGripper(Scene& scene, Gripper gripper) {
   ECPSIM_DEMAND(gripper.motion != nullptr);
   const int index = static_cast<int>(scene.grippers.size());

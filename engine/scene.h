@@ -39,14 +39,27 @@ enum class ContactModel {
 };
 const char* ContactModelName(ContactModel model);
 
+/// What a body's contacts with other bodies and with bounded obstacles touch: its convex hull,
+/// or each of its convex parts (engine/README.md, "Bodies made of convex parts"). A half-space
+/// touches a body's hull only where it touches the body, so contacts with one always take the hull.
+enum class Decomposition {
+  kNone,   // the hull: exact where nothing reaches into a cavity of the body
+  kParts,  // each of Body::parts, a contact per part (and per part of the other body)
+};
+
+/// "none", "parts" (`decomposition` of a body in the scene file).
+const char* DecompositionName(Decomposition decomposition);
+
 /// A rigid body F: its mesh and convex hull in the body frame (origin at the centre of mass).
 struct Body {
   std::string name;
   geometry::TriangleMesh mesh;                        // body frame, for patches/penetration/display
   std::shared_ptr<const geometry::ConvexShape> hull;  // body frame: the CGAL hull or a primitive
-  // body frame: the convex parts whose union is the body's contact geometry (ContactModel::
-  // kMultiPatch only; empty: the hull is the one part)
+  // body frame: the convex parts whose union is the body's contact geometry (empty: the hull is
+  // the one part). The multi-patch model's patches against half-spaces; under `decomposition`
+  // kParts also the body's contacts with bodies and bounded obstacles, one per part
   std::vector<std::shared_ptr<const geometry::ConvexShape>> parts;
+  Decomposition decomposition = Decomposition::kNone;
   double mass = 1;                                        // kg
   Eigen::Matrix3d inertia = Eigen::Matrix3d::Identity();  // kg·m², about the CM, body axes
   // initial state
@@ -94,15 +107,22 @@ struct Obstacle {
 };
 
 /// One potential contact, with its own ECPs and wrench: between the hull of a dynamic body F
-/// (`body`) and G, a fixed obstacle (`obstacle`) or another body (`other_body`: a kinematic one,
-/// or a dynamic one of larger index). F and G are chosen once per pair (warm starts and output
-/// columns follow the order).
+/// (`body`) or one of its parts, and G, a fixed obstacle (`obstacle`) or another body
+/// (`other_body`: a kinematic one, or a dynamic one of larger index) or one of its parts. F and G
+/// are chosen once per pair (warm starts and output columns follow the order). The contacts of
+/// one pair of bodies (or of a body and an obstacle) are consecutive in Scene::contacts.
 struct ContactPair {
   int body = 0;
   int obstacle = 0;  // -1 when G is a body
   Friction friction;
   int other_body = -1;  // ≥ 0: G is this body (then obstacle = -1)
+  int part = -1;        // ≥ 0: F's side is Body::parts[part] of `body`, else its hull
+  int other_part = -1;  // ≥ 0: G's side is Body::parts[other_part] of `other_body`, else its hull
   bool WithBody() const { return other_body >= 0; }
+  // whether `other` joins the same body to the same obstacle or body (another part pair of it)
+  bool SameBodies(const ContactPair& other) const {
+    return body == other.body && obstacle == other.obstacle && other_body == other.other_body;
+  }
 };
 
 /// The friction of a pair of bodies (docs/scene_format.md, "Contacts between bodies"): the
@@ -152,6 +172,26 @@ struct Scene {
   SolverSettings solver;
   ContactModel model = ContactModel::kAuto;
 };
+
+/// F's side of `pair`: body `pair.body`'s hull or the part it names (body frame).
+const geometry::ConvexShape& ShapeOfBody(const Scene& scene, const ContactPair& pair);
+
+/// G's side of `pair`: the obstacle (world frame), or the other body's hull or the part it names
+/// (its body frame).
+const geometry::ConvexShape& ShapeOfOther(const Scene& scene, const ContactPair& pair);
+
+/// The contact between the hulls of bodies i and j (not both kinematic) with `friction`: F the
+/// dynamic one (the lower index when both are), G the other.
+ContactPair BodyPair(const Scene& scene, int i, int j, const Friction& friction);
+
+/// Appends the contacts of bodies i ≠ j (not both kinematic) with `friction`: F the dynamic one of
+/// lower index (a kinematic body is always G), one contact between their hulls, or, where either
+/// body's decomposition is kParts, one per pair of their parts (a body without parts: its hull).
+void AddBodyContacts(Scene& scene, int i, int j, const Friction& friction);
+
+/// Appends the contacts of dynamic body b with obstacle o with `friction`: one with its hull, or
+/// one per part where its decomposition is kParts and the obstacle is bounded (not a half-space).
+void AddObstacleContacts(Scene& scene, int b, int o, const Friction& friction);
 
 /// Adds `gripper` to `scene`: its jaws' poses in the frame (jaw_in_frame) from the jaws' initial
 /// poses (Body::p0, q0) and the frame's pose at t = 0, the axis normalized (a zero or non-finite

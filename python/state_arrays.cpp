@@ -48,7 +48,8 @@ const char* ContactMode(const engine::Scene& scene, const engine::State& state,
 std::string ContactName(const engine::Scene& scene, const engine::ContactPair& pair) {
   const std::string& other =
       pair.WithBody() ? scene.bodies[pair.other_body].name : scene.obstacles[pair.obstacle].name;
-  return scene.bodies[pair.body].name + "." + other;
+  const auto part = [](int index) { return index < 0 ? std::string() : fmt::format("[{}]", index); };
+  return scene.bodies[pair.body].name + part(pair.part) + "." + other + part(pair.other_part);
 }
 
 py::array_t<double> BodyArray(const engine::State& state, BodyField field) {
@@ -189,6 +190,10 @@ py::list ContactList(const engine::Scene& scene, const engine::State& state,
     d["other"] =
         pair.WithBody() ? scene.bodies[pair.other_body].name : scene.obstacles[pair.obstacle].name;
     d["other_is_body"] = pair.WithBody();
+    // the parts touching (Body::parts indices; None: the hull)
+    d["part"] = pair.part < 0 ? py::object(py::none()) : py::object(py::int_(pair.part));
+    d["other_part"] =
+        pair.other_part < 0 ? py::object(py::none()) : py::object(py::int_(pair.other_part));
     d["a1"] = Array(c.a1);
     d["a2"] = Array(c.a2);
     d["normal"] = Array(c.n);

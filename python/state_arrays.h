@@ -14,7 +14,7 @@
 namespace ecpsim::python {
 
 /// A contact's name, "<body>.<other>" (the other a body or an obstacle), as trajectory.csv's
-/// columns name it.
+/// columns name it; a side that touches with one of its parts carries its index, "cube.cup[2]".
 std::string ContactName(const engine::Scene& scene, const engine::ContactPair& pair);
 
 /// A per-body quantity of the state.

@@ -49,7 +49,8 @@ struct IslandContact {
   int body = 0;  // island index of F
   Other other_kind = Other::kFixed;
   int other = -1;                               // see Other
-  const geometry::ConvexShape* hull = nullptr;  // F's hull, body frame (origin at the CM)
+  // F's hull or the part of it the contact touches with, body frame (origin at the CM)
+  const geometry::ConvexShape* hull = nullptr;
   std::vector<int> window;                      // F's constraints in the MNCP
   const geometry::ConvexShape* other_shape = nullptr;
   // G's constraints in the MNCP; for a fixed G all of them in order 0 … n−1 is today's MNCP. A

@@ -50,7 +50,7 @@ IslandProblem MakeHullProblem(const Scene& scene, const Island& island, double t
     const ContactPair& pair = scene.contacts[island.contacts[k]];
     IslandContact cp;
     cp.body = IslandIndex(island, pair.body);
-    cp.hull = scene.bodies[pair.body].hull.get();
+    cp.hull = &ShapeOfBody(scene, pair);
     cp.friction = island.friction[k];
     if (!pair.WithBody()) {
       cp.other_kind = Other::kFixed;
@@ -59,7 +59,7 @@ IslandProblem MakeHullProblem(const Scene& scene, const Island& island, double t
       std::iota(cp.other_window.begin(), cp.other_window.end(), 0);
     } else {
       const Body& other = scene.bodies[pair.other_body];
-      cp.other_shape = other.hull.get();
+      cp.other_shape = &ShapeOfOther(scene, pair);
       if (other.IsKinematic()) {
         auto known = std::find_if(
             kinematic_of.begin(), kinematic_of.end(),

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <vector>
 
+#include "engine/contact_friction.h"
 #include "engine/mncp/contact_frame.h"
 #include "engine/mncp/mncp_layout.h"
 #include "engine/models/hull_tuning.h"
@@ -68,13 +69,14 @@ PatchFrame PatchAt(const Scene& scene, const Island& island, const IslandProblem
   const EndPose end =
       PoseAfterStep(problem.bodies[cp.body], z.segment<3>(col), z.segment<3>(col + 3));
   const geometry::Plane plane{n, n.dot(a2)};
-  const geometry::TriangleMesh& mesh = scene.bodies[pair.body].mesh;
+  geometry::TriangleMesh made, made_other;
+  const geometry::TriangleMesh& mesh = ContactMesh(scene.bodies[pair.body], pair.part, made);
   geometry::ContactPatch patch = FeaturesOn(*cp.hull, mesh, AsIsometry(end), plane);
   if (cp.other_kind != Other::kFixed) {
     const geometry::Plane flipped{-n, -n.dot(a2)};
-    const geometry::ContactPatch other_patch =
-        FeaturesOn(*cp.other_shape, scene.bodies[pair.other_body].mesh,
-                   AsIsometry(OtherEndPose(problem, z, k)), flipped);
+    const geometry::ContactPatch other_patch = FeaturesOn(
+        *cp.other_shape, ContactMesh(scene.bodies[pair.other_body], pair.other_part, made_other),
+        AsIsometry(OtherEndPose(problem, z, k)), flipped);
     patch = geometry::IntersectContactPatches(patch, other_patch, plane,
                                               geometry::ContactPatchTolerance(mesh));
   }

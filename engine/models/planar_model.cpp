@@ -77,12 +77,11 @@ PlanarStep SolvePlanarStep(const Scene& scene, const Island& island, double t, d
   const Body& body = scene.bodies[island.bodies[0]];
   const BodyState b = state.bodies[0];
   const ContactPair& pair = scene.contacts[island.contacts[0]];
-  const geometry::ConvexShape& plane =
-      pair.WithBody() ? *scene.bodies[pair.other_body].hull : *scene.obstacles[pair.obstacle].shape;
+  const geometry::ConvexShape& plane = ShapeOfOther(scene, pair);
 
   // the model's assumptions: a plane, the body flat on one hull face of it
   const auto* hull = body.hull->AsPolyhedron();
-  if (pair.WithBody() || !plane.IsHalfSpace() || hull == nullptr) {
+  if (pair.WithBody() || pair.part >= 0 || !plane.IsHalfSpace() || hull == nullptr) {
     step.invalid = "it needs a polyhedral hull on a fixed plane";
     return step;
   }

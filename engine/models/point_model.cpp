@@ -179,7 +179,7 @@ FaceGap GapToBody(const Side& side, const Vector3d& x, const Vector3d& toward) {
 
 class PointIslandStepper {
  public:
-  PointIslandStepper(const Scene& scene, const std::vector<std::vector<Vector3d>>& vertices,
+  PointIslandStepper(const Scene& scene, const PointModel::SideVertices& vertices,
                      const Island& island, McpWorkspace& solver_workspace)
       : scene_(scene), vertices_(vertices), island_(island), solver_workspace_(solver_workspace) {}
 
@@ -195,9 +195,9 @@ class PointIslandStepper {
     std::vector<Side> f_sides, g_sides;
     for (int id : island_.contacts) {
       const ContactPair& pair = scene_.contacts[id];
-      f_sides.push_back(BodySide(pair.body, problems, state, t, h));
+      f_sides.push_back(BodySide(pair.body, pair.part, problems, state, t, h));
       if (pair.WithBody()) {
-        g_sides.push_back(BodySide(pair.other_body, problems, state, t, h));
+        g_sides.push_back(BodySide(pair.other_body, pair.other_part, problems, state, t, h));
       } else {
         Side obstacle;
         obstacle.shape = scene_.obstacles[pair.obstacle].shape.get();
@@ -377,15 +377,16 @@ class PointIslandStepper {
   }
 
  private:
-  // body `b` of the scene at the start of the step: an island body (its StartOfStep problem) or
-  // a kinematic one at its prescribed pose and twist over [t, t + h]
-  Side BodySide(int b, const std::vector<BodyProblem>& problems, const IslandState& state, double t,
-                double h) const {
+  // body `b` of the scene (its hull, or part `part` of it) at the start of the step: an island
+  // body (its StartOfStep problem) or a kinematic one at its prescribed pose and twist over
+  // [t, t + h]
+  Side BodySide(int b, int part, const std::vector<BodyProblem>& problems,
+                const IslandState& state, double t, double h) const {
     const Body& body = scene_.bodies[b];
     Side side;
-    side.shape = body.hull.get();
-    side.vertices = &vertices_[b];
-    side.radius = Radius(vertices_[b]);
+    side.shape = part < 0 ? body.hull.get() : body.parts[part].get();
+    side.vertices = &vertices_[b][part + 1];
+    side.radius = Radius(*side.vertices);
     if (body.IsKinematic()) {
       const KinematicPose pose = body.motion->PoseAt(t);
       const KinematicMotion::Twist twist = body.motion->StepTwist(t, h);
@@ -482,7 +483,7 @@ class PointIslandStepper {
   }
 
   const Scene& scene_;
-  const std::vector<std::vector<Vector3d>>& vertices_;
+  const PointModel::SideVertices& vertices_;
   const Island& island_;
   McpWorkspace& solver_workspace_;
 };
@@ -491,7 +492,10 @@ class PointIslandStepper {
 
 PointModel::PointModel(const Scene& scene, StepWorkspace& workspace)
     : scene_(scene), workspace_(workspace) {
-  for (const Body& body : scene.bodies) vertices_.push_back(HullVertices(*body.hull));
+  for (const Body& body : scene.bodies) {
+    vertices_.emplace_back().push_back(HullVertices(*body.hull));
+    for (const auto& part : body.parts) vertices_.back().push_back(HullVertices(*part));
+  }
 }
 
 // (no last resort: every effort is the usual one)

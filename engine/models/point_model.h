@@ -42,8 +42,12 @@ constexpr int kPointContactFrictionDirections = 8;
 /// projection on G as a2.
 class PointModel final : public ContactModelStepper {
  public:
+  /// Per scene body, per side a contact can touch: [0] its hull's vertices, [1 + i] part i's (a
+  /// smooth shape's from its tessellation), body frame.
+  using SideVertices = std::vector<std::vector<std::vector<Eigen::Vector3d>>>;
+
   /// Keeps references to `scene` and `workspace` (they must outlive the model) and each body's
-  /// hull vertices.
+  /// hull and parts' vertices.
   PointModel(const Scene& scene, StepWorkspace& workspace);
   AdvanceResult Advance(const Island& island, double t, double h, IslandState& state,
                         Effort effort) const override;
@@ -51,8 +55,7 @@ class PointModel final : public ContactModelStepper {
  private:
   const Scene& scene_;
   StepWorkspace& workspace_;
-  // per scene body: its hull's vertices (a smooth hull's from its tessellation), body frame
-  std::vector<std::vector<Eigen::Vector3d>> vertices_;
+  SideVertices vertices_;
 };
 
 }  // namespace ecpsim::engine

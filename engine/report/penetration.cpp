@@ -7,6 +7,7 @@
 #include <tuple>
 #include <utility>
 
+#include "common/errors.h"
 #include "geometry/convex_shape.h"
 
 namespace ecpsim::engine {
@@ -36,6 +37,16 @@ std::vector<int> HullVerticesInMesh(const Body& body) {
   return found;
 }
 
+// a convex shape's vertices (a primitive's from its tessellation) and face normals (a
+// polyhedron's; none for a primitive), body frame
+PenetrationProbe::ConvexSide SideOf(const geometry::ConvexShape& shape) {
+  PenetrationProbe::ConvexSide side;
+  const auto* polyhedron = shape.AsPolyhedron();
+  side.vertices = polyhedron ? polyhedron->hull().vertices : shape.Tessellate().vertices;
+  if (polyhedron) side.normals = polyhedron->hull().normals;
+  return side;
+}
+
 }  // namespace
 
 PenetrationProbe::PenetrationProbe(const Scene& scene) {
@@ -45,6 +56,12 @@ PenetrationProbe::PenetrationProbe(const Scene& scene) {
       vertices.resize(body.mesh.vertices.size());
       std::iota(vertices.begin(), vertices.end(), 0);
     }
+    // the hull's side: its half-space vertices of the mesh and the hull's normals
+    ConvexSide hull;
+    for (int i : vertices) hull.vertices.push_back(body.mesh.vertices[i]);
+    if (const auto* polyhedron = body.hull->AsPolyhedron()) hull.normals = polyhedron->hull().normals;
+    sides_.emplace_back().push_back(std::move(hull));
+    for (const auto& part : body.parts) sides_.back().push_back(SideOf(*part));
     half_space_vertices_.push_back(std::move(vertices));
   }
 }
@@ -76,45 +93,80 @@ double PenetrationProbe::Depth(const Scene& scene, const State& state, int b, in
   return deepest;
 }
 
-double PenetrationProbe::BodyDepth(const Scene& scene, const State& state, int a, int b,
-                                   const Eigen::Vector3d* normal) const {
-  const auto world_vertices = [&](int body) {
-    const BodyState& s = state.bodies[body];
-    const Eigen::Matrix3d R = s.Q_WB.toRotationMatrix();
-    std::vector<Eigen::Vector3d> world;
-    for (int i : half_space_vertices_[body])
-      world.push_back(R * scene.bodies[body].mesh.vertices[i] + s.p_WB);
-    return world;
-  };
-  const std::vector<Eigen::Vector3d> va = world_vertices(a), vb = world_vertices(b);
-  const auto extent = [](const std::vector<Eigen::Vector3d>& v, const Eigen::Vector3d& u) {
+namespace {
+
+// a convex side posed in the world: its body-frame vertices and face normals under (R, p)
+struct PosedSide {
+  const PenetrationProbe::ConvexSide& side;
+  Eigen::Matrix3d R;
+  Eigen::Vector3d p;
+};
+
+PosedSide Posed(const PenetrationProbe::ConvexSide& side, const BodyState& s) {
+  return {side, s.Q_WB.toRotationMatrix(), s.p_WB};
+}
+
+// the overlap of two posed convex sides along the candidate axes: `line` (between their reference
+// points), the world axes, `normal` if given and both sides' face normals
+double SeparatingAxisDepth(const PosedSide& a, const PosedSide& b, const Eigen::Vector3d& line,
+                           const Eigen::Vector3d* normal) {
+  // the extent of R v + p over the vertices along u: u · p + (Rᵀ u) · v
+  const auto extent = [](const PosedSide& side, const Eigen::Vector3d& u) {
+    const Eigen::Vector3d u_B = side.R.transpose() * u;
     double lo = INFINITY, hi = -INFINITY;
-    for (const Eigen::Vector3d& x : v) {
-      const double d = u.dot(x);
+    for (const Eigen::Vector3d& v : side.side.vertices) {
+      const double d = u_B.dot(v);
       lo = std::min(lo, d);
       hi = std::max(hi, d);
     }
-    return std::pair(lo, hi);
+    const double shift = u.dot(side.p);
+    return std::pair(lo + shift, hi + shift);
   };
   // the overlap of the two projections on u: how far one must move along ±u to clear the other
   double depth = INFINITY;
   const auto axis = [&](const Eigen::Vector3d& u) {
     if (!(u.squaredNorm() > 0) || depth <= 0) return;
-    const auto [lo_a, hi_a] = extent(va, u);
-    const auto [lo_b, hi_b] = extent(vb, u);
+    const auto [lo_a, hi_a] = extent(a, u);
+    const auto [lo_b, hi_b] = extent(b, u);
     depth = std::min(depth, std::min(hi_a - lo_b, hi_b - lo_a) / u.norm());
   };
-  axis(state.bodies[b].p_WB - state.bodies[a].p_WB);
+  axis(line);
   // the world axes: candidates too, and some axis even for two primitives at one centre
   for (int i = 0; i < 3; ++i) axis(Eigen::Vector3d::Unit(i));
   if (normal != nullptr) axis(*normal);
-  for (int body : {a, b}) {
-    const auto* polyhedron = scene.bodies[body].hull->AsPolyhedron();
-    if (polyhedron == nullptr) continue;
-    const Eigen::Matrix3d R = state.bodies[body].Q_WB.toRotationMatrix();
-    for (const Eigen::Vector3d& n : polyhedron->hull().normals) axis(R * n);
-  }
+  for (const PosedSide* side : {&a, &b})
+    for (const Eigen::Vector3d& n : side->side.normals) axis(side->R * n);
   return std::max(depth, 0.0);
+}
+
+}  // namespace
+
+// (the scene's bodies are the probe's: it keeps their sides)
+double PenetrationProbe::BodyDepth(const Scene&, const State& state, int a, int b,
+                                   const Eigen::Vector3d* normal) const {
+  return SeparatingAxisDepth(Posed(sides_[a].front(), state.bodies[a]),
+                             Posed(sides_[b].front(), state.bodies[b]),
+                             state.bodies[b].p_WB - state.bodies[a].p_WB, normal);
+}
+
+double PenetrationProbe::ContactDepth(const Scene& scene, const State& state, int k,
+                                      const Eigen::Vector3d* normal) const {
+  const ContactPair& pair = scene.contacts[k];
+  ECPSIM_DEMAND(pair.WithBody());
+  const PosedSide F = Posed(sides_[pair.body][pair.part + 1], state.bodies[pair.body]);
+  const PosedSide G = Posed(sides_[pair.other_body][pair.other_part + 1],
+                            state.bodies[pair.other_body]);
+  // the line between the sides' reference points: the parts' centres of vertices
+  const auto centre = [](const PosedSide& side) {
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    for (const Eigen::Vector3d& v : side.side.vertices) sum += v;
+    const double count = static_cast<double>(std::max<size_t>(side.side.vertices.size(), 1));
+    return Eigen::Vector3d(side.R * (sum / count) + side.p);
+  };
+  const Eigen::Vector3d line = pair.part < 0 && pair.other_part < 0
+                                   ? Eigen::Vector3d(G.p - F.p)
+                                   : Eigen::Vector3d(centre(G) - centre(F));
+  return SeparatingAxisDepth(F, G, line, normal);
 }
 
 double PenetrationProbe::MaxDepth(const Scene& scene, const State& state) const {
@@ -124,8 +176,8 @@ double PenetrationProbe::MaxDepth(const Scene& scene, const State& state) const 
   for (size_t k = 0; k < scene.contacts.size(); ++k) {
     const ContactPair& pair = scene.contacts[k];
     if (!pair.WithBody()) continue;
-    deepest = std::max(deepest, BodyDepth(scene, state, pair.body, pair.other_body,
-                                          solved ? &state.contacts[k].n : nullptr));
+    deepest = std::max(deepest, ContactDepth(scene, state, static_cast<int>(k),
+                                             solved ? &state.contacts[k].n : nullptr));
   }
   for (size_t b = 0; b < scene.bodies.size(); ++b) {
     // a kinematic body goes where its motion says, through the ground too

@@ -9,7 +9,7 @@
 namespace ecpsim::engine {
 
 /// Measures penetration of every body's *mesh* (not only its ECP) into every obstacle, and of
-/// the bodies of each contact pair into each other.
+/// the bodies (or their parts) of each contact pair into each other.
 /// The depth of a world point x inside an obstacle G = {g_j(x) ≤ 0} is max(0, −max_j g_j(x)):
 /// exactly the distance to G's boundary for a polyhedral G (a plane, a box fixture), and to first
 /// order for a smooth primitive, whose constraints have unit gradient on the boundary.
@@ -21,8 +21,8 @@ class PenetrationProbe {
   /// Precomputes, per body, the mesh vertices that can be deepest in a half-space.
   explicit PenetrationProbe(const Scene& scene);
 
-  /// m, ≥ 0: the largest of Depth over every dynamic body and obstacle and of BodyDepth over
-  /// every contact pair of two bodies (Scene::contacts; excluded pairs may overlap) at `state`.
+  /// m, ≥ 0: the largest of Depth over every dynamic body and obstacle and of ContactDepth
+  /// over every contact pair of two bodies (Scene::contacts; excluded pairs may overlap) at `state`.
   double MaxDepth(const Scene& scene, const State& state) const;
 
   /// m, ≥ 0: the largest depth of body `body`'s mesh vertices inside obstacle `obstacle`.
@@ -39,11 +39,26 @@ class PenetrationProbe {
   double BodyDepth(const Scene& scene, const State& state, int a, int b,
                    const Eigen::Vector3d* normal = nullptr) const;
 
+  /// m, ≥ 0: BodyDepth of contact k's two sides (Scene::contacts[k], between bodies): the
+  /// bodies' where it joins their hulls, else the parts' it names (a part's hull vertices, a
+  /// primitive part's display mesh).
+  double ContactDepth(const Scene& scene, const State& state, int k,
+                      const Eigen::Vector3d* normal = nullptr) const;
+
   /// Per body, the mesh vertex indices checked against half-spaces (for tests).
   const std::vector<std::vector<int>>& half_space_vertices() const { return half_space_vertices_; }
 
+  /// A convex side of a body for the separating-axis test, body frame: vertices whose hull it is
+  /// and its face normals (none for a primitive).
+  struct ConvexSide {
+    std::vector<Eigen::Vector3d> vertices;
+    std::vector<Eigen::Vector3d> normals;
+  };
+
  private:
   std::vector<std::vector<int>> half_space_vertices_;
+  // per body: [0] its hull's side (the half-space vertices of its mesh), [1 + i] part i's
+  std::vector<std::vector<ConvexSide>> sides_;
 };
 
 }  // namespace ecpsim::engine

@@ -2,6 +2,7 @@
 
 #include <string_view>
 
+#include "engine/report/contact_groups.h"
 #include "engine/report/contact_wrench.h"
 
 namespace ecpsim::engine {
@@ -18,6 +19,14 @@ void AppendWrench(const Wrench& w, std::vector<double>& values) {
                 {w.force.x(), w.force.y(), w.force.z(), w.moment.x(), w.moment.y(), w.moment.z()});
 }
 
+// the groups of contacts whose G side is kinematic body `body`: one per body touching it
+std::vector<ContactGroup> SensedGroups(const Scene& scene, int body) {
+  std::vector<ContactGroup> sensed;
+  for (const ContactGroup& group : ContactGroups(scene))
+    if (scene.contacts[group.first].other_body == body) sensed.push_back(group);
+  return sensed;
+}
+
 }  // namespace
 
 std::vector<std::string> TrajectoryColumns(const Scene& scene) {
@@ -27,8 +36,10 @@ std::vector<std::string> TrajectoryColumns(const Scene& scene) {
     const std::string prefix = several_bodies ? body.name + "." : "";
     for (const char* c : kBodyColumns) columns.push_back(prefix + c);
   }
-  const bool several_contacts = scene.contacts.size() > 1;
-  for (const ContactPair& pair : scene.contacts) {
+  const std::vector<ContactGroup> groups = ContactGroups(scene);
+  const bool several_contacts = groups.size() > 1;
+  for (const ContactGroup& group : groups) {
+    const ContactPair& pair = scene.contacts[group.first];
     const std::string prefix = several_contacts
                                    ? scene.bodies[pair.body].name + "." +
                                          (pair.WithBody() ? scene.bodies[pair.other_body].name
@@ -40,8 +51,8 @@ std::vector<std::string> TrajectoryColumns(const Scene& scene) {
   for (size_t b = 0; b < scene.bodies.size(); ++b) {
     if (!scene.bodies[b].IsKinematic()) continue;
     const std::string& name = scene.bodies[b].name;
-    for (int k : SensedContacts(scene, static_cast<int>(b))) {
-      const std::string prefix = name + "." + scene.bodies[scene.contacts[k].body].name + ".";
+    for (const ContactGroup& group : SensedGroups(scene, static_cast<int>(b))) {
+      const std::string prefix = name + "." + scene.bodies[scene.contacts[group.first].body].name + ".";
       for (const char* c : kWrenchColumns) columns.push_back(prefix + c);
     }
     for (const char* c : kWrenchColumns) columns.push_back(name + "." + c);
@@ -84,15 +95,22 @@ std::vector<double> TrajectoryValues(const Scene& scene, const State& state,
                                  b.Q_WB.y(), b.Q_WB.z(), b.v_WB.x(), b.v_WB.y(), b.v_WB.z(),
                                  b.w_WB.x(), b.w_WB.y(), b.w_WB.z()});
   }
-  for (const ContactState& c : state.contacts) {
+  for (const ContactGroup& group : ContactGroups(scene)) {
+    const ContactState c = CombinedContact(state, group);
     values.insert(values.end(), {c.a1.x(), c.a1.y(), c.a1.z(), c.a2.x(), c.a2.y(), c.a2.z(), c.p_n,
                                  c.p_t, c.p_o, c.p_r, c.sigma, c.p_n / scene.h, c.p_t / scene.h,
                                  c.p_o / scene.h, c.p_r / scene.h});
   }
   for (size_t b = 0; b < scene.bodies.size(); ++b) {
     if (!scene.bodies[b].IsKinematic()) continue;
-    for (int k : SensedContacts(scene, static_cast<int>(b))) {
-      AppendWrench(WrenchOnOther(scene, state, k, scene.h), values);
+    for (const ContactGroup& group : SensedGroups(scene, static_cast<int>(b))) {
+      Wrench sum = WrenchOnOther(scene, state, group.first, scene.h);
+      for (int k = group.first + 1; k < group.end; ++k) {
+        const Wrench w = WrenchOnOther(scene, state, k, scene.h);
+        sum.force += w.force;
+        sum.moment += w.moment;
+      }
+      AppendWrench(sum, values);
     }
     AppendWrench(SensorWrench(scene, state, static_cast<int>(b)), values);
   }

@@ -58,23 +58,12 @@ Scene MakeGroundScene(std::vector<Body> bodies, double h, const Friction& fricti
   return scene;
 }
 
-ContactPair BodyPair(const Scene& scene, int i, int j, const Friction& friction) {
-  const bool i_kinematic = scene.bodies[i].IsKinematic();
-  ContactPair pair;
-  pair.body = i_kinematic ? j : std::min(i, j);
-  pair.other_body = i_kinematic ? i : std::max(i, j);
-  pair.obstacle = -1;
-  pair.friction = friction;
-  return pair;
-}
-
 void AddBodyPairs(Scene& scene) {
   const int n = static_cast<int>(scene.bodies.size());
   for (int i = 0; i < n; ++i) {
     for (int j = i + 1; j < n; ++j) {
       if (scene.bodies[i].IsKinematic() && scene.bodies[j].IsKinematic()) continue;
-      scene.contacts.push_back(
-          BodyPair(scene, i, j, PairFriction(scene.bodies[i].friction, scene.bodies[j].friction)));
+      AddBodyContacts(scene, i, j, PairFriction(scene.bodies[i].friction, scene.bodies[j].friction));
     }
   }
 }

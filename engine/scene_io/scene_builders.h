@@ -29,12 +29,8 @@ Body MakeMeshBody(const geometry::TriangleMesh& mesh_any_frame, double mass,
 Scene MakeGroundScene(std::vector<Body> bodies, double h, const Friction& friction,
                       const Eigen::Vector3d& up = Eigen::Vector3d::UnitZ());
 
-/// The contact between bodies i and j (not both kinematic) with `friction`: F the dynamic one
-/// (the lower index when both are), G the other.
-ContactPair BodyPair(const Scene& scene, int i, int j, const Friction& friction);
-
-/// Adds BodyPair(i, j, PairFriction of the two bodies) for every pair i < j of `scene`'s bodies
-/// that are not both kinematic.
+/// Adds AddBodyContacts(i, j, PairFriction of the two bodies) for every pair i < j of `scene`'s
+/// bodies that are not both kinematic.
 void AddBodyPairs(Scene& scene);
 
 }  // namespace ecpsim::engine

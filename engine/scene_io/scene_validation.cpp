@@ -5,6 +5,8 @@
 #include <Eigen/Eigenvalues>
 #include <cmath>
 #include <optional>
+#include <set>
+#include <tuple>
 #include <utility>
 
 #include "engine/report/penetration.h"
@@ -284,6 +286,50 @@ void CheckContactFriction(const Scene& scene, size_t k) {
                             scene.bodies[pair.body].name, scene.obstacles[pair.obstacle].name));
 }
 
+// contact k's parts name parts of its bodies
+void CheckContactParts(const Scene& scene, size_t k) {
+  const ContactPair& pair = scene.contacts[k];
+  const std::string at = Index("contacts", k);
+  const auto check = [&](const std::string& key, int part, const Body* body) {
+    const int parts = body != nullptr ? static_cast<int>(body->parts.size()) : 0;
+    if (part < -1 || part >= parts) {
+      Fail({at + key}, fmt::format("{}", part),
+           parts == 0 ? std::string("-1 (the hull: it has no parts)")
+                      : fmt::format("-1 (the hull) or a part index 0..{}", parts - 1));
+    }
+  };
+  check(".part", pair.part, &scene.bodies[pair.body]);
+  check(".other_part", pair.other_part,
+        pair.WithBody() ? &scene.bodies[pair.other_body] : nullptr);
+}
+
+// the contacts of one pair of bodies (or of a body and an obstacle) are consecutive (a
+// ContactGroup), with each pair of their parts once
+void CheckContactGroups(const Scene& scene) {
+  std::set<std::tuple<int, int, int>> closed;
+  std::set<std::pair<int, int>> parts_of_group;
+  for (size_t k = 0; k < scene.contacts.size(); ++k) {
+    const ContactPair& pair = scene.contacts[k];
+    const std::string at = Index("contacts", k);
+    if (k == 0 || !scene.contacts[k - 1].SameBodies(pair)) {
+      if (k > 0) {
+        const ContactPair& last = scene.contacts[k - 1];
+        closed.emplace(last.body, last.obstacle, last.other_body);
+      }
+      if (closed.count({pair.body, pair.obstacle, pair.other_body}) > 0) {
+        Fail({at}, "a contact of an earlier pair",
+             "the contacts of one pair of bodies (or of a body and an obstacle) one after "
+             "another");
+      }
+      parts_of_group.clear();
+    }
+    if (!parts_of_group.emplace(pair.part, pair.other_part).second) {
+      Fail({at}, fmt::format("parts {} and {} again", pair.part, pair.other_part),
+           "each pair of parts (or hulls) of two bodies once");
+    }
+  }
+}
+
 void CheckContacts(const Scene& scene) {
   for (size_t k = 0; k < scene.contacts.size(); ++k) {
     const ContactPair& pair = scene.contacts[k];
@@ -304,8 +350,10 @@ void CheckContacts(const Scene& scene) {
       Fail({at + ".obstacle"}, fmt::format("{}", pair.obstacle),
            fmt::format("an obstacle index 0..{}", static_cast<int>(scene.obstacles.size()) - 1));
     }
+    CheckContactParts(scene, k);
     CheckContactFriction(scene, k);
   }
+  CheckContactGroups(scene);
 }
 
 void CheckLoads(const Scene& scene) {
@@ -509,14 +557,15 @@ std::optional<Overlap> FindOverlap(const Scene& scene, const State& state) {
   }
   // bodies that can touch must be apart too (a kinematic body included: it would shoot the
   // other out at the first step); excluded pairs are not contact pairs and may overlap
-  for (const ContactPair& pair : scene.contacts) {
+  for (size_t k = 0; k < scene.contacts.size(); ++k) {
+    const ContactPair& pair = scene.contacts[k];
     if (!pair.WithBody()) continue;
     const Body& a = scene.bodies[pair.body];
     const Body& b = scene.bodies[pair.other_body];
     if (a.allow_initial_penetration || b.allow_initial_penetration) continue;
     const double size = std::min(MeshAcross(a.mesh), MeshAcross(b.mesh));
     const double tolerance = kInitialPenetrationTolerance * size;
-    const double depth = probe.BodyDepth(scene, state, pair.body, pair.other_body);
+    const double depth = probe.ContactDepth(scene, state, static_cast<int>(k));
     if (depth > tolerance) return Overlap{pair.body, pair.other_body, -1, depth, tolerance, size};
   }
   return std::nullopt;

@@ -180,8 +180,7 @@ void AddBodyPairs(const Context& ctx, const MapNode& map, Scene& scene) {
     for (size_t j = i + 1; j < n; ++j) {
       if (scene.bodies[i].IsKinematic() && scene.bodies[j].IsKinematic()) continue;
       if (settings[i][j].exclude) continue;
-      scene.contacts.push_back(
-          BodyPair(scene, static_cast<int>(i), static_cast<int>(j), settings[i][j].friction));
+      AddBodyContacts(scene, static_cast<int>(i), static_cast<int>(j), settings[i][j].friction);
     }
   }
 }
@@ -247,15 +246,11 @@ LoadedScene ReadScene(const Context& ctx, const YAML::Node& root) {
                                                   : base;
     if (scene.bodies[b].IsKinematic()) continue;
     for (size_t o = 0; o < scene.obstacles.size(); ++o) {
-      ContactPair pair;
-      pair.body = static_cast<int>(b);
-      pair.obstacle = static_cast<int>(o);
-      pair.friction = scene.obstacles[o].friction;
+      Friction friction = scene.obstacles[o].friction;
       if (extras[b].friction) {
-        pair.friction =
-            yaml::ReadFriction(ctx, *extras[b].friction, extras[b].friction_key, pair.friction);
+        friction = yaml::ReadFriction(ctx, *extras[b].friction, extras[b].friction_key, friction);
       }
-      scene.contacts.push_back(pair);
+      AddObstacleContacts(scene, static_cast<int>(b), static_cast<int>(o), friction);
     }
   }
   AddBodyPairs(ctx, map, scene);

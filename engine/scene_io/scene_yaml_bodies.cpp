@@ -1,12 +1,14 @@
 // The bodies of the scene format: mesh or primitive, mass properties, hull, parts, initial state.
 
 #include <cmath>
+#include <optional>
 
 #include "engine/scene_io/mesh_scale.h"
 #include "engine/scene_io/scene_yaml_reader.h"
 #include "geometry/convex_hull.h"
 #include "geometry/convex_shape.h"
 #include "geometry/mass_properties.h"
+#include "geometry/part_seams.h"
 
 namespace ecpsim::engine::yaml {
 namespace {
@@ -115,6 +117,28 @@ std::vector<std::shared_ptr<const ConvexShape>> ReadParts(
   return parts;
 }
 
+// a note for each two parts that meet face to face (geometry/part_seams.h): a contact at the
+// seam's edge could push along the seam face's normal, which no surface of the body has
+void WarnOfSeams(const Body& body, const std::string& key, double tolerance,
+                 const Eigen::Vector3d& center_of_mass, std::vector<std::string>& warnings) {
+  for (size_t i = 0; i < body.parts.size(); ++i) {
+    for (size_t j = i + 1; j < body.parts.size(); ++j) {
+      const auto* a = body.parts[i]->AsPolyhedron();
+      const auto* b = body.parts[j]->AsPolyhedron();
+      if (a == nullptr || b == nullptr) continue;
+      const std::optional<geometry::Seam> seam = geometry::FindSeam(a->hull(), b->hull(), tolerance);
+      if (!seam) continue;
+      const Eigen::Vector3d at = seam->centre + center_of_mass;
+      warnings.push_back(fmt::format(
+          "{}: parts {} and {} of body \"{}\" meet face to face (a face centred at ({:.6g}, "
+          "{:.6g}, {:.6g}) m, mesh frame): where that seam reaches the surface a contact's normal "
+          "is not unique; let one part reach into the other (docs/scene_format.md, "
+          "\"Decomposition\")",
+          key, i, j, body.name, at.x(), at.y(), at.z()));
+    }
+  }
+}
+
 // an explicit hull primitive, centred at the CM, must contain the mesh
 std::shared_ptr<const ConvexShape> ReadDeclaredHull(const Context& ctx, const MapNode& map,
                                                     const TriangleMesh& mesh) {
@@ -192,6 +216,7 @@ Body ReadBody(const Context& ctx, const YAML::Node& node, const std::string& key
                      "angular_velocity",
                      "friction",
                      "parts",
+                     "decomposition",
                      "kinematic",
                      "motion"});
   Body body;
@@ -203,7 +228,7 @@ Body ReadBody(const Context& ctx, const YAML::Node& node, const std::string& key
   if (kinematic) {
     for (const char* k :
          {"mass", "density", "inertia", "position", "quaternion", "rpy", "lowest_point_height",
-          "on_ground", "allow_initial_penetration", "velocity", "angular_velocity", "parts"}) {
+          "on_ground", "allow_initial_penetration", "velocity", "angular_velocity"}) {
       if (map.Has(k)) {
         map.FailAt(k, fmt::format("no `{}` on a kinematic body (its `motion` gives its pose)", k));
       }
@@ -281,6 +306,19 @@ Body ReadBody(const Context& ctx, const YAML::Node& node, const std::string& key
   if (map.Has("parts")) {
     body.parts = ReadParts(ctx, map.Get("parts"), map.Key("parts"), extras.center_of_mass,
                            *body.hull, kHullContainmentTolerance * MeshAcross(body.mesh));
+  }
+  // a body whose parts are listed has said what its shape is: its hull would fill its cavities
+  body.decomposition = body.parts.empty() ? Decomposition::kNone : Decomposition::kParts;
+  if (map.Has("decomposition")) {
+    body.decomposition =
+        ReadDecomposition(ctx, map.Get("decomposition"), map.Key("decomposition"));
+    if (body.decomposition == Decomposition::kParts && body.parts.empty()) {
+      map.FailAt("decomposition", "`decomposition: parts` on a body with `parts` to touch with");
+    }
+  }
+  if (body.decomposition == Decomposition::kParts) {
+    WarnOfSeams(body, map.Key("parts"), kHullContainmentTolerance * MeshAcross(body.mesh),
+                extras.center_of_mass, warnings);
   }
 
   // initial state: `position` is where the CM starts; a kinematic body's motion at t = 0

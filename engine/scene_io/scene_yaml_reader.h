@@ -133,6 +133,10 @@ Eigen::Vector3d ReadLengths3(const Context& ctx, const YAML::Node& node, const s
 
 ContactModel ReadModel(const Context& ctx, const YAML::Node& node, const std::string& key);
 
+/// A body's `decomposition`: `none` or `parts`.
+Decomposition ReadDecomposition(const Context& ctx, const YAML::Node& node,
+                                const std::string& key);
+
 /// `quaternion` [w, x, y, z] (normalized) or `rpy` [deg] of `map`; identity when neither.
 Eigen::Quaterniond ReadOrientation(const Context& ctx, const MapNode& map);
 

@@ -57,6 +57,14 @@ ContactModel ReadModel(const Context& ctx, const YAML::Node& node, const std::st
   Fail(ctx, node, key, "one of auto, hull, planar, multipatch, point");
 }
 
+Decomposition ReadDecomposition(const Context& ctx, const YAML::Node& node,
+                                const std::string& key) {
+  for (Decomposition decomposition : {Decomposition::kNone, Decomposition::kParts}) {
+    if (node.IsScalar() && node.Scalar() == DecompositionName(decomposition)) return decomposition;
+  }
+  Fail(ctx, node, key, "one of none, parts");
+}
+
 Eigen::Quaterniond ReadOrientation(const Context& ctx, const MapNode& map) {
   if (map.Has("quaternion") && map.Has("rpy")) {
     map.FailAt("rpy", "either `quaternion` or `rpy`, not both");

@@ -1,0 +1,287 @@
+// Bodies made of convex parts touching bodies (engine/README.md, "Bodies made of convex parts"):
+// scenes/cube_in_cup.yaml and scenes/peg_in_hole.yaml against their geometry, a peg sliding down
+// the wall of its hole against Coulomb's law, and the scene's contacts and their combined output.
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include "common/errors.h"
+#include "engine/report/contact_groups.h"
+#include "engine/report/penetration.h"
+#include "engine/report/trajectory_columns.h"
+#include "engine/scene.h"
+#include "engine/scene_io/scene_validation.h"
+#include "engine/scene_io/scene_yaml.h"
+#include "engine/state.h"
+#include "engine/time_step.h"
+
+namespace ecpsim::engine {
+namespace {
+
+// m: the bar for where a body comes to rest on a part (floor heights to 1e-9 m) and for
+// overlap between parts. The gap rows converge to the solver's tolerance (1e-12) in the
+// contact's length (0.04 m) plus the coordinates' round-off (ulps of 0.1 m), so a correct rest
+// meets it by three orders; a contact with the hull instead of the parts misses it by centimetres
+constexpr double kRestTolerance = 1e-9;
+// m/s: a body at rest moves no faster than this: 1e-9 m over the last step (h = 0.005 s)
+constexpr double kRestSpeed = 1e-9 / 0.005;
+
+std::string ScenePath(const std::string& name) {
+  return std::string(ECPSIM_SOURCE_DIR) + "/scenes/" + name;
+}
+
+// the deepest overlap of any part pair, body or obstacle over a whole run of `scene`
+struct RunEnd {
+  State state;
+  double deepest = 0;
+};
+
+RunEnd RunToEnd(const Scene& scene) {
+  RunEnd run{InitialState(scene)};
+  const PenetrationProbe probe(scene);
+  const int steps = static_cast<int>(std::lround(scene.duration / scene.h));
+  for (int k = 0; k < steps; ++k) {
+    const StepReport report = Step(scene, run.state);
+    EXPECT_TRUE(report.converged) << "t = " << run.state.t;
+    run.deepest = std::max(run.deepest, probe.MaxDepth(scene, run.state));
+  }
+  return run;
+}
+
+// rad: the body's turn from upright (its z axis against the world's), of its z, x or y axis
+// whichever is most nearly vertical (a cube may come to rest on any face)
+double TiltFromAFace(const BodyState& body) {
+  double best = INFINITY;
+  for (int axis = 0; axis < 3; ++axis) {
+    const Eigen::Vector3d u = body.Q_WB * Eigen::Vector3d::Unit(axis);
+    best = std::min(best, std::acos(std::min(1.0, std::abs(u.z()))));
+  }
+  return best;
+}
+
+TEST(PartContactsTest, CubeDroppedIntoACupRestsOnItsFloor) {
+  const Scene scene = LoadScene(ScenePath("cube_in_cup.yaml")).scene;
+  const RunEnd run = RunToEnd(scene);
+  const BodyState& cube = run.state.bodies[1];
+  // the floor's top at 0.01 m, the cube's half edge 0.02 m: on a face, flat
+  EXPECT_NEAR(cube.p_WB.z(), 0.03, kRestTolerance);
+  EXPECT_LE(TiltFromAFace(cube), kRestTolerance / 0.02);
+  EXPECT_LE(cube.v_WB.norm(), kRestSpeed);
+  // inside the cavity (0.08 m across, the cube's half diagonal across it ≤ 0.0283 m)
+  EXPECT_LE(std::abs(cube.p_WB.x()), 0.04 - 0.02);
+  EXPECT_LE(std::abs(cube.p_WB.y()), 0.04 - 0.02);
+  EXPECT_LE(run.deepest, kRestTolerance);
+  // it carries the cube's weight through the floor's part only
+  const double weight = scene.bodies[1].mass * 9.8;
+  for (size_t k = 0; k < scene.contacts.size(); ++k) {
+    const ContactPair& pair = scene.contacts[k];
+    if (!pair.WithBody()) continue;
+    const double force = run.state.contacts[k].p_n / scene.h;
+    EXPECT_NEAR(force, pair.part == 0 ? weight : 0.0, 1e-9 * weight) << "part " << pair.part;
+  }
+}
+
+TEST(PartContactsTest, TheCupsHullWouldHoldTheCubeOnItsRim) {
+  // what the parts change: with `decomposition: none` the cup touches with its hull, a solid box
+  const Scene scene =
+      LoadScene(ScenePath("cube_in_cup.yaml"), {"bodies.0.decomposition=none"}).scene;
+  ASSERT_EQ(scene.contacts.size(), 3u);  // cup–ground, cube–ground, cup–cube
+  const RunEnd run = RunToEnd(scene);
+  // the hull's top at 0.08 m (the mesh's single-precision floats move it by 1e-8 m)
+  EXPECT_NEAR(run.state.bodies[1].p_WB.z(), 0.10, 1e-8);
+}
+
+TEST(PartContactsTest, PegFallsIntoItsHoleAndStandsOnTheTable) {
+  const Scene scene = LoadScene(ScenePath("peg_in_hole.yaml")).scene;
+  const RunEnd run = RunToEnd(scene);
+  const BodyState& peg = run.state.bodies[1];
+  EXPECT_NEAR(peg.p_WB.z(), 0.04, kRestTolerance);  // its half length above the table
+  EXPECT_LE(TiltFromAFace(peg), kRestTolerance / 0.04);
+  EXPECT_LE(peg.v_WB.norm(), kRestSpeed);
+  // within the hole: 1 mm of clearance a side
+  EXPECT_LE(std::abs(peg.p_WB.x()), 0.001 + kRestTolerance);
+  EXPECT_LE(std::abs(peg.p_WB.y()), 0.001 + kRestTolerance);
+  EXPECT_LE(run.deepest, kRestTolerance);
+}
+
+TEST(PartContactsTest, PegPressedOnTheHolesWallSlidesDownAtCoulombsRate) {
+  // the peg against the +x wall (its centre 1 mm off the axis), its bottom 5 mm above the table,
+  // pressed on the wall by F at its CM: the wall's normal force is F, its friction μ F upward
+  // while the peg slides, so v_z(k h) = −k h (g − μ F / m) exactly in the implicit step. The
+  // block is held fixed (kinematic, its parts as in the scene): on the table, a dynamic block
+  // pushed by F sticks with the sticking creep (engine/README.md, "Sticking between bodies"),
+  // 3.7e-7 m/s, whose momentum the first step's p_n pays
+  constexpr double kForce = 1;  // N: μ F = 0.3 N below the weight 0.49 N, so it slides
+  const std::string fixed_block =
+      "bodies.0={name: block, mesh: meshes/block_with_hole.obj, kinematic: true, "
+      "motion: {velocity: {position: [0, 0, 0.025], linear: [0, 0, 0]}}, parts: "
+      "[{box: {size: [0.039, 0.10, 0.05]}, at: [-0.0305, 0, 0.025]}, "
+      "{box: {size: [0.039, 0.10, 0.05]}, at: [0.0305, 0, 0.025]}, "
+      "{box: {size: [0.032, 0.039, 0.05]}, at: [0, -0.0305, 0.025]}, "
+      "{box: {size: [0.032, 0.039, 0.05]}, at: [0, 0.0305, 0.025]}]}";
+  const Scene scene =
+      LoadScene(ScenePath("peg_in_hole.yaml"),
+                {fixed_block, "bodies.1.position=[0.001, 0, 0.045]", "bodies.1.velocity=[0, 0, 0]",
+                 "loads=[{body: peg, force: [1, 0, 0]}]", "duration=0.04"})
+          .scene;
+  const double mu = scene.contacts.back().friction.mu, m = scene.bodies[1].mass, g = 9.8;
+  EXPECT_NEAR(mu, 0.3, 1e-15);  // the pair's: the geometric mean of the bodies' (the ground's)
+  State state = InitialState(scene);
+  for (int k = 1; k <= 8; ++k) {  // 0.04 s: it falls 3 mm, still above the table
+    ASSERT_TRUE(Step(scene, state).converged);
+    const double expected = -k * scene.h * (g - mu * kForce / m);
+    // the friction rows converge to 1e-12 of the contact's impulse scale: 1e-10 of the speed
+    EXPECT_NEAR(state.bodies[1].v_WB.z(), expected, 1e-10 * std::abs(expected)) << "step " << k;
+    EXPECT_NEAR(state.bodies[1].p_WB.x(), 0.001, kRestTolerance) << "step " << k;
+  }
+}
+
+// a bar of two box parts on the ground, reaching 5 mm into each other across x = 0 (or, with
+// `overlap` 0, meeting face to face there), and a cube at `cube_z` over their middle
+LoadedScene BarAndCube(double cube_z, const std::string& decomposition = "parts",
+                       double overlap = 0.005) {
+  const double length = 0.1 + overlap, centre = 0.05 - overlap / 2;
+  const std::string yaml = fmt::format(
+      "duration: 1\nground: {{friction: {{mu: 0.5}}}}\nbodies:\n"
+      "  - name: bar\n"
+      "    shape: {{box: {{size: [0.2, 0.1, 0.1]}}}}\n"
+      "    mass: 2\n"
+      "    position: [0, 0, 0.05]\n"
+      "    parts: [{{box: {{size: [{0}, 0.1, 0.1]}}, at: [{1}, 0, 0]}},\n"
+      "            {{box: {{size: [{0}, 0.1, 0.1]}}, at: [{2}, 0, 0]}}]\n"
+      "    decomposition: {3}\n"
+      "  - {{name: cube, shape: {{box: {{size: [0.1, 0.1, 0.1]}}}}, mass: 1, position: [0, 0, "
+      "{4}]}}\n",
+      length, -centre, centre, decomposition, cube_z);
+  return LoadSceneText(yaml, "bar_and_cube.yaml", ".");
+}
+
+TEST(PartContactsTest, ABodyOfPartsTouchesABodyThroughEachPart) {
+  const Scene scene = BarAndCube(0.2).scene;
+  // bar–ground (a half-space: the hull), cube–ground, then bar part 0 and 1 against the cube
+  ASSERT_EQ(scene.contacts.size(), 4u);
+  EXPECT_EQ(scene.contacts[2].part, 0);
+  EXPECT_EQ(scene.contacts[3].part, 1);
+  EXPECT_EQ(scene.contacts[3].other_part, -1);
+  EXPECT_EQ(&ShapeOfBody(scene, scene.contacts[3]), scene.bodies[0].parts[1].get());
+  EXPECT_EQ(&ShapeOfOther(scene, scene.contacts[3]), scene.bodies[1].hull.get());
+  // trajectory.csv reports the pair once
+  const std::vector<ContactGroup> groups = ContactGroups(scene);
+  ASSERT_EQ(groups.size(), 3u);
+  EXPECT_EQ(groups[2].first, 2);
+  EXPECT_EQ(groups[2].end, 4);
+  const std::vector<std::string> columns = TrajectoryColumns(scene);
+  EXPECT_EQ(std::count(columns.begin(), columns.end(), "bar.cube.pn"), 1);
+  // with `decomposition: none` the bar touches with its hull
+  const Scene hull = BarAndCube(0.2, "none").scene;
+  EXPECT_EQ(hull.contacts.size(), 3u);
+  EXPECT_EQ(hull.contacts[2].part, -1);
+}
+
+TEST(PartContactsTest, PartsThatMeetFaceToFaceAreNamedInAWarning) {
+  EXPECT_TRUE(BarAndCube(0.2).warnings.empty());
+  const std::vector<std::string> warnings = BarAndCube(0.2, "parts", 0).warnings;
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("bodies[0].parts: parts 0 and 1 of body \"bar\" meet face to face"),
+            std::string::npos)
+      << warnings[0];
+  // (at the seam's face, x = 0 in the bar's frame)
+  EXPECT_NE(warnings[0].find("centred at (0, 0, 0) m"), std::string::npos) << warnings[0];
+  // the hull's contacts do not touch the parts
+  EXPECT_TRUE(BarAndCube(0.2, "none", 0).warnings.empty());
+}
+
+TEST(PartContactsTest, TheCubeOnTheBarRestsOnBothParts) {
+  // the cube centred over the parts' overlap: the two carry its weight together
+  const Scene scene = BarAndCube(0.15).scene;
+  State state = InitialState(scene);
+  for (int k = 0; k < 20; ++k) ASSERT_TRUE(Step(scene, state).converged);
+  const double weight = scene.bodies[1].mass * 9.8 * scene.h;
+  EXPECT_NEAR(state.contacts[2].p_n + state.contacts[3].p_n, weight, 1e-12 * weight);
+  EXPECT_NEAR(state.bodies[1].p_WB.z(), 0.15, kRestTolerance);
+  // the combined contact: the sum, at the pressure's centre (x = 0 by symmetry of the loads'
+  // sum, whichever split the step took)
+  const ContactState combined = CombinedContact(state, ContactGroups(scene)[2]);
+  EXPECT_NEAR(combined.p_n, weight, 1e-12 * weight);
+}
+
+TEST(PartContactsTest, CombinedContactKeepsTheTotalForceAndMoment) {
+  // two members with different normals (a cube on a floor against a wall)
+  State state;
+  state.contacts.resize(2);
+  ContactState& floor = state.contacts[0];
+  floor.a1 = Eigen::Vector3d(0.01, 0.02, 0.01);
+  floor.p_n = 3;
+  floor.p_t = 0.4;
+  floor.p_o = -0.2;
+  floor.p_r = 0.01;
+  floor.sigma = 0.5;
+  ContactState& wall = state.contacts[1];
+  wall.n = Eigen::Vector3d::UnitX();
+  wall.t = Eigen::Vector3d::UnitY();
+  wall.o = Eigen::Vector3d::UnitZ();
+  wall.a1 = Eigen::Vector3d(-0.04, 0, 0.03);
+  wall.p_n = 1;
+  wall.p_t = 0.1;
+  wall.p_o = 0.3;
+  wall.sigma = 0.1;
+  const ContactState c = CombinedContact(state, {0, 2});
+  const auto force = [](const ContactState& s) { return Eigen::Vector3d(s.n * s.p_n + s.t * s.p_t + s.o * s.p_o); };
+  EXPECT_TRUE((force(c) - (force(floor) + force(wall))).norm() < 1e-15);
+  EXPECT_EQ(c.n, floor.n);  // the frame of the member carrying more
+  EXPECT_TRUE((c.a1 - (3 * floor.a1 + wall.a1) / 4).norm() < 1e-16);
+  EXPECT_NEAR(c.sigma, (3 * 0.5 + 0.1) / 4, 1e-16);
+  const Eigen::Vector3d moment = (floor.a1 - c.a1).cross(force(floor)) + floor.n * floor.p_r +
+                                 (wall.a1 - c.a1).cross(force(wall)) + wall.n * wall.p_r;
+  EXPECT_NEAR(c.p_r, c.n.dot(moment), 1e-16);
+  // a group of one is its contact
+  const ContactState one = CombinedContact(state, {1, 2});
+  EXPECT_EQ(one.a1, wall.a1);
+  EXPECT_EQ(one.p_o, wall.p_o);
+  EXPECT_EQ(one.n, wall.n);
+}
+
+TEST(PartContactsTest, ContactsNamingPartsAreChecked) {
+  const Scene scene = BarAndCube(0.2).scene;
+  Scene bad = scene;
+  bad.contacts[3].part = 2;
+  EXPECT_THROW(ValidateScene(bad), SceneError);
+  bad = scene;
+  bad.contacts[2].other_part = 0;  // the cube has no parts
+  EXPECT_THROW(ValidateScene(bad), SceneError);
+  bad = scene;
+  bad.contacts[3].part = 0;  // the pair of parts twice
+  EXPECT_THROW(ValidateScene(bad), SceneError);
+  bad = scene;
+  std::swap(bad.contacts[1], bad.contacts[2]);  // the bar–cube contacts apart
+  EXPECT_THROW(ValidateScene(bad), SceneError);
+}
+
+TEST(PartContactsTest, DecompositionPartsNeedsParts) {
+  const std::string yaml =
+      "duration: 1\nground: {}\nbodies:\n"
+      "  - {name: a, shape: {box: {size: [0.1, 0.1, 0.1]}}, mass: 1, decomposition: parts}\n";
+  try {
+    LoadSceneText(yaml, "t.yaml", ".");
+    FAIL() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("bodies[0].decomposition"), std::string::npos) << e.what();
+  }
+  const std::string wrong =
+      "duration: 1\nground: {}\nbodies:\n"
+      "  - {name: a, shape: {box: {size: [0.1, 0.1, 0.1]}}, mass: 1, decomposition: auto}\n";
+  try {
+    LoadSceneText(wrong, "t.yaml", ".");
+    FAIL() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("one of none, parts"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace ecpsim::engine
