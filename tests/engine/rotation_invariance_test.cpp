@@ -34,8 +34,11 @@ const std::vector<std::string> kAsserted = {
 // those that do not yet under the default selection: their steps' solutions form sets
 // (non-isolated solutions) where the sticking creep's root depends on the Newton path
 // (engine/README.md, "Non-isolated solutions: the minimum-norm pass"); the least-energy
-// selection, asserted below for both, picks one point of the set whatever the frame
-const std::vector<std::string> kNotYet = {"gripper.yaml", "tbar_push.yaml"};
+// selection, asserted below for the first and the last, picks one point of the set whatever the
+// frame. The hook's mug pivots on its far edge on the table while the hook's tip lifts it along a
+// line across its handle's arm (ecpsim_rotation_check: 1.8e-3 m at 90°, 1.2e-3 m at 37°, at
+// 0.7–0.9 s); under the least-energy selection it takes 9.5 min of CPU for its 3 s
+const std::vector<std::string> kNotYet = {"gripper.yaml", "hook.yaml", "tbar_push.yaml"};
 
 void ExpectTurnedMotion(const std::string& name, const std::vector<std::string>& overrides = {}) {
   const Scene scene =
