@@ -8,7 +8,6 @@
 #include "geometry/convex_hull.h"
 #include "geometry/convex_shape.h"
 #include "geometry/mass_properties.h"
-#include "geometry/part_seams.h"
 
 namespace ecpsim::engine::yaml {
 namespace {
@@ -39,31 +38,10 @@ double ReadMeshScale(const Context& ctx, const MapNode& map) {
   return *metres;
 }
 
-struct MeshFile {
-  std::string path;   // as found, relative to the working folder
-  TriangleMesh mesh;  // m, the file's frame
-};
-
-// the mesh file of `mesh`, scaled to m, checked to have a size in range; a size outside
-// [1 mm, 10 m] adds a warning
+// the mesh file of `mesh`, scaled to m by the body's `scale` or `units`
 MeshFile ReadMesh(const Context& ctx, const MapNode& map, std::vector<std::string>& warnings) {
-  const YAML::Node node = map.Get("mesh");
-  const std::string key = map.Key("mesh");
-  const std::string file =
-      ReadString(ctx, node, key, "a mesh file path (relative to the scene file)");
-  const double scale = ReadMeshScale(ctx, map);
-  const fs::path path = (ctx.folder / file).lexically_normal();
-  std::error_code error;
-  if (!fs::is_regular_file(path, error)) {
-    Fail(ctx, node, key, fmt::format("an existing mesh file (looked for {})", path.string()));
-  }
-  ScaledMesh scaled = WithLocation(ctx, node, key, [&] {
-    return LoadScaledMesh(path.string(), scale, std::nullopt, {map.Key("scale"), map.Key("units")});
-  });
-  if (!scaled.warning.empty()) {
-    warnings.push_back(fmt::format("{}: {}: {}", Where(ctx, node, key), key, scaled.warning));
-  }
-  return {path.string(), std::move(scaled.mesh)};
+  return LoadMeshFile(ctx, map.Get("mesh"), map.Key("mesh"), ReadMeshScale(ctx, map),
+                      {map.Key("scale"), map.Key("units")}, warnings);
 }
 
 // 3 (diagonal) or 9 (row-major) numbers; symmetric, positive definite etc.: ValidateScene
@@ -81,62 +59,6 @@ Eigen::Matrix3d ReadInertia(const Context& ctx, const YAML::Node& node, const st
     for (int i = 0; i < 9; ++i) inertia(i / 3, i % 3) = v[i];
   }
   return inertia;
-}
-
-// `parts: [{box: {size}, at, rpy | quaternion}]`: the convex pieces of the multipatch model, each
-// a box whose centre `at` is in the mesh's frame (like loads' `at`), moved to the CM frame; every
-// part must lie inside the body's hull (its vertices within `tolerance` m), since the parts
-// stand for pieces of the body
-std::vector<std::shared_ptr<const ConvexShape>> ReadParts(
-    const Context& ctx, const YAML::Node& node, const std::string& key,
-    const Eigen::Vector3d& center_of_mass, const ConvexShape& hull, double tolerance) {
-  if (!node.IsSequence() || node.size() == 0) {
-    Fail(ctx, node, key, "a list of at least one part {box: {size: [x, y, z]}, at: [x, y, z]}");
-  }
-  std::vector<std::shared_ptr<const ConvexShape>> parts;
-  for (size_t i = 0; i < node.size(); ++i) {
-    const MapNode part(ctx, node[i], Index(key, i), {"box", "at", "rpy", "quaternion"});
-    const MapNode box(ctx, part.Require("box", "a box part {size: [x, y, z]}"), part.Key("box"),
-                      {"size"});
-    const auto shape = ReadPosedBox(ctx, box, part, "at", center_of_mass);
-    const auto& polyhedron = static_cast<const geometry::PolyhedralShape&>(*shape);
-    for (const Eigen::Vector3d& v : polyhedron.hull().vertices) {
-      for (int c = 0; c < hull.NumConstraints(); ++c) {
-        const double outside = hull.Value(c, v);
-        if (outside > tolerance) {
-          const Eigen::Vector3d v_mesh = v + center_of_mass;
-          Fail(ctx, node[i], Index(key, i),
-               fmt::format("a part inside the body; its corner ({:.6g}, {:.6g}, {:.6g}) m (mesh "
-                           "frame) lies {:.3g} m outside the body's hull",
-                           v_mesh.x(), v_mesh.y(), v_mesh.z(), outside));
-        }
-      }
-    }
-    parts.push_back(shape);
-  }
-  return parts;
-}
-
-// a note for each two parts that meet face to face (geometry/part_seams.h): a contact at the
-// seam's edge could push along the seam face's normal, which no surface of the body has
-void WarnOfSeams(const Body& body, const std::string& key, double tolerance,
-                 const Eigen::Vector3d& center_of_mass, std::vector<std::string>& warnings) {
-  for (size_t i = 0; i < body.parts.size(); ++i) {
-    for (size_t j = i + 1; j < body.parts.size(); ++j) {
-      const auto* a = body.parts[i]->AsPolyhedron();
-      const auto* b = body.parts[j]->AsPolyhedron();
-      if (a == nullptr || b == nullptr) continue;
-      const std::optional<geometry::Seam> seam = geometry::FindSeam(a->hull(), b->hull(), tolerance);
-      if (!seam) continue;
-      const Eigen::Vector3d at = seam->centre + center_of_mass;
-      warnings.push_back(fmt::format(
-          "{}: parts {} and {} of body \"{}\" meet face to face (a face centred at ({:.6g}, "
-          "{:.6g}, {:.6g}) m, mesh frame): where that seam reaches the surface a contact's normal "
-          "is not unique; let one part reach into the other (docs/scene_format.md, "
-          "\"Decomposition\")",
-          key, i, j, body.name, at.x(), at.y(), at.z()));
-    }
-  }
 }
 
 // an explicit hull primitive, centred at the CM, must contain the mesh
@@ -188,6 +110,24 @@ Eigen::Vector3d ReadPosition(const Context& ctx, const MapNode& map, const Body&
 }
 
 }  // namespace
+
+MeshFile LoadMeshFile(const Context& ctx, const YAML::Node& node, const std::string& key,
+                      double scale, const MeshScaleKeys& scale_keys,
+                      std::vector<std::string>& warnings) {
+  const std::string file =
+      ReadString(ctx, node, key, "a mesh file path (relative to the scene file)");
+  const fs::path path = (ctx.folder / file).lexically_normal();
+  std::error_code error;
+  if (!fs::is_regular_file(path, error)) {
+    Fail(ctx, node, key, fmt::format("an existing mesh file (looked for {})", path.string()));
+  }
+  ScaledMesh scaled = WithLocation(
+      ctx, node, key, [&] { return LoadScaledMesh(path.string(), scale, std::nullopt, scale_keys); });
+  if (!scaled.warning.empty()) {
+    warnings.push_back(fmt::format("{}: {}: {}", Where(ctx, node, key), key, scaled.warning));
+  }
+  return {path.string(), std::move(scaled.mesh)};
+}
 
 // kg/m³: a kinematic body's mass properties are unused (it is never pushed); its body frame is
 // the centroid of its volume, as a dynamic body's is its centre of mass at uniform density
@@ -303,22 +243,23 @@ Body ReadBody(const Context& ctx, const YAML::Node& node, const std::string& key
   body.inertia =
       map.Has("inertia") ? ReadInertia(ctx, map.Get("inertia"), map.Key("inertia")) : inertia;
   if (map.Has("hull")) body.hull = ReadDeclaredHull(ctx, map, body.mesh);
-  if (map.Has("parts")) {
-    body.parts = ReadParts(ctx, map.Get("parts"), map.Key("parts"), extras.center_of_mass,
-                           *body.hull, kHullContainmentTolerance * MeshAcross(body.mesh));
-  }
   // a body whose parts are listed has said what its shape is: its hull would fill its cavities
-  body.decomposition = body.parts.empty() ? Decomposition::kNone : Decomposition::kParts;
+  body.decomposition = map.Has("parts") ? Decomposition::kParts : Decomposition::kNone;
   if (map.Has("decomposition")) {
     body.decomposition =
         ReadDecomposition(ctx, map.Get("decomposition"), map.Key("decomposition"));
-    if (body.decomposition == Decomposition::kParts && body.parts.empty()) {
+    if (body.decomposition == Decomposition::kParts && !map.Has("parts")) {
       map.FailAt("decomposition", "`decomposition: parts` on a body with `parts` to touch with");
     }
   }
-  if (body.decomposition == Decomposition::kParts) {
-    WarnOfSeams(body, map.Key("parts"), kHullContainmentTolerance * MeshAcross(body.mesh),
-                extras.center_of_mass, warnings);
+  if (map.Has("parts")) {
+    const PartFrame frame{extras.center_of_mass,
+                          body.hull.get(),
+                          kHullContainmentTolerance * MeshAcross(body.mesh),
+                          map.Has("mesh") ? ReadMeshScale(ctx, map) : 1.0,
+                          {map.Key("scale"), map.Key("units")},
+                          body.decomposition == Decomposition::kParts};
+    body.parts = ReadParts(ctx, map.Get("parts"), map.Key("parts"), frame, warnings);
   }
 
   // initial state: `position` is where the CM starts; a kinematic body's motion at t = 0

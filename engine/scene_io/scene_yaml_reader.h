@@ -17,6 +17,7 @@
 #include "common/errors.h"
 #include "engine/kinematic_motion.h"
 #include "engine/scene.h"
+#include "engine/scene_io/mesh_scale.h"
 #include "engine/scene_limits.h"
 
 namespace ecpsim::engine::yaml {
@@ -152,6 +153,37 @@ struct Primitive {
 };
 /// `{box|sphere|cylinder|ellipsoid: ...}`.
 Primitive ReadPrimitive(const Context& ctx, const YAML::Node& node, const std::string& key);
+/// The one of `box`, `sphere`, `cylinder`, `ellipsoid` that `map` has (it may have other keys).
+Primitive ReadPrimitiveIn(const Context& ctx, const MapNode& map);
+
+/// A mesh file as read for a body or a part: where it was found and its triangles in m.
+struct MeshFile {
+  std::string path;            // as found, relative to the working folder
+  geometry::TriangleMesh mesh;  // m, the file's frame
+};
+/// The mesh file named by `node` (relative to the scene's folder), scaled to m by `scale`
+/// (`scale_keys`: the keys that gave it, for messages), its size checked in range; a size
+/// outside [1 mm, 10 m] adds a warning.
+MeshFile LoadMeshFile(const Context& ctx, const YAML::Node& node, const std::string& key,
+                      double scale, const MeshScaleKeys& scale_keys,
+                      std::vector<std::string>& warnings);
+
+/// What a body's parts are read against: its frame, its hull and its mesh's scale.
+struct PartFrame {
+  Eigen::Vector3d center_of_mass = Eigen::Vector3d::Zero();  // m, in the mesh's frame
+  const geometry::ConvexShape* hull = nullptr;                 // body frame
+  double tolerance = 0;   // m: how far a part may reach out of the hull (round-off)
+  double mesh_scale = 1;  // the body's mesh units → m, for parts given as meshes
+  MeshScaleKeys scale_keys;  // the body's keys that gave it, for messages
+  bool touched = true;     // whether contacts touch the parts (Decomposition::kParts)
+};
+/// `parts: [{box|sphere|cylinder|ellipsoid|mesh: ..., at, rpy | quaternion}]`
+/// (docs/scene_format.md, "Parts"): each a primitive or the convex hull of a mesh file, placed
+/// in the body's mesh frame and moved to its body frame, inside the body's hull. Where contacts
+/// touch them, warns of each two parts that meet face to face (geometry/part_seams.h).
+std::vector<std::shared_ptr<const geometry::ConvexShape>> ReadParts(
+    const Context& ctx, const YAML::Node& node, const std::string& key, const PartFrame& frame,
+    std::vector<std::string>& warnings);
 
 /// A box fixture or part: `size` from `box`, its centre from `pose`'s `position_key` (default
 /// the origin) minus `shift`, its orientation from `pose`'s `rpy` / `quaternion`.

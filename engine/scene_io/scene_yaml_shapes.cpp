@@ -5,6 +5,7 @@
 #include "engine/rotation.h"
 #include "engine/scene_io/scene_yaml_reader.h"
 #include "geometry/convex_shape.h"
+#include "geometry/posed_shape.h"
 
 namespace ecpsim::engine::yaml {
 namespace {
@@ -118,6 +119,10 @@ Primitive ReadPrimitive(const Context& ctx, const YAML::Node& node, const std::s
   if (map.node().size() != 1) {
     Fail(ctx, node, key, "exactly one of box, sphere, cylinder, ellipsoid");
   }
+  return ReadPrimitiveIn(ctx, map);
+}
+
+Primitive ReadPrimitiveIn(const Context& ctx, const MapNode& map) {
   // lengths within kLengthRange: volume (L³) and inertia per kg (L²) stay normal doubles
   Primitive p;
   if (map.Has("box")) {
@@ -161,24 +166,6 @@ Primitive ReadPrimitive(const Context& ctx, const YAML::Node& node, const std::s
   return p;
 }
 
-namespace {
-
-// the box's hull moved to the pose (R, p): n' = R n, d' = d + n' · p
-std::shared_ptr<const ConvexShape> PosedBox(const Eigen::Vector3d& size,
-                                            const Eigen::Quaterniond& rotation,
-                                            const Eigen::Vector3d& position) {
-  geometry::ConvexHull hull = geometry::MakeBox(size / 2)->hull();
-  const Eigen::Matrix3d R = rotation.toRotationMatrix();
-  for (Eigen::Vector3d& v : hull.vertices) v = R * v + position;
-  for (size_t i = 0; i < hull.normals.size(); ++i) {
-    hull.normals[i] = R * hull.normals[i];
-    hull.offsets[i] += hull.normals[i].dot(position);
-  }
-  return std::make_shared<geometry::PolyhedralShape>(std::move(hull));
-}
-
-}  // namespace
-
 std::shared_ptr<const ConvexShape> ReadPosedBox(const Context& ctx, const MapNode& box,
                                                 const MapNode& pose,
                                                 const std::string& position_key,
@@ -191,8 +178,10 @@ std::shared_ptr<const ConvexShape> ReadPosedBox(const Context& ctx, const MapNod
                              : Eigen::Vector3d::Zero();
   const Eigen::Quaterniond rotation = ReadOrientation(ctx, pose);
   // a box too thin for its length is flat to the hull's tolerance: an error at the box
-  return WithLocation(ctx, pose.node(), pose.key(),
-                      [&] { return PosedBox(size, rotation, position - shift); });
+  return WithLocation(ctx, pose.node(), pose.key(), [&] {
+    return geometry::Posed(geometry::MakeBox(size / 2), rotation.toRotationMatrix(),
+                           position - shift);
+  });
 }
 
 Obstacle ReadObstacle(const Context& ctx, const YAML::Node& node, const std::string& key,
