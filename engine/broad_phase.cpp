@@ -168,6 +168,12 @@ bool BodiesInReach(const Scene& scene, const State& state, const StepReach& reac
                                   pose(b), distance, std::max(reach.size[a], reach.size[b]));
 }
 
+bool PartReachesBody(const StepReach& reach, const ContactPair& pair) {
+  const std::vector<Box>& parts = reach.part_boxes[pair.body];
+  if (pair.part < 0 || static_cast<size_t>(pair.part) >= parts.size()) return true;
+  return parts[pair.part].intersects(reach.boxes[pair.other_body]);
+}
+
 bool InReach(const Box& box, const geometry::ConvexShape& obstacle) {
   if (!box.min().allFinite() || !box.max().allFinite()) return true;
   const Eigen::Vector3d centre = box.center(), half = 0.5 * box.sizes();

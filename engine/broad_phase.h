@@ -50,6 +50,10 @@ void StepReachOf(const Scene& scene, const State& state, StepReach& reach);
 /// the world axes.
 bool BodiesInReach(const Scene& scene, const State& state, const StepReach& reach, int k);
 
+/// Whether the box of the part of F that `pair` names (between two bodies, F touching with a
+/// part) meets the whole box of G: where it does not, no contact of that part with G can act.
+bool PartReachesBody(const StepReach& reach, const ContactPair& pair);
+
 /// Whether anything in `box` can touch the fixed convex `obstacle` (world frame): a half-space's
 /// constraint at the box's point deepest into it, else the obstacle's own box.
 bool InReach(const Box& box, const geometry::ConvexShape& obstacle);

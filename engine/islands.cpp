@@ -1,5 +1,6 @@
 #include "engine/islands.h"
 
+#include <array>
 #include <numeric>
 
 #include "engine/contact_friction.h"
@@ -27,9 +28,24 @@ void FormIslandsInto(const Scene& scene, const State& state, IslandScratch& scra
     reach_known = true;
     return reach;
   };
+  // a part of F whose box misses G's is out of reach of each of G's parts, and its contacts
+  // with them follow one another: one box test for all of them
+  std::array<int, 3> part_checked = {-1, -1, -1};  // body, part, other body
+  bool part_reaches = true;
   for (size_t k = 0; k < scene.contacts.size(); ++k) {
     const ContactPair& pair = scene.contacts[k];
     if (!pair.WithBody()) continue;
+    if (pair.part >= 0 && pair.other_part >= 0) {
+      const std::array<int, 3> key = {pair.body, pair.part, pair.other_body};
+      if (key != part_checked) {
+        part_checked = key;
+        part_reaches = PartReachesBody(known_reach(), pair);
+      }
+      if (!part_reaches) {
+        in_step[k] = false;
+        continue;
+      }
+    }
     in_step[k] = BodiesInReach(scene, state, known_reach(), static_cast<int>(k));
     if (in_step[k] && !scene.bodies[pair.other_body].IsKinematic())
       root[find(pair.body)] = find(pair.other_body);
