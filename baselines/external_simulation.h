@@ -55,7 +55,8 @@ class ExternalSimulation {
 /// each obstacle a half-space (plane); friction μ of each contact pair (the ellipsoid's torsion
 /// e_r maps to torsional friction where the engine has it, kCoulomb only).
 /// @throws InputError if the engine is not available in this build or the scene holds something
-///         the adapter cannot model (an obstacle that is not a half-space), naming it.
+///         the adapter cannot model (an obstacle that is not a half-space, a body whose contacts
+///         touch its parts), naming it.
 std::unique_ptr<ExternalSimulation> MakeExternalSimulation(ExternalEngine engine,
                                                            FrictionSetting setting,
                                                            const engine::Scene& scene);

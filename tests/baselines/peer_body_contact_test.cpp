@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 
 #include "baselines/external_simulation.h"
+#include "common/errors.h"
 #include "engine/scene_io/scene_yaml.h"
 
 namespace ecpsim::baselines {
@@ -138,6 +139,21 @@ TEST(PeerBodyContact, FlatPusherAtATenthOfAMeterPerSecond) {
     EXPECT_NEAR(late_sum / late_count, speed, kPushMeanSpeed * speed) << PeerName(peer);
     const double friction = 0.3 * 1 * kG;  // N: μ m g of the scene's 1 kg box
     EXPECT_NEAR(late_force / late_count, friction, kPushMeanForce * friction) << PeerName(peer);
+  }
+}
+
+TEST(PeerBodyContact, ABodyTouchingThroughItsPartsIsRefused) {
+  // the adapters give each body its hull: the cup would hold the cube on its rim
+  const engine::Scene scene = Scene("cube_in_cup.yaml");
+  for (const Peer& peer : AvailablePeers()) {
+    try {
+      MakeExternalSimulation(peer.engine, peer.setting, scene);
+      ADD_FAILURE() << PeerName(peer) << " accepted a body touching through its parts";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("bodies[0] 'cup': its contacts touch its parts"),
+                std::string::npos)
+          << e.what();
+    }
   }
 }
 
