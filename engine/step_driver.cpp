@@ -185,6 +185,12 @@ StepReport StepIslands(const Scene& scene, State& state, const ContactModelStepp
   for (size_t k = 0; k < scene.contacts.size(); ++k) {
     if (sleep.in_step[k]) continue;
     ContactState& c = state.contacts[k];
+    // (most are clear already, +0 to the bit: a pile's far pairs, parts away from the other
+    // body)
+    const auto clear = [](double x) { return x == 0 && !std::signbit(x); };
+    if (c.warm_start.empty() && clear(c.p_n) && clear(c.p_t) && clear(c.p_o) && clear(c.p_r) &&
+        clear(c.sigma))
+      continue;
     c.p_n = c.p_t = c.p_o = c.p_r = c.sigma = 0;
     c.warm_start.Reset();
   }
