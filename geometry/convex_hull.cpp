@@ -10,7 +10,12 @@
 #include <tuple>
 #include <utility>
 
+#include <CGAL/Exact_predicates_exact_constructions_kernel.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Nef_polyhedron_3.h>
+#include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
+#include <CGAL/Polyhedron_3.h>
+#include <CGAL/convex_decomposition_3.h>
 #include <CGAL/convex_hull_2.h>
 #include <CGAL/convex_hull_3.h>
 #include <fmt/format.h>
@@ -301,6 +306,54 @@ std::vector<Eigen::Vector2d> ComputeConvexHull2D(const std::vector<Eigen::Vector
   hull.reserve(extreme.size());
   for (const Point2& p : extreme) hull.emplace_back(p.x(), p.y());
   return hull;
+}
+
+std::vector<std::vector<Eigen::Vector3d>> ExactConvexPieces(const TriangleMesh& mesh,
+                                                            const std::string& source) {
+  using Exact = CGAL::Exact_predicates_exact_constructions_kernel;
+  using Polyhedron = CGAL::Polyhedron_3<Exact>;
+  using Nef = CGAL::Nef_polyhedron_3<Exact>;
+  std::vector<Exact::Point_3> points;
+  for (const Eigen::Vector3d& v : mesh.vertices) points.emplace_back(v.x(), v.y(), v.z());
+  std::vector<std::array<std::size_t, 3>> triangles;
+  for (const Eigen::Vector3i& t : mesh.triangles) {
+    triangles.push_back({static_cast<std::size_t>(t[0]), static_cast<std::size_t>(t[1]),
+                         static_cast<std::size_t>(t[2])});
+  }
+  namespace PMP = CGAL::Polygon_mesh_processing;
+  if (!PMP::is_polygon_soup_a_polygon_mesh(triangles)) {
+    throw InputError(fmt::format(
+        "convex decomposition of {}: its triangles do not form a closed, consistently oriented "
+        "surface (an edge with more than two triangles, or two triangles wound alike across it)",
+        source));
+  }
+  std::vector<std::vector<Eigen::Vector3d>> pieces;
+  try {
+    Polyhedron polyhedron;
+    PMP::polygon_soup_to_polygon_mesh(points, triangles, polyhedron);
+    if (!polyhedron.is_closed()) {
+      throw InputError(fmt::format(
+          "convex decomposition of {}: the mesh is not closed; a solid needs a closed surface",
+          source));
+    }
+    Nef nef(polyhedron);
+    CGAL::convex_decomposition_3(nef);
+    // the first volume is the outside
+    for (auto volume = ++nef.volumes_begin(); volume != nef.volumes_end(); ++volume) {
+      if (!volume->mark()) continue;
+      Polyhedron piece;
+      nef.convert_inner_shell_to_polyhedron(volume->shells_begin(), piece);
+      std::vector<Eigen::Vector3d>& vertices = pieces.emplace_back();
+      for (auto v = piece.vertices_begin(); v != piece.vertices_end(); ++v) {
+        vertices.emplace_back(CGAL::to_double(v->point().x()), CGAL::to_double(v->point().y()),
+                              CGAL::to_double(v->point().z()));
+      }
+    }
+  } catch (const CGAL::Failure_exception& e) {
+    throw InputError(fmt::format("convex decomposition of {}: CGAL refused the mesh: {}", source,
+                                 e.message()));
+  }
+  return pieces;
 }
 
 }  // namespace ecpsim::geometry

@@ -59,6 +59,15 @@ ConvexHull TranslateHull(const ConvexHull& hull, const Eigen::Vector3d& offset);
 /// The hull's faces fanned into triangles (outward winding), e.g. for rendering or mass properties.
 TriangleMesh TriangulateHull(const ConvexHull& hull);
 
+/// The convex pieces of the solid a closed, consistently oriented triangle mesh bounds, exactly:
+/// CGAL's Nef polyhedron of the mesh (its coordinates taken exactly) split by
+/// convex_decomposition_3, each piece as its vertices (rounded to doubles). The pieces fill the
+/// solid and meet face to face. Here rather than in a file of its own so that CGAL stays in one
+/// translation unit.
+/// @throws InputError naming `source` if the mesh is not a closed 2-manifold that CGAL accepts.
+std::vector<std::vector<Eigen::Vector3d>> ExactConvexPieces(const TriangleMesh& mesh,
+                                                            const std::string& source);
+
 /// 2-D convex hull, counter-clockwise, without collinear points; fewer than 3 output points for
 /// degenerate input (one point, or a segment given by its two ends).
 std::vector<Eigen::Vector2d> ComputeConvexHull2D(const std::vector<Eigen::Vector2d>& points);

@@ -6,6 +6,8 @@
 
 #include <Eigen/Geometry>
 
+#include "geometry/mesh_bounds.h"
+
 namespace ecpsim::geometry {
 namespace {
 
@@ -45,16 +47,12 @@ double SmallestOverlap(const std::vector<Vector2d>& p, const std::vector<Vector2
   return smallest;
 }
 
-double Size(const ConvexHull& hull) {
-  Eigen::AlignedBox3d box;
-  for (const Vector3d& x : hull.vertices) box.extend(x);
-  return box.isEmpty() ? 0.0 : box.diagonal().norm();
-}
 
 }  // namespace
 
 std::optional<Seam> FindSeam(const ConvexHull& a, const ConvexHull& b, double tolerance) {
-  const double size = std::max(Size(a), Size(b));
+  const double size =
+      std::max(ComputeMeshBounds(a.vertices).diagonal, ComputeMeshBounds(b.vertices).diagonal);
   if (!(size > 0)) return std::nullopt;
   for (size_t i = 0; i < a.faces.size(); ++i) {
     const Vector3d& n = a.normals[i];

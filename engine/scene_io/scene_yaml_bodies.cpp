@@ -5,6 +5,7 @@
 
 #include "engine/scene_io/mesh_scale.h"
 #include "engine/scene_io/scene_yaml_reader.h"
+#include "geometry/convex_decomposition.h"
 #include "geometry/convex_hull.h"
 #include "geometry/convex_shape.h"
 #include "geometry/mass_properties.h"
@@ -59,6 +60,30 @@ Eigen::Matrix3d ReadInertia(const Context& ctx, const YAML::Node& node, const st
     for (int i = 0; i < 9; ++i) inertia(i / 3, i % 3) = v[i];
   }
   return inertia;
+}
+
+// relative: a mesh whose volume is within this of its hull's is convex (its hull exact): the
+// hull merges coplanar triangles within 1e-6 of the diagonal (kCoplanarTolerance), which moves
+// its volume by up to about that, relative
+constexpr double kConvexVolumeRel = 1e-5;
+// the most parts `decomposition: auto` gives a body: a pair of bodies of n and m parts is n × m
+// contacts, each tested by the broad phase every step
+constexpr std::size_t kMaxDecomposedParts = 64;
+
+// `decomposition: auto`: the exact convex parts of the body's mesh (body frame), or none where
+// the mesh is convex, whose hull is exact
+std::vector<std::shared_ptr<const ConvexShape>> DecomposedParts(const Body& body,
+                                                                double mesh_volume) {
+  if (!(mesh_volume > 0)) return {};
+  const double hull_volume =
+      geometry::HullVolume(geometry::ComputeConvexHull(body.mesh.vertices, body.name));
+  if (mesh_volume >= (1 - kConvexVolumeRel) * hull_volume) return {};
+  std::vector<std::shared_ptr<const ConvexShape>> parts;
+  for (geometry::ConvexHull& part :
+       geometry::DecomposeSolid(body.mesh, "the mesh of body '" + body.name + "'",
+                                kMaxDecomposedParts))
+    parts.push_back(std::make_shared<geometry::PolyhedralShape>(std::move(part)));
+  return parts;
 }
 
 // an explicit hull primitive, centred at the CM, must contain the mesh
@@ -211,6 +236,7 @@ Body ReadBody(const Context& ctx, const YAML::Node& node, const std::string& key
     }
   }
   Eigen::Matrix3d inertia;
+  double mesh_volume = 0;  // m³; 0: a primitive, which is convex
   if (map.Has("mesh")) {
     const YAML::Node mesh_node = map.Get("mesh");
     const MeshFile file = ReadMesh(ctx, map, warnings);
@@ -222,6 +248,7 @@ Body ReadBody(const Context& ctx, const YAML::Node& node, const std::string& key
     });
     body.mass = props.mass;
     inertia = props.inertia;
+    mesh_volume = props.volume;
     extras.center_of_mass = props.center_of_mass;
     body.mesh = mesh;
     for (Eigen::Vector3d& v : body.mesh.vertices) v -= props.center_of_mass;
@@ -244,22 +271,34 @@ Body ReadBody(const Context& ctx, const YAML::Node& node, const std::string& key
       map.Has("inertia") ? ReadInertia(ctx, map.Get("inertia"), map.Key("inertia")) : inertia;
   if (map.Has("hull")) body.hull = ReadDeclaredHull(ctx, map, body.mesh);
   // a body whose parts are listed has said what its shape is: its hull would fill its cavities
-  body.decomposition = map.Has("parts") ? Decomposition::kParts : Decomposition::kNone;
+  DecompositionMode mode = map.Has("parts") ? DecompositionMode::kParts : DecompositionMode::kNone;
   if (map.Has("decomposition")) {
-    body.decomposition =
-        ReadDecomposition(ctx, map.Get("decomposition"), map.Key("decomposition"));
-    if (body.decomposition == Decomposition::kParts && !map.Has("parts")) {
+    mode = ReadDecomposition(ctx, map.Get("decomposition"), map.Key("decomposition"));
+    if (mode == DecompositionMode::kParts && !map.Has("parts")) {
       map.FailAt("decomposition", "`decomposition: parts` on a body with `parts` to touch with");
     }
+    if (mode == DecompositionMode::kAuto && map.Has("parts")) {
+      map.FailAt("parts",
+                 "no `parts` with `decomposition: auto`, which decomposes the mesh (list parts "
+                 "with `decomposition: parts`)");
+    }
   }
+  body.decomposition =
+      mode == DecompositionMode::kNone ? Decomposition::kNone : Decomposition::kParts;
+  const PartFrame frame{extras.center_of_mass,
+                        body.hull.get(),
+                        kHullContainmentTolerance * MeshAcross(body.mesh),
+                        map.Has("mesh") ? ReadMeshScale(ctx, map) : 1.0,
+                        {map.Key("scale"), map.Key("units")},
+                        body.decomposition == Decomposition::kParts};
   if (map.Has("parts")) {
-    const PartFrame frame{extras.center_of_mass,
-                          body.hull.get(),
-                          kHullContainmentTolerance * MeshAcross(body.mesh),
-                          map.Has("mesh") ? ReadMeshScale(ctx, map) : 1.0,
-                          {map.Key("scale"), map.Key("units")},
-                          body.decomposition == Decomposition::kParts};
     body.parts = ReadParts(ctx, map.Get("parts"), map.Key("parts"), frame, warnings);
+  }
+  if (mode == DecompositionMode::kAuto) {
+    body.parts = WithLocation(ctx, map.Get("decomposition"), map.Key("decomposition"),
+                              [&] { return DecomposedParts(body, mesh_volume); });
+    if (body.parts.empty()) body.decomposition = Decomposition::kNone;
+    WarnOfSeams(body.parts, map.Key("decomposition"), frame, warnings);
   }
 
   // initial state: `position` is where the CM starts; a kinematic body's motion at t = 0

@@ -52,29 +52,6 @@ std::pair<double, Eigen::Vector3d> Outside(const ConvexShape& part, const Convex
   return worst;
 }
 
-// a note for each two parts that meet face to face (geometry/part_seams.h): a contact at the
-// seam's edge could push along the seam face's normal, which no surface of the body has
-void WarnOfSeams(const std::vector<std::shared_ptr<const ConvexShape>>& parts,
-                 const std::string& key, const PartFrame& frame,
-                 std::vector<std::string>& warnings) {
-  for (size_t i = 0; i < parts.size(); ++i) {
-    for (size_t j = i + 1; j < parts.size(); ++j) {
-      const auto* a = parts[i]->AsPolyhedron();
-      const auto* b = parts[j]->AsPolyhedron();
-      if (a == nullptr || b == nullptr) continue;
-      const std::optional<geometry::Seam> seam =
-          geometry::FindSeam(a->hull(), b->hull(), frame.tolerance);
-      if (!seam) continue;
-      const Eigen::Vector3d at = seam->centre + frame.center_of_mass;
-      warnings.push_back(fmt::format(
-          "{}: parts {} and {} meet face to face (a face centred at ({:.6g}, {:.6g}, {:.6g}) m, "
-          "mesh frame): where that seam reaches the surface a contact's normal is not unique; "
-          "let one part reach into the other (docs/scene_format.md, \"Decomposition\")",
-          key, i, j, at.x(), at.y(), at.z()));
-    }
-  }
-}
-
 }  // namespace
 
 std::vector<std::shared_ptr<const ConvexShape>> ReadParts(const Context& ctx,
@@ -118,6 +95,29 @@ std::vector<std::shared_ptr<const ConvexShape>> ReadParts(const Context& ctx,
   }
   if (frame.touched) WarnOfSeams(parts, key, frame, warnings);
   return parts;
+}
+
+// (a contact at a seam's edge could push along the seam face's normal, which no surface of the
+// body has: geometry/part_seams.h)
+void WarnOfSeams(const std::vector<std::shared_ptr<const ConvexShape>>& parts,
+                 const std::string& key, const PartFrame& frame,
+                 std::vector<std::string>& warnings) {
+  for (size_t i = 0; i < parts.size(); ++i) {
+    for (size_t j = i + 1; j < parts.size(); ++j) {
+      const auto* a = parts[i]->AsPolyhedron();
+      const auto* b = parts[j]->AsPolyhedron();
+      if (a == nullptr || b == nullptr) continue;
+      const std::optional<geometry::Seam> seam =
+          geometry::FindSeam(a->hull(), b->hull(), frame.tolerance);
+      if (!seam) continue;
+      const Eigen::Vector3d at = seam->centre + frame.center_of_mass;
+      warnings.push_back(fmt::format(
+          "{}: parts {} and {} meet face to face (a face centred at ({:.6g}, {:.6g}, {:.6g}) m, "
+          "mesh frame): where that seam reaches the surface a contact's normal is not unique; "
+          "let one part reach into the other (docs/scene_format.md, \"Decomposition\")",
+          key, i, j, at.x(), at.y(), at.z()));
+    }
+  }
 }
 
 }  // namespace ecpsim::engine::yaml

@@ -134,9 +134,11 @@ Eigen::Vector3d ReadLengths3(const Context& ctx, const YAML::Node& node, const s
 
 ContactModel ReadModel(const Context& ctx, const YAML::Node& node, const std::string& key);
 
-/// A body's `decomposition`: `none` or `parts`.
-Decomposition ReadDecomposition(const Context& ctx, const YAML::Node& node,
-                                const std::string& key);
+/// What a body's `decomposition` asks for: its hull, its listed parts, or its mesh decomposed.
+enum class DecompositionMode { kNone, kParts, kAuto };
+/// A body's `decomposition`: `none`, `parts` or `auto`.
+DecompositionMode ReadDecomposition(const Context& ctx, const YAML::Node& node,
+                                    const std::string& key);
 
 /// `quaternion` [w, x, y, z] (normalized) or `rpy` [deg] of `map`; identity when neither.
 Eigen::Quaterniond ReadOrientation(const Context& ctx, const MapNode& map);
@@ -184,6 +186,10 @@ struct PartFrame {
 std::vector<std::shared_ptr<const geometry::ConvexShape>> ReadParts(
     const Context& ctx, const YAML::Node& node, const std::string& key, const PartFrame& frame,
     std::vector<std::string>& warnings);
+/// A note in `warnings` for each two of `parts` (body frame) that meet face to face, at `key`.
+void WarnOfSeams(const std::vector<std::shared_ptr<const geometry::ConvexShape>>& parts,
+                 const std::string& key, const PartFrame& frame,
+                 std::vector<std::string>& warnings);
 
 /// A box fixture or part: `size` from `box`, its centre from `pose`'s `position_key` (default
 /// the origin) minus `shift`, its orientation from `pose`'s `rpy` / `quaternion`.

@@ -58,12 +58,14 @@ ContactModel ReadModel(const Context& ctx, const YAML::Node& node, const std::st
   Fail(ctx, node, key, "one of auto, hull, planar, multipatch, point");
 }
 
-Decomposition ReadDecomposition(const Context& ctx, const YAML::Node& node,
-                                const std::string& key) {
-  for (Decomposition decomposition : {Decomposition::kNone, Decomposition::kParts}) {
-    if (node.IsScalar() && node.Scalar() == DecompositionName(decomposition)) return decomposition;
+DecompositionMode ReadDecomposition(const Context& ctx, const YAML::Node& node,
+                                    const std::string& key) {
+  if (node.IsScalar()) {
+    if (node.Scalar() == "none") return DecompositionMode::kNone;
+    if (node.Scalar() == "parts") return DecompositionMode::kParts;
+    if (node.Scalar() == "auto") return DecompositionMode::kAuto;
   }
-  Fail(ctx, node, key, "one of none, parts");
+  Fail(ctx, node, key, "one of none, parts, auto");
 }
 
 Eigen::Quaterniond ReadOrientation(const Context& ctx, const MapNode& map) {

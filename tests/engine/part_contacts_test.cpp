@@ -86,6 +86,34 @@ TEST(PartContactsTest, CubeDroppedIntoACupRestsOnItsFloor) {
   }
 }
 
+TEST(PartContactsTest, ACupDecomposedByTheLoaderHoldsTheCubeOnItsFloor) {
+  // the cup's mesh with `decomposition: auto` instead of its listed parts: its exact convex
+  // pieces, each seam moved inside a part
+  const std::string yaml =
+      "h: 0.005\nduration: 1\nground: {friction: {mu: 0.5, e_r: 0.02}}\nbodies:\n"
+      "  - {name: cup, mesh: meshes/cup.obj, mass: 0.3, on_ground: true, position: [0, 0], "
+      "decomposition: auto}\n"
+      "  - {name: cube, shape: {box: {size: [0.04, 0.04, 0.04]}}, mass: 0.05, "
+      "position: [0.005, -0.004, 0.12], rpy: [12, 8, 25]}\n";
+  const LoadedScene loaded = LoadSceneText(yaml, "cup_auto.yaml", ScenePath(""));
+  EXPECT_TRUE(loaded.warnings.empty()) << loaded.warnings.front();
+  const Scene& scene = loaded.scene;
+  EXPECT_EQ(scene.bodies[0].decomposition, Decomposition::kParts);
+  EXPECT_GE(scene.bodies[0].parts.size(), 5u);
+  const RunEnd run = RunToEnd(scene);
+  EXPECT_NEAR(run.state.bodies[1].p_WB.z(), 0.03, kRestTolerance);
+  EXPECT_LE(TiltFromAFace(run.state.bodies[1]), kRestTolerance / 0.02);
+  EXPECT_LE(run.deepest, kRestTolerance);
+  // a convex mesh keeps its hull: nothing to decompose
+  const std::string box =
+      "duration: 1\nground: {}\nbodies:\n"
+      "  - {name: b, mesh: " + std::string(ECPSIM_SOURCE_DIR) +
+      "/tests/fixtures/meshes/box.obj, mass: 1, on_ground: true, decomposition: auto}\n";
+  const Scene convex = LoadSceneText(box, "box_auto.yaml", ".").scene;
+  EXPECT_EQ(convex.bodies[0].decomposition, Decomposition::kNone);
+  EXPECT_TRUE(convex.bodies[0].parts.empty());
+}
+
 TEST(PartContactsTest, TheCupsHullWouldHoldTheCubeOnItsRim) {
   // what the parts change: with `decomposition: none` the cup touches with its hull, a solid box
   const Scene scene =
@@ -346,12 +374,13 @@ TEST(PartContactsTest, DecompositionPartsNeedsParts) {
   }
   const std::string wrong =
       "duration: 1\nground: {}\nbodies:\n"
-      "  - {name: a, shape: {box: {size: [0.1, 0.1, 0.1]}}, mass: 1, decomposition: auto}\n";
+      "  - {name: a, shape: {box: {size: [0.1, 0.1, 0.1]}}, mass: 1, decomposition: some}\n";
   try {
     LoadSceneText(wrong, "t.yaml", ".");
     FAIL() << "expected an InputError";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("one of none, parts"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("one of none, parts, auto"), std::string::npos)
+        << e.what();
   }
 }
 

@@ -1,0 +1,35 @@
+#pragma once
+// A solid mesh split into convex parts for contact: the exact pieces, merged where their union
+// is convex, each seam between two pieces moved inside one of them.
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "geometry/convex_hull.h"
+#include "geometry/triangle_mesh.h"
+
+namespace ecpsim::geometry {
+
+/// How far a part is grown across a seam into the part that covers it, relative to the mesh's
+/// bounding-box diagonal: far above round-off, far below any modelled feature (1 mm on a 1 m body),
+/// and never deeper than the covering part reaches behind the seam (checked).
+inline constexpr double kSeamOverlapRel = 1e-3;
+
+/// The convex parts of the solid a closed, consistently oriented mesh bounds (mesh frame):
+/// ExactConvexPieces, then
+/// - two pieces meeting face to face whose union is convex (its hull's volume their sum, to
+///   kCoplanarTolerance) merged, until none are;
+/// - each face of a part that lies on a face of another part facing it and within it (a seam)
+///   pushed kSeamOverlapRel × the diagonal into that part where that part reaches so deep, so
+///   that the seam's edges are inside a part, not on the body's surface (geometry/part_seams.h).
+/// The parts' union is the solid. More than `max_parts` parts throws.
+/// @throws InputError naming `source` for a mesh ExactConvexPieces refuses, or one of more than
+///         `max_parts` parts (the message says how many).
+std::vector<ConvexHull> DecomposeSolid(const TriangleMesh& mesh, const std::string& source,
+                                       std::size_t max_parts);
+
+/// m³: the volume of a convex hull.
+double HullVolume(const ConvexHull& hull);
+
+}  // namespace ecpsim::geometry
