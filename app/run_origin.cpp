@@ -9,28 +9,13 @@
 
 #include "app/version.h"
 #include "common/errors.h"
+#include "common/fnv1a.h"
 
 namespace ecpsim::app {
 namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
-
-// FNV-1a, 64 bits (Fowler, Noll, Vo): a fast hash that any change of the bytes changes with
-// overwhelming likelihood
-class Fnv1a {
- public:
-  void Add(const void* data, std::size_t size) {
-    const auto* bytes = static_cast<const unsigned char*>(data);
-    for (std::size_t i = 0; i < size; ++i) hash_ = (hash_ ^ bytes[i]) * kPrime;
-  }
-  std::string Hex() const { return fmt::format("{:016x}", hash_); }
-
- private:
-  static constexpr std::uint64_t kOffsetBasis = 0xcbf29ce484222325ULL;
-  static constexpr std::uint64_t kPrime = 0x100000001b3ULL;
-  std::uint64_t hash_ = kOffsetBasis;
-};
 
 // the path as an absolute, normalised one; symbolic links stay (a scene's meshes are found
 // relative to the scene file's own folder)

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "common/errors.h"
+#include "common/fnv1a.h"
 #include "common/split_mix64.h"
 
 namespace ecpsim::evaluation {
@@ -50,12 +51,9 @@ Eigen::Quaterniond SeededRandom::Rotation() {
 }
 
 std::uint64_t StableHash(const std::string& text) {
-  std::uint64_t hash = 0xcbf29ce484222325ULL;
-  for (const unsigned char c : text) {
-    hash ^= c;
-    hash *= 0x100000001b3ULL;
-  }
-  return hash;
+  Fnv1a hash;
+  hash.Add(text.data(), text.size());
+  return hash.Value();
 }
 
 }  // namespace ecpsim::evaluation

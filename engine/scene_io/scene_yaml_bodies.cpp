@@ -4,6 +4,7 @@
 #include <optional>
 
 #include "engine/scene_io/mesh_scale.h"
+#include "engine/scene_io/parts_cache.h"
 #include "engine/scene_io/scene_yaml_reader.h"
 #include "geometry/convex_decomposition.h"
 #include "geometry/convex_hull.h"
@@ -70,18 +71,20 @@ constexpr double kConvexVolumeRel = 1e-5;
 // contacts, each tested by the broad phase every step
 constexpr std::size_t kMaxDecomposedParts = 64;
 
-// `decomposition: auto`: the exact convex parts of the body's mesh (body frame), or none where
-// the mesh is convex, whose hull is exact
-std::vector<std::shared_ptr<const ConvexShape>> DecomposedParts(const Body& body,
-                                                                double mesh_volume) {
+// `decomposition: auto`: the exact convex parts of the body's mesh (body frame), cached beside
+// its file `mesh_file`, or none where the mesh is convex, whose hull is exact
+std::vector<std::shared_ptr<const ConvexShape>> DecomposedParts(
+    const Body& body, const std::string& mesh_file, double mesh_volume,
+    std::vector<std::string>& warnings) {
   if (!(mesh_volume > 0)) return {};
   const double hull_volume =
-      geometry::HullVolume(geometry::ComputeConvexHull(body.mesh.vertices, body.name));
+      geometry::HullVolume(geometry::ComputeConvexHull(body.mesh.vertices, mesh_file));
   if (mesh_volume >= (1 - kConvexVolumeRel) * hull_volume) return {};
   std::vector<std::shared_ptr<const ConvexShape>> parts;
-  for (geometry::ConvexHull& part :
-       geometry::DecomposeSolid(body.mesh, "the mesh of body '" + body.name + "'",
-                                kMaxDecomposedParts))
+  for (geometry::ConvexHull& part : CachedDecomposition(
+           mesh_file, body.mesh,
+           [&] { return geometry::DecomposeSolid(body.mesh, mesh_file, kMaxDecomposedParts); },
+           warnings))
     parts.push_back(std::make_shared<geometry::PolyhedralShape>(std::move(part)));
   return parts;
 }
@@ -146,8 +149,9 @@ MeshFile LoadMeshFile(const Context& ctx, const YAML::Node& node, const std::str
   if (!fs::is_regular_file(path, error)) {
     Fail(ctx, node, key, fmt::format("an existing mesh file (looked for {})", path.string()));
   }
-  ScaledMesh scaled = WithLocation(
-      ctx, node, key, [&] { return LoadScaledMesh(path.string(), scale, std::nullopt, scale_keys); });
+  ScaledMesh scaled = WithLocation(ctx, node, key, [&] {
+    return LoadScaledMesh(path.string(), scale, std::nullopt, scale_keys);
+  });
   if (!scaled.warning.empty()) {
     warnings.push_back(fmt::format("{}: {}: {}", Where(ctx, node, key), key, scaled.warning));
   }
@@ -237,6 +241,7 @@ Body ReadBody(const Context& ctx, const YAML::Node& node, const std::string& key
   }
   Eigen::Matrix3d inertia;
   double mesh_volume = 0;  // m³; 0: a primitive, which is convex
+  std::string mesh_file;
   if (map.Has("mesh")) {
     const YAML::Node mesh_node = map.Get("mesh");
     const MeshFile file = ReadMesh(ctx, map, warnings);
@@ -249,6 +254,7 @@ Body ReadBody(const Context& ctx, const YAML::Node& node, const std::string& key
     body.mass = props.mass;
     inertia = props.inertia;
     mesh_volume = props.volume;
+    mesh_file = source;
     extras.center_of_mass = props.center_of_mass;
     body.mesh = mesh;
     for (Eigen::Vector3d& v : body.mesh.vertices) v -= props.center_of_mass;
@@ -295,8 +301,9 @@ Body ReadBody(const Context& ctx, const YAML::Node& node, const std::string& key
     body.parts = ReadParts(ctx, map.Get("parts"), map.Key("parts"), frame, warnings);
   }
   if (mode == DecompositionMode::kAuto) {
-    body.parts = WithLocation(ctx, map.Get("decomposition"), map.Key("decomposition"),
-                              [&] { return DecomposedParts(body, mesh_volume); });
+    body.parts = WithLocation(ctx, map.Get("decomposition"), map.Key("decomposition"), [&] {
+      return DecomposedParts(body, mesh_file, mesh_volume, warnings);
+    });
     if (body.parts.empty()) body.decomposition = Decomposition::kNone;
     WarnOfSeams(body.parts, map.Key("decomposition"), frame, warnings);
   }

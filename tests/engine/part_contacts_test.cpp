@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -86,16 +88,44 @@ TEST(PartContactsTest, CubeDroppedIntoACupRestsOnItsFloor) {
   }
 }
 
-TEST(PartContactsTest, ACupDecomposedByTheLoaderHoldsTheCubeOnItsFloor) {
-  // the cup's mesh with `decomposition: auto` instead of its listed parts: its exact convex
-  // pieces, each seam moved inside a part
-  const std::string yaml =
-      "h: 0.005\nduration: 1\nground: {friction: {mu: 0.5, e_r: 0.02}}\nbodies:\n"
-      "  - {name: cup, mesh: meshes/cup.obj, mass: 0.3, on_ground: true, position: [0, 0], "
-      "decomposition: auto}\n"
-      "  - {name: cube, shape: {box: {size: [0.04, 0.04, 0.04]}}, mass: 0.05, "
-      "position: [0.005, -0.004, 0.12], rpy: [12, 8, 25]}\n";
-  const LoadedScene loaded = LoadSceneText(yaml, "cup_auto.yaml", ScenePath(""));
+// the cup of scenes/cube_in_cup.yaml and its cube, the cup's mesh copied into a folder of its own
+// (a decomposition is cached beside the mesh) and decomposed by the loader
+class DecomposedCupTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = std::filesystem::temp_directory_path() /
+           ("ecpsim_decomposed_cup_" +
+            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    std::filesystem::remove_all(dir_);
+    std::filesystem::create_directories(dir_);
+    std::filesystem::copy_file(ScenePath("meshes/cup.obj"), dir_ / "cup.obj");
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+  LoadedScene Load() const {
+    const std::string yaml =
+        "h: 0.005\nduration: 1\nground: {friction: {mu: 0.5, e_r: 0.02}}\nbodies:\n"
+        "  - {name: cup, mesh: cup.obj, mass: 0.3, on_ground: true, position: [0, 0], "
+        "decomposition: auto}\n"
+        "  - {name: cube, shape: {box: {size: [0.04, 0.04, 0.04]}}, mass: 0.05, "
+        "position: [0.005, -0.004, 0.12], rpy: [12, 8, 25]}\n";
+    return LoadSceneText(yaml, "cup_auto.yaml", dir_.string());
+  }
+  // the files beside the mesh that hold its decomposition
+  std::vector<std::filesystem::path> CacheFiles() const {
+    std::vector<std::filesystem::path> files;
+    for (const auto& entry : std::filesystem::directory_iterator(dir_))
+      if (entry.path().filename().string().rfind("cup.obj.parts-", 0) == 0)
+        files.push_back(entry.path());
+    return files;
+  }
+
+  std::filesystem::path dir_;
+};
+
+TEST_F(DecomposedCupTest, HoldsTheCubeOnItsFloor) {
+  // the cup's mesh with `decomposition: auto` instead of listed parts: its exact convex pieces,
+  // each seam moved inside a part
+  const LoadedScene loaded = Load();
   EXPECT_TRUE(loaded.warnings.empty()) << loaded.warnings.front();
   const Scene& scene = loaded.scene;
   EXPECT_EQ(scene.bodies[0].decomposition, Decomposition::kParts);
@@ -104,10 +134,53 @@ TEST(PartContactsTest, ACupDecomposedByTheLoaderHoldsTheCubeOnItsFloor) {
   EXPECT_NEAR(run.state.bodies[1].p_WB.z(), 0.03, kRestTolerance);
   EXPECT_LE(TiltFromAFace(run.state.bodies[1]), kRestTolerance / 0.02);
   EXPECT_LE(run.deepest, kRestTolerance);
-  // a convex mesh keeps its hull: nothing to decompose
+}
+
+TEST_F(DecomposedCupTest, IsComputedOnceAndReadFromBesideTheMesh) {
+  const Scene first = Load().scene;
+  ASSERT_EQ(CacheFiles().size(), 1u);
+  const std::filesystem::path cache = CacheFiles().front();
+  const auto written = std::filesystem::last_write_time(cache);
+  // read back: the same parts to the bit, the file untouched
+  const Scene second = Load().scene;
+  EXPECT_EQ(std::filesystem::last_write_time(cache), written);
+  ASSERT_EQ(second.bodies[0].parts.size(), first.bodies[0].parts.size());
+  for (size_t i = 0; i < first.bodies[0].parts.size(); ++i) {
+    const auto& a = first.bodies[0].parts[i]->AsPolyhedron()->hull();
+    const auto& b = second.bodies[0].parts[i]->AsPolyhedron()->hull();
+    EXPECT_EQ(a.vertices, b.vertices) << "part " << i;
+    EXPECT_EQ(a.normals, b.normals) << "part " << i;
+    EXPECT_EQ(a.offsets, b.offsets) << "part " << i;
+  }
+  // a cache that is not one is computed again and rewritten
+  std::ofstream(cache) << "ecpsim convex parts 1\npart 3\n0 0 0\n";
+  EXPECT_EQ(Load().scene.bodies[0].parts.size(), first.bodies[0].parts.size());
+  std::ifstream rewritten(cache);
+  std::string header, part;
+  std::getline(rewritten, header);
+  std::getline(rewritten, part);
+  EXPECT_NE(part, "part 3");
+}
+
+TEST_F(DecomposedCupTest, ACacheItCannotWriteLeavesAWarning) {
+  // a folder where the cache file would go: the parts are computed and used, and said uncached
+  Load();
+  ASSERT_EQ(CacheFiles().size(), 1u);
+  const std::filesystem::path cache = CacheFiles().front();
+  std::filesystem::remove(cache);
+  std::filesystem::create_directory(cache);
+  const LoadedScene loaded = Load();
+  EXPECT_GE(loaded.scene.bodies[0].parts.size(), 5u);
+  ASSERT_EQ(loaded.warnings.size(), 1u);
+  EXPECT_NE(loaded.warnings[0].find("its convex parts are not cached"), std::string::npos)
+      << loaded.warnings[0];
+}
+
+TEST(PartContactsTest, AConvexMeshDecomposedKeepsItsHull) {
   const std::string box =
       "duration: 1\nground: {}\nbodies:\n"
-      "  - {name: b, mesh: " + std::string(ECPSIM_SOURCE_DIR) +
+      "  - {name: b, mesh: " +
+      std::string(ECPSIM_SOURCE_DIR) +
       "/tests/fixtures/meshes/box.obj, mass: 1, on_ground: true, decomposition: auto}\n";
   const Scene convex = LoadSceneText(box, "box_auto.yaml", ".").scene;
   EXPECT_EQ(convex.bodies[0].decomposition, Decomposition::kNone);
@@ -287,8 +360,7 @@ TEST(PartContactsTest, PartsThatMeetFaceToFaceAreNamedInAWarning) {
   EXPECT_TRUE(BarAndCube(0.2).warnings.empty());
   const std::vector<std::string> warnings = BarAndCube(0.2, "parts", 0).warnings;
   ASSERT_EQ(warnings.size(), 1u);
-  EXPECT_NE(warnings[0].find("bodies[0].parts: parts 0 and 1 meet face to face"),
-            std::string::npos)
+  EXPECT_NE(warnings[0].find("bodies[0].parts: parts 0 and 1 meet face to face"), std::string::npos)
       << warnings[0];
   // (at the seam's face, x = 0 in the bar's frame)
   EXPECT_NE(warnings[0].find("centred at (0, 0, 0) m"), std::string::npos) << warnings[0];
@@ -331,7 +403,9 @@ TEST(PartContactsTest, CombinedContactKeepsTheTotalForceAndMoment) {
   wall.p_o = 0.3;
   wall.sigma = 0.1;
   const ContactState c = CombinedContact(state, {0, 2});
-  const auto force = [](const ContactState& s) { return Eigen::Vector3d(s.n * s.p_n + s.t * s.p_t + s.o * s.p_o); };
+  const auto force = [](const ContactState& s) {
+    return Eigen::Vector3d(s.n * s.p_n + s.t * s.p_t + s.o * s.p_o);
+  };
   EXPECT_TRUE((force(c) - (force(floor) + force(wall))).norm() < 1e-15);
   EXPECT_EQ(c.n, floor.n);  // the frame of the member carrying more
   EXPECT_TRUE((c.a1 - (3 * floor.a1 + wall.a1) / 4).norm() < 1e-16);
