@@ -41,13 +41,12 @@ struct StepReach {
 void StepReachOf(const Scene& scene, const State& state, StepReach& reach);
 
 /// Whether the bodies of contact pair `k` (between two bodies) can touch within the step: their
-/// boxes (and the boxes of the parts it names) overlap and, unless one is kinematic, their hulls (or the parts contact k names) at the
-/// step's start come within the sum of their distances (geometry::WithinDistance) — which a pair
-/// that carried a normal impulse over the last step does without the test: it touches at the
-/// step's start. The hulls' test keeps
-/// out pairs whose boxes overlap only because a turned body's box holds more than its hull (a
-/// pile turned about z, the dominoes), so that which contacts a step solves does not depend on
-/// the world axes.
+/// boxes (and the boxes of the parts it names) overlap and, unless one is kinematic, their hulls
+/// (or the parts contact k names) at the step's start come within the sum of their distances
+/// (geometry::WithinDistance) — which a pair that carried a normal impulse over the last step does
+/// without the test: it touches at the step's start. The hulls' test keeps out pairs whose boxes
+/// overlap only because a turned body's box holds more than its hull (a pile turned about z, the
+/// dominoes), so that which contacts a step solves does not depend on the world axes.
 bool BodiesInReach(const Scene& scene, const State& state, const StepReach& reach, int k);
 
 /// Whether the box of the part of F that `pair` names (between two bodies, F touching with a

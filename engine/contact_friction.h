@@ -22,8 +22,7 @@ inline constexpr double kPatchTorsionFloorRel = 1e-3;  // dimensionless
 /// The mesh of one side of a contact with body `body`: its mesh where the contact touches its hull
 /// (part < 0; its hull's tessellation, into `made`, where code built it without one), else part
 /// `part`'s tessellation (into `made`).
-const geometry::TriangleMesh& ContactMesh(const Body& body, int part,
-                                          geometry::TriangleMesh& made);
+const geometry::TriangleMesh& ContactMesh(const Body& body, int part, geometry::TriangleMesh& made);
 
 /// Contact k's patch at the start of the step from `state`, and the point its e_r is taken about.
 struct StepPatch {

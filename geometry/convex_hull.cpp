@@ -350,8 +350,8 @@ std::vector<std::vector<Eigen::Vector3d>> ExactConvexPieces(const TriangleMesh& 
       }
     }
   } catch (const CGAL::Failure_exception& e) {
-    throw InputError(fmt::format("convex decomposition of {}: CGAL refused the mesh: {}", source,
-                                 e.message()));
+    throw InputError(
+        fmt::format("convex decomposition of {}: CGAL refused the mesh: {}", source, e.message()));
   }
   return pieces;
 }

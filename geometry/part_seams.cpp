@@ -18,7 +18,8 @@ using Eigen::Vector3d;
 std::vector<Vector2d> InPlane(const ConvexHull& hull, int face, const Vector3d& u,
                               const Vector3d& v) {
   std::vector<Vector2d> corners;
-  for (int i : hull.faces[face]) corners.emplace_back(u.dot(hull.vertices[i]), v.dot(hull.vertices[i]));
+  for (int i : hull.faces[face])
+    corners.emplace_back(u.dot(hull.vertices[i]), v.dot(hull.vertices[i]));
   return corners;
 }
 
@@ -46,7 +47,6 @@ double SmallestOverlap(const std::vector<Vector2d>& p, const std::vector<Vector2
   }
   return smallest;
 }
-
 
 }  // namespace
 

@@ -15,8 +15,8 @@ namespace ecpsim::geometry {
 
 /// A face of one part against a face of another on one plane, facing each other.
 struct Seam {
-  int face_a = -1;  // index into a's faces
-  int face_b = -1;  // index into b's faces
+  int face_a = -1;                                   // index into a's faces
+  int face_b = -1;                                   // index into b's faces
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();  // the centre of a's face's corners (m)
 };
 

@@ -48,7 +48,9 @@ const char* ContactMode(const engine::Scene& scene, const engine::State& state,
 std::string ContactName(const engine::Scene& scene, const engine::ContactPair& pair) {
   const std::string& other =
       pair.WithBody() ? scene.bodies[pair.other_body].name : scene.obstacles[pair.obstacle].name;
-  const auto part = [](int index) { return index < 0 ? std::string() : fmt::format("[{}]", index); };
+  const auto part = [](int index) {
+    return index < 0 ? std::string() : fmt::format("[{}]", index);
+  };
   return scene.bodies[pair.body].name + part(pair.part) + "." + other + part(pair.other_part);
 }
 

@@ -380,8 +380,8 @@ class PointIslandStepper {
   // body `b` of the scene (its hull, or part `part` of it) at the start of the step: an island
   // body (its StartOfStep problem) or a kinematic one at its prescribed pose and twist over
   // [t, t + h]
-  Side BodySide(int b, int part, const std::vector<BodyProblem>& problems,
-                const IslandState& state, double t, double h) const {
+  Side BodySide(int b, int part, const std::vector<BodyProblem>& problems, const IslandState& state,
+                double t, double h) const {
     const Body& body = scene_.bodies[b];
     Side side;
     side.shape = part < 0 ? body.hull.get() : body.parts[part].get();

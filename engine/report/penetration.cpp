@@ -59,7 +59,8 @@ PenetrationProbe::PenetrationProbe(const Scene& scene) {
     // the hull's side: its half-space vertices of the mesh and the hull's normals
     ConvexSide hull;
     for (int i : vertices) hull.vertices.push_back(body.mesh.vertices[i]);
-    if (const auto* polyhedron = body.hull->AsPolyhedron()) hull.normals = polyhedron->hull().normals;
+    if (const auto* polyhedron = body.hull->AsPolyhedron())
+      hull.normals = polyhedron->hull().normals;
     sides_.emplace_back().push_back(std::move(hull));
     for (const auto& part : body.parts) sides_.back().push_back(SideOf(*part));
     half_space_vertices_.push_back(std::move(vertices));
@@ -154,8 +155,8 @@ double PenetrationProbe::ContactDepth(const Scene& scene, const State& state, in
   const ContactPair& pair = scene.contacts[k];
   ECPSIM_DEMAND(pair.WithBody());
   const PosedSide F = Posed(sides_[pair.body][pair.part + 1], state.bodies[pair.body]);
-  const PosedSide G = Posed(sides_[pair.other_body][pair.other_part + 1],
-                            state.bodies[pair.other_body]);
+  const PosedSide G =
+      Posed(sides_[pair.other_body][pair.other_part + 1], state.bodies[pair.other_body]);
   // the line between the sides' reference points: the parts' centres of vertices
   const auto centre = [](const PosedSide& side) {
     Eigen::Vector3d sum = Eigen::Vector3d::Zero();

@@ -22,7 +22,8 @@ class PenetrationProbe {
   explicit PenetrationProbe(const Scene& scene);
 
   /// m, ≥ 0: the largest of Depth over every dynamic body and obstacle and of ContactDepth
-  /// over every contact pair of two bodies (Scene::contacts; excluded pairs may overlap) at `state`.
+  /// over every contact pair of two bodies (Scene::contacts; excluded pairs may overlap) at
+  /// `state`.
   double MaxDepth(const Scene& scene, const State& state) const;
 
   /// m, ≥ 0: the largest depth of body `body`'s mesh vertices inside obstacle `obstacle`.

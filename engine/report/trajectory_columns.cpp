@@ -52,7 +52,8 @@ std::vector<std::string> TrajectoryColumns(const Scene& scene) {
     if (!scene.bodies[b].IsKinematic()) continue;
     const std::string& name = scene.bodies[b].name;
     for (const ContactGroup& group : SensedGroups(scene, static_cast<int>(b))) {
-      const std::string prefix = name + "." + scene.bodies[scene.contacts[group.first].body].name + ".";
+      const std::string prefix =
+          name + "." + scene.bodies[scene.contacts[group.first].body].name + ".";
       for (const char* c : kWrenchColumns) columns.push_back(prefix + c);
     }
     for (const char* c : kWrenchColumns) columns.push_back(name + "." + c);

@@ -17,12 +17,13 @@ namespace ecpsim::engine {
 ///   `px py pz qw qx qy qz vx vy vz wx wy wz`;
 /// - per contact group (ContactGroups: the contacts of one body with one obstacle or other body,
 ///   combined by CombinedContact where it touches with several parts; prefixed `<F>.<G>.` —
-///   body, then obstacle or other body — when there are several groups) `a1x a1y a1z a2x a2y a2z pn pt po pr sigma fn ft fo fr`: the ECPs, the
-///   impulses over the step (N·s, N·s, N·s, N·m·s), the slip multiplier (m/s) and the average
-///   contact forces over the step, impulse / h (N, N, N, N·m);
+///   body, then obstacle or other body — when there are several groups)
+///   `a1x a1y a1z a2x a2y a2z pn pt po pr sigma fn ft fo fr`: the ECPs, the impulses over the
+///   step (N·s, N·s, N·s, N·m·s), the slip multiplier (m/s) and the average contact forces over
+///   the step, impulse / h (N, N, N, N·m);
 /// - per kinematic body K, what a force/torque sensor on it reads (WrenchOnOther): for each body
-///   F touching it `<K>.<F>.fx fy fz mx my mz` (its contacts' sum) and their sum `<K>.fx fy fz mx my
-///   mz`, in N and N·m, world axes, moments about K's reference point;
+///   F touching it `<K>.<F>.fx fy fz mx my mz` (its contacts' sum) and their sum `<K>.fx fy fz mx
+///   my mz`, in N and N·m, world axes, moments about K's reference point;
 /// - per gripper G `<G>.width` (m: its jaws' centres apart along its closing axis) and
 ///   `<G>.force` (N: the closing force of the step that ended at the row; the initial row: the
 ///   first step's);

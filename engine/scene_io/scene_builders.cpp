@@ -63,7 +63,8 @@ void AddBodyPairs(Scene& scene) {
   for (int i = 0; i < n; ++i) {
     for (int j = i + 1; j < n; ++j) {
       if (scene.bodies[i].IsKinematic() && scene.bodies[j].IsKinematic()) continue;
-      AddBodyContacts(scene, i, j, PairFriction(scene.bodies[i].friction, scene.bodies[j].friction));
+      AddBodyContacts(scene, i, j,
+                      PairFriction(scene.bodies[i].friction, scene.bodies[j].friction));
     }
   }
 }

@@ -299,8 +299,7 @@ void CheckContactParts(const Scene& scene, size_t k) {
     }
   };
   check(".part", pair.part, &scene.bodies[pair.body]);
-  check(".other_part", pair.other_part,
-        pair.WithBody() ? &scene.bodies[pair.other_body] : nullptr);
+  check(".other_part", pair.other_part, pair.WithBody() ? &scene.bodies[pair.other_body] : nullptr);
 }
 
 // the contacts of one pair of bodies (or of a body and an obstacle) are consecutive (a

@@ -66,9 +66,9 @@ std::vector<std::shared_ptr<const ConvexShape>> ReadParts(const Context& ctx,
   std::vector<std::shared_ptr<const ConvexShape>> parts;
   for (size_t i = 0; i < node.size(); ++i) {
     const std::string at_key = Index(key, i);
-    const MapNode part(ctx, node[i], at_key,
-                       {"box", "sphere", "cylinder", "ellipsoid", "mesh", "at", "rpy",
-                        "quaternion"});
+    const MapNode part(
+        ctx, node[i], at_key,
+        {"box", "sphere", "cylinder", "ellipsoid", "mesh", "at", "rpy", "quaternion"});
     int shapes = 0;
     for (const char* k : {"box", "sphere", "cylinder", "ellipsoid", "mesh"}) shapes += part.Has(k);
     if (shapes != 1) Fail(ctx, node[i], at_key, kPartExpected);

@@ -160,7 +160,7 @@ Primitive ReadPrimitiveIn(const Context& ctx, const MapNode& map);
 
 /// A mesh file as read for a body or a part: where it was found and its triangles in m.
 struct MeshFile {
-  std::string path;            // as found, relative to the working folder
+  std::string path;             // as found, relative to the working folder
   geometry::TriangleMesh mesh;  // m, the file's frame
 };
 /// The mesh file named by `node` (relative to the scene's folder), scaled to m by `scale`
@@ -173,11 +173,11 @@ MeshFile LoadMeshFile(const Context& ctx, const YAML::Node& node, const std::str
 /// What a body's parts are read against: its frame, its hull and its mesh's scale.
 struct PartFrame {
   Eigen::Vector3d center_of_mass = Eigen::Vector3d::Zero();  // m, in the mesh's frame
-  const geometry::ConvexShape* hull = nullptr;                 // body frame
-  double tolerance = 0;   // m: how far a part may reach out of the hull (round-off)
-  double mesh_scale = 1;  // the body's mesh units → m, for parts given as meshes
+  const geometry::ConvexShape* hull = nullptr;               // body frame
+  double tolerance = 0;      // m: how far a part may reach out of the hull (round-off)
+  double mesh_scale = 1;     // the body's mesh units → m, for parts given as meshes
   MeshScaleKeys scale_keys;  // the body's keys that gave it, for messages
-  bool touched = true;     // whether contacts touch the parts (Decomposition::kParts)
+  bool touched = true;       // whether contacts touch the parts (Decomposition::kParts)
 };
 /// `parts: [{box|sphere|cylinder|ellipsoid|mesh: ..., at, rpy | quaternion}]`
 /// (docs/scene_format.md, "Parts"): each a primitive or the convex hull of a mesh file, placed

@@ -36,15 +36,17 @@ std::string ErrorOf(const std::string& parts) {
 TEST(SceneYamlPartsTest, AMeshPartIsItsFilesHullWhereTheFileHasIt) {
   // box.obj spans [0, 1] × [0, 2] × [0, 3]: the same as a box part of that size centred there
   const Scene scene = WithParts(
-      "[{mesh: box.obj}, {box: {size: [1, 2, 3]}, at: [0.5, 1, 1.5]}, "
-      "{mesh: box.obj, at: [-1, -2, -3]}]").scene;
+                          "[{mesh: box.obj}, {box: {size: [1, 2, 3]}, at: [0.5, 1, 1.5]}, "
+                          "{mesh: box.obj, at: [-1, -2, -3]}]")
+                          .scene;
   const auto& parts = scene.bodies[0].parts;
   ASSERT_EQ(parts.size(), 3u);
   for (const Eigen::Vector3d& d : {Eigen::Vector3d(1, 1, 1), Eigen::Vector3d(-1, 0.5, -2)}) {
     EXPECT_TRUE((parts[0]->Support(d) - parts[1]->Support(d)).norm() < 1e-15) << d.transpose();
     // `at` moves the file's frame
-    EXPECT_TRUE((parts[2]->Support(d) - (parts[0]->Support(d) + Eigen::Vector3d(-1, -2, -3)))
-                    .norm() < 1e-15);
+    EXPECT_TRUE(
+        (parts[2]->Support(d) - (parts[0]->Support(d) + Eigen::Vector3d(-1, -2, -3))).norm() <
+        1e-15);
   }
   EXPECT_EQ(scene.bodies[0].decomposition, Decomposition::kParts);
 }
@@ -52,8 +54,7 @@ TEST(SceneYamlPartsTest, AMeshPartIsItsFilesHullWhereTheFileHasIt) {
 TEST(SceneYamlPartsTest, ASmoothPartIsTurnedAndPlaced) {
   // a cylinder along z turned by 90° about y lies along x
   const Scene scene =
-      WithParts("[{cylinder: {radius: 0.5, length: 2}, at: [0.5, 0, 1], rpy: [0, 90, 0]}]")
-          .scene;
+      WithParts("[{cylinder: {radius: 0.5, length: 2}, at: [0.5, 0, 1], rpy: [0, 90, 0]}]").scene;
   const auto& part = *scene.bodies[0].parts[0];
   EXPECT_NEAR(part.Support(Eigen::Vector3d::UnitX()).x(), 1.5, 1e-15);
   EXPECT_NEAR(part.Support(-Eigen::Vector3d::UnitX()).x(), -0.5, 1e-15);
@@ -64,8 +65,9 @@ TEST(SceneYamlPartsTest, ASmoothPartIsTurnedAndPlaced) {
   int side = 0;
   while (part.IsLinear(side)) ++side;
   EXPECT_NEAR(part.Value(side, Eigen::Vector3d(0.5, 0, 1.5)), 0, 1e-15);
-  EXPECT_TRUE((part.Gradient(side, Eigen::Vector3d(0.5, 0, 1.5)) - Eigen::Vector3d::UnitZ())
-                  .norm() < 1e-15);
+  EXPECT_TRUE(
+      (part.Gradient(side, Eigen::Vector3d(0.5, 0, 1.5)) - Eigen::Vector3d::UnitZ()).norm() <
+      1e-15);
   EXPECT_TRUE(scene.bodies[0].parts[0]->AsPolyhedron() == nullptr);
 }
 
