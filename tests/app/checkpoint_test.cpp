@@ -237,6 +237,21 @@ TEST_F(CheckpointTest, AResumedPushIsBitIdenticalToOneThatNeverStopped) {
   EXPECT_TRUE(Read(whole / "trajectory.csv") == Read(parts / "trajectory.csv"));
 }
 
+// bodies made of parts: a contact per pair of parts, each with its warm start, between a mug of
+// eight parts and a kinematic hook of two (engine/README.md, "Bodies made of convex parts")
+TEST_F(CheckpointTest, AResumedHookLiftingAMugIsBitIdenticalToOneThatNeverStopped) {
+  // 600 steps (2 s of CPU), a row each
+  const std::vector<std::string> hook = {"run", "scenes/hook.yaml"};
+  const fs::path whole = dir_ / "whole", parts = dir_ / "parts";
+  ASSERT_EQ(Run(fmt::format("{} -o '{}'", fmt::join(hook, " "), whole.string())).exit_code, 0);
+  const size_t rows = ReadLines(whole / "trajectory.csv").size() - 1;
+  const testing::ChildExit exit = InterruptAfterRows(With(hook, parts), parts, rows / 2, {SIGINT});
+  ASSERT_EQ(exit.exit_code, 130) << log_;
+  const testing::CliResult resumed = Run(fmt::format("run --resume '{}'", parts.string()));
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+  EXPECT_TRUE(Read(whole / "trajectory.csv") == Read(parts / "trajectory.csv"));
+}
+
 // sleeping islands (engine/README.md, "Sleeping islands"): which steps of the stack replay and
 // which are solved (every 32nd of its rest) follows the count of its steps at rest, which the
 // checkpoint must hold; without it the resumed stack stays awake 10 steps, its residuals and
