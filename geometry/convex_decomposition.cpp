@@ -17,31 +17,83 @@ namespace {
 using Eigen::Vector2d;
 using Eigen::Vector3d;
 
-// whether face `f` of `a` lies within face `g` of `b` (on g's plane, facing it, every corner of f
-// inside g's polygon), to `tolerance` m
-bool FaceWithin(const ConvexHull& a, int f, const ConvexHull& b, int g, double tolerance,
-                double size) {
-  const Vector3d& n = a.normals[f];
-  if ((n + b.normals[g]).norm() * size > tolerance) return false;
-  if (std::abs(a.offsets[f] + b.offsets[g]) > tolerance) return false;
-  // inside g: behind each of g's edges' planes, which are those of b's faces around g; it is
-  // enough that each corner of f satisfies every constraint of b
-  for (int i : a.faces[f]) {
-    for (size_t c = 0; c < b.normals.size(); ++c)
-      if (b.normals[c].dot(a.vertices[i]) - b.offsets[c] > tolerance) return false;
+// face `face` of `hull` as a polygon in the coordinates (u, v) of its plane, counter-clockwise
+std::vector<Vector2d> FacePolygon(const ConvexHull& hull, int face, const Vector3d& u,
+                                  const Vector3d& v) {
+  std::vector<Vector2d> polygon;
+  for (int i : hull.faces[face])
+    polygon.emplace_back(u.dot(hull.vertices[i]), v.dot(hull.vertices[i]));
+  double twice_area = 0;
+  for (size_t k = 0; k < polygon.size(); ++k) {
+    const Vector2d& p = polygon[k];
+    const Vector2d& q = polygon[(k + 1) % polygon.size()];
+    twice_area += p.x() * q.y() - q.x() * p.y();
   }
-  return true;
+  if (twice_area < 0) std::reverse(polygon.begin(), polygon.end());
+  return polygon;
 }
 
-// whether every point of face f of `a` pushed `depth` along its normal lies inside `b`
-bool ReachesBehind(const ConvexHull& a, int f, const ConvexHull& b, double depth,
-                   double tolerance) {
-  for (int i : a.faces[f]) {
-    const Vector3d x = a.vertices[i] + depth * a.normals[f];
-    for (size_t c = 0; c < b.normals.size(); ++c)
-      if (b.normals[c].dot(x) - b.offsets[c] > tolerance) return false;
+double Area(const std::vector<Vector2d>& polygon) {
+  double twice_area = 0;
+  for (size_t k = 0; k < polygon.size(); ++k) {
+    const Vector2d& p = polygon[k];
+    const Vector2d& q = polygon[(k + 1) % polygon.size()];
+    twice_area += p.x() * q.y() - q.x() * p.y();
   }
-  return true;
+  return 0.5 * std::abs(twice_area);
+}
+
+// the part of convex polygon `subject` inside convex polygon `clip`, both counter-clockwise
+// (Sutherland–Hodgman)
+std::vector<Vector2d> Clip(std::vector<Vector2d> subject, const std::vector<Vector2d>& clip) {
+  for (size_t e = 0; e < clip.size() && !subject.empty(); ++e) {
+    const Vector2d& a = clip[e];
+    const Vector2d& b = clip[(e + 1) % clip.size()];
+    const auto inside = [&](const Vector2d& p) {
+      return (b - a).x() * (p - a).y() - (b - a).y() * (p - a).x();
+    };
+    std::vector<Vector2d> kept;
+    for (size_t k = 0; k < subject.size(); ++k) {
+      const Vector2d& p = subject[k];
+      const Vector2d& q = subject[(k + 1) % subject.size()];
+      const double sp = inside(p), sq = inside(q);
+      if (sp >= 0) kept.push_back(p);
+      if ((sp >= 0) != (sq >= 0)) kept.push_back(p + (q - p) * (sp / (sp - sq)));
+    }
+    subject = std::move(kept);
+  }
+  return subject;
+}
+
+// whether face f of parts[i] is a seam covered by the faces of other parts that lie on it,
+// facing it, each of those parts reaching `depth` behind its share of f: the prism f × [0,
+// depth] along f's normal is then inside those parts, and adding it to parts[i] leaves the
+// union as it was
+bool SeamCovered(const std::vector<ConvexHull>& parts, size_t i, int f, double depth,
+                 double tolerance, double size) {
+  const ConvexHull& a = parts[i];
+  const Vector3d& n = a.normals[f];
+  const Vector3d u = n.unitOrthogonal(), v = n.cross(u);
+  const std::vector<Vector2d> face = FacePolygon(a, f, u, v);
+  double covered = 0;
+  for (size_t j = 0; j < parts.size(); ++j) {
+    if (j == i) continue;
+    const ConvexHull& b = parts[j];
+    for (size_t g = 0; g < b.faces.size(); ++g) {
+      if ((n + b.normals[g]).norm() * size > tolerance) continue;
+      if (std::abs(a.offsets[f] + b.offsets[g]) > tolerance) continue;
+      const std::vector<Vector2d> share = Clip(face, FacePolygon(b, static_cast<int>(g), u, v));
+      const double area = Area(share);
+      if (area <= tolerance * size) continue;
+      for (const Vector2d& corner : share) {
+        const Vector3d x = (a.offsets[f] + depth) * n + corner.x() * u + corner.y() * v;
+        for (size_t c = 0; c < b.normals.size(); ++c)
+          if (b.normals[c].dot(x) - b.offsets[c] > tolerance) return false;
+      }
+      covered += area;
+    }
+  }
+  return covered > 0 && covered >= Area(face) - tolerance * size;
 }
 
 std::vector<Vector3d> Joined(const ConvexHull& a, const ConvexHull& b) {
@@ -101,19 +153,9 @@ std::vector<ConvexHull> DecomposeSolid(const TriangleMesh& mesh, const std::stri
   std::vector<std::vector<Vector3d>> grown(parts.size());
   for (size_t i = 0; i < parts.size(); ++i) {
     for (size_t f = 0; f < parts[i].faces.size(); ++f) {
-      for (size_t j = 0; j < parts.size(); ++j) {
-        if (j == i || !ReachesBehind(parts[i], static_cast<int>(f), parts[j], depth, tolerance))
-          continue;
-        bool covered = false;
-        for (size_t g = 0; g < parts[j].faces.size() && !covered; ++g) {
-          covered = FaceWithin(parts[i], static_cast<int>(f), parts[j], static_cast<int>(g),
-                               tolerance, size);
-        }
-        if (!covered) continue;
-        for (int k : parts[i].faces[f])
-          grown[i].push_back(parts[i].vertices[k] + depth * parts[i].normals[f]);
-        break;
-      }
+      if (!SeamCovered(parts, i, static_cast<int>(f), depth, tolerance, size)) continue;
+      for (int k : parts[i].faces[f])
+        grown[i].push_back(parts[i].vertices[k] + depth * parts[i].normals[f]);
     }
   }
   for (size_t i = 0; i < parts.size(); ++i) {

@@ -20,9 +20,10 @@ inline constexpr double kSeamOverlapRel = 1e-3;
 /// ExactConvexPieces, then
 /// - two pieces meeting face to face whose union is convex (its hull's volume their sum, to
 ///   kCoplanarTolerance) merged, until none are;
-/// - each face of a part that lies on a face of another part facing it and within it (a seam)
-///   pushed kSeamOverlapRel × the diagonal into that part where that part reaches so deep, so
-///   that the seam's edges are inside a part, not on the body's surface (geometry/part_seams.h).
+/// - each face of a part that the faces of other parts lying on it and facing it cover together
+///   (a seam) pushed kSeamOverlapRel × the diagonal into them where they reach so deep behind
+///   their shares of it, so that the seam's edges are inside a part, not on the body's surface
+///   (geometry/part_seams.h).
 /// The parts' union is the solid. More than `max_parts` parts throws.
 /// @throws InputError naming `source` for a mesh ExactConvexPieces refuses, or one of more than
 ///         `max_parts` parts (the message says how many).

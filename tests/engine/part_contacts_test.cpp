@@ -187,6 +187,21 @@ TEST(PartContactsTest, AConvexMeshDecomposedKeepsItsHull) {
   EXPECT_TRUE(convex.bodies[0].parts.empty());
 }
 
+TEST(PartContactsTest, CubeDroppedIntoAMugRestsOnItsFloor) {
+  // scenes/cube_in_mug.yaml: the mug's parts decomposed from its mesh by the loader
+  const LoadedScene loaded = LoadScene(ScenePath("cube_in_mug.yaml"));
+  EXPECT_TRUE(loaded.warnings.empty()) << loaded.warnings.front();
+  const Scene& scene = loaded.scene;
+  EXPECT_EQ(scene.bodies[0].parts.size(), 12u);  // 13 exact pieces, two merged
+  const RunEnd run = RunToEnd(scene);
+  const BodyState& cube = run.state.bodies[1];
+  // the floor's top at 0.01 m, the cube's half edge 0.015 m: on a face, flat
+  EXPECT_NEAR(cube.p_WB.z(), 0.025, kRestTolerance);
+  EXPECT_LE(TiltFromAFace(cube), kRestTolerance / 0.015);
+  EXPECT_LE(cube.v_WB.norm(), kRestSpeed);
+  EXPECT_LE(run.deepest, kRestTolerance);
+}
+
 TEST(PartContactsTest, TheCupsHullWouldHoldTheCubeOnItsRim) {
   // what the parts change: with `decomposition: none` the cup touches with its hull, a solid box
   const Scene scene =
