@@ -67,8 +67,7 @@ std::vector<Vector2d> Clip(std::vector<Vector2d> subject, const std::vector<Vect
 
 // whether face f of parts[i] is a seam covered by the faces of other parts that lie on it,
 // facing it, each of those parts reaching `depth` behind its share of f: the prism f × [0,
-// depth] along f's normal is then inside those parts, and adding it to parts[i] leaves the
-// union as it was
+// depth] along f's normal is then inside those parts
 bool SeamCovered(const std::vector<ConvexHull>& parts, size_t i, int f, double depth,
                  double tolerance, double size) {
   const ConvexHull& a = parts[i];

@@ -24,7 +24,9 @@ inline constexpr double kSeamOverlapRel = 1e-3;
 ///   (a seam) pushed kSeamOverlapRel × the diagonal into them where they reach so deep behind
 ///   their shares of it, so that the seam's edges are inside a part, not on the body's surface
 ///   (geometry/part_seams.h).
-/// The parts' union is the solid. More than `max_parts` parts throws.
+/// The parts' union is the solid, except where two grown faces of one part meet: the hull of the
+/// two prisms fills the wedge between them, at most half the depth across. More than
+/// `max_parts` parts throws.
 /// @throws InputError naming `source` for a mesh ExactConvexPieces refuses, or one of more than
 ///         `max_parts` parts (the message says how many).
 std::vector<ConvexHull> DecomposeSolid(const TriangleMesh& mesh, const std::string& source,
