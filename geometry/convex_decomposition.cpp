@@ -17,32 +17,6 @@ namespace {
 using Eigen::Vector2d;
 using Eigen::Vector3d;
 
-// face `face` of `hull` as a polygon in the coordinates (u, v) of its plane, counter-clockwise
-std::vector<Vector2d> FacePolygon(const ConvexHull& hull, int face, const Vector3d& u,
-                                  const Vector3d& v) {
-  std::vector<Vector2d> polygon;
-  for (int i : hull.faces[face])
-    polygon.emplace_back(u.dot(hull.vertices[i]), v.dot(hull.vertices[i]));
-  double twice_area = 0;
-  for (size_t k = 0; k < polygon.size(); ++k) {
-    const Vector2d& p = polygon[k];
-    const Vector2d& q = polygon[(k + 1) % polygon.size()];
-    twice_area += p.x() * q.y() - q.x() * p.y();
-  }
-  if (twice_area < 0) std::reverse(polygon.begin(), polygon.end());
-  return polygon;
-}
-
-double Area(const std::vector<Vector2d>& polygon) {
-  double twice_area = 0;
-  for (size_t k = 0; k < polygon.size(); ++k) {
-    const Vector2d& p = polygon[k];
-    const Vector2d& q = polygon[(k + 1) % polygon.size()];
-    twice_area += p.x() * q.y() - q.x() * p.y();
-  }
-  return 0.5 * std::abs(twice_area);
-}
-
 // the part of convex polygon `subject` inside convex polygon `clip`, both counter-clockwise
 // (Sutherland–Hodgman)
 std::vector<Vector2d> Clip(std::vector<Vector2d> subject, const std::vector<Vector2d>& clip) {
@@ -73,16 +47,15 @@ bool SeamCovered(const std::vector<ConvexHull>& parts, size_t i, int f, double d
   const ConvexHull& a = parts[i];
   const Vector3d& n = a.normals[f];
   const Vector3d u = n.unitOrthogonal(), v = n.cross(u);
-  const std::vector<Vector2d> face = FacePolygon(a, f, u, v);
+  const std::vector<Vector2d> face = FaceInPlane(a, f, u, v);
   double covered = 0;
   for (size_t j = 0; j < parts.size(); ++j) {
     if (j == i) continue;
     const ConvexHull& b = parts[j];
     for (size_t g = 0; g < b.faces.size(); ++g) {
-      if ((n + b.normals[g]).norm() * size > tolerance) continue;
-      if (std::abs(a.offsets[f] + b.offsets[g]) > tolerance) continue;
-      const std::vector<Vector2d> share = Clip(face, FacePolygon(b, static_cast<int>(g), u, v));
-      const double area = Area(share);
+      if (!FacesMeet(a, f, b, static_cast<int>(g), tolerance, size)) continue;
+      const std::vector<Vector2d> share = Clip(face, FaceInPlane(b, static_cast<int>(g), u, v));
+      const double area = std::abs(SignedArea(share));
       if (area <= tolerance * size) continue;
       for (const Vector2d& corner : share) {
         const Vector3d x = (a.offsets[f] + depth) * n + corner.x() * u + corner.y() * v;
@@ -92,7 +65,7 @@ bool SeamCovered(const std::vector<ConvexHull>& parts, size_t i, int f, double d
       covered += area;
     }
   }
-  return covered > 0 && covered >= Area(face) - tolerance * size;
+  return covered > 0 && covered >= SignedArea(face) - tolerance * size;
 }
 
 std::vector<Vector3d> Joined(const ConvexHull& a, const ConvexHull& b) {

@@ -14,15 +14,6 @@ namespace {
 using Eigen::Vector2d;
 using Eigen::Vector3d;
 
-// the face's corners in the plane's coordinates (u, v): counter-clockwise seen along `normal`
-std::vector<Vector2d> InPlane(const ConvexHull& hull, int face, const Vector3d& u,
-                              const Vector3d& v) {
-  std::vector<Vector2d> corners;
-  for (int i : hull.faces[face])
-    corners.emplace_back(u.dot(hull.vertices[i]), v.dot(hull.vertices[i]));
-  return corners;
-}
-
 // the smallest overlap of two convex polygons' projections over the edge normals of both (< 0:
 // an axis separates them)
 double SmallestOverlap(const std::vector<Vector2d>& p, const std::vector<Vector2d>& q) {
@@ -50,6 +41,31 @@ double SmallestOverlap(const std::vector<Vector2d>& p, const std::vector<Vector2
 
 }  // namespace
 
+bool FacesMeet(const ConvexHull& a, int f, const ConvexHull& b, int g, double tolerance,
+               double size) {
+  return (a.normals[f] + b.normals[g]).norm() * size <= tolerance &&
+         std::abs(a.offsets[f] + b.offsets[g]) <= tolerance;
+}
+
+std::vector<Vector2d> FaceInPlane(const ConvexHull& hull, int face, const Vector3d& u,
+                                  const Vector3d& v) {
+  std::vector<Vector2d> polygon;
+  for (int i : hull.faces[face])
+    polygon.emplace_back(u.dot(hull.vertices[i]), v.dot(hull.vertices[i]));
+  if (SignedArea(polygon) < 0) std::reverse(polygon.begin(), polygon.end());
+  return polygon;
+}
+
+double SignedArea(const std::vector<Vector2d>& polygon) {
+  double twice_area = 0;
+  for (size_t k = 0; k < polygon.size(); ++k) {
+    const Vector2d& p = polygon[k];
+    const Vector2d& q = polygon[(k + 1) % polygon.size()];
+    twice_area += p.x() * q.y() - q.x() * p.y();
+  }
+  return 0.5 * twice_area;
+}
+
 std::optional<Seam> FindSeam(const ConvexHull& a, const ConvexHull& b, double tolerance) {
   const double size =
       std::max(ComputeMeshBounds(a.vertices).diagonal, ComputeMeshBounds(b.vertices).diagonal);
@@ -57,11 +73,10 @@ std::optional<Seam> FindSeam(const ConvexHull& a, const ConvexHull& b, double to
   for (size_t i = 0; i < a.faces.size(); ++i) {
     const Vector3d& n = a.normals[i];
     for (size_t j = 0; j < b.faces.size(); ++j) {
-      if ((n + b.normals[j]).norm() * size > tolerance) continue;
-      if (std::abs(a.offsets[i] + b.offsets[j]) > tolerance) continue;
+      if (!FacesMeet(a, static_cast<int>(i), b, static_cast<int>(j), tolerance, size)) continue;
       const Vector3d u = n.unitOrthogonal(), v = n.cross(u);
-      const std::vector<Vector2d> p = InPlane(a, static_cast<int>(i), u, v);
-      const std::vector<Vector2d> q = InPlane(b, static_cast<int>(j), u, v);
+      const std::vector<Vector2d> p = FaceInPlane(a, static_cast<int>(i), u, v);
+      const std::vector<Vector2d> q = FaceInPlane(b, static_cast<int>(j), u, v);
       if (SmallestOverlap(p, q) <= tolerance) continue;
       Vector3d centre = Vector3d::Zero();
       for (int k : a.faces[i]) centre += a.vertices[k];

@@ -6,6 +6,7 @@
 // Parts that reach into each other instead keep every seam inside a part.
 
 #include <optional>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -19,6 +20,19 @@ struct Seam {
   int face_b = -1;                                   // index into b's faces
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();  // the centre of a's face's corners (m)
 };
+
+/// Whether face f of `a` and face g of `b` lie on one plane facing each other: offsets within
+/// `tolerance` m, normals opposite within `tolerance` over `size` (m, the parts' size).
+bool FacesMeet(const ConvexHull& a, int f, const ConvexHull& b, int g, double tolerance,
+               double size);
+
+/// Face `face` of `hull` in the coordinates (u, v) of a plane it lies on (u, v orthonormal):
+/// its corners, counter-clockwise about u × v.
+std::vector<Eigen::Vector2d> FaceInPlane(const ConvexHull& hull, int face, const Eigen::Vector3d& u,
+                                         const Eigen::Vector3d& v);
+
+/// The signed area of a polygon (m², > 0 counter-clockwise).
+double SignedArea(const std::vector<Eigen::Vector2d>& polygon);
 
 /// The first face of `a` that lies on the plane of a face of `b` with the opposite normal (within
 /// `tolerance` m, and normals within `tolerance` over the parts' size) and overlaps it over an

@@ -39,12 +39,20 @@ std::vector<int> HullVerticesInMesh(const Body& body) {
 
 // a convex shape's vertices (a primitive's from its tessellation) and face normals (a
 // polyhedron's; none for a primitive), body frame
+// `side` with its centre set: the mean of its vertices
+PenetrationProbe::ConvexSide Centred(PenetrationProbe::ConvexSide side) {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3d& v : side.vertices) sum += v;
+  side.centre = sum / static_cast<double>(std::max<size_t>(side.vertices.size(), 1));
+  return side;
+}
+
 PenetrationProbe::ConvexSide SideOf(const geometry::ConvexShape& shape) {
   PenetrationProbe::ConvexSide side;
   const auto* polyhedron = shape.AsPolyhedron();
   side.vertices = polyhedron ? polyhedron->hull().vertices : shape.Tessellate().vertices;
   if (polyhedron) side.normals = polyhedron->hull().normals;
-  return side;
+  return Centred(std::move(side));
 }
 
 }  // namespace
@@ -61,7 +69,7 @@ PenetrationProbe::PenetrationProbe(const Scene& scene) {
     for (int i : vertices) hull.vertices.push_back(body.mesh.vertices[i]);
     if (const auto* polyhedron = body.hull->AsPolyhedron())
       hull.normals = polyhedron->hull().normals;
-    sides_.emplace_back().push_back(std::move(hull));
+    sides_.emplace_back().push_back(Centred(std::move(hull)));
     for (const auto& part : body.parts) sides_.back().push_back(SideOf(*part));
     half_space_vertices_.push_back(std::move(vertices));
   }
@@ -159,10 +167,7 @@ double PenetrationProbe::ContactDepth(const Scene& scene, const State& state, in
       Posed(sides_[pair.other_body][pair.other_part + 1], state.bodies[pair.other_body]);
   // the line between the sides' reference points: the parts' centres of vertices
   const auto centre = [](const PosedSide& side) {
-    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    for (const Eigen::Vector3d& v : side.side.vertices) sum += v;
-    const double count = static_cast<double>(std::max<size_t>(side.side.vertices.size(), 1));
-    return Eigen::Vector3d(side.R * (sum / count) + side.p);
+    return Eigen::Vector3d(side.R * side.side.centre + side.p);
   };
   const Eigen::Vector3d line = pair.part < 0 && pair.other_part < 0
                                    ? Eigen::Vector3d(G.p - F.p)

@@ -54,6 +54,7 @@ class PenetrationProbe {
   struct ConvexSide {
     std::vector<Eigen::Vector3d> vertices;
     std::vector<Eigen::Vector3d> normals;
+    Eigen::Vector3d centre = Eigen::Vector3d::Zero();  // the mean of the vertices
   };
 
  private:

@@ -77,8 +77,10 @@ std::vector<std::shared_ptr<const ConvexShape>> DecomposedParts(
     const Body& body, const std::string& mesh_file, double mesh_volume,
     std::vector<std::string>& warnings) {
   if (!(mesh_volume > 0)) return {};
-  const double hull_volume =
-      geometry::HullVolume(geometry::ComputeConvexHull(body.mesh.vertices, mesh_file));
+  // the body's hull is its mesh's unless a primitive was declared for it
+  const auto* polyhedron = body.hull->AsPolyhedron();
+  const double hull_volume = geometry::HullVolume(
+      polyhedron ? polyhedron->hull() : geometry::ComputeConvexHull(body.mesh.vertices, mesh_file));
   if (mesh_volume >= (1 - kConvexVolumeRel) * hull_volume) return {};
   std::vector<std::shared_ptr<const ConvexShape>> parts;
   for (geometry::ConvexHull& part : CachedDecomposition(
@@ -291,21 +293,24 @@ Body ReadBody(const Context& ctx, const YAML::Node& node, const std::string& key
   }
   body.decomposition =
       mode == DecompositionMode::kNone ? Decomposition::kNone : Decomposition::kParts;
-  const PartFrame frame{extras.center_of_mass,
-                        body.hull.get(),
-                        kHullContainmentTolerance * MeshAcross(body.mesh),
-                        map.Has("mesh") ? ReadMeshScale(ctx, map) : 1.0,
-                        {map.Key("scale"), map.Key("units")},
-                        body.decomposition == Decomposition::kParts};
+  // (only a body with parts or a decomposition reads them)
+  const auto part_frame = [&] {
+    return PartFrame{extras.center_of_mass,
+                     body.hull.get(),
+                     kHullContainmentTolerance * MeshAcross(body.mesh),
+                     map.Has("mesh") ? ReadMeshScale(ctx, map) : 1.0,
+                     {map.Key("scale"), map.Key("units")},
+                     body.decomposition == Decomposition::kParts};
+  };
   if (map.Has("parts")) {
-    body.parts = ReadParts(ctx, map.Get("parts"), map.Key("parts"), frame, warnings);
+    body.parts = ReadParts(ctx, map.Get("parts"), map.Key("parts"), part_frame(), warnings);
   }
   if (mode == DecompositionMode::kAuto) {
     body.parts = WithLocation(ctx, map.Get("decomposition"), map.Key("decomposition"), [&] {
       return DecomposedParts(body, mesh_file, mesh_volume, warnings);
     });
     if (body.parts.empty()) body.decomposition = Decomposition::kNone;
-    WarnOfSeams(body.parts, map.Key("decomposition"), frame, warnings);
+    WarnOfSeams(body.parts, map.Key("decomposition"), part_frame(), warnings);
   }
 
   // initial state: `position` is where the CM starts; a kinematic body's motion at t = 0
