@@ -1,6 +1,6 @@
 // Bodies made of convex parts touching bodies (engine/README.md, "Bodies made of convex parts"):
-// scenes/cube_in_cup.yaml and scenes/peg_in_hole.yaml against their geometry, a peg sliding down
-// the wall of its hole against Coulomb's law, and the scene's contacts and their combined output.
+// scenes/cube_in_cup.yaml and scenes/peg_in_hole.yaml against their geometry, a peg pushed by a
+// finger and sliding down the wall of its hole against Coulomb's law, and the scene's contacts and their combined output.
 
 #include <algorithm>
 #include <cmath>
@@ -210,6 +210,25 @@ TEST(PartContactsTest, TheCupsHullWouldHoldTheCubeOnItsRim) {
   const RunEnd run = RunToEnd(scene);
   // the hull's top at 0.08 m (the mesh's single-precision floats move it by 1e-8 m)
   EXPECT_NEAR(run.state.bodies[1].p_WB.z(), 0.10, 1e-8);
+}
+
+TEST(PartContactsTest, TheFingerPushesThePegOntoTheHolesWall) {
+  // the kinematic finger moves +x at 0.02 m/s for 0.025 s, then away; the peg keeps its speed
+  // until its +x face meets the wall (1 mm) at 0.05 s, falling meanwhile
+  const Scene scene = LoadScene(ScenePath("peg_in_hole.yaml")).scene;
+  constexpr double kFingerSpeed = 0.02;  // m/s: 0.5 mm in 0.025 s
+  State state = InitialState(scene);
+  double farthest = -INFINITY;
+  for (int k = 1; k <= 12; ++k) {  // to 0.06 s
+    ASSERT_TRUE(Step(scene, state).converged) << "step " << k;
+    const BodyState& peg = state.bodies[1];
+    // rigid, no slip along the push: the finger's speed, to the rows' 1e-12 convergence
+    if (k <= 10) EXPECT_NEAR(peg.v_WB.x(), kFingerSpeed, 1e-9 * kFingerSpeed) << "step " << k;
+    farthest = std::max(farthest, peg.p_WB.x());
+  }
+  // the peg's +x face on the wall (its centre 1 mm off the axis), no further than its tilt allows
+  EXPECT_GE(farthest, 0.001 - kRestTolerance);
+  EXPECT_LE(farthest, 0.0011);
 }
 
 TEST(PartContactsTest, PegFallsIntoItsHoleAndStandsOnTheTable) {
