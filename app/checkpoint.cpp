@@ -19,7 +19,8 @@ using engine::ReadExactVector;
 using nlohmann::json;
 
 // the format's version: a reader refuses any other (a changed State means a new version)
-constexpr int kFormat = 3;  // 2: warm starts typed by model; 3: a hull warm start's trend
+// 2: warm starts typed by model; 3: a hull warm start's trend; 4: the step model "parts"
+constexpr int kFormat = 4;
 
 json TotalsJson(const RunTotals& totals) {
   json sample = json::array();

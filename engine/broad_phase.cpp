@@ -94,7 +94,7 @@ void StepReachOf(const Scene& scene, const State& state, StepReach& reach) {
     boxes.push_back(HullBox(*body.hull, s.p_WB, R));
     std::vector<Box>& parts = reach.part_boxes[b];
     parts.clear();
-    if (body.decomposition == Decomposition::kParts) {
+    if (body.decomposition != Decomposition::kNone) {
       for (const auto& part : body.parts) parts.push_back(HullBox(*part, s.p_WB, R));
     }
     const double radius =

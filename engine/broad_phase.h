@@ -31,8 +31,8 @@ struct StepReach {
   /// m/s (world): a jaw's closing speed along its gripper's axis, which grows its box along that
   /// axis only; zero for every other body.
   std::vector<Eigen::Vector3d> closing;
-  /// Per body whose contacts touch its parts (Decomposition::kParts), each part's world box grown
-  /// as the body's; empty for every other body.
+  /// Per body whose contacts may touch its parts (Decomposition kParts or kAuto), each part's
+  /// world box grown as the body's; empty for every other body.
   std::vector<std::vector<Box>> part_boxes;
 };
 

@@ -107,7 +107,7 @@ void ReplayStep(double h, std::vector<BodyState>& bodies) {
 }
 
 void RecordRest(const Scene& scene, const std::vector<Island>& islands, const SleepPlan& plan,
-                const std::vector<StepModel>& island_models,
+                const std::vector<StepModel>& body_models,
                 const std::vector<int>& island_substeps, const std::vector<char>& island_repeats,
                 const std::vector<double>& island_residuals, State& state) {
   RestRecord& rest = state.rest;
@@ -130,7 +130,7 @@ void RecordRest(const Scene& scene, const std::vector<Island>& islands, const Sl
     for (int b : island.bodies) {
       rest.steps[b] = at_rest ? steps + 1 : 0;
       if (plan.sleeps[i]) continue;
-      rest.models[b] = island_models[i];
+      rest.models[b] = body_models[b];
       rest.residuals[b] = island_residuals[i];
     }
   }

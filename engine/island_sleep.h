@@ -66,11 +66,11 @@ void ReplayStep(double h, std::vector<BodyState>& bodies);
 /// The rest record after the step that `plan` planned was committed into `state`: a body's count
 /// grows by one where its island was steady, solved in one step that repeated its start
 /// (`island_repeats[i]`, RepeatsItsStart; a replay does) and ended at rest (every body AtRest),
-/// else it is 0; its model and residual are island i's (`island_models[i]`,
-/// `island_residuals[i]`) where island i was solved, kept where it replayed; each contact's
-/// presence in the step is `plan.in_step`.
+/// else it is 0; its model is the step's (`body_models[b]`, StepReport::models) and its
+/// residual island i's (`island_residuals[i]`) where island i was solved, kept where it replayed;
+/// each contact's presence in the step is `plan.in_step`.
 void RecordRest(const Scene& scene, const std::vector<Island>& islands, const SleepPlan& plan,
-                const std::vector<StepModel>& island_models,
+                const std::vector<StepModel>& body_models,
                 const std::vector<int>& island_substeps, const std::vector<char>& island_repeats,
                 const std::vector<double>& island_residuals, State& state);
 

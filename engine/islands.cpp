@@ -1,8 +1,10 @@
 #include "engine/islands.h"
 
+#include <algorithm>
 #include <array>
 #include <numeric>
 
+#include "engine/auto_sides.h"
 #include "engine/contact_friction.h"
 
 namespace ecpsim::engine {
@@ -32,8 +34,10 @@ void FormIslandsInto(const Scene& scene, const State& state, IslandScratch& scra
   // with them follow one another: one box test for all of them
   std::array<int, 3> part_checked = {-1, -1, -1};  // body, part, other body
   bool part_reaches = true;
+  bool choosing = false;  // whether a pair lists its hulls' and its parts' contacts
   for (size_t k = 0; k < scene.contacts.size(); ++k) {
     const ContactPair& pair = scene.contacts[k];
+    choosing = choosing || pair.sides != SideChoice::kFixed;
     if (!pair.WithBody()) continue;
     if (pair.part >= 0 && pair.other_part >= 0) {
       const std::array<int, 3> key = {pair.body, pair.part, pair.other_body};
@@ -76,6 +80,20 @@ void FormIslandsInto(const Scene& scene, const State& state, IslandScratch& scra
     const ContactPair& pair = scene.contacts[k];
     if (pair.WithBody() || islands[island_of[find(pair.body)]].bodies.size() < 2) continue;
     in_step[k] = InReach(known_reach().boxes[pair.body], *scene.obstacles[pair.obstacle].shape);
+  }
+  // such a pair keeps one of the two within the step (engine/auto_sides.h)
+  for (size_t k = 0; choosing && k < scene.contacts.size();) {
+    size_t end = k + 1;
+    while (end < scene.contacts.size() && scene.contacts[end].SameBodies(scene.contacts[k])) ++end;
+    if (scene.contacts[k].sides != SideChoice::kFixed &&
+        std::any_of(in_step.begin() + k, in_step.begin() + end, [](char in) { return in; })) {
+      const SideChoice dropped = HullsExact(scene, state, known_reach(), static_cast<int>(k))
+                                     ? SideChoice::kParts
+                                     : SideChoice::kHulls;
+      for (size_t j = k; j < end; ++j)
+        if (scene.contacts[j].sides == dropped) in_step[j] = false;
+    }
+    k = end;
   }
   for (size_t k = 0; k < scene.contacts.size(); ++k) {
     if (!in_step[k]) continue;

@@ -27,7 +27,9 @@ struct IslandScratch {
 /// they can touch within it (BodiesInReach: their boxes overlap and, but for a kinematic body,
 /// their hulls lie within what the two can move); otherwise they cannot touch in the step. Every
 /// dynamic body is in exactly one island, with all its contacts with obstacles; kinematic bodies
-/// are in none (their motion is given). Each contact's friction is StepFriction's at `state`.
+/// are in none (their motion is given). Of a pair that lists its hulls' and its parts' contacts
+/// (Decomposition::kAuto) only one set is in the step: the hulls' where HullsExact says so
+/// (engine/auto_sides.h), else the parts'. Each contact's friction is StepFriction's at `state`.
 std::vector<Island> FormIslands(const Scene& scene, const State& state);
 
 /// FormIslands into `islands`, over their last contents (reusing their storage).

@@ -51,18 +51,54 @@ const char* DecompositionName(Decomposition decomposition) {
       return "none";
     case Decomposition::kParts:
       return "parts";
+    case Decomposition::kAuto:
+      return "auto";
   }
   return "unknown";
 }
 
 namespace {
 
-// the parts a body's contacts touch: -1 (its hull) alone, or each of its parts
-std::vector<int> ContactParts(const Body& body) {
-  if (body.decomposition != Decomposition::kParts || body.parts.empty()) return {-1};
-  std::vector<int> parts(body.parts.size());
-  for (size_t i = 0; i < parts.size(); ++i) parts[i] = static_cast<int>(i);
-  return parts;
+// the sides a body's contacts touch where it touches with its parts (`parts`) or with its hull:
+// -1 (the hull) alone, or each of its parts; a body that lists parts to touch with
+// (Decomposition::kParts) always takes them, one without parts always its hull
+std::vector<int> ContactParts(const Body& body, bool parts) {
+  if (body.parts.empty() || body.decomposition == Decomposition::kNone ||
+      (body.decomposition == Decomposition::kAuto && !parts)) {
+    return {-1};
+  }
+  std::vector<int> indices(body.parts.size());
+  for (size_t i = 0; i < indices.size(); ++i) indices[i] = static_cast<int>(i);
+  return indices;
+}
+
+// each side of F against each side of G, as one pair group's `sides` choice
+void AddSidePairs(Scene& scene, ContactPair pair, SideChoice sides) {
+  const bool parts = sides != SideChoice::kHulls;
+  const std::vector<int> other_parts =
+      pair.WithBody() ? ContactParts(scene.bodies[pair.other_body], parts) : std::vector<int>{-1};
+  pair.sides = sides;
+  for (int part : ContactParts(scene.bodies[pair.body], parts)) {
+    for (int other_part : other_parts) {
+      pair.part = part;
+      pair.other_part = other_part;
+      scene.contacts.push_back(pair);
+    }
+  }
+}
+
+// the pair's contacts: both sets where a body chooses per step (Decomposition::kAuto)
+void AddSides(Scene& scene, const ContactPair& pair) {
+  const auto chooses = [&](int b) {
+    return b >= 0 && scene.bodies[b].decomposition == Decomposition::kAuto &&
+           !scene.bodies[b].parts.empty();
+  };
+  if (!chooses(pair.body) && !chooses(pair.other_body)) {
+    AddSidePairs(scene, pair, SideChoice::kFixed);
+    return;
+  }
+  AddSidePairs(scene, pair, SideChoice::kHulls);
+  AddSidePairs(scene, pair, SideChoice::kParts);
 }
 
 const geometry::ConvexShape& PartOrHull(const Body& body, int part) {
@@ -94,25 +130,17 @@ ContactPair BodyPair(const Scene& scene, int i, int j, const Friction& friction)
 }
 
 void AddBodyContacts(Scene& scene, int i, int j, const Friction& friction) {
-  ContactPair pair = BodyPair(scene, i, j, friction);
-  const std::vector<int> parts = ContactParts(scene.bodies[pair.body]);
-  const std::vector<int> other_parts = ContactParts(scene.bodies[pair.other_body]);
-  for (int part : parts) {
-    for (int other_part : other_parts) {
-      pair.part = part;
-      pair.other_part = other_part;
-      scene.contacts.push_back(pair);
-    }
-  }
+  AddSides(scene, BodyPair(scene, i, j, friction));
 }
 
 void AddObstacleContacts(Scene& scene, int b, int o, const Friction& friction) {
-  ContactPair pair{b, o, friction};
-  const bool half_space = scene.obstacles[o].shape && scene.obstacles[o].shape->IsHalfSpace();
-  for (int part : half_space ? std::vector<int>{-1} : ContactParts(scene.bodies[b])) {
-    pair.part = part;
+  const ContactPair pair{b, o, friction};
+  // a half-space reaches no cavity: the hull is exact against it
+  if (scene.obstacles[o].shape && scene.obstacles[o].shape->IsHalfSpace()) {
     scene.contacts.push_back(pair);
+    return;
   }
+  AddSides(scene, pair);
 }
 
 void AddGripper(Scene& scene, Gripper gripper) {

@@ -45,9 +45,10 @@ const char* ContactModelName(ContactModel model);
 enum class Decomposition {
   kNone,   // the hull: exact where nothing reaches into a cavity of the body
   kParts,  // each of Body::parts, a contact per part (and per part of the other body)
+  kAuto,   // per pair and step the hull where it is exact, else each part (engine/auto_sides.h)
 };
 
-/// "none", "parts" (`decomposition` of a body in the scene file).
+/// "none", "parts", "auto" (`decomposition` of a body in the scene file).
 const char* DecompositionName(Decomposition decomposition);
 
 /// A rigid body F: its mesh and convex hull in the body frame (origin at the centre of mass).
@@ -60,6 +61,9 @@ struct Body {
   // kParts also the body's contacts with bodies and bounded obstacles, one per part
   std::vector<std::shared_ptr<const geometry::ConvexShape>> parts;
   Decomposition decomposition = Decomposition::kNone;
+  // body frame, under kAuto: thin slabs under the faces of the hull the parts do not cover, the
+  // lids over the body's cavities (geometry::LidSlabs)
+  std::vector<std::shared_ptr<const geometry::ConvexShape>> lids;
   double mass = 1;                                        // kg
   Eigen::Matrix3d inertia = Eigen::Matrix3d::Identity();  // kg·m², about the CM, body axes
   // initial state
@@ -106,6 +110,14 @@ struct Obstacle {
   Friction friction;                                   // default friction of contacts with it
 };
 
+/// Which of the two sets of contacts of a pair with a body under Decomposition::kAuto a contact
+/// belongs to: the hulls' (the one contact where neither body has listed parts) or the parts'.
+enum class SideChoice {
+  kFixed,  // the pair touches with these sides whatever the step
+  kHulls,  // taken where the hulls' contact is exact
+  kParts,  // taken where something reaches into a cavity
+};
+
 /// One potential contact, with its own ECPs and wrench: between the hull of a dynamic body F
 /// (`body`) or one of its parts, and G, a fixed obstacle (`obstacle`) or another body
 /// (`other_body`: a kinematic one, or a dynamic one of larger index) or one of its parts. F and G
@@ -118,6 +130,9 @@ struct ContactPair {
   int other_body = -1;  // ≥ 0: G is this body (then obstacle = -1)
   int part = -1;        // ≥ 0: F's side is Body::parts[part] of `body`, else its hull
   int other_part = -1;  // ≥ 0: G's side is Body::parts[other_part] of `other_body`, else its hull
+  // under decomposition kAuto the pair lists its hulls' contacts and its parts' contacts, and
+  // each step takes one of the two (engine/auto_sides.h)
+  SideChoice sides = SideChoice::kFixed;
   bool WithBody() const { return other_body >= 0; }
   // whether `other` joins the same body to the same obstacle or body (another part pair of it)
   bool SameBodies(const ContactPair& other) const {
@@ -187,10 +202,13 @@ ContactPair BodyPair(const Scene& scene, int i, int j, const Friction& friction)
 /// Appends the contacts of bodies i ≠ j (not both kinematic) with `friction`: F the dynamic one of
 /// lower index (a kinematic body is always G), one contact between their hulls, or, where either
 /// body's decomposition is kParts, one per pair of their parts (a body without parts: its hull).
+/// Where either is kAuto, both: the contacts as if each kAuto body were kNone (SideChoice::kHulls),
+/// then as if it were kParts (kParts).
 void AddBodyContacts(Scene& scene, int i, int j, const Friction& friction);
 
 /// Appends the contacts of dynamic body b with obstacle o with `friction`: one with its hull, or
-/// one per part where its decomposition is kParts and the obstacle is bounded (not a half-space).
+/// one per part where its decomposition is kParts and the obstacle is bounded (not a half-space);
+/// under kAuto, against a bounded obstacle, both as AddBodyContacts.
 void AddObstacleContacts(Scene& scene, int b, int o, const Friction& friction);
 
 /// Adds `gripper` to `scene`: its jaws' poses in the frame (jaw_in_frame) from the jaws' initial

@@ -22,10 +22,9 @@ struct StepScratch {
   // FormIslandsInto's storage and its islands
   IslandScratch island_scratch;
   std::vector<Island> islands;
-  // which islands sleep (PlanSleep), and per island what solved it, in how many sub-steps and
-  // to what residual, and whether it repeated its start
+  // which islands sleep (PlanSleep), and per island in how many sub-steps and to what residual
+  // it was solved, and whether it repeated its start
   SleepPlan sleep;
-  std::vector<StepModel> island_models;
   std::vector<int> island_substeps;
   std::vector<double> island_residuals;
   std::vector<char> island_repeats;
@@ -63,7 +62,6 @@ StepReport StepIslands(const Scene& scene, State& state, const ContactModelStepp
   solved.resize(islands.size());
   const SleepPlan& sleep = scratch.sleep;
   PlanSleep(scene, state, islands, scratch.sleep);
-  scratch.island_models.assign(islands.size(), StepModel::kFree);
   scratch.island_substeps.assign(islands.size(), 1);
   scratch.island_residuals.assign(islands.size(), 0.0);
   // (a replay repeats its start)
@@ -127,7 +125,15 @@ StepReport StepIslands(const Scene& scene, State& state, const ContactModelStepp
       }
       if (!ok) continue;
       for (int b : island.bodies) report.models[b] = island_model;
-      scratch.island_models[island_index] = island_model;
+      // the hull model over parts says so
+      if (island_model == StepModel::kHull) {
+        for (int k : island.contacts) {
+          const ContactPair& pair = scene.contacts[k];
+          if (pair.part >= 0) report.models[pair.body] = StepModel::kParts;
+          if (pair.other_part >= 0 && !scene.bodies[pair.other_body].IsKinematic())
+            report.models[pair.other_body] = StepModel::kParts;
+        }
+      }
       scratch.island_substeps[island_index] = substeps;
       scratch.island_residuals[island_index] = island_residual;
       // (only sleeping reads it: a step without it pays nothing for the rule)
@@ -197,7 +203,7 @@ StepReport StepIslands(const Scene& scene, State& state, const ContactModelStepp
   // without sleeping no record is kept: one made while it was off would let an island that
   // turned it on sleep on counts it never earned
   if (scene.solver.sleep) {
-    RecordRest(scene, islands, sleep, scratch.island_models, scratch.island_substeps,
+    RecordRest(scene, islands, sleep, report.models, scratch.island_substeps,
                scratch.island_repeats, scratch.island_residuals, state);
   } else if (!state.rest.steps.empty()) {
     state.rest = RestRecord{};

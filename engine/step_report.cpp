@@ -16,6 +16,8 @@ const char* StepModelName(StepModel model) {
       return "multipatch";
     case StepModel::kPoint:
       return "point";
+    case StepModel::kParts:
+      return "parts";
     case StepModel::kKinematic:
       break;
   }

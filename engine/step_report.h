@@ -11,10 +11,12 @@ namespace ecpsim::engine {
 /// What solved a body's step (trajectory.csv's `model` column, summary.json's counts), from the
 /// cheapest: closed-form free flight, the planar sliding model, the hull MNCP, the multi-patch
 /// and point models; a kinematic body's motion is prescribed.
-enum class StepModel { kFree, kPlanar, kHull, kMultiPatch, kPoint, kKinematic };
-/// "free", "planar", "hull", "multipatch", "point", "kinematic".
+/// kParts: the hull model, the body touching through its convex parts (Body::parts) within the
+/// step (engine/README.md, "Bodies made of convex parts").
+enum class StepModel { kFree, kPlanar, kHull, kMultiPatch, kPoint, kKinematic, kParts };
+/// "free", "planar", "hull", "multipatch", "point", "kinematic", "parts".
 const char* StepModelName(StepModel model);
-inline constexpr int kNumStepModels = 6;
+inline constexpr int kNumStepModels = 7;
 
 struct StepReport {
   bool converged = false;

@@ -181,7 +181,8 @@ double PenetrationProbe::MaxDepth(const Scene& scene, const State& state) const 
   const bool solved = state.contacts.size() == scene.contacts.size();
   for (size_t k = 0; k < scene.contacts.size(); ++k) {
     const ContactPair& pair = scene.contacts[k];
-    if (!pair.WithBody()) continue;
+    // a hull spans the body's cavities: its parts' contacts measure the body itself
+    if (!pair.WithBody() || pair.sides == SideChoice::kHulls) continue;
     deepest = std::max(deepest, ContactDepth(scene, state, static_cast<int>(k),
                                              solved ? &state.contacts[k].n : nullptr));
   }

@@ -23,7 +23,8 @@ class PenetrationProbe {
 
   /// m, ≥ 0: the largest of Depth over every dynamic body and obstacle and of ContactDepth
   /// over every contact pair of two bodies (Scene::contacts; excluded pairs may overlap) at
-  /// `state`.
+  /// `state`, but the hulls' contacts of a pair that lists its parts' too (SideChoice::kHulls):
+  /// a hull spans the body's cavities, where the other body may be.
   double MaxDepth(const Scene& scene, const State& state) const;
 
   /// m, ≥ 0: the largest depth of body `body`'s mesh vertices inside obstacle `obstacle`.

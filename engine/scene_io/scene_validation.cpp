@@ -558,7 +558,8 @@ std::optional<Overlap> FindOverlap(const Scene& scene, const State& state) {
   // other out at the first step); excluded pairs are not contact pairs and may overlap
   for (size_t k = 0; k < scene.contacts.size(); ++k) {
     const ContactPair& pair = scene.contacts[k];
-    if (!pair.WithBody()) continue;
+    // (a hull spans the body's cavities: its parts' contacts measure the body itself)
+    if (!pair.WithBody() || pair.sides == SideChoice::kHulls) continue;
     const Body& a = scene.bodies[pair.body];
     const Body& b = scene.bodies[pair.other_body];
     if (a.allow_initial_penetration || b.allow_initial_penetration) continue;

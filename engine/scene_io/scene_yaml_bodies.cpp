@@ -9,6 +9,7 @@
 #include "geometry/convex_decomposition.h"
 #include "geometry/convex_hull.h"
 #include "geometry/convex_shape.h"
+#include "geometry/hull_lids.h"
 #include "geometry/mass_properties.h"
 
 namespace ecpsim::engine::yaml {
@@ -285,14 +286,10 @@ Body ReadBody(const Context& ctx, const YAML::Node& node, const std::string& key
     if (mode == DecompositionMode::kParts && !map.Has("parts")) {
       map.FailAt("decomposition", "`decomposition: parts` on a body with `parts` to touch with");
     }
-    if (mode == DecompositionMode::kAuto && map.Has("parts")) {
-      map.FailAt("parts",
-                 "no `parts` with `decomposition: auto`, which decomposes the mesh (list parts "
-                 "with `decomposition: parts`)");
-    }
   }
-  body.decomposition =
-      mode == DecompositionMode::kNone ? Decomposition::kNone : Decomposition::kParts;
+  body.decomposition = mode == DecompositionMode::kNone    ? Decomposition::kNone
+                       : mode == DecompositionMode::kParts ? Decomposition::kParts
+                                                           : Decomposition::kAuto;
   // (only a body with parts or a decomposition reads them)
   const auto part_frame = [&] {
     return PartFrame{extras.center_of_mass,
@@ -300,18 +297,23 @@ Body ReadBody(const Context& ctx, const YAML::Node& node, const std::string& key
                      kHullContainmentTolerance * MeshAcross(body.mesh),
                      map.Has("mesh") ? ReadMeshScale(ctx, map) : 1.0,
                      {map.Key("scale"), map.Key("units")},
-                     body.decomposition == Decomposition::kParts};
+                     body.decomposition != Decomposition::kNone};
   };
   if (map.Has("parts")) {
     body.parts = ReadParts(ctx, map.Get("parts"), map.Key("parts"), part_frame(), warnings);
   }
-  if (mode == DecompositionMode::kAuto) {
+  if (mode == DecompositionMode::kAuto && !map.Has("parts")) {
     body.parts = WithLocation(ctx, map.Get("decomposition"), map.Key("decomposition"), [&] {
       return DecomposedParts(body, mesh_file, mesh_volume, warnings);
     });
-    if (body.parts.empty()) body.decomposition = Decomposition::kNone;
     WarnOfSeams(body.parts, map.Key("decomposition"), part_frame(), warnings);
   }
+  // under auto, the hull's faces the parts leave open; with none the hull is the body's surface
+  // and always exact
+  if (body.decomposition == Decomposition::kAuto && !body.parts.empty())
+    body.lids = geometry::LidSlabs(body.hull, body.parts);
+  if (body.decomposition == Decomposition::kAuto && body.lids.empty())
+    body.decomposition = Decomposition::kNone;
 
   // initial state: `position` is where the CM starts; a kinematic body's motion at t = 0
   if (kinematic) {

@@ -220,7 +220,7 @@ class SceneFuzzTest : public testing::CliTest, public ::testing::WithParamInterf
         text_column.push_back(engine::IsModelColumn(name));
     }
     const std::set<std::string> models = {"initial",    "free",  "planar",   "hull",
-                                          "multipatch", "point", "kinematic"};
+                                          "multipatch", "point", "kinematic", "parts"};
     data_rows = 0;
     while (std::getline(in, line)) {
       ++data_rows;

@@ -124,12 +124,13 @@ class DecomposedCupTest : public ::testing::Test {
 
 TEST_F(DecomposedCupTest, HoldsTheCubeOnItsFloor) {
   // the cup's mesh with `decomposition: auto` instead of listed parts: its exact convex pieces,
-  // each seam moved inside a part
+  // each seam moved inside a part; its lid the cup's opening
   const LoadedScene loaded = Load();
   EXPECT_TRUE(loaded.warnings.empty()) << loaded.warnings.front();
   const Scene& scene = loaded.scene;
-  EXPECT_EQ(scene.bodies[0].decomposition, Decomposition::kParts);
+  EXPECT_EQ(scene.bodies[0].decomposition, Decomposition::kAuto);
   EXPECT_GE(scene.bodies[0].parts.size(), 5u);
+  EXPECT_EQ(scene.bodies[0].lids.size(), 1u);
   const RunEnd run = RunToEnd(scene);
   EXPECT_NEAR(run.state.bodies[1].p_WB.z(), 0.03, kRestTolerance);
   EXPECT_LE(TiltFromAFace(run.state.bodies[1]), kRestTolerance / 0.02);
@@ -223,7 +224,9 @@ TEST(PartContactsTest, TheFingerPushesThePegOntoTheHolesWall) {
     ASSERT_TRUE(Step(scene, state).converged) << "step " << k;
     const BodyState& peg = state.bodies[1];
     // rigid, no slip along the push: the finger's speed, to the rows' 1e-12 convergence
-    if (k <= 10) EXPECT_NEAR(peg.v_WB.x(), kFingerSpeed, 1e-9 * kFingerSpeed) << "step " << k;
+    if (k <= 10) {
+      EXPECT_NEAR(peg.v_WB.x(), kFingerSpeed, 1e-9 * kFingerSpeed) << "step " << k;
+    }
     farthest = std::max(farthest, peg.p_WB.x());
   }
   // the peg's +x face on the wall (its centre 1 mm off the axis), no further than its tilt allows

@@ -1,0 +1,60 @@
+#include "engine/auto_sides.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "geometry/convex_separation.h"
+
+namespace ecpsim::engine {
+namespace {
+
+using Eigen::Isometry3d;
+using Eigen::Vector3d;
+
+Isometry3d PoseOf(const BodyState& body) {
+  Isometry3d X = Isometry3d::Identity();
+  X.linear() = body.Q_WB.toRotationMatrix();
+  X.translation() = body.p_WB;
+  return X;
+}
+
+// whether `other` at X_o reaches into a cavity of `body` at X_b within `distance` (m): near a
+// lid, or inside the hull
+bool ReachesACavity(const Body& body, const Isometry3d& X_b, double size,
+                    const geometry::ConvexShape& other, const Isometry3d& X_o, double distance) {
+  for (const auto& lid : body.lids) {
+    if (geometry::WithinDistance(*lid, X_b, other, X_o, distance, size)) return true;
+  }
+  // apart from every lid, `other` is wholly inside the hull or wholly outside it: one of its
+  // points tells which
+  const Vector3d toward = X_o.linear().transpose() * (X_b.translation() - X_o.translation());
+  const Vector3d y = X_b.inverse() * (X_o * other.Support(toward));
+  double outside = -INFINITY;
+  for (int i = 0; i < body.hull->NumConstraints(); ++i)
+    outside = std::max(outside, body.hull->Value(i, y));
+  return outside < -kInsideHullRelTolerance * size;
+}
+
+}  // namespace
+
+bool HullsExact(const Scene& scene, const State& state, const StepReach& reach, int k) {
+  const ContactPair& pair = scene.contacts[k];
+  const Body& F = scene.bodies[pair.body];
+  const double distance =
+      reach.distance[pair.body] + (pair.WithBody() ? reach.distance[pair.other_body] : 0.0);
+  if (!std::isfinite(distance)) return false;
+  const Isometry3d X_F = PoseOf(state.bodies[pair.body]);
+  const double size_F = reach.size[pair.body];
+  if (!pair.WithBody()) {
+    return !ReachesACavity(F, X_F, size_F, *scene.obstacles[pair.obstacle].shape,
+                           Isometry3d::Identity(), distance);
+  }
+  const Body& G = scene.bodies[pair.other_body];
+  const Isometry3d X_G = PoseOf(state.bodies[pair.other_body]);
+  const double size_G = reach.size[pair.other_body];
+  const auto chooses = [](const Body& body) { return body.decomposition == Decomposition::kAuto; };
+  return !(chooses(F) && ReachesACavity(F, X_F, size_F, *G.hull, X_G, distance)) &&
+         !(chooses(G) && ReachesACavity(G, X_G, size_G, *F.hull, X_F, distance));
+}
+
+}  // namespace ecpsim::engine
