@@ -446,7 +446,7 @@ void AddBenchCommand(CLI::App& app) {
   bench
       ->add_option("--scenes", o->scenes_dir,
                    "folder of desk.yaml, tbar.yaml, dumbbell.yaml, stack.yaml, push_box.yaml, "
-                   "tbar_push.yaml, pyramid.yaml, train.yaml")
+                   "tbar_push.yaml, pyramid.yaml, train.yaml, peg_in_hole.yaml, dominoes.yaml")
       ->capture_default_str();
   bench->add_option("--cpu-limit", o->cpu_limit_s, "CPU seconds allowed per run")
       ->capture_default_str()

@@ -1,9 +1,12 @@
 #pragma once
 // What the engine adapters read from a scene beyond the bodies: each obstacle as a plane, each
-// contact pair's friction and a kinematic body's pose and twist per step; and the check of the
-// state they report (header-only: each adapter is its own optional TU).
+// contact pair's friction, the parts the pairs touch and a kinematic body's pose and twist per
+// step; and the check of the state they report (header-only: each adapter is its own optional TU).
 
+#include <algorithm>
+#include <array>
 #include <cstddef>
+#include <map>
 #include <optional>
 #include <vector>
 
@@ -14,6 +17,7 @@
 #include "engine/scene.h"
 #include "engine/state.h"
 #include "engine/step_report.h"
+#include "geometry/convex_hull.h"
 #include "geometry/convex_shape.h"
 
 namespace ecpsim::baselines {
@@ -43,7 +47,9 @@ inline HalfSpacePlane HalfSpaceOf(const engine::Scene& scene, int o, const char*
 }
 
 /// The friction of every contact pair the scene lists; a pair it does not list (or excludes
-/// under `pairs:`) never touches.
+/// under `pairs:`) never touches. Bodies touch through pieces (ContactPair::part, other_part: −1
+/// the body's hull, else one of its parts): the body-level lookups answer for any of their
+/// pieces, the piece-level ones for the pieces a ContactPair names only.
 class PairFrictionTable {
  public:
   explicit PairFrictionTable(const engine::Scene& scene)
@@ -56,8 +62,11 @@ class PairFrictionTable {
       if (pair.WithBody()) {
         const auto g = static_cast<std::size_t>(pair.other_body);
         body_[b][g] = body_[g][b] = pair.friction;
+        pieces_[{pair.body, pair.part, pair.other_body, pair.other_part}] = pair.friction;
+        pieces_[{pair.other_body, pair.other_part, pair.body, pair.part}] = pair.friction;
       } else {
         obstacle_[b][static_cast<std::size_t>(pair.obstacle)] = pair.friction;
+        obstacle_pieces_[{pair.body, pair.part, pair.obstacle}] = pair.friction;
       }
     }
   }
@@ -69,10 +78,53 @@ class PairFrictionTable {
   const std::optional<engine::Friction>& WithBody(int a, int b) const {
     return body_[static_cast<std::size_t>(a)][static_cast<std::size_t>(b)];
   }
+  /// Piece `part` of body b (−1: its hull) against obstacle o; empty: they never touch.
+  std::optional<engine::Friction> PieceWithObstacle(int b, int part, int o) const {
+    const auto found = obstacle_pieces_.find({b, part, o});
+    if (found == obstacle_pieces_.end()) return std::nullopt;
+    return found->second;
+  }
+  /// Piece `part_a` of body a against piece `part_b` of body b (−1: a hull), in either order;
+  /// empty: they never touch.
+  std::optional<engine::Friction> PieceWithPiece(int a, int part_a, int b, int part_b) const {
+    const auto found = pieces_.find({a, part_a, b, part_b});
+    if (found == pieces_.end()) return std::nullopt;
+    return found->second;
+  }
 
  private:
   std::vector<std::vector<std::optional<engine::Friction>>> obstacle_, body_;
+  std::map<std::array<int, 3>, engine::Friction> obstacle_pieces_;  // (body, part, obstacle)
+  std::map<std::array<int, 4>, engine::Friction> pieces_;  // (body, part, other, other part)
 };
+
+/// The parts of each body that the scene's pairs touch (ContactPair::part, other_part ≥ 0),
+/// ascending; empty for a body touched through its hull only.
+inline std::vector<std::vector<int>> TouchedParts(const engine::Scene& scene) {
+  std::vector<std::vector<int>> parts(scene.bodies.size());
+  const auto add = [&](int b, int part) {
+    std::vector<int>& list = parts[static_cast<std::size_t>(b)];
+    if (part >= 0 && std::find(list.begin(), list.end(), part) == list.end()) list.push_back(part);
+  };
+  for (const engine::ContactPair& pair : scene.contacts) {
+    add(pair.body, pair.part);
+    if (pair.WithBody()) add(pair.other_body, pair.other_part);
+  }
+  for (std::vector<int>& list : parts) std::sort(list.begin(), list.end());
+  return parts;
+}
+
+/// Body-frame hull of part `part` of body b: a polyhedral part's own, a smooth part's
+/// tessellation's.
+/// @throws InputError naming the scene, body and part if a smooth part's tessellation is flat.
+inline geometry::ConvexHull PartHull(const engine::Scene& scene, int b, int part) {
+  const engine::Body& body = scene.bodies[static_cast<std::size_t>(b)];
+  const geometry::ConvexShape& shape = *body.parts[static_cast<std::size_t>(part)];
+  if (const geometry::PolyhedralShape* polyhedron = shape.AsPolyhedron()) return polyhedron->hull();
+  return geometry::ComputeConvexHull(
+      shape.Tessellate().vertices,
+      fmt::format("{}: bodies[{}] '{}' parts[{}]", scene.source, b, body.name, part));
+}
 
 /// A kinematic body's prescribed pose at the start of the step [t, t + h] and its twist over
 /// the step (KinematicMotion::StepTwist: the engine update c + h v, Exp(h ω) R lands on the

@@ -1,9 +1,9 @@
 // Bullet (double precision, libbullet-dev 3.24 via pkg-config bullet-float64) stepping an ecpsim
 // scene: btDiscreteDynamicsWorld with the sequential-impulse solver, each body a btConvexHullShape
-// of its mesh vertices in its principal-axes frame (a kinematic body a kinematic object moved to
-// its prescribed pose before every step), each half-space a btStaticPlaneShape; the scene's
-// contact pairs, body–body ones included, with their friction (settings and measurements:
-// baselines/bullet.md).
+// of its mesh vertices in its principal-axes frame, or a btCompoundShape of its parts' hulls where
+// its pairs touch its parts (a kinematic body a kinematic object moved to its prescribed pose
+// before every step), each half-space a btStaticPlaneShape; the scene's contact pairs, body–body
+// ones included, with their friction (settings and measurements: baselines/bullet.md).
 
 #include <cmath>
 #include <memory>
@@ -177,31 +177,42 @@ class BulletSimulation final : public ExternalSimulation {
                            btBroadphaseProxy::DefaultFilter);
     }
 
-    // bodies: the hull of the mesh vertices in the principal-axes frame P (origin at the CM)
+    // bodies: the hull of the mesh vertices in the principal-axes frame P (origin at the CM), or
+    // the parts its pairs touch. A collision object has one shape, so such a body meets
+    // half-spaces through its parts too: where the parts' union is the body, at the hull's
+    // lowest points (baselines/bullet.md)
+    const std::vector<std::vector<int>> touched = TouchedParts(scene);
     const engine::State initial_state = engine::InitialState(scene);
     for (int b = 0; b < static_cast<int>(scene.bodies.size()); ++b) {
       const engine::Body& body = scene.bodies[static_cast<size_t>(b)];
       const PrincipalAxes axes = ComputePrincipalAxes(body.inertia);
       R_BP_.push_back(axes.R_BP);
-      auto hull = std::make_unique<btConvexHullShape>();
-      const geometry::ConvexHull convex = geometry::ComputeConvexHull(
-          body.mesh.vertices, fmt::format("{}: bodies[{}] '{}'", scene.source, b, body.name));
-      for (const Vector3d& v_B : convex.vertices) {
-        hull->addPoint(ToBt(axes.R_BP.transpose() * v_B), false);
+      btCollisionShape* shape = nullptr;
+      if (touched[static_cast<size_t>(b)].empty()) {
+        shape = AddHullShape(
+            geometry::ComputeConvexHull(
+                body.mesh.vertices, fmt::format("{}: bodies[{}] '{}'", scene.source, b, body.name))
+                .vertices,
+            axes.R_BP);
+      } else {
+        // the children's vertices are in P already: each sits at the compound's origin
+        auto compound = std::make_unique<btCompoundShape>();
+        for (int part : touched[static_cast<size_t>(b)]) {
+          compound->addChildShape(btTransform::getIdentity(),
+                                  AddHullShape(PartHull(scene, b, part).vertices, axes.R_BP));
+        }
+        shape = compound.get();
+        shapes_.push_back(std::move(compound));
       }
-      hull->recalcLocalAabb();
-      hull->setMargin(settings_.margin);
-      if (settings_.polyhedral_hulls) hull->initializePolyhedralFeatures();
       // a kinematic object has mass 0 (Bullet: infinite) and is moved by the adapter (Step)
       const bool kinematic = body.IsKinematic();
       btRigidBody::btRigidBodyConstructionInfo ci(
-          kinematic ? 0 : body.mass, nullptr, hull.get(),
+          kinematic ? 0 : body.mass, nullptr, shape,
           kinematic ? btVector3(0, 0, 0) : ToBt(axes.principal));
       const engine::BodyState& initial = initial_state.bodies[static_cast<size_t>(b)];
       ci.m_startWorldTransform = PoseOf(b, initial.p_WB, initial.Q_WB);
       ci.m_friction = 1;
       ci.m_restitution = 0;
-      shapes_.push_back(std::move(hull));
       rigid_bodies_.push_back(std::make_unique<btRigidBody>(ci));
       btRigidBody* rigid = rigid_bodies_.back().get();
       rigid->setUserIndex(b);
@@ -299,6 +310,18 @@ class BulletSimulation final : public ExternalSimulation {
   }
 
  private:
+  // a btConvexHullShape of `vertices_B` (body frame) in the principal-axes frame P, with the
+  // setting's margin and features, owned by shapes_
+  btConvexHullShape* AddHullShape(const std::vector<Vector3d>& vertices_B, const Matrix3d& R_BP) {
+    auto hull = std::make_unique<btConvexHullShape>();
+    for (const Vector3d& v_B : vertices_B) hull->addPoint(ToBt(R_BP.transpose() * v_B), false);
+    hull->recalcLocalAabb();
+    hull->setMargin(settings_.margin);
+    if (settings_.polyhedral_hulls) hull->initializePolyhedralFeatures();
+    shapes_.push_back(std::move(hull));
+    return static_cast<btConvexHullShape*>(shapes_.back().get());
+  }
+
   // body b's transform X_WP (principal axes P) for its body frame at (p, Q_WB), Q_WB unit
   btTransform PoseOf(int b, const Vector3d& p, const Quaterniond& Q_WB) const {
     const Quaterniond Q_WP = Q_WB * Quaterniond(R_BP_[static_cast<size_t>(b)]);

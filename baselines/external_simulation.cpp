@@ -52,17 +52,6 @@ std::unique_ptr<ExternalSimulation> MakeExternalSimulation(ExternalEngine engine
         "and reconfigure)",
         scene.source, ExternalEngineName(engine), ExternalEngineName(engine)));
   }
-  // the adapters give each body its hull: a body touching through its parts would move as
-  // another body (a cube in a cup resting on its rim)
-  for (const engine::ContactPair& pair : scene.contacts) {
-    if (pair.part < 0 && pair.other_part < 0) continue;
-    const int b = pair.part >= 0 ? pair.body : pair.other_body;
-    throw InputError(fmt::format(
-        "{}: bodies[{}] '{}': its contacts touch its parts (decomposition: parts), and the {} "
-        "adapter models each body by its convex hull; expected bodies without parts, or "
-        "decomposition: none",
-        scene.source, b, scene.bodies[b].name, ExternalEngineName(engine)));
-  }
   switch (engine) {
 #ifdef ECPSIM_HAVE_MUJOCO
     case ExternalEngine::kMujoco:

@@ -51,12 +51,12 @@ class ExternalSimulation {
 };
 
 /// Builds `engine`'s model of `scene`: each body's collision geometry is the convex hull of its
-/// mesh (or of its primitive hull's tessellation), its mass and full inertia tensor as given,
-/// each obstacle a half-space (plane); friction μ of each contact pair (the ellipsoid's torsion
-/// e_r maps to torsional friction where the engine has it, kCoulomb only).
+/// mesh (or of its primitive hull's tessellation), and where its contact pairs touch its convex
+/// parts (ContactPair::part) also those parts, each a convex geometry of its own at its place in
+/// the body frame (baselines/README.md, "Bodies made of convex parts"); its mass and full inertia
+/// tensor as given, each obstacle a half-space (plane); friction μ of each contact pair.
 /// @throws InputError if the engine is not available in this build or the scene holds something
-///         the adapter cannot model (an obstacle that is not a half-space, a body whose contacts
-///         touch its parts), naming it.
+///         the adapter cannot model (an obstacle that is not a half-space), naming it.
 std::unique_ptr<ExternalSimulation> MakeExternalSimulation(ExternalEngine engine,
                                                            FrictionSetting setting,
                                                            const engine::Scene& scene);

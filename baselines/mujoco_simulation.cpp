@@ -1,14 +1,18 @@
 // MuJoCo 2.2.2 stepping an ecpsim scene: the scene written as MJCF in memory (one free body per
-// ecpsim body with a point geom at each hull vertex and a mesh geom of its hull, one plane per
-// half-space obstacle, explicit contact pairs for each ContactPair: vertices against a plane, and
-// between two bodies each one's vertices against the other's hull), compiled with mj_loadXML from
-// a virtual file system and stepped with mj_step; a kinematic body is a heavy free body set to its
-// prescribed pose and twist before every step (baselines/mujoco.md).
+// ecpsim body with a point geom at each vertex and a mesh geom of each convex piece its pairs
+// touch, its hull or its parts; one plane per half-space obstacle; explicit contact pairs for each
+// ContactPair: vertices against a plane, and between two bodies each piece's vertices against the
+// other piece's mesh), compiled with mj_loadXML from a virtual file system and stepped with
+// mj_step; a kinematic body is a heavy free body set to its prescribed pose and twist before every
+// step (baselines/mujoco.md).
 
 #include <algorithm>
+#include <map>
 #include <memory>
 #include <mutex>
+#include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <fmt/format.h>
@@ -118,35 +122,59 @@ std::vector<Vector3d> HullVertices(const engine::Body& body, const std::string& 
   return geometry::ComputeConvexHull(points, where).vertices;
 }
 
-/// The scene as MJCF: bodies b<i> (free joint, explicit inertial at the body origin = CM), their
-/// hull vertices as point geoms g<i>_<k> and their hull as mesh geom h<i> (mesh m<i>), planes
-/// o<k>, and explicit contact pairs only (contype = conaffinity = 0 disables MuJoCo's automatic
-/// pairs, so only the scene's pairs touch). A convex hull meets a half-space exactly where its
-/// vertices do, so the vertices carry the whole contact; MuJoCo's own plane–mesh collision
-/// reports at most 3 points (maxplanemesh in engine_collision_convex.c), too few for a face
-/// resting on a plane, and its mesh–mesh collision (libccd's MPR) one point per pair, too few
-/// for a box resting on a box: two bodies touch by each one's vertex points against the other's
-/// hull mesh (baselines/mujoco.md). A kinematic body gets kKinematicMassRatio × the heaviest
-/// dynamic body's mass and inertia.
+/// A convex piece of a body, what one side of a ContactPair touches: (body, part), part −1 the
+/// body's hull, else Body::parts[part].
+using Piece = std::pair<int, int>;
+
+/// The piece's name in geom and mesh names: "<b>" for the hull, "<b>p<j>" for part j.
+std::string PieceName(const Piece& piece) {
+  return piece.second < 0 ? fmt::format("{}", piece.first)
+                          : fmt::format("{}p{}", piece.first, piece.second);
+}
+
+/// Body-frame vertices of the piece: the hull's (HullVertices), or the part's (PartHull).
+std::vector<Vector3d> PieceVertices(const engine::Scene& scene, const Piece& piece) {
+  if (piece.second >= 0) return PartHull(scene, piece.first, piece.second).vertices;
+  const engine::Body& body = scene.bodies[static_cast<size_t>(piece.first)];
+  return HullVertices(body,
+                      fmt::format("{}: bodies[{}] '{}'", scene.source, piece.first, body.name));
+}
+
+/// The scene as MJCF: bodies b<i> (free joint, explicit inertial at the body origin = CM), the
+/// vertices of each of their pieces (Piece: every body's hull, and each part a pair touches) as
+/// point geoms g<piece>_<k>, a piece that touches another body also as mesh geom h<piece> (mesh
+/// m<piece>), planes o<k>, and explicit contact pairs only (contype = conaffinity = 0 disables
+/// MuJoCo's automatic pairs, so only the scene's pairs touch). A convex piece meets a half-space
+/// exactly where its vertices do, so the vertices carry the whole contact; MuJoCo's own
+/// plane–mesh collision reports at most 3 points (maxplanemesh in engine_collision_convex.c), too
+/// few for a face resting on a plane, and its mesh–mesh collision (libccd's MPR) one point per
+/// pair, too few for a box resting on a box: two pieces touch by each one's vertex points against
+/// the other's mesh (baselines/mujoco.md). A body made of parts thus touches another body through
+/// each part the scene pairs, as ecpsim's contacts do. A kinematic body gets kKinematicMassRatio ×
+/// the heaviest dynamic body's mass and inertia.
 std::string MakeMjcf(const engine::Scene& scene, const MujocoSettings& s) {
-  std::vector<std::vector<Vector3d>> vertices;
-  for (size_t b = 0; b < scene.bodies.size(); ++b) {
-    const engine::Body& body = scene.bodies[b];
-    vertices.push_back(
-        HullVertices(body, fmt::format("{}: bodies[{}] '{}'", scene.source, b, body.name)));
-  }
+  // every body's hull, and the parts the pairs touch, in (body, part) order
+  std::map<Piece, std::vector<Vector3d>> vertices;
+  const auto add_piece = [&](const Piece& piece) -> const std::vector<Vector3d>& {
+    auto found = vertices.find(piece);
+    if (found == vertices.end()) found = vertices.emplace(piece, PieceVertices(scene, piece)).first;
+    return found->second;
+  };
+  for (size_t b = 0; b < scene.bodies.size(); ++b) add_piece({static_cast<int>(b), -1});
   // contact buffers sized for every vertex of every pair touching at once, up to
-  // kMaxContactsPerBody a body (a bin's every pair would ask for gigabytes)
+  // kMaxContactsPerBody a piece (a bin's every pair would ask for gigabytes)
   int max_contacts = 0;
-  std::vector<bool> needs_mesh(scene.bodies.size(), false);
+  std::set<Piece> needs_mesh;
   for (const engine::ContactPair& pair : scene.contacts) {
-    max_contacts += static_cast<int>(vertices[pair.body].size());
+    const Piece f{pair.body, pair.part};
+    max_contacts += static_cast<int>(add_piece(f).size());
     if (!pair.WithBody()) continue;
-    max_contacts += static_cast<int>(vertices[pair.other_body].size());
-    needs_mesh[pair.body] = needs_mesh[pair.other_body] = true;
+    const Piece g{pair.other_body, pair.other_part};
+    max_contacts += static_cast<int>(add_piece(g).size());
+    needs_mesh.insert(f);
+    needs_mesh.insert(g);
   }
-  max_contacts =
-      std::min(max_contacts, kMaxContactsPerBody * static_cast<int>(scene.bodies.size()));
+  max_contacts = std::min(max_contacts, kMaxContactsPerBody * static_cast<int>(vertices.size()));
   double heaviest = 0;
   for (const engine::Body& body : scene.bodies)
     if (!body.IsKinematic()) heaviest = std::max(heaviest, body.mass);
@@ -159,13 +187,12 @@ std::string MakeMjcf(const engine::Scene& scene, const MujocoSettings& s) {
   xml += fmt::format("  <size nconmax=\"{}\" njmax=\"{}\"/>\n", std::max(1, max_contacts),
                      std::max(1, max_contacts * kRowsPerContact));
 
-  // the hulls of bodies that touch other bodies, as meshes (MuJoCo takes their convex hull)
+  // the pieces that touch other bodies, as meshes (MuJoCo takes their convex hull)
   xml += "  <asset>\n";
-  for (size_t b = 0; b < scene.bodies.size(); ++b) {
-    if (!needs_mesh[b]) continue;
+  for (const Piece& piece : needs_mesh) {
     std::string points;
-    for (const Vector3d& v : vertices[b]) points += (points.empty() ? "" : " ") + Vec(v);
-    xml += fmt::format("    <mesh name=\"m{}\" vertex=\"{}\"/>\n", b, points);
+    for (const Vector3d& v : vertices.at(piece)) points += (points.empty() ? "" : " ") + Vec(v);
+    xml += fmt::format("    <mesh name=\"m{}\" vertex=\"{}\"/>\n", PieceName(piece), points);
   }
   xml += "  </asset>\n";
 
@@ -191,45 +218,53 @@ std::string MakeMjcf(const engine::Scene& scene, const MujocoSettings& s) {
         "      <inertial pos=\"0 0 0\" mass=\"{:.17g}\" fullinertia=\"{:.17g} {:.17g} {:.17g} "
         "{:.17g} {:.17g} {:.17g}\"/>\n",
         scale * body.mass, I(0, 0), I(1, 1), I(2, 2), I(0, 1), I(0, 2), I(1, 2));
-    if (needs_mesh[b]) {
-      xml += fmt::format(
-          "      <geom name=\"h{}\" type=\"mesh\" mesh=\"m{}\" contype=\"0\" "
-          "conaffinity=\"0\"/>\n",
-          b, b);
-    }
-    for (size_t k = 0; k < vertices[b].size(); ++k) {
-      xml += fmt::format(
-          "      <geom name=\"g{}_{}\" type=\"sphere\" size=\"{:.17g}\" pos=\"{}\" "
-          "contype=\"0\" conaffinity=\"0\"/>\n",
-          b, k, kVertexRadius, Vec(vertices[b][k]));
+    // its pieces: the vertices are in the body frame, so every geom sits at the body's origin
+    for (auto it = vertices.lower_bound({static_cast<int>(b), -1});
+         it != vertices.end() && it->first.first == static_cast<int>(b); ++it) {
+      const std::string name = PieceName(it->first);
+      if (needs_mesh.count(it->first) > 0) {
+        xml += fmt::format(
+            "      <geom name=\"h{}\" type=\"mesh\" mesh=\"m{}\" contype=\"0\" "
+            "conaffinity=\"0\"/>\n",
+            name, name);
+      }
+      for (size_t k = 0; k < it->second.size(); ++k) {
+        xml += fmt::format(
+            "      <geom name=\"g{}_{}\" type=\"sphere\" size=\"{:.17g}\" pos=\"{}\" "
+            "contype=\"0\" conaffinity=\"0\"/>\n",
+            name, k, kVertexRadius, Vec(it->second[k]));
+      }
     }
     xml += "    </body>\n";
   }
   xml += "  </worldbody>\n  <contact>\n";
 
-  // one pair per ecpsim contact pair and hull vertex, with its μ: the vertices of F against the
-  // plane, or against G's hull and G's vertices against F's
-  const auto add_pair = [&](const std::string& geom1, int body, size_t k,
-                            const engine::Friction& f) {
-    xml += fmt::format(
-        "    <pair geom1=\"{}\" geom2=\"g{}_{}\" condim=\"{}\" friction=\"{:.17g} {:.17g} "
-        "{:.17g} {:.17g} {:.17g}\"",
-        geom1, body, k, s.condim, f.mu, f.mu, kMujocoDefaultTorsion, kMujocoDefaultRolling,
-        kMujocoDefaultRolling);
-    if (!s.solimp.empty()) xml += fmt::format(" solimp=\"{}\"", s.solimp);
-    if (s.solref_time_constant > 0) {
-      xml += fmt::format(" solref=\"{:.17g} 1\"", s.solref_time_constant);
+  // one pair per ecpsim contact pair and vertex, with its μ: the vertices of F's piece against
+  // the plane, or against G's piece's mesh and G's piece's vertices against F's
+  const auto add_pairs = [&](const std::string& geom1, const Piece& piece,
+                             const engine::Friction& f) {
+    for (size_t k = 0; k < vertices.at(piece).size(); ++k) {
+      xml += fmt::format(
+          "    <pair geom1=\"{}\" geom2=\"g{}_{}\" condim=\"{}\" friction=\"{:.17g} {:.17g} "
+          "{:.17g} {:.17g} {:.17g}\"",
+          geom1, PieceName(piece), k, s.condim, f.mu, f.mu, kMujocoDefaultTorsion,
+          kMujocoDefaultRolling, kMujocoDefaultRolling);
+      if (!s.solimp.empty()) xml += fmt::format(" solimp=\"{}\"", s.solimp);
+      if (s.solref_time_constant > 0) {
+        xml += fmt::format(" solref=\"{:.17g} 1\"", s.solref_time_constant);
+      }
+      xml += "/>\n";
     }
-    xml += "/>\n";
   };
   for (const engine::ContactPair& pair : scene.contacts) {
-    const std::string f_target =
-        pair.WithBody() ? fmt::format("h{}", pair.other_body) : fmt::format("o{}", pair.obstacle);
-    for (size_t k = 0; k < vertices[pair.body].size(); ++k)
-      add_pair(f_target, pair.body, k, pair.friction);
-    if (!pair.WithBody()) continue;
-    for (size_t k = 0; k < vertices[pair.other_body].size(); ++k)
-      add_pair(fmt::format("h{}", pair.body), pair.other_body, k, pair.friction);
+    const Piece f{pair.body, pair.part};
+    if (!pair.WithBody()) {
+      add_pairs(fmt::format("o{}", pair.obstacle), f, pair.friction);
+      continue;
+    }
+    const Piece g{pair.other_body, pair.other_part};
+    add_pairs("h" + PieceName(g), f, pair.friction);
+    add_pairs("h" + PieceName(f), g, pair.friction);
   }
   xml += "  </contact>\n</mujoco>\n";
   return xml;

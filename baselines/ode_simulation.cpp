@@ -1,8 +1,9 @@
 // ODE (libode-dev 0.16.2, double precision) stepping an ecpsim scene: each body a dBody at its CM
-// with the full inertia tensor and a dCreateConvex geom of its hull (a kinematic body a
-// dBodySetKinematic body set to its prescribed pose and twist before every step), each half-space
-// a dCreatePlane, contact joints made in the near callback of every step for the scene's contact
-// pairs, body–body ones included (settings and measurements: baselines/ode.md).
+// with the full inertia tensor and a dCreateConvex geom of its hull, and one of each part its
+// pairs touch (a kinematic body a dBodySetKinematic body set to its prescribed pose and twist
+// before every step), each half-space a dCreatePlane, contact joints made in the near callback of
+// every step for the scene's contact pairs, body–body and part ones included (settings and
+// measurements: baselines/ode.md).
 
 #include <cmath>
 #include <cstdarg>
@@ -62,6 +63,7 @@ OdeSettings SettingsFor(FrictionSetting setting) {
 struct GeomTag {
   bool is_body = false;
   int index = 0;  // into scene.bodies or scene.obstacles
+  int part = -1;  // a body's: −1 its hull, else Body::parts[part]
 };
 
 /// The hull arrays dCreateConvex points into (ODE does not copy them).
@@ -124,13 +126,18 @@ class OdeSimulation final : public ExternalSimulation {
       hulls.push_back(geometry::ComputeConvexHull(
           body.mesh.vertices, fmt::format("{}: bodies[{}] '{}'", scene.source, b, body.name)));
     }
+    // a body made of parts also gets a geom per part its pairs touch, on the same dBody: which
+    // geoms meet is the scene's pairs' choice (Collide), hull or part
+    const std::vector<std::vector<int>> touched = TouchedParts(scene);
+    std::size_t pieces = scene.bodies.size();
+    for (const std::vector<int>& parts : touched) pieces += parts.size();
 
     world_ = dWorldCreate();
     space_ = dSimpleSpaceCreate(nullptr);
     contact_group_ = dJointGroupCreate(0);
     dWorldSetGravity(world_, scene.gravity.x(), scene.gravity.y(), scene.gravity.z());
 
-    tags_.reserve(planes.size() + scene.bodies.size());
+    tags_.reserve(planes.size() + pieces);
     for (int o = 0; o < static_cast<int>(planes.size()); ++o) {
       // ODE's plane a x + b y + c z = d bounds the solid half-space below, as ecpsim's n·y ≤ d
       const HalfSpacePlane& p = planes[static_cast<size_t>(o)];
@@ -138,7 +145,7 @@ class OdeSimulation final : public ExternalSimulation {
       tags_.push_back(GeomTag{false, o});
       dGeomSetData(geom, &tags_.back());
     }
-    convex_arrays_.reserve(scene.bodies.size());
+    convex_arrays_.reserve(pieces);
     const engine::State initial_state = engine::InitialState(scene);
     for (int b = 0; b < static_cast<int>(scene.bodies.size()); ++b) {
       const engine::Body& body = scene.bodies[static_cast<size_t>(b)];
@@ -160,15 +167,19 @@ class OdeSimulation final : public ExternalSimulation {
       dBodySetAngularVel(id, initial.w_WB.x(), initial.w_WB.y(), initial.w_WB.z());
       if (settings_.finite_rotation) dBodySetFiniteRotationMode(id, 1);
 
-      convex_arrays_.push_back(MakeConvexArrays(hulls[static_cast<size_t>(b)]));
-      ConvexArrays& arrays = convex_arrays_.back();
-      dGeomID geom =
-          dCreateConvex(space_, arrays.planes.data(),
-                        static_cast<unsigned>(arrays.planes.size() / 4), arrays.points.data(),
-                        static_cast<unsigned>(arrays.points.size() / 3), arrays.polygons.data());
-      dGeomSetBody(geom, id);
-      tags_.push_back(GeomTag{true, b});
-      dGeomSetData(geom, &tags_.back());
+      AddConvexGeom(id, hulls[static_cast<size_t>(b)], GeomTag{true, b, -1});
+      for (int part : touched[static_cast<size_t>(b)]) {
+        // ODE's convex–convex collider takes the geom's origin to lie inside it (dCreateConvex
+        // warns "Plane does not contain the origin", and the peg was thrown out of its hole):
+        // each part's geom is centred on its vertices' mean and offset to it on the body
+        const geometry::ConvexHull hull = PartHull(scene, b, part);
+        Vector3d centre = Vector3d::Zero();
+        for (const Vector3d& v : hull.vertices)
+          centre += v / static_cast<double>(hull.vertices.size());
+        dGeomID geom =
+            AddConvexGeom(id, geometry::TranslateHull(hull, -centre), GeomTag{true, b, part});
+        dGeomSetOffsetPosition(geom, centre.x(), centre.y(), centre.z());
+      }
       bodies_.push_back(id);
     }
     v_predicted_.assign(bodies_.size(), Vector3d::Zero());
@@ -265,6 +276,21 @@ class OdeSimulation final : public ExternalSimulation {
     dJointFeedback forces;
   };
 
+  // a dCreateConvex geom of `hull` (the geom's frame, at the body's origin until offset) on body
+  // `id`, standing for `tag`
+  dGeomID AddConvexGeom(dBodyID id, const geometry::ConvexHull& hull, const GeomTag& tag) {
+    convex_arrays_.push_back(MakeConvexArrays(hull));
+    ConvexArrays& arrays = convex_arrays_.back();
+    dGeomID geom =
+        dCreateConvex(space_, arrays.planes.data(), static_cast<unsigned>(arrays.planes.size() / 4),
+                      arrays.points.data(), static_cast<unsigned>(arrays.points.size() / 3),
+                      arrays.polygons.data());
+    dGeomSetBody(geom, id);
+    tags_.push_back(tag);
+    dGeomSetData(geom, &tags_.back());
+    return geom;
+  }
+
   static void SetPose(dBodyID id, const Vector3d& p, const Quaterniond& q_WB) {
     dBodySetPosition(id, p.x(), p.y(), p.z());
     const Quaterniond q = q_WB.normalized();
@@ -284,16 +310,17 @@ class OdeSimulation final : public ExternalSimulation {
     return v_predicted_[b] + w_predicted_[b].cross(x - state_.bodies[b].p_WB);
   }
 
-  /// Contact joints between two geoms the scene pairs (a body and an obstacle, or two bodies);
-  /// any other pair never touches.
+  /// Contact joints between two geoms the scene pairs (a body's hull or part and an obstacle, or
+  /// two bodies' hulls or parts); any other pair never touches.
   void Collide(dGeomID o1, dGeomID o2) {
     const auto* t1 = static_cast<const GeomTag*>(dGeomGetData(o1));
     const auto* t2 = static_cast<const GeomTag*>(dGeomGetData(o2));
     if (!t1->is_body && !t2->is_body) return;
-    const std::optional<engine::Friction>& friction =
-        t1->is_body && t2->is_body ? friction_.WithBody(t1->index, t2->index)
-        : t1->is_body              ? friction_.WithObstacle(t1->index, t2->index)
-                                   : friction_.WithObstacle(t2->index, t1->index);
+    const std::optional<engine::Friction> friction =
+        t1->is_body && t2->is_body
+            ? friction_.PieceWithPiece(t1->index, t1->part, t2->index, t2->part)
+        : t1->is_body ? friction_.PieceWithObstacle(t1->index, t1->part, t2->index)
+                      : friction_.PieceWithObstacle(t2->index, t2->part, t1->index);
     if (!friction) return;
 
     dContact contacts[kMaxContacts];

@@ -1,8 +1,9 @@
 #pragma once
 // The benchmark's scenarios: bodies on the ground, one of them measured, each with a reference
 // trajectory, either in closed form (slide, spin, push-slide, rest, stack, push_box, pyramid,
-// train) or a converged solution (desk, T-bar, dumbbell), or none where no step size resolves
-// one path (the dominoes and the clutter bins: their cost, penetration and rest are measured).
+// train) or a converged solution (desk, T-bar, dumbbell, tbar_push, peg_in_hole), or none where
+// no step size resolves one path (the dominoes and the clutter bins: their cost, penetration and
+// rest are measured).
 
 #include <cstdint>
 #include <functional>
@@ -64,10 +65,11 @@ struct Scenario {
 constexpr double kPushSettleTime = 0.1;
 
 /// The work–precision scenarios. `scenes_dir` holds desk.yaml, tbar.yaml, dumbbell.yaml,
-/// stack.yaml, push_box.yaml, tbar_push.yaml, pyramid.yaml and train.yaml (desk, tbar, dumbbell
-/// and tbar_push are cut to `converged_duration` seconds, stack and push_box to
-/// kBodyScenarioDuration, pyramid and train to kManyBodyScenarioDuration, to keep the sweep
-/// affordable, dominoes is run on to kDominoesDuration); clutter and clutter96 are
+/// stack.yaml, push_box.yaml, tbar_push.yaml, pyramid.yaml, train.yaml, peg_in_hole.yaml and
+/// dominoes.yaml (desk, tbar, dumbbell and tbar_push are cut to `converged_duration` seconds,
+/// stack and push_box to kBodyScenarioDuration, pyramid and train to kManyBodyScenarioDuration,
+/// to keep the sweep affordable, peg_in_hole runs its scene's whole duration and measures the
+/// body named `peg`, dominoes is run on to kDominoesDuration); clutter and clutter96 are
 /// ClutterBinScene's bins of 24 and 96 boxes (seed kClutterSeed).
 /// @throws InputError if a scene file is missing or invalid.
 std::vector<Scenario> WorkPrecisionScenarios(const std::string& scenes_dir,

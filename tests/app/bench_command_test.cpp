@@ -1,5 +1,6 @@
 // `ecpsim bench` end to end: a small sweep, shards and their merge, and bad input.
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <regex>
@@ -7,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include "engine/scene_io/scene_yaml.h"
 #include "evaluation/drop_sweep.h"
 #include "evaluation/scaling.h"
 #include "evaluation/stability_map.h"
@@ -107,6 +109,39 @@ TEST_F(BenchCommandTest, AClutterBinIsChartedByItsDriftAtRest) {
   EXPECT_NE(text.find("for the dominoes and the clutter bins, from its place at 1 s"),
             std::string::npos)
       << text;
+}
+
+// the peg falling into the hole through a block's four convex parts, stepped by the hull model
+// and by MuJoCo given the same parts: each measured against its own converged run, with no
+// failure and the whole scene run
+TEST_F(BenchCommandTest, APegInHoleRowPerMethodAgainstItsConvergedRun) {
+  const fs::path out = dir_ / "peg";
+  const double h = 0.01;  // s
+  const CliResult r = Run(fmt::format(
+      "bench --methods hull,mujoco-coulomb --scenarios peg_in_hole --steps {} --no-stability "
+      "--no-drops --no-scaling --no-charts -o '{}'",
+      h, out.string()));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const engine::Scene scene =
+      engine::LoadScene(std::string(ECPSIM_SOURCE_DIR) + "/scenes/peg_in_hole.yaml").scene;
+  const auto rows = evaluation::ReadWorkPrecisionCsv((out / "work_precision.csv").string());
+  ASSERT_EQ(rows.size(), 2u);
+  for (const auto& row : rows) {
+    EXPECT_EQ(row.scenario, "peg_in_hole");
+    EXPECT_FALSE(row.failed) << row.method << " " << row.failure;
+    EXPECT_EQ(row.steps, std::lround(scene.duration / h)) << row.method;
+    EXPECT_GT(row.cpu_per_sim_s, 0) << row.method;
+    EXPECT_GE(row.error_state, 0) << row.method;
+    EXPECT_GE(row.reference_uncertainty, 0) << row.method;
+    if (row.method == "hull") {
+      // its reference is the hull model's own converged run
+      EXPECT_EQ(row.error_vs_hull, row.error_state);
+      constexpr double kPenetration = 1e-9;  // m: the solver's position error, with margin
+      EXPECT_LT(row.max_penetration, kPenetration);
+    }
+  }
+  const std::string text = ReadText(out / "results.md");
+  EXPECT_TRUE(std::regex_search(text, std::regex(R"(\| mujoco-coulomb \| 0\.01 \| \d)"))) << text;
 }
 
 // the auto-against-hull check's line and table (its verdict is a timing's, not asserted here)

@@ -1,11 +1,14 @@
 #include "evaluation/scenario.h"
 
+#include <algorithm>
 #include <cmath>
+#include <string>
 #include <utility>
 
 #include <gtest/gtest.h>
 
 #include "common/errors.h"
+#include "engine/scene_io/scene_yaml.h"
 #include "evaluation/clutter_bin.h"
 #include "tests/tolerances.h"
 
@@ -152,6 +155,32 @@ TEST_F(WorkPrecisionScenariosTest, TrainPushesTheRowFromTheStart) {
   // the drift is the part across the push: x is dropped, y and z kept
   EXPECT_NEAR((train.drift_projection * Eigen::Vector3d(1, 2, 3)).norm(), std::sqrt(13.0),
               kUnitRoundOff);
+}
+
+TEST_F(WorkPrecisionScenariosTest, PegInHoleMeasuresThePegOverItsScenesWholeRun) {
+  const Scenario& peg = Find("peg_in_hole");
+  const engine::Body& body = peg.scene.bodies[peg.body];
+  EXPECT_EQ(body.name, "peg");
+  // the scene file's own duration, whichever version of the scene it is
+  const engine::Scene file =
+      engine::LoadScene(std::string(ECPSIM_SOURCE_DIR) + "/scenes/peg_in_hole.yaml").scene;
+  EXPECT_EQ(peg.scene.duration, file.duration);
+  EXPECT_TRUE(peg.has_reference);
+  EXPECT_FALSE(static_cast<bool>(peg.analytic));  // converged
+  // the peg touches the block's parts, which the models and the peers all get; the planar and
+  // multi-patch models refuse contacts between bodies
+  EXPECT_TRUE(std::any_of(peg.scene.contacts.begin(), peg.scene.contacts.end(),
+                          [](const engine::ContactPair& pair) { return pair.part >= 0; }));
+  EXPECT_FALSE(peg.planar_applies);
+  EXPECT_FALSE(peg.multipatch_applies);
+  // the orientation error's lever is the peg's farthest point from its CM: for a box at its CM,
+  // half its bounding box's diagonal
+  Eigen::Vector3d low = Eigen::Vector3d::Constant(INFINITY), high = -low;
+  for (const Eigen::Vector3d& v : body.hull->Tessellate().vertices) {
+    low = low.cwiseMin(v);
+    high = high.cwiseMax(v);
+  }
+  EXPECT_NEAR(peg.length, (high - low).norm() / 2, kUnitRoundOff);
 }
 
 TEST_F(WorkPrecisionScenariosTest, DominoesRunToRestWithoutAReference) {
