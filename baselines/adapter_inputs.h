@@ -46,6 +46,12 @@ inline HalfSpacePlane HalfSpaceOf(const engine::Scene& scene, int o, const char*
   return plane;
 }
 
+/// Whether a peer models contact pair `pair`: of a pair that lists its hulls' contacts and its
+/// parts' (decomposition: auto, engine/auto_sides.h) the parts', exact wherever the bodies are.
+inline bool PeerModels(const engine::ContactPair& pair) {
+  return pair.sides != engine::SideChoice::kHulls;
+}
+
 /// The friction of every contact pair the scene lists; a pair it does not list (or excludes
 /// under `pairs:`) never touches. Bodies touch through pieces (ContactPair::part, other_part: −1
 /// the body's hull, else one of its parts): the body-level lookups answer for any of their
@@ -58,6 +64,7 @@ class PairFrictionTable {
         body_(scene.bodies.size(),
               std::vector<std::optional<engine::Friction>>(scene.bodies.size())) {
     for (const engine::ContactPair& pair : scene.contacts) {
+      if (!PeerModels(pair)) continue;
       const auto b = static_cast<std::size_t>(pair.body);
       if (pair.WithBody()) {
         const auto g = static_cast<std::size_t>(pair.other_body);
@@ -107,6 +114,7 @@ inline std::vector<std::vector<int>> TouchedParts(const engine::Scene& scene) {
     if (part >= 0 && std::find(list.begin(), list.end(), part) == list.end()) list.push_back(part);
   };
   for (const engine::ContactPair& pair : scene.contacts) {
+    if (!PeerModels(pair)) continue;
     add(pair.body, pair.part);
     if (pair.WithBody()) add(pair.other_body, pair.other_part);
   }

@@ -166,6 +166,7 @@ std::string MakeMjcf(const engine::Scene& scene, const MujocoSettings& s) {
   int max_contacts = 0;
   std::set<Piece> needs_mesh;
   for (const engine::ContactPair& pair : scene.contacts) {
+    if (!PeerModels(pair)) continue;
     const Piece f{pair.body, pair.part};
     max_contacts += static_cast<int>(add_piece(f).size());
     if (!pair.WithBody()) continue;
@@ -257,6 +258,7 @@ std::string MakeMjcf(const engine::Scene& scene, const MujocoSettings& s) {
     }
   };
   for (const engine::ContactPair& pair : scene.contacts) {
+    if (!PeerModels(pair)) continue;
     const Piece f{pair.body, pair.part};
     if (!pair.WithBody()) {
       add_pairs(fmt::format("o{}", pair.obstacle), f, pair.friction);
