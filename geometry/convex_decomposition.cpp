@@ -5,6 +5,7 @@
 #include <map>
 #include <optional>
 #include <queue>
+#include <set>
 #include <tuple>
 
 #include <fmt/format.h>
@@ -119,6 +120,11 @@ std::vector<ConvexHull> MergeWithinBound(std::vector<ConvexHull> parts, const Tr
   std::vector<int> version(n, 0);
   std::vector<bool> alive(n, true);
   std::map<std::pair<std::size_t, std::size_t>, double> last_cost;
+  // pairs refused: a part that grows only reaches farther with the other, so stays refused
+  std::set<std::pair<std::size_t, std::size_t>> refused;
+  const auto was_refused = [&](std::size_t a, std::size_t b) {
+    return refused.count({std::min(a, b), std::max(a, b)}) > 0;
+  };
   std::priority_queue<Candidate> queue;
   const auto propose = [&](std::size_t a, std::size_t b, double cost, bool evaluated) {
     const std::size_t i = std::min(a, b), j = std::max(a, b);
@@ -150,7 +156,10 @@ std::vector<ConvexHull> MergeWithinBound(std::vector<ConvexHull> parts, const Tr
         continue;
       }
     }
-    if (!ReachesWithin(joined, {&parts[c.i], &parts[c.j]}, mesh, solid, bound)) continue;
+    if (!ReachesWithin(joined, {&parts[c.i], &parts[c.j]}, mesh, solid, bound)) {
+      refused.insert({c.i, c.j});
+      continue;
+    }
     // j joins i: i takes its neighbours, which now neighbour i
     parts[c.i] = std::move(joined);
     volumes[c.i] = HullVolume(parts[c.i]);
@@ -170,6 +179,10 @@ std::vector<ConvexHull> MergeWithinBound(std::vector<ConvexHull> parts, const Tr
     neighbours[c.i] = joined_neighbours;
     neighbours[c.j].clear();
     for (std::size_t k : joined_neighbours) {
+      if (was_refused(c.i, k) || was_refused(c.j, k)) {
+        refused.insert({std::min(c.i, k), std::max(c.i, k)});
+        continue;
+      }
       const auto last = [&](std::size_t a) {
         const auto it = last_cost.find({std::min(a, k), std::max(a, k)});
         return it == last_cost.end() ? INFINITY : it->second;
@@ -213,8 +226,9 @@ std::vector<ConvexHull> DecomposeSolid(const TriangleMesh& mesh, const std::stri
   std::vector<ConvexHull> parts;
   for (const std::vector<Vector3d>& piece : ExactConvexPieces(mesh, source))
     parts.push_back(ComputeConvexHull(piece, source));
-  // merge two pieces meeting face to face where their union is convex
-  for (bool merged = true; merged;) {
+  // merge two pieces meeting face to face where their union is convex (within a tolerance,
+  // such a merge is one whose hull stays in the solid, and comes first there, costing nothing)
+  for (bool merged = tolerance_rel == 0; merged;) {
     merged = false;
     for (size_t i = 0; i < parts.size() && !merged; ++i) {
       for (size_t j = i + 1; j < parts.size() && !merged; ++j) {
@@ -228,7 +242,7 @@ std::vector<ConvexHull> DecomposeSolid(const TriangleMesh& mesh, const std::stri
       }
     }
   }
-  // merge further where the hull of two reaches no farther than the tolerance out of the solid
+  // or where the hull of two reaches no farther than the tolerance out of the solid
   if (tolerance_rel > 0 && parts.size() > 1)
     parts = MergeWithinBound(std::move(parts), mesh, tolerance_rel * size, tolerance, source);
   if (parts.size() > max_parts) {

@@ -18,13 +18,13 @@ inline constexpr double kSeamOverlapRel = 1e-3;
 
 /// The convex parts of the solid a closed, consistently oriented mesh bounds (mesh frame):
 /// ExactConvexPieces, then
-/// - two pieces meeting face to face whose union is convex (its hull's volume their sum, to
-///   kCoplanarTolerance) merged, until none are;
-/// - where `tolerance_rel` > 0, two parts meeting face to face merged, cheapest first (the volume
-///   the hull of the two adds), wherever every point of that hull lies within `tolerance_rel` ×
-///   the diagonal of the solid (ReachesWithin, geometry/hull_reach.h), until none do: a curved,
-///   tessellated mesh, whose exact pieces are one per facet strip, gives parts within that
-///   tolerance instead;
+/// - where `tolerance_rel` is 0, two pieces meeting face to face whose union is convex (its
+///   hull's volume their sum, to kCoplanarTolerance) merged, until none are;
+/// - else two parts meeting face to face merged, cheapest first (the volume the hull of the two
+///   adds: a convex union's nothing), wherever every point of that hull lies within
+///   `tolerance_rel` × the diagonal of the solid (ReachesWithin, geometry/hull_reach.h), until
+///   none do; a pair refused stays so (a part only grows): a curved, tessellated mesh, whose
+///   exact pieces are one per facet strip, gives a few parts within that tolerance instead;
 /// - each face of a part that the faces of other parts lying on it and facing it cover together
 ///   (a seam) pushed kSeamOverlapRel × the diagonal into them where they reach so deep behind
 ///   their shares of it, so that the seam's edges are inside a part, not on the body's surface
