@@ -32,11 +32,12 @@ struct Known {
   std::vector<bool> on_hull;
 };
 
+// (normals within kCoplanarTolerance, offsets within `tolerance` m, as the hull merges faces)
 Known OnHull(const ConvexHull& part, const ConvexHull& hull, double tolerance) {
   Known known{&part, std::vector<bool>(part.normals.size(), false)};
   for (std::size_t f = 0; f < part.normals.size(); ++f) {
     for (std::size_t g = 0; g < hull.normals.size() && !known.on_hull[f]; ++g) {
-      known.on_hull[f] = (part.normals[f] - hull.normals[g]).norm() <= tolerance &&
+      known.on_hull[f] = (part.normals[f] - hull.normals[g]).norm() <= kCoplanarTolerance &&
                          std::abs(part.offsets[f] - hull.offsets[g]) <= tolerance;
     }
   }
@@ -93,12 +94,13 @@ bool ReachesWithin(const ConvexHull& hull, const std::vector<const ConvexHull*>&
     lower = lower.cwiseMin(v);
     upper = upper.cwiseMax(v);
   }
-  const double size = (upper - lower).norm();
+  const double tolerance = kCoplanarTolerance * (upper - lower).norm();
+  if (ClearOfSurface(hull, mesh, lower, upper, tolerance)) return true;
   std::vector<Known> parts;
-  for (const ConvexHull* part : known) parts.push_back(OnHull(*part, hull, kCoplanarTolerance * size));
+  for (const ConvexHull* part : known) parts.push_back(OnHull(*part, hull, tolerance));
   const double finest = kReachCellRel * bound;
   const double root3 = std::sqrt(3.0);
-  if (ClearOfSurface(hull, mesh, lower, upper, kCoplanarTolerance * size)) return true;
+  // breadth first, so that a hull reaching far out is refused at a coarse cell
   std::deque<Cell> cells{{(lower + upper) / 2, (upper - lower).maxCoeff() / 2}};
   while (!cells.empty()) {
     const Cell cell = cells.front();
@@ -108,10 +110,12 @@ bool ReachesWithin(const ConvexHull& hull, const std::vector<const ConvexHull*>&
                     [&](const Known& part) { return Inside(part, cell); })) {
       continue;
     }
-    // the distance is 1-Lipschitz: every point of the cell is within `radius` of its centre's
+    // the distance is 1-Lipschitz: each point of the cell is within `radius` of the centre's
     const double radius = root3 * cell.half;
     const double distance = solid.ToSurface(cell.centre);
     if (distance + radius <= bound) continue;
+    // a cell in the solid; the centre, a point of the hull, out of reach; else halve the cell
+    // (at the finest, undecided: refused)
     const bool inside = solid.Inside(cell.centre);
     if (inside && distance >= radius) continue;
     if (!inside && distance - radius > bound && Contains(hull, cell.centre)) return false;

@@ -10,8 +10,8 @@ namespace ecpsim::geometry {
 
 /// The finest cells of ReachesWithin's octree, in half-diagonal, as a fraction of the bound: a
 /// cell is accepted when every point of it is provably within the bound, so the finer the cells,
-/// the closer to the bound a hull may reach and be accepted (at an eighth, every hull reaching
-/// less than 5/8 of the bound is, see ReachesWithin), and the more cells a hull near the bound
+/// the closer to the bound a hull may reach and be accepted (at an eighth, a box reaching less
+/// than 2/3 of the bound always is, see ReachesWithin), and the more cells a hull near the bound
 /// costs (their number grows as the inverse square of this, over the hull's surface).
 inline constexpr double kReachCellRel = 1.0 / 8;
 
@@ -30,8 +30,9 @@ inline constexpr double kReachCellRel = 1.0 / 8;
 /// solid by more than `bound` + its half-diagonal; else it is halved, down to cells of
 /// kReachCellRel × `bound`, where a cell still undecided refuses the hull. So true means every
 /// point is within `bound` (never more, whatever the hull); false means some point may be
-/// beyond 5/8 of it (a cell of the finest size undecided: its centre within two half-diagonals
-/// of the hull and farther than `bound` less one from the solid).
+/// within a few finest cells of it (an undecided cell's centre is farther than `bound` less its
+/// half-diagonal from the solid, and within the hull's face planes grown by that half-diagonal:
+/// for a box, within √3 of it from the hull).
 bool ReachesWithin(const ConvexHull& hull, const std::vector<const ConvexHull*>& known,
                    const TriangleMesh& mesh, const SolidDistance& solid, double bound);
 
