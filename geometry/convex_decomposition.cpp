@@ -248,8 +248,9 @@ std::vector<ConvexHull> DecomposeSolid(const TriangleMesh& mesh, const std::stri
   if (parts.size() > max_parts) {
     throw InputError(fmt::format(
         "convex decomposition of {}: {} convex parts within a tolerance of {} of its "
-        "bounding-box diagonal ({:.3g} m), more than {}; raise the tolerance (a coarser, "
-        "approximate decomposition), list the body's `parts` yourself, or keep its hull "
+        "bounding-box diagonal ({:.3g} m), more than {}; raise the tolerance "
+        "(`decomposition_tolerance`: a coarser, approximate decomposition), list the body's "
+        "`parts` yourself, or keep its hull "
         "(decomposition: none)",
         source, parts.size(), tolerance_rel, tolerance_rel * size, max_parts));
   }
