@@ -2,12 +2,17 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <optional>
+#include <queue>
+#include <set>
+#include <tuple>
 
 #include <fmt/format.h>
 #include <Eigen/Geometry>
 
 #include "common/errors.h"
+#include "geometry/hull_reach.h"
 #include "geometry/mesh_bounds.h"
 #include "geometry/part_seams.h"
 
@@ -74,6 +79,123 @@ std::vector<Vector3d> Joined(const ConvexHull& a, const ConvexHull& b) {
   return points;
 }
 
+// two parts to merge, and the volume their hull adds to theirs (m³), or where not `evaluated` its
+// last known value for either part before it changed; stale once either changes again
+struct Candidate {
+  double cost = 0;
+  std::size_t i = 0, j = 0;  // i < j
+  int version_i = 0, version_j = 0;
+  bool evaluated = false;
+  // the queue's top is the cheapest, ties to the lowest indices (a fixed order)
+  bool operator<(const Candidate& other) const {
+    return std::tie(cost, i, j) > std::tie(other.cost, other.i, other.j);
+  }
+};
+
+// `parts` merged in pairs that meet face to face, cheapest first, wherever the hull of the two
+// reaches no farther than `bound` m out of the solid, until no pair does. A pair whose part grew
+// is queued at its last cost and costed again when it comes up (a hull each), so that a part
+// gathering many neighbours costs one hull per pair it merges or is refused, not one per
+// neighbour at every merge
+std::vector<ConvexHull> MergeWithinBound(std::vector<ConvexHull> parts, const TriangleMesh& mesh,
+                                         double bound, double touch, const std::string& source) {
+  const SolidDistance solid(mesh, source);
+  const std::size_t n = parts.size();
+  std::vector<Eigen::AlignedBox3d> boxes(n);
+  std::vector<double> volumes(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    for (const Vector3d& v : parts[i].vertices) boxes[i].extend(v);
+    volumes[i] = HullVolume(parts[i]);
+  }
+  // neighbours: parts that meet face to face (a merged part keeps the neighbours of both)
+  std::vector<std::vector<std::size_t>> neighbours(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t j = i + 1; j < n; ++j) {
+      if (boxes[i].exteriorDistance(boxes[j]) > touch || !FindSeam(parts[i], parts[j], touch))
+        continue;
+      neighbours[i].push_back(j);
+      neighbours[j].push_back(i);
+    }
+  }
+  std::vector<int> version(n, 0);
+  std::vector<bool> alive(n, true);
+  std::map<std::pair<std::size_t, std::size_t>, double> last_cost;
+  // pairs refused: a part that grows only reaches farther with the other, so stays refused
+  std::set<std::pair<std::size_t, std::size_t>> refused;
+  const auto was_refused = [&](std::size_t a, std::size_t b) {
+    return refused.count({std::min(a, b), std::max(a, b)}) > 0;
+  };
+  std::priority_queue<Candidate> queue;
+  const auto propose = [&](std::size_t a, std::size_t b, double cost, bool evaluated) {
+    const std::size_t i = std::min(a, b), j = std::max(a, b);
+    queue.push({cost, i, j, version[i], version[j], evaluated});
+  };
+  const auto cost_of = [&](std::size_t i, std::size_t j, const ConvexHull& joined) {
+    const double cost = HullVolume(joined) - volumes[i] - volumes[j];
+    last_cost[{std::min(i, j), std::max(i, j)}] = cost;
+    return cost;
+  };
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t j : neighbours[i]) {
+      if (i > j) continue;
+      propose(i, j, cost_of(i, j, ComputeConvexHull(Joined(parts[i], parts[j]), source)), true);
+    }
+  }
+  while (!queue.empty()) {
+    const Candidate c = queue.top();
+    queue.pop();
+    if (!alive[c.i] || !alive[c.j] || version[c.i] != c.version_i || version[c.j] != c.version_j)
+      continue;
+    ConvexHull joined = ComputeConvexHull(Joined(parts[c.i], parts[c.j]), source);
+    // costed again: tried now while still the cheapest, else queued at its cost
+    if (!c.evaluated) {
+      const double cost = cost_of(c.i, c.j, joined);
+      if (!queue.empty() &&
+          std::tie(queue.top().cost, queue.top().i, queue.top().j) < std::tie(cost, c.i, c.j)) {
+        propose(c.i, c.j, cost, true);
+        continue;
+      }
+    }
+    if (!ReachesWithin(joined, {&parts[c.i], &parts[c.j]}, mesh, solid, bound)) {
+      refused.insert({c.i, c.j});
+      continue;
+    }
+    // j joins i: i takes its neighbours, which now neighbour i
+    parts[c.i] = std::move(joined);
+    volumes[c.i] = HullVolume(parts[c.i]);
+    ++version[c.i];
+    alive[c.j] = false;
+    std::vector<std::size_t> joined_neighbours;
+    for (std::size_t k : neighbours[c.i])
+      if (k != c.j && alive[k]) joined_neighbours.push_back(k);
+    for (std::size_t k : neighbours[c.j]) {
+      if (k == c.i || !alive[k]) continue;
+      std::replace(neighbours[k].begin(), neighbours[k].end(), c.j, c.i);
+      joined_neighbours.push_back(k);
+    }
+    std::sort(joined_neighbours.begin(), joined_neighbours.end());
+    joined_neighbours.erase(std::unique(joined_neighbours.begin(), joined_neighbours.end()),
+                            joined_neighbours.end());
+    neighbours[c.i] = joined_neighbours;
+    neighbours[c.j].clear();
+    for (std::size_t k : joined_neighbours) {
+      if (was_refused(c.i, k) || was_refused(c.j, k)) {
+        refused.insert({std::min(c.i, k), std::max(c.i, k)});
+        continue;
+      }
+      const auto last = [&](std::size_t a) {
+        const auto it = last_cost.find({std::min(a, k), std::max(a, k)});
+        return it == last_cost.end() ? INFINITY : it->second;
+      };
+      propose(c.i, k, std::min(last(c.i), last(c.j)), false);
+    }
+  }
+  std::vector<ConvexHull> merged;
+  for (std::size_t i = 0; i < n; ++i)
+    if (alive[i]) merged.push_back(std::move(parts[i]));
+  return merged;
+}
+
 }  // namespace
 
 double HullVolume(const ConvexHull& hull) {
@@ -92,14 +214,21 @@ double HullVolume(const ConvexHull& hull) {
 }
 
 std::vector<ConvexHull> DecomposeSolid(const TriangleMesh& mesh, const std::string& source,
-                                       std::size_t max_parts) {
+                                       std::size_t max_parts, double tolerance_rel) {
+  if (!(tolerance_rel >= 0 && tolerance_rel < 1)) {
+    throw InputError(fmt::format(
+        "convex decomposition of {}: tolerance = {}: expected a finite value >= 0 and < 1 "
+        "(a fraction of the mesh's bounding-box diagonal)",
+        source, tolerance_rel));
+  }
   const double size = ComputeMeshBounds(mesh.vertices).diagonal;
   const double tolerance = kCoplanarTolerance * size;
   std::vector<ConvexHull> parts;
   for (const std::vector<Vector3d>& piece : ExactConvexPieces(mesh, source))
     parts.push_back(ComputeConvexHull(piece, source));
-  // merge two pieces meeting face to face where their union is convex
-  for (bool merged = true; merged;) {
+  // merge two pieces meeting face to face where their union is convex (within a tolerance,
+  // such a merge is one whose hull stays in the solid, and comes first there, costing nothing)
+  for (bool merged = tolerance_rel == 0; merged;) {
     merged = false;
     for (size_t i = 0; i < parts.size() && !merged; ++i) {
       for (size_t j = i + 1; j < parts.size() && !merged; ++j) {
@@ -113,12 +242,17 @@ std::vector<ConvexHull> DecomposeSolid(const TriangleMesh& mesh, const std::stri
       }
     }
   }
+  // or where the hull of two reaches no farther than the tolerance out of the solid
+  if (tolerance_rel > 0 && parts.size() > 1)
+    parts = MergeWithinBound(std::move(parts), mesh, tolerance_rel * size, tolerance, source);
   if (parts.size() > max_parts) {
     throw InputError(fmt::format(
-        "convex decomposition of {}: {} convex parts, more than {}; list the body's `parts` "
-        "yourself (a coarser, approximate decomposition), or keep its hull "
+        "convex decomposition of {}: {} convex parts within a tolerance of {} of its "
+        "bounding-box diagonal ({:.3g} m), more than {}; raise the tolerance "
+        "(`decomposition_tolerance`: a coarser, approximate decomposition), list the body's "
+        "`parts` yourself, or keep its hull "
         "(decomposition: none)",
-        source, parts.size(), max_parts));
+        source, parts.size(), tolerance_rel, tolerance_rel * size, max_parts));
   }
   // move each seam inside the part that covers it (all against the parts as they were)
   const double depth = kSeamOverlapRel * size;

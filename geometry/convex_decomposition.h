@@ -18,19 +18,26 @@ inline constexpr double kSeamOverlapRel = 1e-3;
 
 /// The convex parts of the solid a closed, consistently oriented mesh bounds (mesh frame):
 /// ExactConvexPieces, then
-/// - two pieces meeting face to face whose union is convex (its hull's volume their sum, to
-///   kCoplanarTolerance) merged, until none are;
+/// - where `tolerance_rel` is 0, two pieces meeting face to face whose union is convex (its
+///   hull's volume their sum, to kCoplanarTolerance) merged, until none are;
+/// - else two parts meeting face to face merged, cheapest first (the volume the hull of the two
+///   adds: a convex union's nothing), wherever every point of that hull lies within
+///   `tolerance_rel` × the diagonal of the solid (ReachesWithin, geometry/hull_reach.h), until
+///   none do; a pair refused stays so (a part only grows): a curved, tessellated mesh, whose
+///   exact pieces are one per facet strip, gives a few parts within that tolerance instead;
 /// - each face of a part that the faces of other parts lying on it and facing it cover together
 ///   (a seam) pushed kSeamOverlapRel × the diagonal into them where they reach so deep behind
 ///   their shares of it, so that the seam's edges are inside a part, not on the body's surface
 ///   (geometry/part_seams.h).
-/// The parts' union is the solid, except where two grown faces of one part meet: the hull of the
-/// two prisms fills the wedge between them, at most half the depth across. More than
-/// `max_parts` parts throws.
-/// @throws InputError naming `source` for a mesh ExactConvexPieces refuses, or one of more than
-///         `max_parts` parts (the message says how many).
+/// The parts' union holds the solid and lies within `tolerance_rel` × the diagonal of it (the
+/// solid itself where `tolerance_rel` is 0), except where two grown faces of one part meet: the
+/// hull of the two prisms fills the wedge between them, at most half the depth across. More
+/// than `max_parts` parts throws.
+/// @throws InputError naming `source` for a mesh ExactConvexPieces refuses, a `tolerance_rel`
+///         not in [0, 1), or more than `max_parts` parts (the message says how many and to
+///         raise the tolerance).
 std::vector<ConvexHull> DecomposeSolid(const TriangleMesh& mesh, const std::string& source,
-                                       std::size_t max_parts);
+                                       std::size_t max_parts, double tolerance_rel);
 
 /// m³: the volume of a convex hull.
 double HullVolume(const ConvexHull& hull);

@@ -10,11 +10,16 @@
 #include <tuple>
 #include <utility>
 
+#include <CGAL/AABB_face_graph_triangle_primitive.h>
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
 #include <CGAL/Exact_predicates_exact_constructions_kernel.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Nef_polyhedron_3.h>
 #include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
 #include <CGAL/Polyhedron_3.h>
+#include <CGAL/Side_of_triangle_mesh.h>
+#include <CGAL/Surface_mesh.h>
 #include <CGAL/convex_decomposition_3.h>
 #include <CGAL/convex_hull_2.h>
 #include <CGAL/convex_hull_3.h>
@@ -354,6 +359,50 @@ std::vector<std::vector<Eigen::Vector3d>> ExactConvexPieces(const TriangleMesh& 
         fmt::format("convex decomposition of {}: CGAL refused the mesh: {}", source, e.message()));
   }
   return pieces;
+}
+
+// the mesh as CGAL's surface mesh, the tree of its triangles, and the inside test (which keeps
+// a tree of its own)
+struct SolidDistance::Trees {
+  using Mesh = CGAL::Surface_mesh<Point3>;
+  using Primitive = CGAL::AABB_face_graph_triangle_primitive<Mesh>;
+  using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
+  Mesh mesh;
+  Tree tree;
+  std::unique_ptr<CGAL::Side_of_triangle_mesh<Mesh, Kernel>> side;
+};
+
+SolidDistance::SolidDistance(const TriangleMesh& mesh, const std::string& source)
+    : trees_(std::make_unique<Trees>()) {
+  if (mesh.triangles.empty()) {
+    throw InputError(fmt::format("distance to the solid of {}: the mesh has no triangles", source));
+  }
+  std::vector<Trees::Mesh::Vertex_index> vertices;
+  vertices.reserve(mesh.vertices.size());
+  for (const Eigen::Vector3d& v : mesh.vertices)
+    vertices.push_back(trees_->mesh.add_vertex(Point3(v.x(), v.y(), v.z())));
+  for (const Eigen::Vector3i& t : mesh.triangles) {
+    if (trees_->mesh.add_face(vertices[t[0]], vertices[t[1]], vertices[t[2]]) ==
+        Trees::Mesh::null_face()) {
+      throw InputError(fmt::format(
+          "distance to the solid of {}: its triangles do not form a consistently oriented "
+          "surface (triangle {} {} {})",
+          source, t[0], t[1], t[2]));
+    }
+  }
+  trees_->tree.insert(faces(trees_->mesh).first, faces(trees_->mesh).second, trees_->mesh);
+  trees_->tree.accelerate_distance_queries();
+  trees_->side = std::make_unique<CGAL::Side_of_triangle_mesh<Trees::Mesh, Kernel>>(trees_->mesh);
+}
+
+SolidDistance::~SolidDistance() = default;
+
+double SolidDistance::ToSurface(const Eigen::Vector3d& p) const {
+  return std::sqrt(trees_->tree.squared_distance(Point3(p.x(), p.y(), p.z())));
+}
+
+bool SolidDistance::Inside(const Eigen::Vector3d& p) const {
+  return (*trees_->side)(Point3(p.x(), p.y(), p.z())) != CGAL::ON_UNBOUNDED_SIDE;
 }
 
 }  // namespace ecpsim::geometry

@@ -2,6 +2,7 @@
 // Convex hulls with CGAL (the only CGAL translation unit): 3-D hull as merged polygonal faces and
 // half-spaces, and the 2-D hull of planar point sets.
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -67,6 +68,28 @@ TriangleMesh TriangulateHull(const ConvexHull& hull);
 /// @throws InputError naming `source` if the mesh is not a closed 2-manifold that CGAL accepts.
 std::vector<std::vector<Eigen::Vector3d>> ExactConvexPieces(const TriangleMesh& mesh,
                                                             const std::string& source);
+
+/// Distances to the solid a closed, consistently oriented triangle mesh bounds (mesh frame): CGAL's
+/// AABB tree over its triangles, and its ray-crossing inside test. Here rather than in a file of
+/// its own so that CGAL stays in one translation unit.
+class SolidDistance {
+ public:
+  /// @throws InputError naming `source` if the mesh has no triangles or they do not form an
+  ///         oriented 2-manifold surface.
+  SolidDistance(const TriangleMesh& mesh, const std::string& source);
+  ~SolidDistance();
+  SolidDistance(const SolidDistance&) = delete;
+  SolidDistance& operator=(const SolidDistance&) = delete;
+
+  /// m: the distance from `p` to the mesh's surface.
+  double ToSurface(const Eigen::Vector3d& p) const;
+  /// Whether `p` lies in the solid (on its surface counts as in).
+  bool Inside(const Eigen::Vector3d& p) const;
+
+ private:
+  struct Trees;
+  std::unique_ptr<Trees> trees_;
+};
 
 /// 2-D convex hull, counter-clockwise, without collinear points; fewer than 3 output points for
 /// degenerate input (one point, or a segment given by its two ends).

@@ -52,20 +52,21 @@ std::string CacheText(const std::vector<geometry::ConvexHull>& parts) {
 
 }  // namespace
 
-std::string DecompositionCachePath(const std::string& mesh_file,
-                                   const geometry::TriangleMesh& mesh) {
+std::string DecompositionCachePath(const std::string& mesh_file, const geometry::TriangleMesh& mesh,
+                                   double tolerance) {
   Fnv1a fingerprint;
   fingerprint.Add(kHeader, std::char_traits<char>::length(kHeader));
+  fingerprint.Add(&tolerance, sizeof(tolerance));
   for (const Eigen::Vector3d& v : mesh.vertices) fingerprint.Add(v.data(), 3 * sizeof(double));
   for (const Eigen::Vector3i& t : mesh.triangles) fingerprint.Add(t.data(), 3 * sizeof(int));
   return mesh_file + ".parts-" + fingerprint.Hex() + ".txt";
 }
 
 std::vector<geometry::ConvexHull> CachedDecomposition(
-    const std::string& mesh_file, const geometry::TriangleMesh& mesh,
+    const std::string& mesh_file, const geometry::TriangleMesh& mesh, double tolerance,
     const std::function<std::vector<geometry::ConvexHull>()>& decompose,
     std::vector<std::string>& warnings) {
-  const std::string path = DecompositionCachePath(mesh_file, mesh);
+  const std::string path = DecompositionCachePath(mesh_file, mesh, tolerance);
   if (const auto cached = ReadCache(path)) {
     std::vector<geometry::ConvexHull> parts;
     try {

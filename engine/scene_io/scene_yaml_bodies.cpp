@@ -72,10 +72,18 @@ constexpr double kConvexVolumeRel = 1e-5;
 // contacts, each tested by the broad phase every step
 constexpr std::size_t kMaxDecomposedParts = 64;
 
-// `decomposition: auto`: the exact convex parts of the body's mesh (body frame), cached beside
-// its file `mesh_file`, or none where the mesh is convex, whose hull is exact
+// `decomposition_tolerance` unless given: exact parts only. A tolerance lets a part reach out of
+// the body by up to that much, which moves where it touches: a modelling choice the scene makes
+// (a curved mesh's exact pieces exceed kMaxDecomposedParts, and the error says to raise it), and
+// with 0 the shipped polyhedral meshes keep their exact parts (a mug's 12; any tolerance lets
+// pieces merge whose hull covers a third piece, giving 8)
+constexpr double kDefaultDecompositionTolerance = 0;  // × the mesh's bounding-box diagonal
+
+// `decomposition: auto`: the convex parts of the body's mesh (body frame) within `tolerance` ×
+// its diagonal, cached beside its file `mesh_file`, or none where the mesh is convex, whose hull
+// is exact
 std::vector<std::shared_ptr<const ConvexShape>> DecomposedParts(
-    const Body& body, const std::string& mesh_file, double mesh_volume,
+    const Body& body, const std::string& mesh_file, double mesh_volume, double tolerance,
     std::vector<std::string>& warnings) {
   if (!(mesh_volume > 0)) return {};
   // the body's hull is its mesh's unless a primitive was declared for it
@@ -85,8 +93,10 @@ std::vector<std::shared_ptr<const ConvexShape>> DecomposedParts(
   if (mesh_volume >= (1 - kConvexVolumeRel) * hull_volume) return {};
   std::vector<std::shared_ptr<const ConvexShape>> parts;
   for (geometry::ConvexHull& part : CachedDecomposition(
-           mesh_file, body.mesh,
-           [&] { return geometry::DecomposeSolid(body.mesh, mesh_file, kMaxDecomposedParts); },
+           mesh_file, body.mesh, tolerance,
+           [&] {
+             return geometry::DecomposeSolid(body.mesh, mesh_file, kMaxDecomposedParts, tolerance);
+           },
            warnings))
     parts.push_back(std::make_shared<geometry::PolyhedralShape>(std::move(part)));
   return parts;
@@ -189,6 +199,7 @@ Body ReadBody(const Context& ctx, const YAML::Node& node, const std::string& key
                      "friction",
                      "parts",
                      "decomposition",
+                     "decomposition_tolerance",
                      "kinematic",
                      "motion"});
   Body body;
@@ -287,6 +298,22 @@ Body ReadBody(const Context& ctx, const YAML::Node& node, const std::string& key
       map.FailAt("decomposition", "`decomposition: parts` on a body with `parts` to touch with");
     }
   }
+  double tolerance = kDefaultDecompositionTolerance;
+  // (read whatever the decomposition, used by `auto`: `--set bodies.0.decomposition=none` then
+  // needs no other change)
+  if (map.Has("decomposition_tolerance")) {
+    if (!map.Has("mesh")) {
+      map.FailAt("decomposition_tolerance",
+                 "`decomposition_tolerance` only on a body with a `mesh` (which `decomposition: "
+                 "auto` decomposes)");
+    }
+    const std::string expected =
+        "a tolerance >= 0 and < 1 (a fraction of the mesh's bounding-box diagonal; 0: exact "
+        "parts)";
+    tolerance = ReadNumber(ctx, map.Get("decomposition_tolerance"),
+                           map.Key("decomposition_tolerance"), expected);
+    if (!(tolerance >= 0 && tolerance < 1)) map.FailAt("decomposition_tolerance", expected);
+  }
   body.decomposition = mode == DecompositionMode::kNone    ? Decomposition::kNone
                        : mode == DecompositionMode::kParts ? Decomposition::kParts
                                                            : Decomposition::kAuto;
@@ -304,7 +331,7 @@ Body ReadBody(const Context& ctx, const YAML::Node& node, const std::string& key
   }
   if (mode == DecompositionMode::kAuto && !map.Has("parts")) {
     body.parts = WithLocation(ctx, map.Get("decomposition"), map.Key("decomposition"), [&] {
-      return DecomposedParts(body, mesh_file, mesh_volume, warnings);
+      return DecomposedParts(body, mesh_file, mesh_volume, tolerance, warnings);
     });
     WarnOfSeams(body.parts, map.Key("decomposition"), part_frame(), warnings);
   }

@@ -101,11 +101,14 @@ class DecomposedCupTest : public ::testing::Test {
     std::filesystem::copy_file(ScenePath("meshes/cup.obj"), dir_ / "cup.obj");
   }
   void TearDown() override { std::filesystem::remove_all(dir_); }
-  LoadedScene Load() const {
-    const std::string yaml =
-        "h: 0.005\nduration: 1\nground: {friction: {mu: 0.5, e_r: 0.02}}\nbodies:\n"
+  // `extra`: more keys of the cup's body
+  LoadedScene Load(const std::string& extra = "") const {
+    const std::string cup =
         "  - {name: cup, mesh: cup.obj, mass: 0.3, on_ground: true, position: [0, 0], "
-        "decomposition: auto}\n"
+        "decomposition: auto" +
+        extra + "}\n";
+    const std::string yaml =
+        "h: 0.005\nduration: 1\nground: {friction: {mu: 0.5, e_r: 0.02}}\nbodies:\n" + cup +
         "  - {name: cube, shape: {box: {size: [0.04, 0.04, 0.04]}}, mass: 0.05, "
         "position: [0.005, -0.004, 0.12], rpy: [12, 8, 25]}\n";
     return LoadSceneText(yaml, "cup_auto.yaml", dir_.string());
@@ -177,6 +180,46 @@ TEST_F(DecomposedCupTest, ACacheItCannotWriteLeavesAWarning) {
       << loaded.warnings[0];
 }
 
+TEST_F(DecomposedCupTest, EachToleranceHasACacheOfItsOwn) {
+  const Scene exact = Load().scene;
+  ASSERT_EQ(CacheFiles().size(), 1u);
+  const Scene approximate = Load(", decomposition_tolerance: 0.001").scene;
+  EXPECT_EQ(CacheFiles().size(), 2u);
+  // the cup's exact parts overlap nowhere and fill it, so merging any two would fill a corner of
+  // its cavity, centimetres deep: the tolerance changes nothing
+  ASSERT_EQ(approximate.bodies[0].parts.size(), exact.bodies[0].parts.size());
+  for (size_t i = 0; i < exact.bodies[0].parts.size(); ++i) {
+    EXPECT_EQ(approximate.bodies[0].parts[i]->AsPolyhedron()->hull().vertices,
+              exact.bodies[0].parts[i]->AsPolyhedron()->hull().vertices)
+        << "part " << i;
+  }
+}
+
+TEST_F(DecomposedCupTest, AToleranceOutOfRangeOrWithoutAMeshIsAnError) {
+  for (const char* value : {"-0.001", "1", ".nan", "[0.1]"}) {
+    try {
+      Load(fmt::format(", decomposition_tolerance: {}", value));
+      FAIL() << "expected an InputError for " << value;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("bodies[0].decomposition_tolerance"), std::string::npos)
+          << e.what();
+      EXPECT_NE(std::string(e.what()).find("a tolerance >= 0 and < 1"), std::string::npos)
+          << e.what();
+    }
+  }
+  const std::string yaml =
+      "duration: 1\nground: {}\nbodies:\n"
+      "  - {name: a, shape: {box: {size: [0.1, 0.1, 0.1]}}, mass: 1, on_ground: true, "
+      "decomposition_tolerance: 0.01}\n";
+  try {
+    LoadSceneText(yaml, "t.yaml", dir_.string());
+    FAIL() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("only on a body with a `mesh`"), std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(PartContactsTest, AConvexMeshDecomposedKeepsItsHull) {
   const std::string box =
       "duration: 1\nground: {}\nbodies:\n"
@@ -201,6 +244,25 @@ TEST(PartContactsTest, CubeDroppedIntoAMugRestsOnItsFloor) {
   EXPECT_LE(TiltFromAFace(cube), kRestTolerance / 0.015);
   EXPECT_LE(cube.v_WB.norm(), kRestSpeed);
   EXPECT_LE(run.deepest, kRestTolerance);
+}
+
+TEST(PartContactsTest, CubeDroppedOnTheDumbbellsBarRestsOnIt) {
+  // scenes/cube_on_dumbbell.yaml: the dumbbell's parts decomposed within 1e-3 of its diagonal
+  const LoadedScene loaded = LoadScene(ScenePath("cube_on_dumbbell.yaml"));
+  const Scene& scene = loaded.scene;
+  EXPECT_EQ(scene.bodies[0].parts.size(), 3u);  // its discs and its bar
+  const RunEnd run = RunToEnd(scene);
+  const BodyState& cube = run.state.bodies[1];
+  // on the bar's top facet: the disc's and the bar's 96-gons' inner radii above the ground, and
+  // the cube's half edge (the mesh's single-precision floats move it by ~1e-8 m)
+  const double inner = std::cos(M_PI / 96);
+  EXPECT_NEAR(cube.p_WB.z(), 0.1 * inner + 0.05 * inner + 0.015, 1e-7);
+  EXPECT_LE(TiltFromAFace(cube), 1e-6);
+  EXPECT_LE(cube.v_WB.norm(), kRestSpeed);
+  // with its hull the dumbbell would hold the cube on the discs' rims
+  const Scene hull =
+      LoadScene(ScenePath("cube_on_dumbbell.yaml"), {"bodies.0.decomposition=none"}).scene;
+  EXPECT_NEAR(RunToEnd(hull).state.bodies[1].p_WB.z(), 2 * 0.1 * inner + 0.015, 1e-7);
 }
 
 TEST(PartContactsTest, TheCupsHullWouldHoldTheCubeOnItsRim) {
