@@ -40,6 +40,7 @@ bool ReachesACavity(const Body& body, const Isometry3d& X_b, double size,
                     const Box* other_box, double own_distance) {
   for (const auto& lid : body.lids) {
     if (other_box != nullptr && LidOutOfReach(*lid, X_b, *other_box, own_distance)) continue;
+    // (a kinematic other's distance is infinite: within its box, any lid is reached)
     if (geometry::WithinDistance(*lid, X_b, other, X_o, distance, size)) return true;
   }
   // apart from every lid, `other` is wholly inside the hull or wholly outside it: one of its
@@ -59,7 +60,6 @@ bool HullsExact(const Scene& scene, const State& state, const StepReach& reach, 
   const Body& F = scene.bodies[pair.body];
   const double distance =
       reach.distance[pair.body] + (pair.WithBody() ? reach.distance[pair.other_body] : 0.0);
-  if (!std::isfinite(distance)) return false;
   const Isometry3d X_F = PoseOf(state.bodies[pair.body]);
   const double size_F = reach.size[pair.body];
   if (!pair.WithBody()) {
@@ -70,6 +70,9 @@ bool HullsExact(const Scene& scene, const State& state, const StepReach& reach, 
   const Isometry3d X_G = PoseOf(state.bodies[pair.other_body]);
   const double size_G = reach.size[pair.other_body];
   const auto chooses = [](const Body& body) { return body.decomposition == Decomposition::kAuto; };
+  // a kinematic body's reach is its box, which holds its motion, not a distance: its own lids
+  // move within the step
+  if (G.IsKinematic() && chooses(G)) return false;
   const int f = pair.body, g = pair.other_body;
   return !(chooses(F) && ReachesACavity(F, X_F, size_F, *G.hull, X_G, distance, &reach.boxes[g],
                                         reach.distance[f])) &&

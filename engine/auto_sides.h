@@ -19,8 +19,10 @@ inline constexpr double kInsideHullRelTolerance = 1e-9;
 /// Decomposition::kAuto, the other's hull (or the obstacle) neither comes within the step's
 /// reach (`reach`, both bodies' distances) of one of its lids nor has its point nearest the body
 /// inside the body's hull by more than kInsideHullRelTolerance — it is then outside the hull and
-/// can touch it only where the hull is the body's own surface. Never where the reach is unbounded
-/// (a kinematic body).
+/// can touch it only where the hull is the body's own surface. Lids whose world boxes, grown by
+/// their body's reach, miss the other's step box (StepReach::boxes) are out of reach without GJK;
+/// against a kinematic body, whose reach is its box alone, every other lid is reached. Never
+/// where the kinematic body is itself under kAuto (its lids move within the step).
 bool HullsExact(const Scene& scene, const State& state, const StepReach& reach, int k);
 
 }  // namespace ecpsim::engine

@@ -138,11 +138,52 @@ TEST(AutoSidesTest, ACubeInsideTheCupFarBelowTheOpeningTakesTheParts) {
   for (StepModel model : run.cup_models) EXPECT_EQ(model, StepModel::kParts);
 }
 
-TEST(AutoSidesTest, AKinematicBodyAlwaysMeetsTheParts) {
-  // a kinematic body's reach is its swept box, no distance: the hulls are never taken
-  const Scene scene = Cup("auto", {"bodies.1={name: finger, kinematic: true, shape: {box: "
-                                   "{size: [0.01, 0.01, 0.01]}}, motion: {velocity: {position: "
-                                   "[0.3, 0, 0.2], linear: [0, 0, 0]}}}"});
+// a kinematic 2 cm cube, the cube's body replaced, starting at `position` and moving at `velocity`
+std::string KinematicFinger(const std::string& position, const std::string& velocity) {
+  return "bodies.1={name: finger, kinematic: true, shape: {box: {size: [0.02, 0.02, 0.02]}}, "
+         "motion: {velocity: {position: " +
+         position + ", linear: " + velocity + "}}}";
+}
+
+TEST(AutoSidesTest, AKinematicFingerPushingTheOuterWallTakesTheHullsOneContact) {
+  // its box (which holds its motion) meets no lid: the cup moves as against its hull, to the bit
+  const std::vector<std::string> push = {KinematicFinger("[0.07, 0, 0.04]", "[-0.05, 0, 0]"),
+                                         "duration=0.5"};
+  const CupRun with_auto = RunOf(Cup("auto", push));
+  const CupRun with_hull = RunOf(Cup("none", push));
+  EXPECT_EQ(LargestDifference(with_auto, with_hull), 0);
+  EXPECT_LT(with_auto.cup.back().x(), -0.01);  // pushed 1–1.5 cm (the wall met at 0.2 s)
+  for (StepModel model : with_auto.cup_models) EXPECT_NE(model, StepModel::kParts);
+}
+
+TEST(AutoSidesTest, AKinematicFingerEnteringTheOpeningTakesTheParts) {
+  // coming down over the opening: exact while its box misses the lid's, not from the step it
+  // meets it (the finger's bottom within its step's travel of the rim plane, 0.08 m)
+  const Scene scene = Cup("auto", {KinematicFinger("[0, 0, 0.1]", "[0, 0, -0.05]")});
+  const int k = HullsContact(scene);
+  State state = InitialState(scene);
+  StepReach reach;
+  StepReachOf(scene, state, reach);
+  EXPECT_TRUE(HullsExact(scene, state, reach, k));
+  while (state.bodies[1].p_WB.z() - 0.01 > 0.08) {
+    ASSERT_TRUE(Step(scene, state).converged);
+    StepReachOf(scene, state, reach);
+  }
+  EXPECT_FALSE(HullsExact(scene, state, reach, k));
+}
+
+TEST(AutoSidesTest, AKinematicBodyOfPartsAlwaysMeetsThem) {
+  // a kinematic cup under auto: its lids move within the step, its reach is its swept box
+  const Scene scene = Cup(
+      "auto", {"bodies.0={name: cup, mesh: meshes/cup.obj, kinematic: true, decomposition: auto, "
+               "motion: {velocity: {position: [0, 0, 0.04], linear: [0, 0, 0]}}, parts: ["
+               "{box: {size: [0.10, 0.10, 0.01]}, at: [0, 0, 0.005]}, "
+               "{box: {size: [0.01, 0.10, 0.075]}, at: [-0.045, 0, 0.0425]}, "
+               "{box: {size: [0.01, 0.10, 0.075]}, at: [0.045, 0, 0.0425]}, "
+               "{box: {size: [0.09, 0.01, 0.075]}, at: [0, -0.045, 0.0425]}, "
+               "{box: {size: [0.09, 0.01, 0.075]}, at: [0, 0.045, 0.0425]}]}",
+               "bodies.1.position=[0.3, 0, 0.2]"});
+  ASSERT_EQ(scene.bodies[0].decomposition, Decomposition::kAuto);
   const State state = InitialState(scene);
   StepReach reach;
   StepReachOf(scene, state, reach);
