@@ -313,6 +313,14 @@ Body ReadBody(const Context& ctx, const YAML::Node& node, const std::string& key
     tolerance = ReadNumber(ctx, map.Get("decomposition_tolerance"),
                            map.Key("decomposition_tolerance"), expected);
     if (!(tolerance >= 0 && tolerance < 1)) map.FailAt("decomposition_tolerance", expected);
+    // listed parts are the body's: nothing is decomposed
+    if (map.Has("parts")) {
+      warnings.push_back(fmt::format(
+          "{}: {}: unused, the body lists its `parts` (only `decomposition: auto` without `parts` "
+          "decomposes the mesh)",
+          Where(ctx, map.Get("decomposition_tolerance"), map.Key("decomposition_tolerance")),
+          map.Key("decomposition_tolerance")));
+    }
   }
   body.decomposition = mode == DecompositionMode::kNone    ? Decomposition::kNone
                        : mode == DecompositionMode::kParts ? Decomposition::kParts

@@ -1,6 +1,7 @@
 // Bodies made of convex parts touching bodies (engine/README.md, "Bodies made of convex parts"):
 // scenes/cube_in_cup.yaml and scenes/peg_in_hole.yaml against their geometry, a peg pushed by a
-// finger and sliding down the wall of its hole against Coulomb's law, and the scene's contacts and their combined output.
+// finger and sliding down the wall of its hole against Coulomb's law, and the scene's contacts and
+// their combined output.
 
 #include <algorithm>
 #include <cmath>
@@ -218,6 +219,16 @@ TEST_F(DecomposedCupTest, AToleranceOutOfRangeOrWithoutAMeshIsAnError) {
     EXPECT_NE(std::string(e.what()).find("only on a body with a `mesh`"), std::string::npos)
         << e.what();
   }
+}
+
+TEST(PartContactsTest, AToleranceBesideListedPartsIsUnusedAndSaysSo) {
+  const LoadedScene loaded =
+      LoadScene(ScenePath("cube_in_cup.yaml"), {"bodies.0.decomposition_tolerance=0.01"});
+  ASSERT_EQ(loaded.warnings.size(), 1u);
+  EXPECT_NE(loaded.warnings.front().find("bodies[0].decomposition_tolerance: unused, the body "
+                                         "lists its `parts`"),
+            std::string::npos)
+      << loaded.warnings.front();
 }
 
 TEST(PartContactsTest, AConvexMeshDecomposedKeepsItsHull) {
