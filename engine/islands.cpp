@@ -51,9 +51,35 @@ void FormIslandsInto(const Scene& scene, const State& state, IslandScratch& scra
       }
     }
     in_step[k] = BodiesInReach(scene, state, known_reach(), static_cast<int>(k));
-    if (in_step[k] && !scene.bodies[pair.other_body].IsKinematic())
+    // (a pair listing two sets joins its bodies by the set it keeps, below)
+    if (in_step[k] && pair.sides == SideChoice::kFixed &&
+        !scene.bodies[pair.other_body].IsKinematic())
       root[find(pair.body)] = find(pair.other_body);
   }
+  // such a pair keeps one of the two within the step (engine/auto_sides.h): those between two
+  // bodies before the islands form, so that a set left out joins nothing
+  const auto keep_one_set = [&](bool with_body) {
+    for (size_t k = 0; choosing && k < scene.contacts.size();) {
+      size_t end = k + 1;
+      while (end < scene.contacts.size() && scene.contacts[end].SameBodies(scene.contacts[k]))
+        ++end;
+      const ContactPair& pair = scene.contacts[k];
+      if (pair.sides != SideChoice::kFixed && pair.WithBody() == with_body &&
+          std::any_of(in_step.begin() + k, in_step.begin() + end, [](char in) { return in; })) {
+        const SideChoice dropped = HullsExact(scene, state, known_reach(), static_cast<int>(k))
+                                       ? SideChoice::kParts
+                                       : SideChoice::kHulls;
+        for (size_t j = k; j < end; ++j)
+          if (scene.contacts[j].sides == dropped) in_step[j] = false;
+        const bool joins =
+            std::any_of(in_step.begin() + k, in_step.begin() + end, [](char in) { return in; });
+        if (joins && with_body && !scene.bodies[pair.other_body].IsKinematic())
+          root[find(pair.body)] = find(pair.other_body);
+      }
+      k = end;
+    }
+  };
+  keep_one_set(true);
   // a gripper's jaws move as one (island_gripper.h)
   for (const Gripper& gripper : scene.grippers) root[find(gripper.jaws[0])] = find(gripper.jaws[1]);
   std::vector<int>& island_of = scratch.island_of;
@@ -81,20 +107,7 @@ void FormIslandsInto(const Scene& scene, const State& state, IslandScratch& scra
     if (pair.WithBody() || islands[island_of[find(pair.body)]].bodies.size() < 2) continue;
     in_step[k] = InReach(known_reach().boxes[pair.body], *scene.obstacles[pair.obstacle].shape);
   }
-  // such a pair keeps one of the two within the step (engine/auto_sides.h)
-  for (size_t k = 0; choosing && k < scene.contacts.size();) {
-    size_t end = k + 1;
-    while (end < scene.contacts.size() && scene.contacts[end].SameBodies(scene.contacts[k])) ++end;
-    if (scene.contacts[k].sides != SideChoice::kFixed &&
-        std::any_of(in_step.begin() + k, in_step.begin() + end, [](char in) { return in; })) {
-      const SideChoice dropped = HullsExact(scene, state, known_reach(), static_cast<int>(k))
-                                     ? SideChoice::kParts
-                                     : SideChoice::kHulls;
-      for (size_t j = k; j < end; ++j)
-        if (scene.contacts[j].sides == dropped) in_step[j] = false;
-    }
-    k = end;
-  }
+  keep_one_set(false);
   for (size_t k = 0; k < scene.contacts.size(); ++k) {
     if (!in_step[k]) continue;
     Island& island = islands[island_of[find(scene.contacts[k].body)]];

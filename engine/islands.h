@@ -28,8 +28,8 @@ struct IslandScratch {
 /// their hulls lie within what the two can move); otherwise they cannot touch in the step. Every
 /// dynamic body is in exactly one island, with all its contacts with obstacles; kinematic bodies
 /// are in none (their motion is given). Of a pair that lists its hulls' and its parts' contacts
-/// (Decomposition::kAuto) only one set is in the step: the hulls' where HullsExact says so
-/// (engine/auto_sides.h), else the parts'. Each contact's friction is StepFriction's at `state`.
+/// (Decomposition::kAuto) only one set is in the step, and only it joins the bodies' islands:
+/// the hulls' where HullsExact says so (engine/auto_sides.h), else the parts'. Each contact's friction is StepFriction's at `state`.
 std::vector<Island> FormIslands(const Scene& scene, const State& state);
 
 /// FormIslands into `islands`, over their last contents (reusing their storage).

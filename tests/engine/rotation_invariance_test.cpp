@@ -95,13 +95,13 @@ TEST(RotationInvarianceTest, CubeFallsIntoTheCupTheSameWayTurned) {
 
 TEST(RotationInvarianceTest, CubeFallsIntoTheMugTheSameWayTurned) {
   // a cube tumbling onto the floor of a mug whose 12 parts the loader decomposed, 1 s
-  // (ecpsim_rotation_check: 9.8e-14 m at 90°, 7.6e-14 m at 37°)
+  // (ecpsim_rotation_check: 1.8e-13 m at 90°, 1.0e-13 m at 37°)
   ExpectTurnedMotion("cube_in_mug.yaml");
 }
 
 TEST(RotationInvarianceTest, CubeFallsOntoTheDumbbellsBarTheSameWayTurned) {
   // a cube dropped onto the bar of a dumbbell whose 3 parts the loader decomposed within a
-  // tolerance, 1 s (ecpsim_rotation_check: 1.5e-14 m at 90°, 9.9e-15 m at 37°)
+  // tolerance, 1 s (ecpsim_rotation_check: 5.0e-15 m at 90°, 4.9e-15 m at 37°)
   ExpectTurnedMotion("cube_on_dumbbell.yaml");
 }
 
