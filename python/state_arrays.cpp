@@ -196,6 +196,10 @@ py::list ContactList(const engine::Scene& scene, const engine::State& state,
     d["part"] = pair.part < 0 ? py::object(py::none()) : py::object(py::int_(pair.part));
     d["other_part"] =
         pair.other_part < 0 ? py::object(py::none()) : py::object(py::int_(pair.other_part));
+    // which set of a pair under decomposition: auto the contact is in (engine/auto_sides.h)
+    d["sides"] = pair.sides == engine::SideChoice::kHulls   ? "hulls"
+                 : pair.sides == engine::SideChoice::kParts ? "parts"
+                                                            : "fixed";
     d["a1"] = Array(c.a1);
     d["a2"] = Array(c.a2);
     d["normal"] = Array(c.n);
