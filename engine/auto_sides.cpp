@@ -12,13 +12,6 @@ namespace {
 using Eigen::Isometry3d;
 using Eigen::Vector3d;
 
-Isometry3d PoseOf(const BodyState& body) {
-  Isometry3d X = Isometry3d::Identity();
-  X.linear() = body.Q_WB.toRotationMatrix();
-  X.translation() = body.p_WB;
-  return X;
-}
-
 // whether a lid's world box grown by `own_distance` misses `other_box`, which holds the other's
 // hull grown by its own reach (StepReach::boxes): a gap along an axis is then more than both
 // reaches, and GJK would find them apart

@@ -158,14 +158,9 @@ bool BodiesInReach(const Scene& scene, const State& state, const StepReach& reac
   // a pair that carried a load touches at the step's start: GJK would say so too, at a cost paid
   // on every step of a pile
   if (static_cast<size_t>(k) < state.contacts.size() && state.contacts[k].p_n > 0) return true;
-  const auto pose = [&](int body) {
-    Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
-    X.linear() = state.bodies[body].Q_WB.toRotationMatrix();
-    X.translation() = state.bodies[body].p_WB;
-    return X;
-  };
-  return geometry::WithinDistance(ShapeOfBody(scene, pair), pose(a), ShapeOfOther(scene, pair),
-                                  pose(b), distance, std::max(reach.size[a], reach.size[b]));
+  return geometry::WithinDistance(ShapeOfBody(scene, pair), PoseOf(state.bodies[a]),
+                                  ShapeOfOther(scene, pair), PoseOf(state.bodies[b]), distance,
+                                  std::max(reach.size[a], reach.size[b]));
 }
 
 bool PartReachesBody(const StepReach& reach, const ContactPair& pair) {

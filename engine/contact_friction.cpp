@@ -13,13 +13,6 @@ namespace {
 
 using Eigen::Vector3d;
 
-Eigen::Isometry3d Pose(const BodyState& b) {
-  Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
-  X.linear() = b.Q_WB.toRotationMatrix();
-  X.translation() = b.p_WB;
-  return X;
-}
-
 // the extreme of `mesh` posed by X along `direction`: max over its vertices of direction · x
 double Extreme(const geometry::TriangleMesh& mesh, const Eigen::Isometry3d& X,
                const Vector3d& direction) {
@@ -64,8 +57,8 @@ StepPatch ContactPatchAtStep(const Scene& scene, const State& state, int k) {
     n = HalfSpacePlane(*obstacle).normal;
   } else if (!(c.p_n > 0)) {
     const Eigen::Isometry3d X_G =
-        obstacle ? Eigen::Isometry3d::Identity() : Pose(state.bodies[pair.other_body]);
-    n = geometry::BestSeparatingAxis(ShapeOfBody(scene, pair), Pose(state.bodies[pair.body]),
+        obstacle ? Eigen::Isometry3d::Identity() : PoseOf(state.bodies[pair.other_body]);
+    n = geometry::BestSeparatingAxis(ShapeOfBody(scene, pair), PoseOf(state.bodies[pair.body]),
                                      ShapeOfOther(scene, pair), X_G, {c.n})
             .axis;
   }
@@ -75,7 +68,7 @@ StepPatch ContactPatchAtStep(const Scene& scene, const State& state, int k) {
   // F's features nearest G: its mesh's lowest level along n
   geometry::TriangleMesh made_F, made_G;
   const geometry::TriangleMesh& mesh_F = ContactMesh(scene.bodies[pair.body], pair.part, made_F);
-  const Eigen::Isometry3d X_F = Pose(state.bodies[pair.body]);
+  const Eigen::Isometry3d X_F = PoseOf(state.bodies[pair.body]);
   StepPatch step;
   step.plane = {n, -Extreme(mesh_F, X_F, -n)};
   double tolerance = geometry::ContactPatchTolerance(mesh_F);
@@ -87,7 +80,7 @@ StepPatch ContactPatchAtStep(const Scene& scene, const State& state, int k) {
     const geometry::TriangleMesh& mesh_G =
         obstacle ? made_G : ContactMesh(scene.bodies[pair.other_body], pair.other_part, made_G);
     const Eigen::Isometry3d X_G =
-        obstacle ? Eigen::Isometry3d::Identity() : Pose(state.bodies[pair.other_body]);
+        obstacle ? Eigen::Isometry3d::Identity() : PoseOf(state.bodies[pair.other_body]);
     const geometry::Plane below{-n, -Extreme(mesh_G, X_G, n)};
     const double tolerance_G = geometry::ContactPatchTolerance(mesh_G);
     tolerance = std::max(tolerance, tolerance_G);

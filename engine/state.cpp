@@ -11,6 +11,13 @@ bool IsFinite(const BodyState& body) {
          body.w_WB.allFinite();
 }
 
+Eigen::Isometry3d PoseOf(const BodyState& body) {
+  Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+  X.linear() = body.Q_WB.toRotationMatrix();
+  X.translation() = body.p_WB;
+  return X;
+}
+
 void AdvanceTime(double h, State& state) {
   ++state.steps;
   state.t = static_cast<double>(state.steps) * h;

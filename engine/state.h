@@ -60,6 +60,9 @@ struct State {
 /// Whether a body's pose and velocities are all finite numbers.
 bool IsFinite(const BodyState& body);
 
+/// The body frame → world: rotation Q_WB, translation p_WB (the CM).
+Eigen::Isometry3d PoseOf(const BodyState& body);
+
 /// Counts a step of length h: t = steps · h, one rounding of an exact integer times h, so the
 /// time carries no round-off accumulated over the run (scene_limits.h, kMaxSteps).
 void AdvanceTime(double h, State& state);

@@ -23,24 +23,10 @@ using Eigen::Vector2d;
 using Eigen::Vector3d;
 
 // the part of convex polygon `subject` inside convex polygon `clip`, both counter-clockwise
-// (Sutherland–Hodgman)
+// (Sutherland–Hodgman: left of each of its edges)
 std::vector<Vector2d> Clip(std::vector<Vector2d> subject, const std::vector<Vector2d>& clip) {
-  for (size_t e = 0; e < clip.size() && !subject.empty(); ++e) {
-    const Vector2d& a = clip[e];
-    const Vector2d& b = clip[(e + 1) % clip.size()];
-    const auto inside = [&](const Vector2d& p) {
-      return (b - a).x() * (p - a).y() - (b - a).y() * (p - a).x();
-    };
-    std::vector<Vector2d> kept;
-    for (size_t k = 0; k < subject.size(); ++k) {
-      const Vector2d& p = subject[k];
-      const Vector2d& q = subject[(k + 1) % subject.size()];
-      const double sp = inside(p), sq = inside(q);
-      if (sp >= 0) kept.push_back(p);
-      if ((sp >= 0) != (sq >= 0)) kept.push_back(p + (q - p) * (sp / (sp - sq)));
-    }
-    subject = std::move(kept);
-  }
+  for (size_t e = 0; e < clip.size() && !subject.empty(); ++e)
+    subject = ClipToSide(subject, clip[e], clip[(e + 1) % clip.size()], true);
   return subject;
 }
 

@@ -14,25 +14,6 @@ using Eigen::Vector2d;
 using Eigen::Vector3d;
 using Polygon = std::vector<Vector2d>;
 
-// > 0 where p lies left of the line a → b
-double LeftOf(const Vector2d& a, const Vector2d& b, const Vector2d& p) {
-  return (b - a).x() * (p - a).y() - (b - a).y() * (p - a).x();
-}
-
-// the part of convex `polygon` left of the line a → b (`left`) or right of it
-Polygon ClipToSide(const Polygon& polygon, const Vector2d& a, const Vector2d& b, bool left) {
-  Polygon kept;
-  for (size_t k = 0; k < polygon.size(); ++k) {
-    const Vector2d& p = polygon[k];
-    const Vector2d& q = polygon[(k + 1) % polygon.size()];
-    const double sp = left ? LeftOf(a, b, p) : -LeftOf(a, b, p);
-    const double sq = left ? LeftOf(a, b, q) : -LeftOf(a, b, q);
-    if (sp >= 0) kept.push_back(p);
-    if ((sp >= 0) != (sq >= 0)) kept.push_back(p + (q - p) * (sp / (sp - sq)));
-  }
-  return kept;
-}
-
 // convex `polygon` less convex counter-clockwise `cut`, as disjoint convex pieces: for each edge
 // of `cut` what lies right of it and left of the edges before it
 void AppendDifference(Polygon polygon, const Polygon& cut, std::vector<Polygon>& pieces) {

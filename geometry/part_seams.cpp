@@ -86,4 +86,22 @@ std::optional<Seam> FindSeam(const ConvexHull& a, const ConvexHull& b, double to
   return std::nullopt;
 }
 
+std::vector<Vector2d> ClipToSide(const std::vector<Vector2d>& polygon, const Vector2d& a,
+                                 const Vector2d& b, bool left) {
+  // > 0 on the kept side
+  const auto side = [&](const Vector2d& p) {
+    const double cross = (b - a).x() * (p - a).y() - (b - a).y() * (p - a).x();
+    return left ? cross : -cross;
+  };
+  std::vector<Vector2d> kept;
+  for (size_t k = 0; k < polygon.size(); ++k) {
+    const Vector2d& p = polygon[k];
+    const Vector2d& q = polygon[(k + 1) % polygon.size()];
+    const double sp = side(p), sq = side(q);
+    if (sp >= 0) kept.push_back(p);
+    if ((sp >= 0) != (sq >= 0)) kept.push_back(p + (q - p) * (sp / (sp - sq)));
+  }
+  return kept;
+}
+
 }  // namespace ecpsim::geometry

@@ -34,6 +34,12 @@ std::vector<Eigen::Vector2d> FaceInPlane(const ConvexHull& hull, int face, const
 /// The signed area of a polygon (m², > 0 counter-clockwise).
 double SignedArea(const std::vector<Eigen::Vector2d>& polygon);
 
+/// The part of convex `polygon` left of the line a → b (`left`) or right of it, on the line
+/// included (one Sutherland–Hodgman pass).
+std::vector<Eigen::Vector2d> ClipToSide(const std::vector<Eigen::Vector2d>& polygon,
+                                        const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                                        bool left);
+
 /// The first face of `a` that lies on the plane of a face of `b` with the opposite normal (within
 /// `tolerance` m, and normals within `tolerance` over the parts' size) and overlaps it over an
 /// area, not only along an edge or at a corner: the two faces overlap by more than `tolerance`

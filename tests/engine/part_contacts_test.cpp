@@ -411,8 +411,9 @@ TEST(PartContactsTest, AHookLiftsAMugByItsHandle) {
       const double p_n = state.contacts[c].p_n;
       // off the table, held by the handle's parts alone: its arms and grip, 5–7 (its weight's
       // impulse is 0.015 N·s a step)
-      if (!pair.WithBody() || pair.part < 5)
+      if (!pair.WithBody() || pair.part < 5) {
         EXPECT_LE(p_n, 1e-12 * m * g * scene.h) << "t = " << state.t << ", part " << pair.part;
+      }
     }
   }
   EXPECT_LE(deepest, kRestTolerance);
