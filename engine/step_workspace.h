@@ -4,8 +4,6 @@
 // nothing of its own, and with no state hidden on the thread.
 
 #include <memory>
-#include <typeindex>
-#include <typeinfo>
 #include <utility>
 #include <vector>
 
@@ -29,18 +27,22 @@ class StepWorkspace {
   /// The part of type T, default-constructed on first use.
   template <typename T>
   T& Part() {
-    const std::type_index type(typeid(T));
+    // (a type's key is the address of its own variable: comparing type_infos compares their
+    // names with strcmp, a step's largest cost of looking its parts up)
+    const void* const key = &kKey<T>;
     for (Slot& slot : parts_) {
-      if (slot.type == type) return *static_cast<T*>(slot.part.get());
+      if (slot.key == key) return *static_cast<T*>(slot.part.get());
     }
-    parts_.push_back({type, Owned(new T(), [](void* part) { delete static_cast<T*>(part); })});
+    parts_.push_back({key, Owned(new T(), [](void* part) { delete static_cast<T*>(part); })});
     return *static_cast<T*>(parts_.back().part.get());
   }
 
  private:
+  template <typename T>
+  static inline const char kKey = 0;
   using Owned = std::unique_ptr<void, void (*)(void*)>;
   struct Slot {
-    std::type_index type;
+    const void* key;
     Owned part;
   };
   std::vector<Slot> parts_;
