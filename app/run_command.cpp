@@ -3,12 +3,14 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
 #include <optional>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <fmt/format.h>
@@ -39,6 +41,12 @@ void PrintResult(const RunSummary& summary, const std::string& out_dir) {
       summary.max_penetration, summary.median_step_us, out_dir.c_str(), out_dir.c_str());
 }
 
+// threads beyond the cores of any machine it runs on are a typing error
+constexpr int kMaxThreads = 1024;
+
+// every core the machine has: islands solve side by side (1 where it does not say)
+int DefaultThreads() { return std::max(1, static_cast<int>(std::thread::hardware_concurrency())); }
+
 struct RunOptions {
   std::string scene;
   std::string out_dir;
@@ -51,6 +59,8 @@ struct RunOptions {
   std::optional<double> fps;
   std::optional<int> width, height;
   std::string resume;  // --resume DIR
+  // --threads: the result is the same for any number, so it is not one of the run's arguments
+  int threads = DefaultThreads();
 };
 
 // the scene overrides that `ecpsim run`'s options stand for, in a fixed order
@@ -112,8 +122,10 @@ RunSummary RunWithFrames(const engine::LoadedScene& loaded, const std::string& o
 // complete (main() exits 130 or 143). `resume`: the checkpoint to continue from, its origin
 // already checked.
 void RunAndReport(const engine::LoadedScene& loaded, const std::string& out_dir,
-                  const nlohmann::json& arguments, const Checkpoint* resume = nullptr) {
+                  const nlohmann::json& arguments, int threads,
+                  const Checkpoint* resume = nullptr) {
   RunSetup setup;
+  setup.threads = threads;
   setup.origin = RunOrigin(arguments, loaded.scene);
   setup.resume = resume;
   // a video alone needs ffmpeg: without it the run would make nothing that was asked for, so it
@@ -164,7 +176,7 @@ void Resume(const RunOptions& given) {
   const engine::LoadedScene loaded = SceneOf(arguments);
   RequireSameOrigin(checkpoint.origin, RunOrigin(arguments, loaded.scene), path);
   CheckFitsScene(checkpoint, loaded.scene, path);
-  RunAndReport(loaded, dir, arguments, &checkpoint);
+  RunAndReport(loaded, dir, arguments, given.threads, &checkpoint);
 }
 
 }  // namespace
@@ -214,6 +226,11 @@ void AddRunCommand(CLI::App& app) {
                   "failure) from its checkpoint.json, with the scene and settings it began with; "
                   "the result is the same as a run that never stopped")
       ->type_name("DIR");
+  run->add_option("--threads", options->threads,
+                  "threads that solve a step's contact islands side by side (default: every "
+                  "core); the result is the same, bit for bit, for any number")
+      ->capture_default_str()
+      ->check(IntegerInRange("--threads", 1, kMaxThreads));
 
   run->callback([options] {
     if (!options->resume.empty()) {
@@ -226,7 +243,8 @@ void AddRunCommand(CLI::App& app) {
     const engine::LoadedScene loaded = engine::LoadScene(options->scene, overrides);
     PrintWarnings(loaded);
     RunAndReport(loaded, options->out_dir,
-                 RunArguments(options->scene, overrides, options->frames, options->video));
+                 RunArguments(options->scene, overrides, options->frames, options->video),
+                 options->threads);
   });
 }
 
@@ -271,7 +289,7 @@ void AddDropCommand(CLI::App& app) {
   drop->callback([options, out_dir, frames, video] {
     const engine::LoadedScene loaded = engine::MakeDropScene(*options);
     PrintWarnings(loaded);
-    RunAndReport(loaded, *out_dir, DropArguments(*options, *frames, *video));
+    RunAndReport(loaded, *out_dir, DropArguments(*options, *frames, *video), /*threads=*/1);
   });
 }
 

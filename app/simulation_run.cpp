@@ -17,6 +17,7 @@
 #include "app/trajectory_writer.h"
 #include "common/atomic_file.h"
 #include "common/errors.h"
+#include "engine/island_threads.h"
 #include "engine/report/penetration.h"
 #include "engine/scene_limits.h"
 #include "engine/state.h"
@@ -140,6 +141,7 @@ RunSummary RunSimulation(const engine::LoadedScene& loaded, const std::string& o
       if (setup.observer) setup.observer(state, engine::StepReport{});
     }
     engine::StepWorkspace workspace;
+    engine::IslandThreadsOf(workspace).SetThreads(setup.threads);
     for (long k = totals.steps + 1; k <= summary.planned_steps; ++k) {
       // a signal stops the run between steps (app/interrupt.h)
       if (const int signal = InterruptSignal(); signal != 0) {

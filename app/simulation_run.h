@@ -61,6 +61,9 @@ struct RunSetup {
   /// to remove (RemoveCheckpoint) once its own outputs are finished: frames and video are joined
   /// after the steps, and a run killed meanwhile must stay resumable.
   bool keep_checkpoint = false;
+  /// Threads that solve a step's islands (engine/island_threads.h): the result is the same for
+  /// any number.
+  int threads = 1;
 };
 
 /// Removes DIR/checkpoint.json if there is one (nothing is left to resume).

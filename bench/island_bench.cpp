@@ -9,7 +9,9 @@
 //   islands on and off (engine/README.md, "Sleeping islands");
 //   BM_IslandCrossedBars/parts:1 against …/parts:0: two bars of 20 parts each, one across the
 //   other, where 4 pairs of parts touch, against the same bars touching with their hulls
-//   (issue 31's bar for bodies made of parts: ≤ 5×).
+//   (issue 31's bar for bodies made of parts: ≤ 5×);
+//   BM_IslandThreads/<scene>/threads:2 against …/threads:1: scenes of many islands solved on
+//   two threads against one, in wall time (the workers' CPU time is not the caller's).
 // Every scene is stepped with the hull model, whose islands these are (model: auto would turn
 // the single resting box into a planar step and the comparison into one of two models).
 
@@ -88,6 +90,14 @@ void BM_IslandStack3(benchmark::State& bench) {
 }
 BENCHMARK(BM_IslandStack3)->Unit(benchmark::kMicrosecond);
 
+// a 4 × 4 grid of BM_IslandStack3's stack, 0.5 m apart: 48 bodies in 16 islands
+Scene GridOfStacks() {
+  std::vector<Body> boxes;
+  for (int i = 0; i < 16; ++i)
+    AddStack(0.5 * (i % 4), 0.5 * (i / 4), fmt::format("s{}_", i), boxes);
+  return HullScene(boxes);
+}
+
 // n boxes at rest on a grid 0.5 m apart
 std::vector<Body> ScatteredBoxes(int n) {
   const int side = static_cast<int>(std::ceil(std::sqrt(n)));
@@ -111,8 +121,8 @@ BENCHMARK(BM_IslandScattered)->Arg(8)->Arg(64)->Unit(benchmark::kMicrosecond);
 // bodies a contact pair (second argument 1) or none (0): what the pairs that never touch cost
 // where a YAML scene lists none (each a ContactState in the state and a test in every step)
 void BM_IslandScatteredPairs(benchmark::State& bench) {
-  Scene scene = testing::MakeGroundScene(ScatteredBoxes(static_cast<int>(bench.range(0))), 0.01,
-                                         kFriction);
+  Scene scene =
+      testing::MakeGroundScene(ScatteredBoxes(static_cast<int>(bench.range(0))), 0.01, kFriction);
   if (bench.range(1) == 1) AddBodyPairs(scene);
   scene.model = ContactModel::kHull;
   State state = InitialState(scene);
@@ -136,15 +146,11 @@ void BM_IslandFreeFall(benchmark::State& bench) {
 BENCHMARK(BM_IslandFreeFall)->Unit(benchmark::kMicrosecond);
 
 // resting scenes stepped from 0.5 s on, once at rest, with sleeping on (second argument 1) and
-// off (0): scenes/stack.yaml (0), scenes/pyramid.yaml (1), and a 4 × 4 grid of the stack of
-// BM_IslandStack3, 0.5 m apart (2: 48 bodies in 16 islands)
+// off (0): scenes/stack.yaml (0), scenes/pyramid.yaml (1), and GridOfStacks (2)
 void BM_IslandSleep(benchmark::State& bench) {
   Scene scene;
   if (bench.range(0) == 2) {
-    std::vector<Body> boxes;
-    for (int i = 0; i < 16; ++i)
-      AddStack(0.5 * (i % 4), 0.5 * (i / 4), fmt::format("s{}_", i), boxes);
-    scene = HullScene(boxes);
+    scene = GridOfStacks();
   } else {
     const char* file = bench.range(0) == 0 ? "/scenes/stack.yaml" : "/scenes/pyramid.yaml";
     scene = LoadScene(std::string(ECPSIM_SOURCE_DIR) + file).scene;
@@ -164,6 +170,19 @@ void BM_IslandSleep(benchmark::State& bench) {
 BENCHMARK(BM_IslandSleep)
     ->ArgNames({"scene", "sleep"})
     ->ArgsProduct({{0, 1, 2}, {0, 1}})
+    ->Unit(benchmark::kMicrosecond);
+
+// scenes of many islands, awake, solved on `threads` threads (second argument): the 64
+// scattered boxes (0: 64 islands of one body) and the grid of stacks (1: 16 islands of three)
+void BM_IslandThreads(benchmark::State& bench) {
+  const Scene scene = bench.range(0) == 0 ? HullScene(ScatteredBoxes(64)) : GridOfStacks();
+  RunSteps(bench, scene, kRestartSteps, static_cast<int>(bench.range(1)));
+  CountPerBody(bench, scene);
+}
+BENCHMARK(BM_IslandThreads)
+    ->ArgNames({"scene", "threads"})
+    ->ArgsProduct({{0, 1}, {1, 2}})
+    ->UseRealTime()
     ->Unit(benchmark::kMicrosecond);
 
 // two bars of 20 box parts each, 0.4 m long, one along x on the ground and one along y across it,

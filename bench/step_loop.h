@@ -4,6 +4,7 @@
 
 #include <benchmark/benchmark.h>
 
+#include "engine/island_threads.h"
 #include "engine/scene.h"
 #include "engine/state.h"
 #include "engine/time_step.h"
@@ -12,10 +13,12 @@ namespace ecpsim::engine {
 
 /// Steps `scene` once per iteration of `bench`, from its initial state again every
 /// `restart_steps` steps; sets the counter "newton_iters", the mean solver iterations per step
-/// (Lemke pivots for the point model).
-inline void RunSteps(benchmark::State& bench, const Scene& scene, int restart_steps) {
+/// (Lemke pivots for the point model). The islands are solved on `threads` threads.
+inline void RunSteps(benchmark::State& bench, const Scene& scene, int restart_steps,
+                     int threads = 1) {
   State state = InitialState(scene);
   StepWorkspace workspace;
+  IslandThreadsOf(workspace).SetThreads(threads);
   long iterations = 0, count = 0;
   for (auto _ : bench) {
     if (count % restart_steps == 0) state = InitialState(scene);

@@ -1,11 +1,14 @@
 #include "engine/step_driver.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <exception>
 #include <iterator>
 #include <utility>
 
 #include "engine/island_sleep.h"
+#include "engine/island_threads.h"
 #include "engine/islands.h"
 
 namespace ecpsim::engine {
@@ -16,23 +19,43 @@ namespace {
 constexpr int kSubsteps[] = {1, 2, 4, 16};
 constexpr int kLadderLength = static_cast<int>(std::size(kSubsteps));
 
+// What solving one island gave: written by the thread that solved it, read by the driver once
+// every island is done
+struct IslandOutcome {
+  enum class Status { kSolved, kFailed, kThrew, kSkipped };
+  Status status = Status::kSkipped;
+  StepModel model = StepModel::kFree;
+  int substeps = 1;
+  double residual = 0;  // the largest over its sub-steps (failed: the last attempt's)
+  int iterations = 0;
+  int retries = 0;
+  bool repeats = true;  // RepeatsItsStart (only sleeping reads it)
+  std::vector<FailedAttempt> tried;
+  std::vector<Eigen::Vector4d> impulse;  // per contact, the sub-steps' sum
+  std::exception_ptr thrown;             // what the model threw (kThrew)
+};
+
 // The driver's part of the StepWorkspace: vectors keep their capacity from step to step, and a
 // contact copied over the last step's copy reuses its warm start's buffers
 struct StepScratch {
   // FormIslandsInto's storage and its islands
   IslandScratch island_scratch;
   std::vector<Island> islands;
-  // which islands sleep (PlanSleep), and per island in how many sub-steps and to what residual
-  // it was solved, and whether it repeated its start
+  // which islands sleep (PlanSleep), the awake ones in the order the threads take them, and
+  // per island what solving it gave, with its state at the step's end
   SleepPlan sleep;
+  std::vector<int> awake;
+  std::vector<IslandOutcome> outcomes;
+  std::vector<IslandState> solved;
+  // per island in how many sub-steps and to what residual it was solved, and whether it
+  // repeated its start (RecordRest's arguments)
   std::vector<int> island_substeps;
   std::vector<double> island_residuals;
   std::vector<char> island_repeats;
-  // StepIslands: per island its state at the step's end, its contacts' impulses summed over the
-  // sub-steps; the bodies at the step's end
-  std::vector<IslandState> solved;
-  std::vector<Eigen::Vector4d> impulse;
+  // the bodies at the step's end
   std::vector<BodyState> next_bodies;
+  // the workspace's threads (its other part)
+  IslandThreads* threads = nullptr;
 };
 
 // the island's part of `state` copied into `local` (over its last contents, reusing them)
@@ -45,11 +68,127 @@ void Gather(const Island& island, const State& state, IslandState& local) {
     local.contacts[i] = state.contacts[island.contacts[i]];
 }
 
+// Advances `island` from `state` into `local` by the sub-step ladder with the model's usual
+// effort; only where that fails at every length, again with its last resort (if it has one), so
+// that what the usual effort solves stays as it was. Reads `state`, writes only `local` and
+// `outcome`: islands on several threads at once.
+void SolveIsland(const Scene& scene, const State& state, const Island& island,
+                 const ContactModelStepper& model, IslandState& local, IslandOutcome& outcome) {
+  outcome.status = IslandOutcome::Status::kFailed;
+  outcome.iterations = outcome.retries = 0;
+  outcome.tried.clear();
+  const int attempts = (model.HasLastResort() ? 2 : 1) * kLadderLength;
+  for (int attempt = 0; attempt < attempts; ++attempt) {
+    const Effort effort = attempt < kLadderLength ? Effort::kUsual : Effort::kLastResort;
+    const int substeps = kSubsteps[attempt % kLadderLength];
+    Gather(island, state, local);
+    const double h = scene.h / substeps;
+    double island_residual = 0;
+    StepModel island_model = StepModel::kFree;
+    bool ok = true;
+    // a contact's impulses are the whole step's: the sub-steps' sum
+    outcome.impulse.assign(island.contacts.size(), Eigen::Vector4d::Zero());
+    for (int i = 0; i < substeps && ok; ++i) {
+      const AdvanceResult result = model.Advance(island, state.t + i * h, h, local, effort);
+      for (size_t k = 0; k < island.contacts.size(); ++k) {
+        const ContactState& c = local.contacts[k];
+        outcome.impulse[k] += Eigen::Vector4d(c.p_n, c.p_t, c.p_o, c.p_r);
+      }
+      outcome.iterations += result.iterations;
+      outcome.retries += result.retries;
+      outcome.residual = result.residual;
+      island_residual = std::max(island_residual, result.residual);
+      island_model = std::max(island_model, result.model);
+      outcome.tried.insert(outcome.tried.end(), result.tried.begin(), result.tried.end());
+      ok = result.solved;
+      // a solved step can still overflow (e.g. the explicit gyroscopic term feeding a fast
+      // spin, engine/README.md): such a state is never committed
+      if (ok && !std::all_of(local.bodies.begin(), local.bodies.end(),
+                             [](const BodyState& b) { return IsFinite(b); })) {
+        ok = false;
+        outcome.residual = INFINITY;
+        outcome.tried.push_back({"the solved step", h, "a non-finite state"});
+      }
+    }
+    if (!ok) continue;
+    outcome.status = IslandOutcome::Status::kSolved;
+    outcome.model = island_model;
+    outcome.substeps = substeps;
+    outcome.residual = island_residual;
+    // (only sleeping reads it: a step without it pays nothing for the rule)
+    outcome.repeats = !scene.solver.sleep || RepeatsItsStart(island, state, local);
+    for (size_t i = 0; i < island.contacts.size(); ++i) {
+      ContactState& c = local.contacts[i];
+      c.p_n = outcome.impulse[i][0];
+      c.p_t = outcome.impulse[i][1];
+      c.p_o = outcome.impulse[i][2];
+      c.p_r = outcome.impulse[i][3];
+    }
+    return;
+  }
+}
+
+// The awake islands in the order the threads take them: by index on one thread, else the
+// dearest (most contacts and bodies) first, so that no thread is left with a large one at the end
+void OrderAwake(const std::vector<Island>& islands, const SleepPlan& sleep, int threads,
+                std::vector<int>& awake) {
+  awake.clear();
+  for (size_t i = 0; i < islands.size(); ++i) {
+    if (!sleep.sleeps[i]) awake.push_back(static_cast<int>(i));
+  }
+  if (threads == 1 || awake.size() < 2) return;
+  const auto size = [&](int i) { return islands[i].contacts.size() + islands[i].bodies.size(); };
+  // (ties by index: a total order std::sort keeps without the buffer stable_sort allocates)
+  std::sort(awake.begin(), awake.end(),
+            [&](int a, int b) { return size(a) != size(b) ? size(a) > size(b) : a < b; });
+}
+
+// Solves the awake islands (scratch.awake) on every thread of `workspace` into scratch.solved
+// and scratch.outcomes; once one fails, those after it in index order are left (the step fails
+// with the first failing island's record, whichever thread met it). The lambdas capture one
+// pointer, so that std::function holds them without allocating.
+void SolveAwakeIslands(const Scene& scene, const State& state, const WithModel& with_model,
+                       StepWorkspace& workspace, StepScratch& scratch) {
+  struct Job {
+    const Scene& scene;
+    const State& state;
+    const WithModel& with_model;
+    StepScratch& scratch;
+    std::atomic<int> first_failed;
+  } job{scene, state, with_model, scratch, static_cast<int>(scratch.islands.size())};
+  const auto solve = [&job](int i, const ContactModelStepper& model) {
+    IslandOutcome& outcome = job.scratch.outcomes[i];
+    outcome.status = IslandOutcome::Status::kSkipped;
+    if (i > job.first_failed.load(std::memory_order_relaxed)) return;
+    try {
+      SolveIsland(job.scene, job.state, job.scratch.islands[i], model, job.scratch.solved[i],
+                  outcome);
+    } catch (...) {
+      outcome.thrown = std::current_exception();
+      outcome.status = IslandOutcome::Status::kThrew;
+    }
+    if (outcome.status == IslandOutcome::Status::kSolved) return;
+    for (int seen = job.first_failed.load();
+         i < seen && !job.first_failed.compare_exchange_weak(seen, i);) {
+    }
+  };
+  scratch.threads->ForEach(
+      scratch.awake, workspace,
+      [&job, &solve](StepWorkspace& thread_workspace, const IslandThreads::TakeItem& take) {
+        const auto take_and_solve = [&take, &solve](const ContactModelStepper& model) {
+          for (int i; take(i);) solve(i, model);
+        };
+        job.with_model(thread_workspace, take_and_solve);
+      });
+}
+
 }  // namespace
 
-StepReport StepIslands(const Scene& scene, State& state, const ContactModelStepper& model,
+StepReport StepIslands(const Scene& scene, State& state, const WithModel& with_model,
                        StepWorkspace& workspace) {
   StepScratch& scratch = workspace.Part<StepScratch>();
+  // (looked up once: the workspace keeps its parts where they are)
+  if (scratch.threads == nullptr) scratch.threads = &IslandThreadsOf(workspace);
   StepReport report;
   report.converged = true;
   report.models.assign(scene.bodies.size(), StepModel::kKinematic);
@@ -60,6 +199,7 @@ StepReport StepIslands(const Scene& scene, State& state, const ContactModelStepp
   FormIslandsInto(scene, state, scratch.island_scratch, islands);
   std::vector<IslandState>& solved = scratch.solved;
   solved.resize(islands.size());
+  scratch.outcomes.resize(islands.size());
   const SleepPlan& sleep = scratch.sleep;
   PlanSleep(scene, state, islands, scratch.sleep);
   scratch.island_substeps.assign(islands.size(), 1);
@@ -67,6 +207,10 @@ StepReport StepIslands(const Scene& scene, State& state, const ContactModelStepp
   // (a replay repeats its start)
   scratch.island_repeats.assign(islands.size(), true);
 
+  OrderAwake(islands, sleep, scratch.threads->threads(), scratch.awake);
+  SolveAwakeIslands(scene, state, with_model, workspace, scratch);
+
+  // the islands' outcomes in index order: the first that failed fails the step
   for (size_t island_index = 0; island_index < islands.size(); ++island_index) {
     const Island& island = islands[island_index];
     IslandState& local = solved[island_index];
@@ -83,83 +227,37 @@ StepReport StepIslands(const Scene& scene, State& state, const ContactModelStepp
       report.sleeping_bodies += static_cast<int>(island.bodies.size());
       continue;
     }
-    std::vector<FailedAttempt> tried;
-    double residual = 0;
-    bool island_solved = false;
-    // the sub-step ladder with the model's usual effort; only where that fails at every length,
-    // again with its last resort (if it has one), so that what the usual effort solves stays as
-    // it was
-    const int attempts = (model.HasLastResort() ? 2 : 1) * kLadderLength;
-    for (int attempt = 0; attempt < attempts && !island_solved; ++attempt) {
-      const Effort effort = attempt < kLadderLength ? Effort::kUsual : Effort::kLastResort;
-      const int substeps = kSubsteps[attempt % kLadderLength];
-      Gather(island, state, local);
-      const double h = scene.h / substeps;
-      double island_residual = 0;
-      StepModel island_model = StepModel::kFree;
-      bool ok = true;
-      // a contact's impulses are the whole step's: the sub-steps' sum
-      std::vector<Eigen::Vector4d>& impulse = scratch.impulse;
-      impulse.assign(island.contacts.size(), Eigen::Vector4d::Zero());
-      for (int i = 0; i < substeps && ok; ++i) {
-        const AdvanceResult result = model.Advance(island, state.t + i * h, h, local, effort);
-        for (size_t k = 0; k < island.contacts.size(); ++k) {
-          const ContactState& c = local.contacts[k];
-          impulse[k] += Eigen::Vector4d(c.p_n, c.p_t, c.p_o, c.p_r);
-        }
-        report.iterations += result.iterations;
-        report.retries += result.retries;
-        residual = result.residual;
-        island_residual = std::max(island_residual, result.residual);
-        island_model = std::max(island_model, result.model);
-        tried.insert(tried.end(), result.tried.begin(), result.tried.end());
-        ok = result.solved;
-        // a solved step can still overflow (e.g. the explicit gyroscopic term feeding a fast
-        // spin, engine/README.md): such a state is never committed
-        if (ok && !std::all_of(local.bodies.begin(), local.bodies.end(),
-                               [](const BodyState& b) { return IsFinite(b); })) {
-          ok = false;
-          residual = INFINITY;
-          tried.push_back({"the solved step", h, "a non-finite state"});
-        }
-      }
-      if (!ok) continue;
-      for (int b : island.bodies) report.models[b] = island_model;
-      // the hull model over parts says so
-      if (island_model == StepModel::kHull) {
-        for (int k : island.contacts) {
-          const ContactPair& pair = scene.contacts[k];
-          if (pair.part >= 0) report.models[pair.body] = StepModel::kParts;
-          if (pair.other_part >= 0 && !scene.bodies[pair.other_body].IsKinematic())
-            report.models[pair.other_body] = StepModel::kParts;
-        }
-      }
-      scratch.island_substeps[island_index] = substeps;
-      scratch.island_residuals[island_index] = island_residual;
-      // (only sleeping reads it: a step without it pays nothing for the rule)
-      if (scene.solver.sleep)
-        scratch.island_repeats[island_index] = RepeatsItsStart(island, state, local);
-      for (size_t i = 0; i < island.contacts.size(); ++i) {
-        ContactState& c = local.contacts[i];
-        c.p_n = impulse[i][0];
-        c.p_t = impulse[i][1];
-        c.p_o = impulse[i][2];
-        c.p_r = impulse[i][3];
-      }
-      report.substeps = std::max(report.substeps, substeps);
-      report.residual = std::max(report.residual, island_residual);
-      island_solved = true;
-    }
-    if (!island_solved) {
+    IslandOutcome& outcome = scratch.outcomes[island_index];
+    if (outcome.status == IslandOutcome::Status::kThrew)
+      std::rethrow_exception(std::exchange(outcome.thrown, nullptr));
+    // (a skipped island comes after a failed one)
+    if (outcome.status != IslandOutcome::Status::kSolved) {
       StepFailure failure;
       failure.model = ContactModelName(scene.model);
       failure.t = state.t;
       for (int b : island.bodies) failure.bodies.push_back(scene.bodies[b].name);
-      failure.residual = residual;
+      failure.residual = outcome.residual;
       failure.tolerance = scene.solver.tolerance;
-      failure.tried = std::move(tried);
+      failure.tried = std::move(outcome.tried);
       throw SolverFailure(std::move(failure));
     }
+    report.iterations += outcome.iterations;
+    report.retries += outcome.retries;
+    for (int b : island.bodies) report.models[b] = outcome.model;
+    // the hull model over parts says so
+    if (outcome.model == StepModel::kHull) {
+      for (int k : island.contacts) {
+        const ContactPair& pair = scene.contacts[k];
+        if (pair.part >= 0) report.models[pair.body] = StepModel::kParts;
+        if (pair.other_part >= 0 && !scene.bodies[pair.other_body].IsKinematic())
+          report.models[pair.other_body] = StepModel::kParts;
+      }
+    }
+    scratch.island_substeps[island_index] = outcome.substeps;
+    scratch.island_residuals[island_index] = outcome.residual;
+    scratch.island_repeats[island_index] = outcome.repeats;
+    report.substeps = std::max(report.substeps, outcome.substeps);
+    report.residual = std::max(report.residual, outcome.residual);
   }
 
   // kinematic bodies: the prescribed pose at the step's end (never a sum of c + h v, which

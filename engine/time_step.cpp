@@ -7,11 +7,13 @@
 namespace ecpsim::engine {
 
 StepReport Step(const Scene& scene, State& state, StepWorkspace& workspace) {
-  StepReport report;
-  UseContactModel(scene, workspace, [&](const ContactModelStepper& model) {
-    report = StepIslands(scene, state, model, workspace);
-  });
-  return report;
+  return StepIslands(
+      scene, state,
+      [&](StepWorkspace& thread_workspace,
+          const std::function<void(const ContactModelStepper&)>& use) {
+        UseContactModel(scene, thread_workspace, use);
+      },
+      workspace);
 }
 
 StepReport Step(const Scene& scene, State& state) {

@@ -90,7 +90,12 @@ class State:
 class Simulation:
     """One simulation of a Scene, stepped from Python; step() and render() release the GIL."""
 
-    def __init__(self, scene: Scene) -> None: ...
+    def __init__(self, scene: Scene, *, threads: int = 1) -> None:
+        """threads: how many threads solve a step's contact islands (the same result for any)."""
+    @property
+    def threads(self) -> int: ...
+    @threads.setter
+    def threads(self, threads: int) -> None: ...
     def step(self, n: int = 1) -> None:
         """n steps; last_report then holds the last one's {converged, iterations, residual, ...}."""
     def reset(self) -> None: ...

@@ -431,9 +431,25 @@ PYBIND11_MODULE(ecpsim, m) {
       "One simulation of a Scene, stepped from Python (MuJoCo's MjData with mj_step). Per-body "
       "arrays follow body_names; quaternions are (w, x, y, z) as in trajectory.csv. step() and "
       "render() release the GIL: separate Simulations run in parallel threads.");
-  sim.def(py::init(
-              [](SceneHandle scene) { return std::make_unique<PySimulation>(std::move(scene)); }),
-          py::arg("scene"), "Starts at the scene's initial state.")
+  sim.def(py::init([](SceneHandle scene, int threads) {
+            auto made = std::make_unique<PySimulation>(std::move(scene));
+            made->sim.SetThreads(threads);
+            return made;
+          }),
+          py::arg("scene"), py::kw_only(), py::arg("threads") = 1,
+          "Starts at the scene's initial state. `threads`: how many threads solve a step's "
+          "contact islands side by side; the result is the same, bit for bit, for any number.")
+      .def_property(
+          "threads",
+          [](PySimulation& self) {
+            const std::lock_guard<std::mutex> lock(self.mutex);
+            return self.sim.threads();
+          },
+          [](PySimulation& self, int threads) {
+            const std::lock_guard<std::mutex> lock(self.mutex);
+            self.sim.SetThreads(threads);
+          },
+          "Threads that solve a step's contact islands (the result is the same for any number).")
       .def(
           "step",
           [](PySimulation& self, std::int64_t n) {

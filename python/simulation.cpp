@@ -133,6 +133,10 @@ void Simulation::StepOnce() {
   }
 }
 
+void Simulation::SetThreads(int threads) {
+  engine::IslandThreadsOf(workspace_).SetThreads(threads);
+}
+
 void Simulation::Reset() {
   // everything the setters change in scene_: kinematic motions, masses, inertias (bodies),
   // friction (contacts), grippers' motions and forces

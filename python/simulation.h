@@ -12,6 +12,7 @@
 
 #include <Eigen/Core>
 
+#include "engine/island_threads.h"
 #include "engine/kinematic_motion.h"
 #include "engine/scene.h"
 #include "engine/state.h"
@@ -33,6 +34,12 @@ class Simulation {
   ///         is then the one after the last step that succeeded, and wrenches not yet applied
   ///         stay pending.
   engine::StepReport Step(std::int64_t n);
+
+  /// Solve each step's islands on `threads` threads (engine/island_threads.h; 1 at first): the
+  /// result is the same, bit for bit, for any number.
+  /// @throws InputError for threads < 1.
+  void SetThreads(int threads);
+  int threads() { return engine::IslandThreadsOf(workspace_).threads(); }
 
   /// Back to the initial state; pending wrenches dropped, kinematic targets undone, and the
   /// masses, inertias and friction of SetMass, SetInertia and SetFriction restored to the scene's.

@@ -56,6 +56,13 @@ class SubstepModel final : public ContactModelStepper {
   double largest_h_;
 };
 
+// the one stepper `model` for every thread (the tests' models are used on one)
+WithModel Using(const ContactModelStepper& model) {
+  return [&model](StepWorkspace&, const std::function<void(const ContactModelStepper&)>& use) {
+    use(model);
+  };
+}
+
 Scene TwoBoxes() {
   Body a = MakeBoxBody(Vector3d(0.1, 0.1, 0.1), 1);
   a.name = "easy";
@@ -83,7 +90,7 @@ TEST(StepIslandsTest, AnIslandThatFailsAtHIsSteppedInTheFirstSubstepsThatSolve) 
   StepWorkspace workspace;
   // solvable at h/4 only: the ladder tries h, then 2 × h/2 (the first fails), then 4 × h/4
   const SubstepModel model(scene, scene.h / 4);
-  const StepReport report = StepIslands(scene, state, model, workspace);
+  const StepReport report = StepIslands(scene, state, Using(model), workspace);
   EXPECT_EQ(report.substeps, 4);
   EXPECT_EQ(report.retries, 2);
   EXPECT_EQ(model.calls, 1 + 1 + 1 + 4);
@@ -104,7 +111,7 @@ TEST(StepIslandsTest, AnIslandThatNeverSolvesNamesTimeBodyAndWhatWasTriedAndLeav
   StepWorkspace workspace;
   const State before = state;
   const SubstepModel model(scene, scene.h / 100);  // below the ladder's last rung, h/16
-  EXPECT_THAT([&] { StepIslands(scene, state, model, workspace); },
+  EXPECT_THAT([&] { StepIslands(scene, state, Using(model), workspace); },
               ::testing::ThrowsMessage<SolverFailure>(
                   AllOf(HasSubstr("planar model: solver failed at t = 0 s on body 'stubborn': "
                                   "residual 0.5 > tolerance 1e-12"),
@@ -113,7 +120,7 @@ TEST(StepIslandsTest, AnIslandThatNeverSolvesNamesTimeBodyAndWhatWasTriedAndLeav
                                   "refused"))));
   // the same as a record: each rung's first sub-step refused
   try {
-    StepIslands(scene, state, model, workspace);
+    StepIslands(scene, state, Using(model), workspace);
     ADD_FAILURE() << "no SolverFailure";
   } catch (const SolverFailure& failure) {
     const StepFailure* record = failure.step_failure();
@@ -153,7 +160,7 @@ TEST(StepIslandsTest, TheLastResortRunsOnlyWhereEverySubstepLengthFailed) {
   // h/16 first (each length stops at its first failure), then the last resort fails at h and
   // solves both halves; the easy body is solved by Advance at h
   const LastResortModel model(scene, scene.h / 2);
-  const StepReport report = StepIslands(scene, state, model, workspace);
+  const StepReport report = StepIslands(scene, state, Using(model), workspace);
   EXPECT_EQ(model.advance_.calls, 1 + 4);
   EXPECT_EQ(model.last_resort_.calls, 1 + 2);
   EXPECT_EQ(report.substeps, 2);
@@ -167,7 +174,7 @@ TEST(StepIslandsTest, AModelWithoutALastResortFailsAfterTheLadder) {
   State state = InitialState(scene);
   StepWorkspace workspace;
   const SubstepModel model(scene, scene.h / 100);
-  EXPECT_THROW(StepIslands(scene, state, model, workspace), SolverFailure);
+  EXPECT_THROW(StepIslands(scene, state, Using(model), workspace), SolverFailure);
   EXPECT_EQ(model.calls, 1 + 4);  // the easy body, then h, h/2, h/4, h/16 for the stubborn one
 }
 
@@ -183,7 +190,7 @@ TEST(StepIslandsTest, TheHullModelThroughTheDriverIsTheStep) {
   StepWorkspace workspace;
   const HullModel hull(scene, workspace);
   for (int i = 0; i < 40; ++i) {
-    StepIslands(scene, a, hull, workspace);
+    StepIslands(scene, a, Using(hull), workspace);
     Step(scene, b);
     ASSERT_EQ(a.bodies[0].p_WB, b.bodies[0].p_WB);
     ASSERT_EQ(a.bodies[0].Q_WB.coeffs(), b.bodies[0].Q_WB.coeffs());

@@ -4,6 +4,7 @@ thread, also for scenes whose muparser load expressions the copies share."""
 import threading
 
 import numpy as np
+import pytest
 
 import ecpsim
 
@@ -51,3 +52,33 @@ def test_one_simulation_shared_by_threads_steps_one_at_a_time(scenes):
     for t in threads:
         t.join()
     assert sim.steps == 20
+
+
+def test_islands_on_threads_match_one_thread(scenes):
+    # the dominoes: nine blocks, each an island until the one before it falls on it; solved on
+    # one, two and three threads (a third thread waits its turn for one of the two cores)
+    scene = ecpsim.load_scene(str(scenes / "dominoes.yaml"))
+    sims = [ecpsim.Simulation(scene, threads=n) for n in (1, 2, 3)]
+    for sim, n in zip(sims, (1, 2, 3)):
+        assert sim.threads == n
+        sim.step(STEPS)
+    for sim in sims[1:]:
+        np.testing.assert_array_equal(sim.positions, sims[0].positions)
+        np.testing.assert_array_equal(sim.quaternions, sims[0].quaternions)
+        np.testing.assert_array_equal(sim.get_state().velocities, sims[0].get_state().velocities)
+    # changed between steps, as ever the same steps
+    sims[0].threads = 2
+    sims[1].threads = 1
+    sims[0].step(5)
+    sims[1].step(5)
+    np.testing.assert_array_equal(sims[0].positions, sims[1].positions)
+
+
+def test_threads_below_one_are_refused(scenes):
+    scene = ecpsim.load_scene(str(scenes / "slide.yaml"))
+    with pytest.raises(ecpsim.InputError, match="threads = 0: expected"):
+        ecpsim.Simulation(scene, threads=0)
+    sim = ecpsim.Simulation(scene)
+    with pytest.raises(ecpsim.InputError, match="threads = -2"):
+        sim.threads = -2
+    assert sim.threads == 1
