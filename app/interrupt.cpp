@@ -14,6 +14,7 @@ namespace {
 // written by the handler, read by the run loop: a lock-free atomic is async-signal-safe
 std::atomic<int> received_signal{0};
 static_assert(std::atomic<int>::is_always_lock_free);
+CancelFlag interrupt_flag;  // (lock-free too)
 
 bool guard_alive = false;
 struct sigaction previous_int, previous_term;
@@ -21,6 +22,7 @@ struct sigaction previous_int, previous_term;
 void RecordSignal(int signal) {
   int none = 0;
   received_signal.compare_exchange_strong(none, signal);  // the first signal is the one kept
+  interrupt_flag.Raise();
 }
 
 // installs RecordSignal for `signal` unless it is ignored; keeps the old action in `previous`
@@ -41,6 +43,7 @@ InterruptGuard::InterruptGuard() {
   ECPSIM_DEMAND(!guard_alive);
   guard_alive = true;
   received_signal = 0;
+  interrupt_flag.Clear();
   Install(SIGINT, previous_int);
   Install(SIGTERM, previous_term);
 }
@@ -52,6 +55,8 @@ InterruptGuard::~InterruptGuard() {
 }
 
 int InterruptSignal() { return received_signal.load(); }
+
+const CancelFlag& InterruptFlag() { return interrupt_flag; }
 
 std::string SignalName(int signal) {
   if (signal == SIGINT) return "SIGINT";

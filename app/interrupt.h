@@ -1,19 +1,24 @@
 #pragma once
-// Ctrl-C (SIGINT) and SIGTERM during `ecpsim run` and `ecpsim drop`: the run finishes the step in
-// progress and writes complete, consistent outputs instead of dying halfway through a file.
+// Ctrl-C (SIGINT) and SIGTERM during `ecpsim run` and `ecpsim drop`: the run stops the step in
+// progress, leaving it undone, and writes complete, consistent outputs instead of dying halfway
+// through a file.
 
 #include <stdexcept>
 #include <string>
 
+#include "common/cancel_flag.h"
+
 namespace ecpsim::app {
 
 /// While an InterruptGuard lives, SIGINT and SIGTERM only record that they arrived
-/// (InterruptSignal()); the run loop asks between steps. Signals ignored when the guard is made
-/// (a background job of a non-interactive shell, nohup) stay ignored. Once one signal has
-/// arrived, more are ignored: the outputs being finished take milliseconds (plus the encoder's
-/// flush of a video), and stopping in the middle would leave them inconsistent (SIGKILL still
-/// stops the process, leaving temporary files that the next run removes: PrepareOutputFolder).
-/// The destructor puts back the handlers there were before. One guard at a time.
+/// (InterruptSignal()) and raise InterruptFlag(); the run loop asks between steps, and a step in
+/// progress stops within a solver iteration (engine::StopStepsOn) with the state as it was. Signals
+/// ignored when the guard is made (a background job of a non-interactive shell, nohup) stay
+/// ignored. Once one signal has arrived, more are ignored: the outputs being finished take
+/// milliseconds (plus the encoder's flush of a video), and stopping in the middle would leave them
+/// inconsistent (SIGKILL still stops the process, leaving temporary files that the next run
+/// removes: PrepareOutputFolder). The destructor puts back the handlers there were before. One
+/// guard at a time.
 class InterruptGuard {
  public:
   InterruptGuard();
@@ -24,6 +29,9 @@ class InterruptGuard {
 
 /// The first signal (SIGINT or SIGTERM) that arrived under the current InterruptGuard, 0 if none.
 int InterruptSignal();
+
+/// Raised with InterruptSignal() becoming non-zero; cleared by each InterruptGuard made.
+const CancelFlag& InterruptFlag();
 
 /// "SIGINT", "SIGTERM", else "signal N".
 std::string SignalName(int signal);

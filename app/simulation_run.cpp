@@ -142,8 +142,9 @@ RunSummary RunSimulation(const engine::LoadedScene& loaded, const std::string& o
     }
     engine::StepWorkspace workspace;
     engine::IslandThreadsOf(workspace).SetThreads(setup.threads);
+    engine::StopStepsOn(workspace, &InterruptFlag());
     for (long k = totals.steps + 1; k <= summary.planned_steps; ++k) {
-      // a signal stops the run between steps (app/interrupt.h)
+      // a signal stops the run between steps, or in one (app/interrupt.h)
       if (const int signal = InterruptSignal(); signal != 0) {
         summary.interrupt_signal = signal;
         break;
@@ -151,6 +152,10 @@ RunSummary RunSimulation(const engine::LoadedScene& loaded, const std::string& o
       const Clock::time_point before = Clock::now();
       try {
         report = engine::Step(scene, state, workspace);
+      } catch (const Cancelled&) {
+        // a signal stopped the step in progress: the state is the last step's, as between steps
+        summary.interrupt_signal = InterruptSignal();
+        break;
       } catch (...) {
         stopped_in_step = true;
         throw;

@@ -80,10 +80,12 @@ void RemoveCheckpoint(const std::string& out_dir);
 /// A run that stops early (interrupt, or an exception from engine::Step) also writes
 /// checkpoint.json (app/checkpoint.h): the exact state after its last step, for a resume; a run
 /// that reaches the end removes the folder's checkpoint.json (unless setup.keep_checkpoint).
-/// Under an InterruptGuard (app/interrupt.h), a SIGINT or SIGTERM stops the run after the step in
-/// progress: the trajectory then ends with the row of that step (whatever output.every says, as
-/// after a solver failure), summary.json has `"interrupted": true`, `"signal"` and the steps
-/// done, and the summary returned names the signal (interrupt_signal); no exception.
+/// Under an InterruptGuard (app/interrupt.h), a SIGINT or SIGTERM stops the run within the step
+/// in progress, which is left undone (within one solver iteration: a step of minutes does not
+/// hold the signal up): the trajectory then ends with the row of the last step done (whatever
+/// output.every says, as after a solver failure), summary.json has `"interrupted": true`,
+/// `"signal"` and the steps done, and the summary returned names the signal (interrupt_signal);
+/// no exception.
 /// @throws engine::SolverFailure (after writing the files) when a step cannot be solved or
 ///         the state stops being finite; InputError, before any step, if `out_dir` cannot be
 ///         written, something other than a regular file is at one of the paths, the run would

@@ -10,6 +10,7 @@
 #include "engine/island_sleep.h"
 #include "engine/island_threads.h"
 #include "engine/islands.h"
+#include "engine/solver/complementarity_solver.h"
 
 namespace ecpsim::engine {
 namespace {
@@ -54,8 +55,9 @@ struct StepScratch {
   std::vector<char> island_repeats;
   // the bodies at the step's end
   std::vector<BodyState> next_bodies;
-  // the workspace's threads (its other part)
+  // the workspace's threads and solver storage (its other parts)
   IslandThreads* threads = nullptr;
+  McpWorkspace* solver = nullptr;
 };
 
 // the island's part of `state` copied into `local` (over its last contents, reusing them)
@@ -73,12 +75,14 @@ void Gather(const Island& island, const State& state, IslandState& local) {
 // that what the usual effort solves stays as it was. Reads `state`, writes only `local` and
 // `outcome`: islands on several threads at once.
 void SolveIsland(const Scene& scene, const State& state, const Island& island,
-                 const ContactModelStepper& model, IslandState& local, IslandOutcome& outcome) {
+                 const ContactModelStepper& model, const CancelFlag* cancel, IslandState& local,
+                 IslandOutcome& outcome) {
   outcome.status = IslandOutcome::Status::kFailed;
   outcome.iterations = outcome.retries = 0;
   outcome.tried.clear();
   const int attempts = (model.HasLastResort() ? 2 : 1) * kLadderLength;
   for (int attempt = 0; attempt < attempts; ++attempt) {
+    ThrowIfCancelled(cancel, "the step");
     const Effort effort = attempt < kLadderLength ? Effort::kUsual : Effort::kLastResort;
     const int substeps = kSubsteps[attempt % kLadderLength];
     Gather(island, state, local);
@@ -153,16 +157,24 @@ void SolveAwakeIslands(const Scene& scene, const State& state, const WithModel& 
     const Scene& scene;
     const State& state;
     const WithModel& with_model;
+    const StepWorkspace& caller;
     StepScratch& scratch;
+    const CancelFlag* cancel;
     std::atomic<int> first_failed;
-  } job{scene, state, with_model, scratch, static_cast<int>(scratch.islands.size())};
+  } job{scene,
+        state,
+        with_model,
+        workspace,
+        scratch,
+        scratch.solver->cancel(),
+        static_cast<int>(scratch.islands.size())};
   const auto solve = [&job](int i, const ContactModelStepper& model) {
     IslandOutcome& outcome = job.scratch.outcomes[i];
     outcome.status = IslandOutcome::Status::kSkipped;
     if (i > job.first_failed.load(std::memory_order_relaxed)) return;
     try {
-      SolveIsland(job.scene, job.state, job.scratch.islands[i], model, job.scratch.solved[i],
-                  outcome);
+      SolveIsland(job.scene, job.state, job.scratch.islands[i], model, job.cancel,
+                  job.scratch.solved[i], outcome);
     } catch (...) {
       outcome.thrown = std::current_exception();
       outcome.status = IslandOutcome::Status::kThrew;
@@ -175,6 +187,9 @@ void SolveAwakeIslands(const Scene& scene, const State& state, const WithModel& 
   scratch.threads->ForEach(
       scratch.awake, workspace,
       [&job, &solve](StepWorkspace& thread_workspace, const IslandThreads::TakeItem& take) {
+        // (the caller's own workspace already watches the flag)
+        if (&thread_workspace != &job.caller)
+          thread_workspace.Part<McpWorkspace>().StopOn(job.cancel);
         const auto take_and_solve = [&take, &solve](const ContactModelStepper& model) {
           for (int i; take(i);) solve(i, model);
         };
@@ -188,7 +203,10 @@ StepReport StepIslands(const Scene& scene, State& state, const WithModel& with_m
                        StepWorkspace& workspace) {
   StepScratch& scratch = workspace.Part<StepScratch>();
   // (looked up once: the workspace keeps its parts where they are)
-  if (scratch.threads == nullptr) scratch.threads = &IslandThreadsOf(workspace);
+  if (scratch.threads == nullptr) {
+    scratch.threads = &IslandThreadsOf(workspace);
+    scratch.solver = &workspace.Part<McpWorkspace>();
+  }
   StepReport report;
   report.converged = true;
   report.models.assign(scene.bodies.size(), StepModel::kKinematic);

@@ -2,6 +2,7 @@
 
 #include "engine/contact_model.h"
 #include "engine/models/model_selection.h"
+#include "engine/solver/complementarity_solver.h"
 #include "engine/step_driver.h"
 
 namespace ecpsim::engine {
@@ -14,6 +15,10 @@ StepReport Step(const Scene& scene, State& state, StepWorkspace& workspace) {
         UseContactModel(scene, thread_workspace, use);
       },
       workspace);
+}
+
+void StopStepsOn(StepWorkspace& workspace, const CancelFlag* flag) {
+  workspace.Part<McpWorkspace>().StopOn(flag);
 }
 
 StepReport Step(const Scene& scene, State& state) {

@@ -9,13 +9,13 @@
 
 #include <fmt/format.h>
 
-#include "common/cpu_clock.h"
 #include "common/errors.h"
 #include "engine/report/penetration.h"
 #include "engine/scene_io/scene_yaml.h"
 #include "engine/state.h"
 #include "engine/step_report.h"
 #include "engine/time_step.h"
+#include "evaluation/cpu_budget.h"
 #include "evaluation/csv_file.h"
 #include "evaluation/seeded_random.h"
 #include "geometry/convex_shape.h"
@@ -335,18 +335,27 @@ DropRow RunDropCase(const DropCase& c, const UnitMesh& unit, const std::string& 
     const double energy0 = Energy(scene, state.bodies[0]);
     const long steps = std::lround(scene.duration / scene.h);
     engine::StepWorkspace workspace;
+    // the limit stops a step of minutes within a solver iteration of it
+    CpuBudget budget(cpu_limit_s);
+    engine::StopStepsOn(workspace, budget.flag());
+    const auto limit_reached = [&] {
+      row.outcome = DropOutcome::kCpuLimit;
+      row.message = fmt::format("CPU limit of {} s reached at t = {} s", cpu_limit_s, state.t);
+    };
     for (long k = 1; k <= steps; ++k) {
-      const double start = ThreadCpuSeconds();
       engine::StepReport report;
+      CpuBudget::Outcome charged = CpuBudget::Outcome::kWithin;
+      const double used_before = budget.used_s();
       try {
-        report = engine::Step(scene, state, workspace);
+        charged = budget.Charge([&] { report = engine::Step(scene, state, workspace); });
       } catch (const engine::SolverFailure& failure) {
         row.outcome = DropOutcome::kSolverFailure;
         row.message = failure.what();
       }
-      const double cpu = ThreadCpuSeconds() - start;
-      row.cpu_s += cpu;
-      row.max_step_cpu_s = std::max(row.max_step_cpu_s, cpu);
+      row.cpu_s = budget.used_s();
+      row.max_step_cpu_s = std::max(row.max_step_cpu_s, budget.used_s() - used_before);
+      // (a step the limit stopped is undone: the state is the last step's)
+      if (charged == CpuBudget::Outcome::kStopped) limit_reached();
       if (row.outcome != DropOutcome::kOk) break;
       const engine::BodyState& b = state.bodies[0];
       if (!engine::IsFinite(b)) {
@@ -363,9 +372,8 @@ DropRow RunDropCase(const DropCase& c, const UnitMesh& unit, const std::string& 
       row.energy_gain_rel =
           std::max(row.energy_gain_rel, (Energy(scene, b) - energy0) / energy_scale);
       row.final_speed_rel = (b.v_WB.norm() + size * b.w_WB.norm()) / std::sqrt(g * size);
-      if (row.cpu_s > cpu_limit_s) {
-        row.outcome = DropOutcome::kCpuLimit;
-        row.message = fmt::format("CPU limit of {} s reached at t = {} s", cpu_limit_s, state.t);
+      if (charged == CpuBudget::Outcome::kSpent) {
+        limit_reached();
         break;
       }
     }

@@ -22,6 +22,7 @@ class EcpsimStepper final : public Stepper {
     state_ = engine::InitialState(scene_);
   }
   void Step() override { iterations_ = engine::Step(scene_, state_, workspace_).iterations; }
+  void StopOn(const CancelFlag* flag) override { engine::StopStepsOn(workspace_, flag); }
   const engine::State& state() const override { return state_; }
   int iterations() const override { return iterations_; }
   Eigen::Vector3d ContactForce(int body, int other) const override {
@@ -52,6 +53,7 @@ class ExternalStepper final : public Stepper {
   ExternalStepper(const Method& method, const engine::Scene& scene)
       : simulation_(baselines::MakeExternalSimulation(method.engine, method.setting, scene)) {}
   void Step() override { simulation_->Step(); }
+  void StopOn(const CancelFlag*) override {}
   const engine::State& state() const override { return simulation_->state(); }
   int iterations() const override { return 0; }
   Eigen::Vector3d ContactForce(int body, int other) const override {

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "baselines/external_simulation.h"
+#include "common/cancel_flag.h"
 #include "engine/scene.h"
 #include "engine/state.h"
 
@@ -34,8 +35,12 @@ Method FindMethod(const std::string& name);
 class Stepper {
  public:
   virtual ~Stepper() = default;
-  /// Advances by the scene's h. @throws engine::SolverFailure or engine::ModelInvalid.
+  /// Advances by the scene's h. @throws engine::SolverFailure or engine::ModelInvalid; Cancelled
+  /// (the state unchanged) once the flag of StopOn is raised.
   virtual void Step() = 0;
+  /// Steps stop within a solver iteration once `flag` is raised (ecpsim's; an external engine's
+  /// step, a few milliseconds at most, runs to its end).
+  virtual void StopOn(const CancelFlag* flag) = 0;
   virtual const engine::State& state() const = 0;
   /// Iterations of the last step (Newton iterations, Lemke pivots; 0 for external engines).
   virtual int iterations() const = 0;

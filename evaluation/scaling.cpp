@@ -14,6 +14,7 @@
 #include "common/memory_usage.h"
 #include "common/reservoir_median.h"
 #include "engine/state.h"
+#include "evaluation/cpu_budget.h"
 #include "evaluation/csv_file.h"
 
 namespace ecpsim::evaluation {
@@ -58,19 +59,20 @@ void Measure(const Method& method, int bodies, const ScalingOptions& options, Me
   LimitAddressSpace(options.memory_limit_bytes);
   out.rss_start = ReadMemoryUsage().resident_bytes;
   const std::unique_ptr<Stepper> stepper = MakeStepper(method, MakeStackGrid(bodies));
-  double cpu_used = 0;
-  const auto charge = [&](double cpu_seconds) {
-    cpu_used += cpu_seconds;
-    if (cpu_used > options.cpu_limit_s) {
+  // the limit stops a step of minutes within a solver iteration of it
+  CpuBudget budget(options.cpu_limit_s);
+  stepper->StopOn(budget.flag());
+  const auto charge = [&](const auto& steps) {
+    if (budget.Charge(steps) != CpuBudget::Outcome::kWithin) {
       throw std::runtime_error(
           fmt::format("CPU limit of {} s reached after {} steps", options.cpu_limit_s, out.steps));
     }
   };
   const auto step = [&] {
-    const double start = ThreadCpuSeconds();
-    stepper->Step();
-    ++out.steps;
-    charge(ThreadCpuSeconds() - start);
+    charge([&] {
+      stepper->Step();
+      ++out.steps;
+    });
   };
   const auto check_finite = [&] {
     for (const engine::BodyState& b : stepper->state().bodies) {
@@ -83,12 +85,12 @@ void Measure(const Method& method, int bodies, const ScalingOptions& options, Me
   // the blocks' per-step times; the clocks read once per block, outside the step
   ReservoirMedian cpu, wall;
   for (int r = 0; r < options.repeats; ++r) {
-    const double cpu_start = ThreadCpuSeconds(), wall_start = WallSeconds();
-    for (int k = 0; k < options.steps_per_repeat; ++k) stepper->Step(), ++out.steps;
-    const double cpu_block = ThreadCpuSeconds() - cpu_start;
-    wall.Add((WallSeconds() - wall_start) / options.steps_per_repeat);
-    cpu.Add(cpu_block / options.steps_per_repeat);
-    charge(cpu_block);
+    charge([&] {
+      const double cpu_start = ThreadCpuSeconds(), wall_start = WallSeconds();
+      for (int k = 0; k < options.steps_per_repeat; ++k) stepper->Step(), ++out.steps;
+      cpu.Add((ThreadCpuSeconds() - cpu_start) / options.steps_per_repeat);
+      wall.Add((WallSeconds() - wall_start) / options.steps_per_repeat);
+    });
   }
   check_finite();
   out.cpu_per_step = cpu.Median();

@@ -6,10 +6,10 @@
 
 #include <fmt/format.h>
 
-#include "common/cpu_clock.h"
 #include "common/errors.h"
 #include "engine/report/penetration.h"
 #include "engine/step_report.h"
+#include "evaluation/cpu_budget.h"
 #include "geometry/convex_shape.h"
 
 namespace ecpsim::evaluation {
@@ -159,10 +159,17 @@ RunRecord RunTrajectory(const Method& method, const Scenario& scenario, double h
       Speed(stepper->state().bodies[measured], scenario.length) >= kStopSpeed ? 0 : -1;
   engine::BodyState late_start;
   long iterations_sum = 0;
+  // the limit stops a step of minutes within a solver iteration of it
+  CpuBudget budget(cpu_limit_s);
+  stepper->StopOn(budget.flag());
+  const auto limit_reached = [&](double t) {
+    run.failed = true;
+    run.failure = fmt::format("CPU limit of {} s reached at t = {} s", cpu_limit_s, t);
+  };
   for (long k = 1; k <= steps; ++k) {
-    const double start = ThreadCpuSeconds();
+    CpuBudget::Outcome charged = CpuBudget::Outcome::kWithin;
     try {
-      stepper->Step();
+      charged = budget.Charge([&] { stepper->Step(); });
     } catch (const engine::SolverFailure& failure) {
       run.failed = true;
       run.failure = failure.what();
@@ -170,8 +177,13 @@ RunRecord RunTrajectory(const Method& method, const Scenario& scenario, double h
       run.failed = true;
       run.failure = invalid.what();
     }
-    run.cpu_seconds += ThreadCpuSeconds() - start;
+    run.cpu_seconds = budget.used_s();
     if (run.failed) break;
+    // (a step the limit stopped is undone: the state is the last step's)
+    if (charged == CpuBudget::Outcome::kStopped) {
+      limit_reached(stepper->state().t);
+      break;
+    }
     const engine::State& state = stepper->state();
     const engine::BodyState& b = state.bodies[measured];
     if (!engine::IsFinite(b)) {
@@ -204,9 +216,8 @@ RunRecord RunTrajectory(const Method& method, const Scenario& scenario, double h
       run.push_forces.push_back(
           scenario.push_direction.dot(stepper->ContactForce(measured, scenario.pusher)));
     }
-    if (run.cpu_seconds > cpu_limit_s) {
-      run.failed = true;
-      run.failure = fmt::format("CPU limit of {} s reached at t = {} s", cpu_limit_s, state.t);
+    if (charged == CpuBudget::Outcome::kSpent) {
+      limit_reached(state.t);
       break;
     }
   }

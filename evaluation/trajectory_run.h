@@ -55,7 +55,9 @@ struct RunRecord {
 };
 
 /// Runs `method` on `scenario` with step h until scenario.scene.duration.
-/// Stops early (failed, "CPU limit …") when the steps take more than `cpu_limit_s` CPU seconds. A
+/// Stops early (failed, "CPU limit …") when the steps take more than `cpu_limit_s` CPU seconds,
+/// within the step that reaches it for ecpsim's methods (CpuBudget; the state is then the last
+/// step's). A
 /// peer that cannot build its model of the scene (engine::SolverFailure from its adapter: MuJoCo's
 /// data too large to allocate) is a failed run of no steps.
 /// @throws InputError if h does not divide the sample interval (to 1e-9 relative), the scene with

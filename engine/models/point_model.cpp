@@ -319,7 +319,9 @@ class PointIslandStepper {
         // in place: on a disc of 49 points M is 490 × 490
         M.array().colwise() *= row_scale.array();
         M.array().rowwise() *= column_scale.transpose().array();
-        LcpResult lcp = SolveLcpLemke(M, row_scale.cwiseProduct(q));
+        LemkeOptions lemke;
+        lemke.cancel = solver_workspace_.cancel();
+        LcpResult lcp = SolveLcpLemke(M, row_scale.cwiseProduct(q), lemke);
         result.iterations += lcp.pivots;
         if (lcp.status != LcpStatus::kSolved) {
           // Lemke's pivoting can end on a ray of a degenerate LCP (coplanar resting points, in

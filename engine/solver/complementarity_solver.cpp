@@ -443,7 +443,8 @@ McpResult SolveMcpWith(const std::function<void(const Eigen::VectorXd&, Eigen::V
                                                 typename Algebra::Matrix*)>& f,
                        int num_free, const Eigen::VectorXd& row_scale,
                        const Eigen::VectorXd& var_scale, Eigen::VectorXd& z,
-                       const McpOptions& options, WorkspaceLease<Algebra>& lease) {
+                       const McpOptions& options, WorkspaceLease<Algebra>& lease,
+                       const CancelFlag* cancel) {
   using Matrix = typename Algebra::Matrix;
   const int n = static_cast<int>(z.size());
   Workspace<Algebra>& w = lease.Get();
@@ -505,6 +506,7 @@ McpResult SolveMcpWith(const std::function<void(const Eigen::VectorXd&, Eigen::V
       result.converged = true;
       return result;
     }
+    ThrowIfCancelled(cancel, "the complementarity solve");
     result.iterations = iteration;
     const double merit = 0.5 * current.phi.squaredNorm();
     gradient.noalias() = current.H.transpose() * current.phi;
@@ -664,14 +666,14 @@ McpResult SolveMcp(const McpFunction& f, int num_free, const Eigen::VectorXd& ro
                    const Eigen::VectorXd& var_scale, Eigen::VectorXd& z, const McpOptions& options,
                    McpWorkspace& workspace) {
   WorkspaceLease<DenseNewtonAlgebra> lease(static_cast<int>(z.size()), workspace.storage_->dense);
-  return SolveMcpWith(f, num_free, row_scale, var_scale, z, options, lease);
+  return SolveMcpWith(f, num_free, row_scale, var_scale, z, options, lease, workspace.cancel_);
 }
 
 McpResult SolveMcp(const SparseMcpFunction& f, int num_free, const Eigen::VectorXd& row_scale,
                    const Eigen::VectorXd& var_scale, Eigen::VectorXd& z, const McpOptions& options,
                    McpWorkspace& workspace) {
   WorkspaceLease<SparseNewtonAlgebra> lease(static_cast<int>(z.size()), workspace.storage_->sparse);
-  return SolveMcpWith(f, num_free, row_scale, var_scale, z, options, lease);
+  return SolveMcpWith(f, num_free, row_scale, var_scale, z, options, lease, workspace.cancel_);
 }
 
 McpResult SolveMcp(const McpFunction& f, int num_free, const Eigen::VectorXd& row_scale,

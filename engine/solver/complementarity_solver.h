@@ -12,6 +12,8 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
+#include "common/cancel_flag.h"
+
 namespace ecpsim::engine {
 
 /// Find z with F_i(z) = 0 for i < num_free and 0 ≤ z_i ⊥ F_i(z) ≥ 0 for i ≥ num_free.
@@ -120,9 +122,15 @@ class McpWorkspace {
   McpWorkspace(McpWorkspace&&) noexcept;
   McpWorkspace& operator=(McpWorkspace&&) noexcept;
 
+  /// Solves in this workspace throw Cancelled at their next iteration once `flag` is raised
+  /// (null: never; a caller's request to stop, common/cancel_flag.h).
+  void StopOn(const CancelFlag* flag) { cancel_ = flag; }
+  const CancelFlag* cancel() const { return cancel_; }
+
  private:
   struct Storage;
   std::unique_ptr<Storage> storage_;
+  const CancelFlag* cancel_ = nullptr;
   friend McpResult SolveMcp(const McpFunction&, int, const Eigen::VectorXd&, const Eigen::VectorXd&,
                             Eigen::VectorXd&, const McpOptions&, McpWorkspace&);
   friend McpResult SolveMcp(const SparseMcpFunction&, int, const Eigen::VectorXd&,

@@ -96,6 +96,7 @@ LcpResult SolveLcpLemke(const Eigen::MatrixXd& M, const Eigen::VectorXd& q,
   ties.reserve(n);
   std::vector<char> candidate(n);
   while (true) {
+    ThrowIfCancelled(options.cancel, "Lemke's method");
     const int entering = complement(leaving);
     const Eigen::VectorXd column = T.col(entering);
     // an entry is a pivot candidate only when it stands out of its own round-off: entry (i, j)

@@ -3,6 +3,8 @@
 
 #include <Eigen/Core>
 
+#include "common/cancel_flag.h"
+
 namespace ecpsim::engine {
 
 /// How Lemke's method ended.
@@ -25,6 +27,8 @@ struct LemkeOptions {
   /// scale and the noise reached 1e-10, so 1e-9 separates them. Entries below it are treated as
   /// zero: a backward perturbation of M of that relative size.
   double pivot_tolerance = 1e-9;
+  /// Once raised, the next pivot throws Cancelled (null: never; common/cancel_flag.h).
+  const CancelFlag* cancel = nullptr;
 };
 
 struct LcpResult {

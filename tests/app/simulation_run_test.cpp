@@ -4,8 +4,11 @@
 
 #include <signal.h>
 
+#include <chrono>
 #include <fstream>
+#include <iterator>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <fmt/format.h>
@@ -40,6 +43,10 @@ constexpr long kMaxRssKb = 100 * 1024;
 // growth from 10^3 to 10^7 steps allowed: one double per step would be 78 MB, the old per-step
 // timing vector; what remains is allocator noise and the fixed 128 kB median sample
 constexpr long kMaxGrowthKb = 8 * 1024;
+
+// wall time from the initial row to the signal: long past the start of the first step, well
+// before its end
+constexpr std::chrono::milliseconds kIntoTheStep(300);
 
 class SimulationRunTest : public testing::RunFixture {
  protected:
@@ -79,6 +86,37 @@ TEST_F(SimulationRunTest, SigintFinishesTheStepAndWritesCompleteOutputs) {
   EXPECT_EQ(exit.exit_code, 130) << log_;
   EXPECT_THAT(log_, ::testing::HasSubstr("interrupted by SIGINT at t = "));
   ExpectConsistentInterruptedRun(out, "SIGINT");
+}
+
+TEST_F(SimulationRunTest, SigintInsideALongStepLeavesThatStepUndone) {
+  // the train's first step takes seconds (3.2 s of CPU, thousands of Newton iterations: the
+  // resting pile meets the pusher); the signal arrives right after the initial row, inside it,
+  // and the run stops there instead of finishing the step. (Should that step ever take less than
+  // the few milliseconds the signal needs, this test wants a slower first step.)
+  const fs::path out = dir_ / "out";
+  testing::EcpsimProcess run(binary_,
+                             {"run", "scenes/train.yaml", "-o", out.string(), "--threads", "2"},
+                             ECPSIM_SOURCE_DIR, dir_ / "log.txt");
+  ASSERT_TRUE(run.started());
+  const auto deadline = std::chrono::steady_clock::now() + testing::kStartTimeout;
+  while (RowsBeingWritten(out) < 1 && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  // well inside the first step, past the loop's check between steps
+  std::this_thread::sleep_for(kIntoTheStep);
+  run.Signal(SIGINT);
+  const testing::ChildExit exit = run.Wait();
+  std::ifstream log(dir_ / "log.txt");
+  log_.assign(std::istreambuf_iterator<char>(log), std::istreambuf_iterator<char>());
+  EXPECT_EQ(exit.exit_code, 130) << log_;
+  EXPECT_THAT(log_, ::testing::HasSubstr("interrupted by SIGINT at t = 0 s after 0 of "));
+  const nlohmann::json summary = ReadJson(out / "summary.json");
+  EXPECT_EQ(summary["interrupted"], true);
+  EXPECT_EQ(summary["steps"], 0);
+  EXPECT_EQ(summary["t_end"], 0.0);
+  EXPECT_EQ(summary["failures"], 0);
+  EXPECT_EQ(ReadLines(out / "trajectory.csv").size(), 2u);  // the header and t = 0
+  EXPECT_TRUE(fs::exists(out / "checkpoint.json"));
+  EXPECT_THAT(Leftovers(out), ::testing::IsEmpty());
 }
 
 TEST_F(SimulationRunTest, SigtermFinishesTheFramesAndTheVideoSoFar) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <mutex>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -12,7 +13,9 @@
 
 #include "common/errors.h"
 #include "engine/islands.h"
+#include "engine/models/model_selection.h"
 #include "engine/scene_io/scene_yaml.h"
+#include "engine/solver/complementarity_solver.h"
 #include "engine/step_driver.h"
 #include "engine/time_step.h"
 #include "tests/engine/test_bodies.h"
@@ -171,6 +174,57 @@ TEST(IslandThreadsTest, AStepOnAnyNumberOfThreadsIsTheStepOnOne) {
     EXPECT_EQ(reports[0].residual, reports[k].residual);
     EXPECT_EQ(reports[0].models, reports[k].models);
   }
+}
+
+TEST(IslandThreadsTest, AStepStoppedByItsFlagThrowsCancelledAndLeavesTheState) {
+  const Scene scene = IslandsOfManySizes();
+  for (int n : {1, 2}) {
+    StepWorkspace workspace;
+    IslandThreadsOf(workspace).SetThreads(n);
+    CancelFlag flag;
+    StopStepsOn(workspace, &flag);
+    State state = InitialState(scene);
+    for (int step = 0; step < 10; ++step) Step(scene, state, workspace);
+    const State before = state;
+    flag.Raise();
+    EXPECT_THROW(Step(scene, state, workspace), Cancelled) << n << " threads";
+    EXPECT_EQ(state.steps, before.steps);
+    for (size_t b = 0; b < scene.bodies.size(); ++b) {
+      EXPECT_EQ(state.bodies[b].p_WB, before.bodies[b].p_WB);
+      EXPECT_EQ(state.bodies[b].v_WB, before.bodies[b].v_WB);
+    }
+    // cleared, the step is the one a run that was never stopped takes
+    flag.Clear();
+    State uninterrupted = before;
+    StepWorkspace fresh;
+    Step(scene, state, workspace);
+    Step(scene, uninterrupted, fresh);
+    for (size_t b = 0; b < scene.bodies.size(); ++b)
+      EXPECT_EQ(state.bodies[b].p_WB, uninterrupted.bodies[b].p_WB);
+  }
+}
+
+TEST(IslandThreadsTest, EachThreadsSolvesStopOnTheCallersFlag) {
+  // what each thread's stepper would solve in: its workspace's McpWorkspace watches the flag
+  const Scene scene = IslandsOfManySizes();
+  StepWorkspace workspace;
+  IslandThreadsOf(workspace).SetThreads(3);
+  CancelFlag flag;
+  StopStepsOn(workspace, &flag);
+  std::mutex mutex;
+  std::vector<const CancelFlag*> seen;
+  const WithModel with_model = [&](StepWorkspace& thread_workspace,
+                                   const std::function<void(const ContactModelStepper&)>& use) {
+    {
+      const std::lock_guard<std::mutex> lock(mutex);
+      seen.push_back(thread_workspace.Part<McpWorkspace>().cancel());
+    }
+    UseContactModel(scene, thread_workspace, use);
+  };
+  State state = InitialState(scene);
+  StepIslands(scene, state, with_model, workspace);
+  ASSERT_FALSE(seen.empty());
+  for (const CancelFlag* watched : seen) EXPECT_EQ(watched, &flag);
 }
 
 // Moves every body by h along x, but refuses islands of bodies named "stubborn…" at every h

@@ -424,3 +424,79 @@ TEST(ComplementaritySolverTest, AStartThatSolvesTheProblemIsVerifiedWithoutAJaco
 
 }  // namespace
 }  // namespace ecpsim::engine
+
+namespace ecpsim::engine {
+namespace {
+
+TEST(ComplementaritySolverTest, AStopRequestedDuringASolveEndsItAtTheNextIteration) {
+  // the planted problem from far away, the flag raised by the second evaluation (in use: another
+  // thread or a signal handler): Cancelled before the solve's end, dense and sparse alike
+  const PlantedMcp p = MakePlantedMcp(40, 10);
+  const Eigen::VectorXd ones = Eigen::VectorXd::Ones(40);
+  const SparseMatrix M = p.M.sparseView();
+  McpOptions options;
+  options.tolerance = kSolveTolerance;
+  for (bool sparse : {false, true}) {
+    CancelFlag flag;
+    int evaluations = 0, raise_at = -1;
+    const auto evaluate = [&](const Eigen::VectorXd& x, Eigen::VectorXd* F) {
+      if (++evaluations == raise_at) flag.Raise();
+      *F = p.M * x + p.q;
+    };
+    const McpFunction dense_f = [&](const Eigen::VectorXd& x, Eigen::VectorXd* F,
+                                    Eigen::MatrixXd* J) {
+      evaluate(x, F);
+      if (J != nullptr) *J = p.M;
+    };
+    const SparseMcpFunction sparse_f = [&](const Eigen::VectorXd& x, Eigen::VectorXd* F,
+                                           SparseMatrix* J) {
+      evaluate(x, F);
+      if (J != nullptr) *J = M;
+    };
+    McpWorkspace workspace;
+    workspace.StopOn(&flag);
+    const auto solve = [&] {
+      Eigen::VectorXd z = Eigen::VectorXd::Constant(40, 100.0);
+      const McpResult result = sparse ? SolveMcp(sparse_f, 10, ones, ones, z, options, workspace)
+                                      : SolveMcp(dense_f, 10, ones, ones, z, options, workspace);
+      EXPECT_TRUE(result.converged);
+      EXPECT_LT((z - p.z_star).cwiseAbs().maxCoeff(), kPlantedError);
+    };
+    // never raised: the solve as ever, over several iterations
+    solve();
+    const int whole_solve = evaluations;
+    ASSERT_GE(whole_solve, 4) << (sparse ? "sparse" : "dense");
+    evaluations = 0;
+    raise_at = 2;
+    EXPECT_THROW(solve(), Cancelled) << (sparse ? "sparse" : "dense");
+    EXPECT_LT(evaluations, whole_solve) << (sparse ? "sparse" : "dense");
+    // cleared, the workspace solves on
+    flag.Clear();
+    raise_at = -1;
+    solve();
+  }
+}
+
+TEST(ComplementaritySolverTest, NoStopRequestedLeavesTheSolveAlone) {
+  // a workspace with a flag never raised solves as one without: the same iterates to the bit
+  const PlantedMcp p = MakePlantedMcp(30, 12);
+  const Eigen::VectorXd ones = Eigen::VectorXd::Ones(30);
+  const McpFunction f = [&p](const Eigen::VectorXd& x, Eigen::VectorXd* F, Eigen::MatrixXd* J) {
+    *F = p.M * x + p.q;
+    if (J != nullptr) *J = p.M;
+  };
+  McpOptions options;
+  options.tolerance = kSolveTolerance;
+  CancelFlag flag;
+  McpWorkspace watched, plain;
+  watched.StopOn(&flag);
+  Eigen::VectorXd a = Eigen::VectorXd::Constant(30, 7.0), b = a;
+  const McpResult ra = SolveMcp(f, 12, ones, ones, a, options, watched);
+  const McpResult rb = SolveMcp(f, 12, ones, ones, b, options, plain);
+  EXPECT_EQ(a, b);
+  EXPECT_EQ(ra.iterations, rb.iterations);
+  EXPECT_EQ(ra.residual, rb.residual);
+}
+
+}  // namespace
+}  // namespace ecpsim::engine

@@ -256,3 +256,28 @@ TEST(LemkeSolverTest, MatchesEnumerationOnRandomPMatrixProblems) {
 
 }  // namespace
 }  // namespace ecpsim::engine
+
+namespace ecpsim::engine {
+namespace {
+
+TEST(LemkeSolverTest, AStopRequestedEndsTheSolveAtTheNextPivot) {
+  // the three-pivot problem of BothUnknownsPositive with the flag raised: Cancelled; cleared,
+  // the same solve as without a flag
+  Eigen::MatrixXd M(2, 2);
+  M << 2, 1, 1, 2;
+  const Eigen::VectorXd q = (Eigen::VectorXd(2) << -5, -6).finished();
+  CancelFlag flag;
+  LemkeOptions options;
+  options.cancel = &flag;
+  flag.Raise();
+  EXPECT_THROW(SolveLcpLemke(M, q, options), Cancelled);
+  flag.Clear();
+  const LcpResult watched = SolveLcpLemke(M, q, options);
+  const LcpResult plain = SolveLcpLemke(M, q);
+  ASSERT_EQ(watched.status, LcpStatus::kSolved);
+  EXPECT_EQ(watched.z, plain.z);
+  EXPECT_EQ(watched.pivots, plain.pivots);
+}
+
+}  // namespace
+}  // namespace ecpsim::engine

@@ -1,0 +1,52 @@
+#include "evaluation/cpu_budget.h"
+
+#include <gtest/gtest.h>
+
+#include "common/cpu_clock.h"
+
+namespace ecpsim::evaluation {
+namespace {
+
+// s of CPU: what the spin below waits for at most before it counts the watchdog as asleep
+constexpr double kGiveUp = 10;
+// s of CPU past the limit a stopped step may run: ten of the watchdog's 10 ms reads, for a
+// loaded machine whose watchdog thread waits its turn
+constexpr double kLateness = 10 * CpuWatchdog::kDefaultPeriod;
+
+// spins on this thread until `flag` is raised (or kGiveUp)
+void SpinUntilRaised(const CancelFlag& flag) {
+  const double start = ThreadCpuSeconds();
+  volatile double x = 0;
+  while (!flag.raised() && ThreadCpuSeconds() - start < kGiveUp) {
+    for (int i = 0; i < 1000; ++i) x = x + i;
+  }
+}
+
+TEST(CpuBudgetTest, AStepThatReachesTheLimitIsStoppedInsideIt) {
+  CpuBudget budget(0.05);
+  // a quick step: within the budget
+  EXPECT_EQ(budget.Charge([] {}), CpuBudget::Outcome::kWithin);
+  // a step polling the flag as the solvers do: stopped, and charged what it used
+  const auto step = [&] {
+    SpinUntilRaised(*budget.flag());
+    ThrowIfCancelled(budget.flag(), "the test's step");
+  };
+  EXPECT_EQ(budget.Charge(step), CpuBudget::Outcome::kStopped);
+  EXPECT_GE(budget.used_s(), 0.05);
+  EXPECT_LE(budget.used_s(), 0.05 + kLateness);
+}
+
+TEST(CpuBudgetTest, AStepThatEndsPastTheLimitSpendsIt) {
+  CpuBudget budget(0.02);
+  // a step that never looks at the flag (an external engine's): done, and the budget spent
+  const auto step = [] {
+    volatile double x = 0;
+    const double start = ThreadCpuSeconds();
+    while (ThreadCpuSeconds() - start < 0.03) x = x + 1;
+  };
+  EXPECT_EQ(budget.Charge(step), CpuBudget::Outcome::kSpent);
+  EXPECT_GE(budget.used_s(), 0.03);
+}
+
+}  // namespace
+}  // namespace ecpsim::evaluation
