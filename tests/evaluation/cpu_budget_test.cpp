@@ -3,24 +3,13 @@
 #include <gtest/gtest.h>
 
 #include "common/cpu_clock.h"
+#include "tests/common/spin_until_raised.h"
 
 namespace ecpsim::evaluation {
 namespace {
 
-// s of CPU: what the spin below waits for at most before it counts the watchdog as asleep
-constexpr double kGiveUp = 10;
-// s of CPU past the limit a stopped step may run: ten of the watchdog's 10 ms reads, for a
-// loaded machine whose watchdog thread waits its turn
-constexpr double kLateness = 10 * CpuWatchdog::kDefaultPeriod;
-
-// spins on this thread until `flag` is raised (or kGiveUp)
-void SpinUntilRaised(const CancelFlag& flag) {
-  const double start = ThreadCpuSeconds();
-  volatile double x = 0;
-  while (!flag.raised() && ThreadCpuSeconds() - start < kGiveUp) {
-    for (int i = 0; i < 1000; ++i) x = x + i;
-  }
-}
+using testing::kLateness;
+using testing::SpinUntilRaised;
 
 TEST(CpuBudgetTest, AStepThatReachesTheLimitIsStoppedInsideIt) {
   CpuBudget budget(0.05);
