@@ -13,6 +13,8 @@ if [[ ! -x "$ecpsim" ]]; then
   exit 1
 fi
 
+# (the logs go beside DIR, whose parent a fresh checkout may not have)
+mkdir -p "$(dirname "$dir")"
 for model in hull planar multipatch; do
   "$ecpsim" run scenes/desk.yaml -o "$dir/$model" --model "$model" > "$dir.$model.log" 2>&1 || {
     echo "desk_table.sh: ecpsim run --model $model failed; see $dir.$model.log" >&2
