@@ -234,6 +234,9 @@ class MinimumNormSolver {
 class DenseNewtonAlgebra {
  public:
   using Matrix = Eigen::MatrixXd;
+  // the largest solve whose storage is kept (WorkspaceLease): its matrices are then at most a
+  // few hundred kB
+  static constexpr int kMaxKeptUnknowns = 256;
   // the dense elimination (in `order`, McpOptions::elimination_order, when not empty), or
   // (replay) the pattern's schedule with threshold pivoting, or (minimum_norm) the complete
   // orthogonal decomposition
@@ -303,6 +306,9 @@ class SparsityPattern {
 class SparseNewtonAlgebra {
  public:
   using Matrix = SparseMatrix;
+  // every solve's storage is kept: it grows with the non-zeros, not their square, and the
+  // analyses kept with it are what the next solve of an island of the same pattern saves
+  static constexpr int kMaxKeptUnknowns = std::numeric_limits<int>::max();
   // (the sparse LU keeps its analysis per pattern anyway: `replay` changes nothing here, and its
   // COLAMD ordering is the fill-reducing one; the minimum-norm solve factors H dense: a rescue's
   // cost, not a step's)
@@ -398,7 +404,7 @@ template <typename Algebra>
 class WorkspaceLease {
  public:
   WorkspaceLease(int n, KeptWorkspace<Algebra>& kept)
-      : kept_(kept), borrowed_(!kept.in_use && n <= kMaxKeptSize) {
+      : kept_(kept), borrowed_(!kept.in_use && n <= Algebra::kMaxKeptUnknowns) {
     // (built only when used: its thirty-odd members are not free to build and destroy per solve)
     if (!borrowed_) {
       own_.emplace();
@@ -415,8 +421,6 @@ class WorkspaceLease {
   Workspace<Algebra>& Get() { return borrowed_ ? *kept_.workspace : *own_; }
 
  private:
-  // unknowns: the kept matrices are then at most a few hundred kB
-  static constexpr int kMaxKeptSize = 256;
   KeptWorkspace<Algebra>& kept_;
   const bool borrowed_;
   std::optional<Workspace<Algebra>> own_;
