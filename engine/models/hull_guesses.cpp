@@ -48,6 +48,28 @@ void SetPredicted(const IslandProblem& problem, const IslandLayout& layout,
   z[L.sigma] = std::max((*point)[17], 0.0);
 }
 
+// contact k's last ECPs carried to the end of this step with their bodies' last motion (each
+// point fixed in its body, the body at PoseAfterStep of its last velocities)
+void CarryPoints(const IslandProblem& problem, const IslandState& state, int k,
+                 const MncpLayout::Contact& L, VectorXd& z) {
+  const IslandContact& cp = problem.contacts[k];
+  const auto carry = [&](int b, const Vector3d& a) -> Vector3d {
+    const BodyProblem& body = problem.bodies[b];
+    const EndPose end = PoseAfterStep(body, state.bodies[b].v_WB, state.bodies[b].w_WB);
+    return end.c + end.R * (body.R.transpose() * (a - body.c));
+  };
+  const ContactState& previous = state.contacts[k];
+  z.segment<3>(L.a1) = carry(cp.body, previous.a1);
+  if (L.on_plane()) return;
+  if (cp.other_kind == Other::kBody) {
+    z.segment<3>(L.a2) = carry(cp.other, previous.a2);
+  } else if (cp.other_kind == Other::kKinematic) {
+    const KinematicBody& g = problem.kinematic[cp.other];
+    const EndPose end = PoseAfterStep(g.c, g.R, problem.h, g.v, g.w);
+    z.segment<3>(L.a2) = end.c + end.R * (g.R.transpose() * (previous.a2 - g.c));
+  }
+}
+
 }  // namespace
 
 bool AnyBodyMoving(const IslandState& state, const IslandScales& scales) {
@@ -124,15 +146,25 @@ bool Lands(const IslandProblem& problem, const IslandState& state, const IslandS
   return last.n.dot(ecp - deepest) > kLandingDip * scales.bodies[0].length;
 }
 
+bool AloneOnFixedObstacles(const IslandProblem& problem) {
+  return problem.bodies.size() == 1 && !problem.contacts.empty() &&
+         std::all_of(problem.contacts.begin(), problem.contacts.end(),
+                     [](const IslandContact& cp) { return cp.other_kind == Other::kFixed; });
+}
+
+bool CarriesPoints(const IslandProblem& problem, const IslandState& state,
+                   const IslandScales& scales) {
+  return !AloneOnFixedObstacles(problem) && AnyBodyMoving(state, scales);
+}
+
 bool Predictable(const IslandProblem& problem, const IslandState& state,
                  const IslandScales& scales) {
-  if (problem.bodies.size() != 1 || problem.contacts.empty()) return false;
+  if (!AloneOnFixedObstacles(problem)) return false;
   const double L = scales.bodies[0].length;
   const auto speed = [L](const SolutionTrend::Point& d) {
     return d.head<3>().norm() + d.segment<3>(3).norm() * L;
   };
   for (size_t k = 0; k < problem.contacts.size(); ++k) {
-    if (problem.contacts[k].other_kind != Other::kFixed) return false;
     const auto* warm = state.contacts[k].warm_start.Get<HullWarmStart>();
     if (warm == nullptr || !Predicts(warm->trend, problem.h)) return false;
     const SolutionTrend& trend = warm->trend;
@@ -150,6 +182,7 @@ VectorXd MakeGuess(Guess guess, const Vector3d& gravity, IslandProblem& problem,
   VectorXd z = VectorXd::Zero(layout.size);
   // free-flight velocities as the starting point of a fresh guess; the last ones for warm starts
   const bool from_last = guess == Guess::kWarm || guess == Guess::kPredicted;
+  const bool carry_points = guess == Guess::kWarm && CarriesPoints(problem, state, scales);
   for (int b = 0; b < layout.num_bodies; ++b) {
     const int col = IslandLayout::Velocity(b);
     const auto& [v_free, w_free] = problem.bodies[b].free;
@@ -174,6 +207,7 @@ VectorXd MakeGuess(Guess guess, const Vector3d& gravity, IslandProblem& problem,
         z.segment<3>(L.a2) = previous.a2;
         z[L.s] = warm->s;
       }
+      if (carry_points) CarryPoints(problem, state, static_cast<int>(k), L, z);
       z[L.p_t] = previous.p_t;
       z[L.p_o] = previous.p_o;
       z[L.p_r] = previous.p_r;

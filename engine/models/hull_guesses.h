@@ -49,13 +49,27 @@ bool AllContactsApart(const IslandProblem& problem, const IslandLayout& layout,
 /// length. Rocking on an edge or a vertex keeps the ECP the deepest point.
 bool Lands(const IslandProblem& problem, const IslandState& state, const IslandScales& scales);
 
+/// Whether the island is one body whose every contact is with a fixed obstacle (the islands
+/// the predicted start is for).
+bool AloneOnFixedObstacles(const IslandProblem& problem);
+
+/// Whether the warm start carries the last ECPs with their bodies (MakeGuess): where the island
+/// moves and is not a body alone on fixed obstacles. The last ECPs lie where the bodies were at
+/// the end of the last step; a body moving at v takes its contact points h v further in this
+/// one (a row of pushed boxes: the uncarried start's residual 1.4e-2, the carried one's at
+/// round-off). A body alone on fixed obstacles has the predicted start instead, which
+/// extrapolates its points along their trend.
+bool CarriesPoints(const IslandProblem& problem, const IslandState& state,
+                   const IslandScales& scales);
+
 /// Whether the predicted start applies: one body against fixed obstacles, every contact with a
 /// trend for steps of this length whose second difference is small (kMaxTrendBend of its first,
 /// or kNegligibleBend of the velocity scale).
 bool Predictable(const IslandProblem& problem, const IslandState& state,
                  const IslandScales& scales);
 
-/// The unknowns of `guess` laid out as `layout`: the last step's solution (warm, predicted), or
+/// The unknowns of `guess` laid out as `layout`: the last step's solution (warm, its ECPs carried
+/// with their bodies where CarriesPoints; predicted), or
 /// a geometric guess at the free-flight poses (separated, resting, sliding) with the normal
 /// impulse that cancels gravity (`gravity`, m/s²) and the approach velocity. Sets each
 /// contact's tangent reference in `problem`.

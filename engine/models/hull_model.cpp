@@ -155,10 +155,11 @@ class LadderRun {
       // round-off, where a polished one usually is ("Balanced starts")
       const StartBalance balance = BalanceGuess(guess, moving_, problem_, layout_, scales_, z);
       options_.start_tolerance = BalancedStartTolerance(balance, options_.tolerance);
-      // bodies at rest under unchanged loads: the last step's solution usually solves this one
+      // bodies at rest under unchanged loads, or moving on as they did (the warm start's points
+      // carried with them, CarriesPoints): the last step's solution usually solves this one
       // too, and a polished start its step: each is verified on the residual alone
-      options_.verify_start_first =
-          (guess == Guess::kWarm && !moving_) || balance == StartBalance::kPolished;
+      options_.verify_start_first = (guess == Guess::kWarm && (!moving_ || carries_points_)) ||
+                                    balance == StartBalance::kPolished;
       // two guesses may make the same start (an island's resting and sliding guesses where no
       // contact has a warm start): its solve would fail again, iteration for iteration
       const StartOptions start_options{windows_grown_, options_.stall_iterations,
@@ -220,6 +221,8 @@ class LadderRun {
   StepWorkspace& workspace_;
   IslandState& state_;
   AdvanceResult& result_;
+  // (after problem_, scales_ and state_, which it reads)
+  const bool carries_points_ = CarriesPoints(problem_, state_, scales_);
   McpOptions options_;
   RootSelector select_;  // empty: the root as solved
   StartsOfPass& starts_ = workspace_.Part<StartsOfPass>();

