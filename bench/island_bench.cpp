@@ -11,7 +11,8 @@
 //   other, where 4 pairs of parts touch, against the same bars touching with their hulls
 //   (issue 31's bar for bodies made of parts: ≤ 5×);
 //   BM_IslandThreads/<scene>/threads:2 against …/threads:1: scenes of many islands solved on
-//   two threads against one, in wall time (the workers' CPU time is not the caller's).
+//   two threads against one, in wall time (the workers' CPU time is not the caller's);
+//   BM_IslandTrain: scenes/train.yaml's push once the row moves (issue 30's bar: ≤ 100 µs).
 // Every scene is stepped with the hull model, whose islands these are (model: auto would turn
 // the single resting box into a planar step and the comparison into one of two models).
 
@@ -171,6 +172,26 @@ BENCHMARK(BM_IslandSleep)
     ->ArgNames({"scene", "sleep"})
     ->ArgsProduct({{0, 1, 2}, {0, 1}})
     ->Unit(benchmark::kMicrosecond);
+
+// scenes/train.yaml's push once the row moves at the pusher's speed: its steps from 0.5 s to
+// the scene's end at 2 s, again and again (the state at 0.5 s restored every 150 steps): one
+// island of six boxes pushing each other and sliding on the ground (issue 30's bar: ≤ 100 µs)
+void BM_IslandTrain(benchmark::State& bench) {
+  const Scene scene = LoadScene(std::string(ECPSIM_SOURCE_DIR) + "/scenes/train.yaml").scene;
+  State settled = InitialState(scene);
+  StepWorkspace workspace;
+  constexpr int kSettleSteps = 50, kRestartSteps = 150;
+  for (int k = 0; k < kSettleSteps; ++k) Step(scene, settled, workspace);
+  State state = settled;
+  long iterations = 0, count = 0;
+  for (auto _ : bench) {
+    if (count % kRestartSteps == 0) state = settled;
+    iterations += Step(scene, state, workspace).iterations;
+    ++count;
+  }
+  bench.counters["newton_iters"] = static_cast<double>(iterations) / count;
+}
+BENCHMARK(BM_IslandTrain)->Unit(benchmark::kMicrosecond);
 
 // scenes of many islands, awake, solved on `threads` threads (second argument): the 64
 // scattered boxes (0: 64 islands of one body) and the grid of stacks (1: 16 islands of three)
