@@ -97,7 +97,8 @@ class Simulation:
     @threads.setter
     def threads(self, threads: int) -> None: ...
     def step(self, n: int = 1) -> None:
-        """n steps; last_report then holds the last one's {converged, iterations, residual, ...}."""
+        """n steps; last_report then holds the last one's {converged, iterations, residual, ...}.
+        Ctrl-C stops the step in progress, undone, and raises KeyboardInterrupt."""
     def reset(self) -> None: ...
     @property
     def scene(self) -> Scene: ...

@@ -44,6 +44,7 @@
 #include "python/simulation.h"
 #include "python/state_arrays.h"
 #include "python/state_pickle.h"
+#include "python/step_interrupt.h"
 #include "render/renderer.h"
 #include "render/scene_frame.h"
 
@@ -252,6 +253,33 @@ void FindMeshReader() {
   if (::access(beside.c_str(), X_OK) == 0) ::setenv("ECPSIM_MESH_READER", beside.c_str(), 0);
 }
 
+// `n` steps of `self`, Ctrl-C stopping the one in progress (python/step_interrupt.h): it is left
+// undone and Python's SIGINT handler runs; where the program's handler raises nothing, that step
+// is taken again and the rest after it
+void StepInterruptibly(PySimulation& self, std::int64_t n) {
+  while (n > 0) {
+    bool interrupted = false;
+    {
+      py::gil_scoped_release release;
+      const std::lock_guard<std::mutex> lock(self.mutex);
+      CancelFlag flag;
+      self.sim.StopOn(&flag);
+      // (the flag dies with this scope, whatever leaves it)
+      const std::unique_ptr<Simulation, void (*)(Simulation*)> unhook(
+          &self.sim, [](Simulation* sim) { sim->StopOn(nullptr); });
+      const StepInterrupt guard(flag);
+      try {
+        for (; n > 0; --n) self.sim.Step(1);
+      } catch (const Cancelled&) {
+        // only the guard raises the flag
+      }
+      interrupted = guard.interrupted();
+    }
+    if (!interrupted) return;
+    HandOverInterrupt();
+  }
+}
+
 }  // namespace
 }  // namespace ecpsim::python
 
@@ -259,6 +287,7 @@ PYBIND11_MODULE(ecpsim, m) {
   using namespace ecpsim::python;
   namespace engine = ecpsim::engine;
   FindMeshReader();
+  RecordMainThread();
   m.doc() =
       "ecpsim: rigid bodies with planar non-convex contact (Xie & Chakraborty), stepped from "
       "Python. Quaternions are (w, x, y, z), everything else SI in the world frame. Reference: "
@@ -454,15 +483,14 @@ PYBIND11_MODULE(ecpsim, m) {
           "step",
           [](PySimulation& self, std::int64_t n) {
             if (n < 1) throw ecpsim::InputError(fmt::format("step: n = {}: expected n ≥ 1", n));
-            py::gil_scoped_release release;
-            const std::lock_guard<std::mutex> lock(self.mutex);
-            self.sim.Step(n);
+            StepInterruptibly(self, n);
           },
           py::arg("n") = 1,
           "Takes n steps of scene.h; wrenches from apply_wrench act on the first. last_report "
           "holds the last step's {converged, iterations, residual, retries, substeps}.\n"
           "Raises SolverFailure or ModelInvalid (the state stays the last good one), InputError "
-          "(a load expression not finite).")
+          "(a load expression not finite). Ctrl-C stops the step in progress within a solver "
+          "iteration and raises KeyboardInterrupt, the state the one after the steps done.")
       .def(
           "reset",
           [](PySimulation& self) {

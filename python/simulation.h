@@ -12,12 +12,14 @@
 
 #include <Eigen/Core>
 
+#include "common/cancel_flag.h"
 #include "engine/island_threads.h"
 #include "engine/kinematic_motion.h"
 #include "engine/scene.h"
 #include "engine/state.h"
 #include "engine/step_report.h"
 #include "engine/step_workspace.h"
+#include "engine/time_step.h"
 
 namespace ecpsim::python {
 
@@ -34,6 +36,10 @@ class Simulation {
   ///         is then the one after the last step that succeeded, and wrenches not yet applied
   ///         stay pending.
   engine::StepReport Step(std::int64_t n);
+
+  /// Steps stop at their next solver iteration, undone, throwing Cancelled, once `flag` is raised
+  /// (null: never; engine::StopStepsOn).
+  void StopOn(const CancelFlag* flag) { engine::StopStepsOn(workspace_, flag); }
 
   /// Solve each step's islands on `threads` threads (engine/island_threads.h; 1 at first): the
   /// result is the same, bit for bit, for any number.
