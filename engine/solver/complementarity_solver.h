@@ -114,8 +114,7 @@ double McpResidual(const Eigen::VectorXd& z, const Eigen::VectorXd& F, int num_f
 /// and kept from solve to solve, so that a solve of sizes seen before allocates nothing. One
 /// solve at a time uses it; a solve started while it is in use (one nested in a callback), or a
 /// dense one of more than a few hundred unknowns (whose matrices grow with their square), works
-/// in storage of its own. Moving it keeps the storage;
-/// threads solving at once need one each.
+/// in storage of its own. Moving it keeps the storage; threads solving at once need one each.
 class McpWorkspace {
  public:
   McpWorkspace();
