@@ -31,11 +31,11 @@ using Eigen::VectorXd;
 
 // The ladder as it is first; only when every guess fails, again with iterates kept in the
 // orthant of the complementarity unknowns ("Impacts": stationary points with σ < 0 capture
-// Newton at hard impacts); only when that fails too, with minimum-norm Newton steps, for
-// solutions that are not isolated ("Non-isolated solutions"), and then with proximal terms in
-// the Newton matrix (sparse, for any size). The last resort takes both kinds of steps on the
-// plain iteration with a larger budget: where such a set ends at a degenerate pair Newton
-// converges only linearly, which the stall test takes for a stall.
+// Newton at hard impacts); only when that fails too, with minimum-norm Newton steps and no
+// Levenberg–Marquardt rescue, for solutions that are not isolated ("Non-isolated solutions"),
+// and then with proximal terms in the Newton matrix (sparse, for any size). The last resort
+// takes both kinds of steps on the plain iteration with a larger budget: where such a set ends
+// at a degenerate pair Newton converges only linearly, which the stall test takes for a stall.
 struct Pass {
   bool project, minimum_norm, proximal, plain_newton;
   const char* name;
@@ -126,7 +126,9 @@ class LadderRun {
     options_.project_nonnegative = pass.project;
     options_.minimum_norm_steps = pass.minimum_norm;
     options_.proximal_weight = pass.proximal ? kProximalWeight : 0;
-    options_.levenberg_marquardt_rescue = !pass.plain_newton;
+    // minimum-norm steps never move along a set of solutions, and the Levenberg–Marquardt
+    // comparison step, whose damping restores nothing there, would ("Non-isolated solutions")
+    options_.levenberg_marquardt_rescue = !pass.plain_newton && !pass.minimum_norm;
     options_.max_iterations =
         scene_.solver.max_iterations * (pass.plain_newton ? kPlainNewtonBudgetFactor : 1);
     // a body alone whose warm start stalled far from a root in the first pass is re-solved from

@@ -101,6 +101,27 @@ TEST(HullModelTest, APassNeverSolvesTwiceFromTheSameStart) {
   }
 }
 
+TEST(HullModelTest, TheTrainsStrikeIsSolvedAtItsFullStepByTheMinimumNormPass) {
+  // the train's first step: the pusher strikes six boxes at rest, touching each other, whose
+  // step has a set of solutions (where on each face the row's ECPs sit). The ladder and its
+  // projected pass stall on it; the minimum-norm pass, without the Levenberg–Marquardt rescue
+  // that moved its iterates along the set, solves it at h (with the rescue every pass failed at
+  // h, h/2, h/4 and h/16, and the last resort solved it: 1,963 iterations, about 3 s)
+  const Scene scene =
+      LoadScene(std::string(ECPSIM_SOURCE_DIR) + "/scenes/train.yaml", {"model=hull"}).scene;
+  State state = InitialState(scene);
+  // measured 286: the two passes before it 4 × 60, the minimum-norm pass 46
+  constexpr int kMaxIterations = 400;
+  const StepReport report = Step(scene, state);
+  ASSERT_TRUE(report.converged);
+  EXPECT_EQ(report.substeps, 1);
+  EXPECT_LE(report.iterations, kMaxIterations);
+  // m/s: the row moves on with the pusher at 0.1 m/s (measured within 4e-15 of it, the same
+  // bits as the last resort's root)
+  constexpr double kSpeedTolerance = 1e-12;
+  for (int b = 0; b < 6; ++b) EXPECT_NEAR(state.bodies[b].v_WB.x(), 0.1, kSpeedTolerance) << b;
+}
+
 TEST(HullModelTest, AMovingIslandsWarmStartCarriesItsPointsWithItsBodies) {
   // scenes/train.yaml once the row moves with the pusher (from 1 s): every step is the last one
   // moved by h v. The last ECPs, where the bodies were, missed this step's by h v = 1 mm of 0.1
