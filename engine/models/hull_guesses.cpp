@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <optional>
+#include <vector>
 
 #include "engine/mncp/mncp_system.h"
 #include "engine/models/hull_problem.h"
@@ -48,15 +49,24 @@ void SetPredicted(const IslandProblem& problem, const IslandLayout& layout,
   z[L.sigma] = std::max((*point)[17], 0.0);
 }
 
-// contact k's last ECPs carried to the end of this step with their bodies' last motion (each
-// point fixed in its body, the body at PoseAfterStep of its last velocities)
-void CarryPoints(const IslandProblem& problem, const IslandState& state, int k,
-                 const MncpLayout::Contact& L, VectorXd& z) {
+// each island body's end pose under its last velocities (PoseAfterStep)
+std::vector<EndPose> LastMotionEndPoses(const IslandProblem& problem, const IslandState& state) {
+  std::vector<EndPose> poses;
+  poses.reserve(problem.bodies.size());
+  for (size_t b = 0; b < problem.bodies.size(); ++b)
+    poses.push_back(PoseAfterStep(problem.bodies[b], state.bodies[b].v_WB, state.bodies[b].w_WB));
+  return poses;
+}
+
+// contact k's last ECPs carried to the end of this step with their bodies (each point fixed in
+// its body, the body at `end_poses`, a kinematic G at its prescribed end pose)
+void CarryPoints(const IslandProblem& problem, const IslandState& state,
+                 const std::vector<EndPose>& end_poses, int k, const MncpLayout::Contact& L,
+                 VectorXd& z) {
   const IslandContact& cp = problem.contacts[k];
   const auto carry = [&](int b, const Vector3d& a) -> Vector3d {
     const BodyProblem& body = problem.bodies[b];
-    const EndPose end = PoseAfterStep(body, state.bodies[b].v_WB, state.bodies[b].w_WB);
-    return end.c + end.R * (body.R.transpose() * (a - body.c));
+    return end_poses[b].c + end_poses[b].R * (body.R.transpose() * (a - body.c));
   };
   const ContactState& previous = state.contacts[k];
   z.segment<3>(L.a1) = carry(cp.body, previous.a1);
@@ -183,6 +193,8 @@ VectorXd MakeGuess(Guess guess, const Vector3d& gravity, IslandProblem& problem,
   // free-flight velocities as the starting point of a fresh guess; the last ones for warm starts
   const bool from_last = guess == Guess::kWarm || guess == Guess::kPredicted;
   const bool carry_points = guess == Guess::kWarm && CarriesPoints(problem, state, scales);
+  const std::vector<EndPose> end_poses =
+      carry_points ? LastMotionEndPoses(problem, state) : std::vector<EndPose>();
   for (int b = 0; b < layout.num_bodies; ++b) {
     const int col = IslandLayout::Velocity(b);
     const auto& [v_free, w_free] = problem.bodies[b].free;
@@ -207,7 +219,7 @@ VectorXd MakeGuess(Guess guess, const Vector3d& gravity, IslandProblem& problem,
         z.segment<3>(L.a2) = previous.a2;
         z[L.s] = warm->s;
       }
-      if (carry_points) CarryPoints(problem, state, static_cast<int>(k), L, z);
+      if (carry_points) CarryPoints(problem, state, end_poses, static_cast<int>(k), L, z);
       z[L.p_t] = previous.p_t;
       z[L.p_o] = previous.p_o;
       z[L.p_r] = previous.p_r;
