@@ -12,6 +12,7 @@
 #include <Eigen/Geometry>
 
 #include "common/errors.h"
+#include "common/parallel_for.h"
 #include "geometry/hull_reach.h"
 #include "geometry/mesh_bounds.h"
 #include "geometry/part_seams.h"
@@ -59,10 +60,53 @@ bool SeamCovered(const std::vector<ConvexHull>& parts, size_t i, int f, double d
   return covered > 0 && covered >= SignedArea(face) - tolerance * size;
 }
 
+// whether corner k of face f is no corner of the part grown across f: every other face at it
+// faces no way against f's normal, so the grown copy of the corner lies as far out as it in
+// every direction the corner is extreme in (on a prism's side edge, as a bar's end corners)
+bool PassedByGrowth(const ConvexHull& part, int f, int k) {
+  for (size_t g = 0; g < part.faces.size(); ++g) {
+    if (static_cast<int>(g) == f || part.normals[g].dot(part.normals[f]) >= -kCoplanarTolerance)
+      continue;
+    const std::vector<int>& face = part.faces[g];
+    if (std::find(face.begin(), face.end(), k) != face.end()) return false;
+  }
+  return true;
+}
+
 std::vector<Vector3d> Joined(const ConvexHull& a, const ConvexHull& b) {
   std::vector<Vector3d> points = a.vertices;
   points.insert(points.end(), b.vertices.begin(), b.vertices.end());
   return points;
+}
+
+// Points of the hull of two parts, cheap to find: the midpoints of their support points in 26
+// directions (the axes and the diagonals). One that lies in neither part, or out of the solid, is
+// there without the hull, which on a finely tessellated part (an 840-gon face) costs a second.
+std::vector<Vector3d> SupportMidpoints(const ConvexHull& a, const ConvexHull& b) {
+  const auto support = [](const ConvexHull& hull, const Vector3d& direction) {
+    return *std::max_element(
+        hull.vertices.begin(), hull.vertices.end(),
+        [&](const Vector3d& p, const Vector3d& q) { return direction.dot(p) < direction.dot(q); });
+  };
+  std::vector<Vector3d> midpoints;
+  for (int x = -1; x <= 1; ++x) {
+    for (int y = -1; y <= 1; ++y) {
+      for (int z = -1; z <= 1; ++z) {
+        const Vector3d direction(x, y, z);
+        if (direction.isZero()) continue;
+        midpoints.push_back((support(a, direction) + support(b, direction)) / 2);
+      }
+    }
+  }
+  return midpoints;
+}
+
+// m: how far `p` lies beyond the hull's face planes (≤ 0 inside)
+double Beyond(const ConvexHull& hull, const Vector3d& p) {
+  double beyond = -INFINITY;
+  for (size_t f = 0; f < hull.normals.size(); ++f)
+    beyond = std::max(beyond, hull.normals[f].dot(p) - hull.offsets[f]);
+  return beyond;
 }
 
 // two parts to merge, and the volume their hull adds to theirs (m³), or where not `evaluated` its
@@ -121,9 +165,20 @@ std::vector<ConvexHull> MergeWithinBound(std::vector<ConvexHull> parts, const Tr
     last_cost[{std::min(i, j), std::max(i, j)}] = cost;
     return cost;
   };
+  // a pair whose hull has a point out of reach is refused before its hull is taken (as
+  // ReachesWithin would refuse it after)
+  const auto out_of_reach = [&](std::size_t i, std::size_t j) {
+    for (const Vector3d& p : SupportMidpoints(parts[i], parts[j]))
+      if (!solid.Inside(p) && solid.ToSurface(p) > bound + touch) return true;
+    return false;
+  };
   for (std::size_t i = 0; i < n; ++i) {
     for (std::size_t j : neighbours[i]) {
       if (i > j) continue;
+      if (out_of_reach(i, j)) {
+        refused.insert({i, j});
+        continue;
+      }
       propose(i, j, cost_of(i, j, ComputeConvexHull(Joined(parts[i], parts[j]), source)), true);
     }
   }
@@ -132,6 +187,10 @@ std::vector<ConvexHull> MergeWithinBound(std::vector<ConvexHull> parts, const Tr
     queue.pop();
     if (!alive[c.i] || !alive[c.j] || version[c.i] != c.version_i || version[c.j] != c.version_j)
       continue;
+    if (out_of_reach(c.i, c.j)) {
+      refused.insert({c.i, c.j});
+      continue;
+    }
     ConvexHull joined = ComputeConvexHull(Joined(parts[c.i], parts[c.j]), source);
     // costed again: tried now while still the cheapest, else queued at its cost
     if (!c.evaluated) {
@@ -210,8 +269,10 @@ std::vector<ConvexHull> DecomposeSolid(const TriangleMesh& mesh, const std::stri
   const double size = ComputeMeshBounds(mesh.vertices).diagonal;
   const double tolerance = kCoplanarTolerance * size;
   std::vector<ConvexHull> parts;
-  for (const std::vector<Vector3d>& piece : ExactConvexPieces(mesh, source))
-    parts.push_back(ComputeConvexHull(piece, source));
+  const std::vector<std::vector<Vector3d>> pieces = ExactConvexPieces(mesh, source);
+  parts.resize(pieces.size());
+  ParallelFor(pieces.size(),
+              [&](std::size_t i) { parts[i] = ComputeConvexHull(pieces[i], source); });
   // merge two pieces meeting face to face where their union is convex (within a tolerance,
   // such a merge is one whose hull stays in the solid, and comes first there, costing nothing)
   for (bool merged = tolerance_rel == 0; merged;) {
@@ -219,6 +280,12 @@ std::vector<ConvexHull> DecomposeSolid(const TriangleMesh& mesh, const std::stri
     for (size_t i = 0; i < parts.size() && !merged; ++i) {
       for (size_t j = i + 1; j < parts.size() && !merged; ++j) {
         if (!FindSeam(parts[i], parts[j], tolerance)) continue;
+        const std::vector<Vector3d> midpoints = SupportMidpoints(parts[i], parts[j]);
+        if (std::any_of(midpoints.begin(), midpoints.end(), [&](const Vector3d& p) {
+              return std::min(Beyond(parts[i], p), Beyond(parts[j], p)) > tolerance;
+            })) {
+          continue;  // a point of their hull in neither: their union is not convex
+        }
         ConvexHull joined = ComputeConvexHull(Joined(parts[i], parts[j]), source);
         const double sum = HullVolume(parts[i]) + HullVolume(parts[j]);
         if (HullVolume(joined) > sum + tolerance * size * size) continue;
@@ -243,18 +310,23 @@ std::vector<ConvexHull> DecomposeSolid(const TriangleMesh& mesh, const std::stri
   // move each seam inside the part that covers it (all against the parts as they were)
   const double depth = kSeamOverlapRel * size;
   std::vector<std::vector<Vector3d>> grown(parts.size());
+  std::vector<std::vector<bool>> passed(parts.size());
   for (size_t i = 0; i < parts.size(); ++i) {
+    passed[i].assign(parts[i].vertices.size(), false);
     for (size_t f = 0; f < parts[i].faces.size(); ++f) {
       if (!SeamCovered(parts, i, static_cast<int>(f), depth, tolerance, size)) continue;
-      for (int k : parts[i].faces[f])
+      for (int k : parts[i].faces[f]) {
         grown[i].push_back(parts[i].vertices[k] + depth * parts[i].normals[f]);
+        passed[i][k] = passed[i][k] || PassedByGrowth(parts[i], static_cast<int>(f), k);
+      }
     }
   }
-  for (size_t i = 0; i < parts.size(); ++i) {
-    if (grown[i].empty()) continue;
-    grown[i].insert(grown[i].end(), parts[i].vertices.begin(), parts[i].vertices.end());
+  ParallelFor(parts.size(), [&](std::size_t i) {
+    if (grown[i].empty()) return;
+    for (size_t k = 0; k < parts[i].vertices.size(); ++k)
+      if (!passed[i][k]) grown[i].push_back(parts[i].vertices[k]);
     parts[i] = ComputeConvexHull(grown[i], source);
-  }
+  });
   return parts;
 }
 

@@ -23,8 +23,9 @@ inline constexpr double kSeamOverlapRel = 1e-3;
 /// - else two parts meeting face to face merged, cheapest first (the volume the hull of the two
 ///   adds: a convex union's nothing), wherever every point of that hull lies within
 ///   `tolerance_rel` × the diagonal of the solid (ReachesWithin, geometry/hull_reach.h), until
-///   none do; a pair refused stays so (a part only grows): a curved, tessellated mesh, whose
-///   exact pieces are one per facet strip, gives a few parts within that tolerance instead;
+///   none do; a pair refused stays so (a part only grows): a curved, tessellated cavity, whose
+///   exact pieces are one per facet of its wall, gives a few parts within that tolerance
+///   instead;
 /// - each face of a part that the faces of other parts lying on it and facing it cover together
 ///   (a seam) pushed kSeamOverlapRel × the diagonal into them where they reach so deep behind
 ///   their shares of it, so that the seam's edges are inside a part, not on the body's surface

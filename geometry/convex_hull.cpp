@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <limits>
 #include <numeric>
+#include <optional>
 #include <tuple>
 #include <utility>
 
@@ -15,12 +16,12 @@
 #include <CGAL/AABB_tree.h>
 #include <CGAL/Exact_predicates_exact_constructions_kernel.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <CGAL/Nef_polyhedron_3.h>
+#include <CGAL/Polygon_mesh_processing/clip.h>
+#include <CGAL/Polygon_mesh_processing/connected_components.h>
 #include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
-#include <CGAL/Polyhedron_3.h>
+#include <CGAL/Polygon_mesh_processing/self_intersections.h>
 #include <CGAL/Side_of_triangle_mesh.h>
 #include <CGAL/Surface_mesh.h>
-#include <CGAL/convex_decomposition_3.h>
 #include <CGAL/convex_hull_2.h>
 #include <CGAL/convex_hull_3.h>
 #include <fmt/format.h>
@@ -28,6 +29,7 @@
 
 #include "common/cpu_clock.h"
 #include "common/errors.h"
+#include "common/parallel_for.h"
 #include "geometry/convex_hull_stages.h"
 
 namespace ecpsim::geometry {
@@ -313,13 +315,164 @@ std::vector<Eigen::Vector2d> ComputeConvexHull2D(const std::vector<Eigen::Vector
   return hull;
 }
 
+namespace {
+
+using Exact = CGAL::Exact_predicates_exact_constructions_kernel;
+using ExactMesh = CGAL::Surface_mesh<Exact::Point_3>;
+using ExactHalfedge = ExactMesh::Halfedge_index;
+
+// the face left of `h` as its corners, outward (the mesh is oriented outward)
+std::array<Exact::Point_3, 3> FaceCorners(const ExactMesh& mesh, ExactHalfedge h) {
+  return {mesh.point(mesh.source(h)), mesh.point(mesh.target(h)),
+          mesh.point(mesh.target(mesh.next(h)))};
+}
+
+bool OnPlaneOf(const std::array<Exact::Point_3, 3>& face, const Exact::Point_3& p) {
+  return CGAL::orientation(face[0], face[1], face[2], p) == CGAL::COPLANAR;
+}
+
+// whether the solid wraps more than half a turn round the edge of `h`: the far corner of the
+// face across it lies outside the plane of the face left of `h`
+bool IsReflex(const ExactMesh& mesh, ExactHalfedge h) {
+  const std::array<Exact::Point_3, 3> face = FaceCorners(mesh, h);
+  return CGAL::orientation(face[0], face[1], face[2],
+                           mesh.point(mesh.target(mesh.next(mesh.opposite(h))))) == CGAL::POSITIVE;
+}
+
+// The cut that removes a reflex edge: the plane of a face beside it, which the solid crosses
+// there. Of all such planes, the one that holds the most reflex edges, so that one cut frees
+// what one cut can (the annulus where a dumbbell's disc meets its bar: all of its edges at
+// once); ties go to the first in the mesh's order, so the pieces do not depend on chance.
+std::optional<Exact::Plane_3> ReflexCut(const ExactMesh& mesh) {
+  std::vector<ExactHalfedge> reflex;
+  for (ExactMesh::Edge_index e : mesh.edges()) {
+    const ExactHalfedge h = mesh.halfedge(e);
+    if (IsReflex(mesh, h)) reflex.push_back(h);
+  }
+  if (reflex.empty()) return std::nullopt;
+  // the ends in doubles, to skip the exact test for ends plainly off a plane
+  const auto approximate = [&](const Exact::Point_3& p) {
+    return Eigen::Vector3d(CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z()));
+  };
+  std::vector<std::array<Eigen::Vector3d, 2>> ends;
+  double size = 0;
+  for (const ExactHalfedge h : reflex) {
+    ends.push_back(
+        {approximate(mesh.point(mesh.source(h))), approximate(mesh.point(mesh.target(h)))});
+    size = std::max(
+        {size, ends.back()[0].lpNorm<Eigen::Infinity>(), ends.back()[1].lpNorm<Eigen::Infinity>()});
+  }
+  // far above the doubles' round-off of a plane through three corners of this size
+  const double off_plane = 1e-9 * size;
+  // each plane counted once however many of its faces border reflex edges (as a dumbbell's
+  // annulus does)
+  struct Counted {
+    Eigen::Vector3d unit, a;
+    std::array<Exact::Point_3, 3> face;
+  };
+  std::vector<Counted> counted;
+  std::optional<std::array<Exact::Point_3, 3>> best;
+  std::size_t best_count = 0;
+  for (const ExactHalfedge h : reflex) {
+    for (const ExactHalfedge side : {h, mesh.opposite(h)}) {
+      const std::array<Exact::Point_3, 3> face = FaceCorners(mesh, side);
+      const Eigen::Vector3d a = approximate(face[0]);
+      const Eigen::Vector3d unit =
+          (approximate(face[1]) - a).cross(approximate(face[2]) - a).normalized();
+      const auto near = [&](const Eigen::Vector3d& p) {
+        return std::abs(unit.dot(p - a)) <= off_plane;
+      };
+      const bool seen = std::any_of(counted.begin(), counted.end(), [&](const Counted& c) {
+        return std::abs(std::abs(c.unit.dot(unit)) - 1) <= 1e-12 && near(c.a) &&
+               OnPlaneOf(face, c.face[0]) && OnPlaneOf(face, c.face[1]) &&
+               OnPlaneOf(face, c.face[2]);
+      });
+      if (seen) continue;
+      counted.push_back({unit, a, face});
+      std::size_t count = 0;
+      for (std::size_t k = 0; k < reflex.size(); ++k) {
+        count += near(ends[k][0]) && near(ends[k][1]) &&
+                 OnPlaneOf(face, mesh.point(mesh.source(reflex[k]))) &&
+                 OnPlaneOf(face, mesh.point(mesh.target(reflex[k])));
+      }
+      if (count > best_count) {
+        best = face;
+        best_count = count;
+      }
+    }
+  }
+  return Exact::Plane_3((*best)[0], (*best)[1], (*best)[2]);
+}
+
+// the solid `piece` bounds on the negative side of `plane`, as its connected solids
+std::vector<ExactMesh> Clipped(const ExactMesh& piece, const Exact::Plane_3& plane) {
+  namespace PMP = CGAL::Polygon_mesh_processing;
+  ExactMesh clipped = piece;
+  if (!PMP::clip(clipped, plane, CGAL::parameters::clip_volume(true))) {
+    throw CGAL::Failure_exception("ecpsim", "clip", __FILE__, __LINE__,
+                                  "a cut left a non-manifold piece");
+  }
+  std::vector<ExactMesh> components;
+  if (clipped.number_of_faces() > 0) PMP::split_connected_components(clipped, components);
+  return components;
+}
+
+// a convex piece's corners, rounded to doubles: its vertices but those whose faces all lie in
+// one plane (where a cut's cap meets a face it continues), which only slow the hull down
+std::vector<Eigen::Vector3d> Corners(const ExactMesh& piece) {
+  std::vector<Eigen::Vector3d> corners;
+  for (ExactMesh::Vertex_index v : piece.vertices()) {
+    const std::array<Exact::Point_3, 3> first = FaceCorners(piece, piece.halfedge(v));
+    bool flat = true;
+    for (const ExactHalfedge h : CGAL::halfedges_around_target(v, piece))
+      flat = flat && OnPlaneOf(first, piece.point(piece.source(h)));
+    if (flat) continue;
+    const Exact::Point_3& p = piece.point(v);
+    corners.emplace_back(CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z()));
+  }
+  return corners;
+}
+
+// Cuts each piece at a reflex edge until none has one, from the whole. A cut along a face's
+// plane leaves both sides convex at the edge, and no later cut of either side takes that plane
+// again (each side lies in one of its half-spaces), so this ends.
+std::vector<std::vector<Eigen::Vector3d>> CutAtReflexEdges(ExactMesh whole) {
+  std::vector<std::vector<Eigen::Vector3d>> pieces;
+  std::vector<ExactMesh> pending;
+  pending.push_back(std::move(whole));
+  while (!pending.empty()) {
+    ExactMesh piece = std::move(pending.back());
+    pending.pop_back();
+    const std::optional<Exact::Plane_3> cut = ReflexCut(piece);
+    if (!cut) {
+      pieces.push_back(Corners(piece));
+      continue;
+    }
+    // the two sides at once
+    const std::array<Exact::Plane_3, 2> sides = {*cut, cut->opposite()};
+    std::array<std::vector<ExactMesh>, 2> clipped;
+    ParallelFor(2, [&](std::size_t k) { clipped[k] = Clipped(piece, sides[k]); });
+    for (std::vector<ExactMesh>& side : clipped)
+      for (ExactMesh& component : side) pending.push_back(std::move(component));
+  }
+  return pieces;
+}
+
+// whether the surface meets itself other than at the edges and corners its triangles share
+// (exact predicates on the doubles, cheaper than on the lazy exact kernel's points)
+bool IntersectsItself(const TriangleMesh& mesh,
+                      const std::vector<std::array<std::size_t, 3>>& triangles) {
+  std::vector<Point3> points;
+  for (const Eigen::Vector3d& v : mesh.vertices) points.emplace_back(v.x(), v.y(), v.z());
+  CGAL::Surface_mesh<Point3> surface;
+  CGAL::Polygon_mesh_processing::polygon_soup_to_polygon_mesh(points, triangles, surface);
+  return CGAL::Polygon_mesh_processing::does_self_intersect(surface);
+}
+
+}  // namespace
+
 std::vector<std::vector<Eigen::Vector3d>> ExactConvexPieces(const TriangleMesh& mesh,
                                                             const std::string& source) {
-  using Exact = CGAL::Exact_predicates_exact_constructions_kernel;
-  using Polyhedron = CGAL::Polyhedron_3<Exact>;
-  using Nef = CGAL::Nef_polyhedron_3<Exact>;
-  std::vector<Exact::Point_3> points;
-  for (const Eigen::Vector3d& v : mesh.vertices) points.emplace_back(v.x(), v.y(), v.z());
   std::vector<std::array<std::size_t, 3>> triangles;
   for (const Eigen::Vector3i& t : mesh.triangles) {
     triangles.push_back({static_cast<std::size_t>(t[0]), static_cast<std::size_t>(t[1]),
@@ -332,28 +485,38 @@ std::vector<std::vector<Eigen::Vector3d>> ExactConvexPieces(const TriangleMesh& 
         "surface (an edge with more than two triangles, or two triangles wound alike across it)",
         source));
   }
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const Eigen::Vector3i& corner = mesh.triangles[t];
+    const auto point = [&](int k) {
+      const Eigen::Vector3d& v = mesh.vertices[corner[k]];
+      return Point3(v.x(), v.y(), v.z());
+    };
+    if (CGAL::collinear(point(0), point(1), point(2))) {
+      throw InputError(fmt::format(
+          "convex decomposition of {}: triangle {} has no area (its corners {}, {}, {} lie on a "
+          "line); a solid's surface needs triangles that span a plane",
+          source, t, corner[0], corner[1], corner[2]));
+    }
+  }
+  std::vector<Exact::Point_3> points;
+  for (const Eigen::Vector3d& v : mesh.vertices) points.emplace_back(v.x(), v.y(), v.z());
+  ExactMesh whole;
+  PMP::polygon_soup_to_polygon_mesh(points, triangles, whole);
+  if (!CGAL::is_closed(whole)) {
+    throw InputError(fmt::format(
+        "convex decomposition of {}: the mesh is not closed; a solid needs a closed surface",
+        source));
+  }
+  // CGAL's cuts ask for a surface that does not meet itself (on one that does they may crash)
+  if (IntersectsItself(mesh, triangles)) {
+    throw InputError(fmt::format(
+        "convex decomposition of {}: the mesh intersects itself; a solid needs a surface that "
+        "does not",
+        source));
+  }
   std::vector<std::vector<Eigen::Vector3d>> pieces;
   try {
-    Polyhedron polyhedron;
-    PMP::polygon_soup_to_polygon_mesh(points, triangles, polyhedron);
-    if (!polyhedron.is_closed()) {
-      throw InputError(fmt::format(
-          "convex decomposition of {}: the mesh is not closed; a solid needs a closed surface",
-          source));
-    }
-    Nef nef(polyhedron);
-    CGAL::convex_decomposition_3(nef);
-    // the first volume is the outside
-    for (auto volume = ++nef.volumes_begin(); volume != nef.volumes_end(); ++volume) {
-      if (!volume->mark()) continue;
-      Polyhedron piece;
-      nef.convert_inner_shell_to_polyhedron(volume->shells_begin(), piece);
-      std::vector<Eigen::Vector3d>& vertices = pieces.emplace_back();
-      for (auto v = piece.vertices_begin(); v != piece.vertices_end(); ++v) {
-        vertices.emplace_back(CGAL::to_double(v->point().x()), CGAL::to_double(v->point().y()),
-                              CGAL::to_double(v->point().z()));
-      }
-    }
+    pieces = CutAtReflexEdges(std::move(whole));
   } catch (const CGAL::Failure_exception& e) {
     throw InputError(
         fmt::format("convex decomposition of {}: CGAL refused the mesh: {}", source, e.message()));

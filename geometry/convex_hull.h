@@ -61,11 +61,13 @@ ConvexHull TranslateHull(const ConvexHull& hull, const Eigen::Vector3d& offset);
 TriangleMesh TriangulateHull(const ConvexHull& hull);
 
 /// The convex pieces of the solid a closed, consistently oriented triangle mesh bounds, exactly:
-/// CGAL's Nef polyhedron of the mesh (its coordinates taken exactly) split by
-/// convex_decomposition_3, each piece as its vertices (rounded to doubles). The pieces fill the
-/// solid and meet face to face. Here rather than in a file of its own so that CGAL stays in one
-/// translation unit.
-/// @throws InputError naming `source` if the mesh is not a closed 2-manifold that CGAL accepts.
+/// the mesh in CGAL's exact kernel, each piece with a reflex edge (the solid wrapping more than
+/// half a turn round it) cut in two by CGAL's clip along the plane of a face beside that edge,
+/// the plane holding the most reflex edges first, until no piece has one. Each piece comes as
+/// its corners (rounded to doubles). The pieces fill the solid and meet face to face. Here
+/// rather than in a file of its own so that CGAL stays in one translation unit.
+/// @throws InputError naming `source` if the mesh is not a closed 2-manifold, has a triangle of
+///         no area, intersects itself, or CGAL refuses a cut.
 std::vector<std::vector<Eigen::Vector3d>> ExactConvexPieces(const TriangleMesh& mesh,
                                                             const std::string& source);
 

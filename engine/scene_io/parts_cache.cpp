@@ -15,7 +15,7 @@ namespace {
 
 // the first line of a cache file; a new decomposition (its merging or seam growth changed)
 // takes a new version, and so a new fingerprint
-constexpr const char* kHeader = "ecpsim convex parts 1";
+constexpr const char* kHeader = "ecpsim convex parts 2";
 
 // the parts' vertex lists in the file at `path`, or nothing where it is missing or not one
 std::optional<std::vector<std::vector<Eigen::Vector3d>>> ReadCache(const std::string& path) {

@@ -247,7 +247,7 @@ TEST(PartContactsTest, CubeDroppedIntoAMugRestsOnItsFloor) {
   const LoadedScene loaded = LoadScene(ScenePath("cube_in_mug.yaml"));
   EXPECT_TRUE(loaded.warnings.empty()) << loaded.warnings.front();
   const Scene& scene = loaded.scene;
-  EXPECT_EQ(scene.bodies[0].parts.size(), 12u);  // 13 exact pieces, two merged
+  EXPECT_EQ(scene.bodies[0].parts.size(), 8u);  // its exact pieces, none merged
   const RunEnd run = RunToEnd(scene);
   const BodyState& cube = run.state.bodies[1];
   // the floor's top at 0.01 m, the cube's half edge 0.015 m: on a face, flat
@@ -258,7 +258,7 @@ TEST(PartContactsTest, CubeDroppedIntoAMugRestsOnItsFloor) {
 }
 
 TEST(PartContactsTest, CubeDroppedOnTheDumbbellsBarRestsOnIt) {
-  // scenes/cube_on_dumbbell.yaml: the dumbbell's parts decomposed within 1e-3 of its diagonal
+  // scenes/cube_on_dumbbell.yaml: the dumbbell's exact parts
   const LoadedScene loaded = LoadScene(ScenePath("cube_on_dumbbell.yaml"));
   const Scene& scene = loaded.scene;
   EXPECT_EQ(scene.bodies[0].parts.size(), 3u);  // its discs and its bar

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <Eigen/Geometry>
 
@@ -115,6 +116,53 @@ TEST(ConvexDecompositionTest, AnOpenSurfaceIsRefused) {
   EXPECT_THROW(DecomposeSolid(open, "open.obj", 64, 0), InputError);
 }
 
+TEST(ConvexDecompositionTest, ASurfaceThatMeetsItselfIsRefused) {
+  // a cup's surface and a cube's through its wall in one mesh, each closed (the cup has reflex
+  // edges, which CGAL's clip would cut, and on such a surface may crash)
+  TriangleMesh two = Cells(CupCells(), 0.01);
+  const TriangleMesh other = Cells({{0, 0, 0}}, 0.01);
+  const int offset = static_cast<int>(two.vertices.size());
+  for (const Eigen::Vector3d& v : other.vertices)
+    two.vertices.push_back(v + Eigen::Vector3d(0.035, 0.015, 0.015));
+  for (const Eigen::Vector3i& t : other.triangles) two.triangles.push_back(t.array() + offset);
+  try {
+    DecomposeSolid(two, "two.obj", 64, 0);
+    FAIL() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("convex decomposition of two.obj: the mesh intersects "
+                                         "itself"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(ConvexDecompositionTest, ATriangleWithoutAreaIsRefused) {
+  // a cube whose top's corner 2 moved onto the line of corners 0 and 1 of a top triangle
+  TriangleMesh sliver = Cells({{0, 0, 0}}, 0.1);
+  int top = -1;
+  for (size_t t = 0; t < sliver.triangles.size() && top < 0; ++t) {
+    const Eigen::Vector3i& c = sliver.triangles[t];
+    if (sliver.vertices[c[0]].z() > 0.05 && sliver.vertices[c[1]].z() > 0.05 &&
+        sliver.vertices[c[2]].z() > 0.05) {
+      top = static_cast<int>(t);
+    }
+  }
+  ASSERT_GE(top, 0);
+  const Eigen::Vector3i c = sliver.triangles[top];
+  sliver.vertices.push_back((sliver.vertices[c[0]] + sliver.vertices[c[1]]) / 2);
+  sliver.triangles[top][2] = static_cast<int>(sliver.vertices.size()) - 1;
+  try {
+    DecomposeSolid(sliver, "sliver.obj", 64, 0);
+    FAIL() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(fmt::format("convex decomposition of sliver.obj: "
+                                                     "triangle {} has no area",
+                                                     top)),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(ConvexDecompositionTest, MorePartsThanAllowedSaysToRaiseTheTolerance) {
   try {
     DecomposeSolid(Cells(CupCells(), 0.01), "cup.obj", 2, 1e-3);
@@ -205,17 +253,11 @@ bool InPart(const ConvexHull& part, const Eigen::Vector3d& p, double slack) {
   return true;
 }
 
-TEST(ConvexDecompositionTest, ADumbbellWithinAToleranceIsAFewPartsThatHoldIt) {
-  const TriangleMesh dumbbell =
-      LoadMesh(std::string(ECPSIM_SOURCE_DIR) + "/scenes/meshes/dumbbell.obj");
-  // its exact pieces are one per facet strip, too many
-  EXPECT_THROW(DecomposeSolid(dumbbell, "dumbbell.obj", 64, 0), InputError);
-  const double tolerance = 1e-3;
-  const std::vector<ConvexHull> parts = DecomposeSolid(dumbbell, "dumbbell.obj", 64, tolerance);
-  EXPECT_LE(parts.size(), 5u);
-  const double bound = tolerance * ComputeMeshBounds(dumbbell.vertices).diagonal;
-  // every point well inside the mesh (inside the polygons inscribed in the circles, by 0.1 mm)
-  // is in a part
+// every point well inside the dumbbell's mesh (inside the polygons inscribed in the circles, by
+// 0.1 mm) lies in a part, and no point of a part lies farther than `bound` from its solid: each
+// part's corners and a 1 mm grid through it, against the round dumbbell (an independent,
+// closed-form lower bound of the distance to the mesh's solid)
+void ExpectPartsHoldTheDumbbell(const std::vector<ConvexHull>& parts, double bound) {
   const double inscribed = std::cos(M_PI / kSegments);
   const double margin = 1e-4, step = 0.005;
   int inside = 0;
@@ -236,9 +278,6 @@ TEST(ConvexDecompositionTest, ADumbbellWithinAToleranceIsAFewPartsThatHoldIt) {
     }
   }
   EXPECT_GT(inside, 10000);
-  // no point of a part farther than the bound from the solid: each part's corners and a 1 mm
-  // grid through it, against the round dumbbell (an independent, closed-form lower bound of the
-  // distance to the mesh's solid)
   const double fine = 0.001;
   for (size_t i = 0; i < parts.size(); ++i) {
     double farthest = 0;
@@ -252,6 +291,120 @@ TEST(ConvexDecompositionTest, ADumbbellWithinAToleranceIsAFewPartsThatHoldIt) {
           if (InPart(parts[i], {x, y, z}, 0))
             farthest = std::max(farthest, DistanceToRoundDumbbell({x, y, z}));
     EXPECT_LE(farthest, bound) << "part " << i;
+  }
+}
+
+// m: round-off of coordinates of 0.1 m (the rounded corners of the cuts)
+constexpr double kCoordinateRoundOff = 1e-15;
+// relative: a hull's volume sums some 3,000 fanned triangles' products, each rounded
+constexpr double kVolumeRoundOff = 1e-11;
+
+TEST(ConvexDecompositionTest, ADumbbellIsExactlyItsDiscsAndItsBar) {
+  const TriangleMesh dumbbell =
+      LoadMesh(std::string(ECPSIM_SOURCE_DIR) + "/scenes/meshes/dumbbell.obj");
+  // one cut at each annulus where a disc meets the bar frees all its reflex edges at once
+  const std::vector<ConvexHull> parts = DecomposeSolid(dumbbell, "dumbbell.obj", 64, 0);
+  ASSERT_EQ(parts.size(), 3u);
+  // a part's face planes lie within the hull's face-merging tolerance of its corners
+  ExpectPartsHoldTheDumbbell(parts,
+                             kCoplanarTolerance * ComputeMeshBounds(dumbbell.vertices).diagonal);
+  // the parts' volumes: the solid's, and the bar's two ends grown into the discs (each the
+  // inscribed 96-gon of the bar's circle, kSeamOverlapRel of the diagonal deep)
+  const double volume = ComputeMassProperties(dumbbell, 1, "dumbbell").volume;
+  const double end = kSegments / 2.0 * kBarRadius * kBarRadius * std::sin(2 * M_PI / kSegments);
+  const double depth = kSeamOverlapRel * ComputeMeshBounds(dumbbell.vertices).diagonal;
+  double sum = 0;
+  for (const ConvexHull& part : parts) sum += HullVolume(part);
+  EXPECT_NEAR(sum, volume + 2 * end * depth, kVolumeRoundOff * volume);
+}
+
+TEST(ConvexDecompositionTest, ADumbbellWithinAToleranceIsTheSameThreeParts) {
+  const TriangleMesh dumbbell =
+      LoadMesh(std::string(ECPSIM_SOURCE_DIR) + "/scenes/meshes/dumbbell.obj");
+  // no two of them merge within 1e-3 of the diagonal: the hull of a disc and the bar reaches
+  // half the discs' overhang (25 mm) out
+  const double tolerance = 1e-3;
+  const std::vector<ConvexHull> parts = DecomposeSolid(dumbbell, "dumbbell.obj", 64, tolerance);
+  EXPECT_EQ(parts.size(), 3u);
+  ExpectPartsHoldTheDumbbell(parts, tolerance * ComputeMeshBounds(dumbbell.vertices).diagonal);
+}
+
+// a thick-walled tube (a mug's wall): the ring between circles of radius `inner` and `outer`
+// (inscribed `segments`-gons) over z in [0, height]
+TriangleMesh Tube(double inner, double outer, double height, int segments) {
+  TriangleMesh mesh;
+  for (double z : {0.0, height}) {
+    for (double r : {inner, outer}) {
+      for (int k = 0; k < segments; ++k) {
+        const double angle = 2 * M_PI * k / segments;
+        mesh.vertices.emplace_back(r * std::cos(angle), r * std::sin(angle), z);
+      }
+    }
+  }
+  // ring (z index, radius index) starts at (2 z + r) × segments
+  const auto at = [&](int z, int r, int k) { return (2 * z + r) * segments + k % segments; };
+  const auto quad = [&](int a, int b, int c, int d) {  // counter-clockwise seen from outside
+    mesh.triangles.emplace_back(a, b, c);
+    mesh.triangles.emplace_back(a, c, d);
+  };
+  for (int k = 0; k < segments; ++k) {
+    quad(at(0, 1, k), at(0, 1, k + 1), at(1, 1, k + 1), at(1, 1, k));  // outer wall
+    quad(at(0, 0, k + 1), at(0, 0, k), at(1, 0, k), at(1, 0, k + 1));  // inner wall
+    quad(at(1, 0, k), at(1, 1, k), at(1, 1, k + 1), at(1, 0, k + 1));  // top
+    quad(at(0, 0, k), at(0, 0, k + 1), at(0, 1, k + 1), at(0, 1, k));  // bottom
+  }
+  return mesh;
+}
+
+TEST(ConvexDecompositionTest, ATubesWallWithinAToleranceIsAFewPartsThatHoldIt) {
+  const double inner = 0.04, outer = 0.05, height = 0.06;
+  const int segments = 48;
+  const TriangleMesh tube = Tube(inner, outer, height, segments);
+  ASSERT_NEAR(
+      ComputeMassProperties(tube, 1, "tube").volume,
+      segments / 2.0 * std::sin(2 * M_PI / segments) * (outer * outer - inner * inner) * height,
+      1e-15);
+  // exactly, each facet of the inner wall bounds a part
+  EXPECT_THROW(DecomposeSolid(tube, "tube.obj", segments - 1, 0), InputError);
+  const double tolerance = 1e-2;
+  const double bound = tolerance * ComputeMeshBounds(tube.vertices).diagonal;
+  const std::vector<ConvexHull> parts = DecomposeSolid(tube, "tube.obj", 64, tolerance);
+  // a part spanning φ of the wall bulges inner (1 − cos φ/2) into the hole: for two pieces
+  // (15°) 0.34 mm, well within the bound's 2/3 that ReachesWithin surely accepts (1.0 mm), so
+  // at least the pairs merge (measured: 24 parts, the pairs)
+  EXPECT_LE(parts.size(), static_cast<std::size_t>(segments / 2));
+  // the wall's points, by 0.1 mm inside it, each in a part
+  const double apothem = inner * std::cos(M_PI / segments);
+  const double rim = outer * std::cos(M_PI / segments);
+  for (int k = 0; k < 720; ++k) {
+    const double angle = 2 * M_PI * k / 720;
+    for (double r = apothem + 1e-4; r <= rim - 1e-4; r += 0.002) {
+      for (double z = 1e-4; z <= height - 1e-4; z += 0.01) {
+        const Eigen::Vector3d p(r * std::cos(angle), r * std::sin(angle), z);
+        EXPECT_TRUE(std::any_of(parts.begin(), parts.end(), [&](const ConvexHull& part) {
+          return InPart(part, p, 1e-12);
+        })) << p.transpose();
+      }
+    }
+  }
+  // no part reaches into the hole (the inner 96-gon, convex: the distance from a point in it to
+  // the wall is its least distance to an edge's line) farther than the bound, nor out of the
+  // outer 96-gon, above or below
+  const auto into_hole = [&](const Eigen::Vector3d& p) {
+    double distance = INFINITY;
+    for (int k = 0; k < segments; ++k) {
+      const double angle = 2 * M_PI * (k + 0.5) / segments;
+      distance = std::min(distance, apothem - (p.x() * std::cos(angle) + p.y() * std::sin(angle)));
+    }
+    return std::max(distance, 0.0);
+  };
+  for (const ConvexHull& part : parts) {
+    for (const Eigen::Vector3d& v : part.vertices) {
+      EXPECT_LE(into_hole(v), bound) << v.transpose();
+      EXPECT_LE(std::hypot(v.x(), v.y()), outer + kCoordinateRoundOff) << v.transpose();
+      EXPECT_GE(v.z(), -kCoordinateRoundOff);
+      EXPECT_LE(v.z(), height + kCoordinateRoundOff);
+    }
   }
 }
 
