@@ -257,6 +257,22 @@ TEST(PartContactsTest, CubeDroppedIntoAMugRestsOnItsFloor) {
   EXPECT_LE(run.deepest, kRestTolerance);
 }
 
+TEST(PartContactsTest, CubeDroppedIntoARoundMugRestsOnItsFloor) {
+  // scenes/cube_in_mug.yaml with the round mug of scripts/round_mug.py: a 32-gon whose inside
+  // the exact pieces follow one facet each
+  const LoadedScene loaded =
+      LoadScene(ScenePath("cube_in_mug.yaml"), {"bodies.0.mesh=meshes/round_mug.obj"});
+  const Scene& scene = loaded.scene;
+  EXPECT_EQ(scene.bodies[0].parts.size(), 36u);
+  const RunEnd run = RunToEnd(scene);
+  const BodyState& cube = run.state.bodies[1];
+  // the floor's top at 0.01 m, the cube's half edge 0.015 m: on a face, flat
+  EXPECT_NEAR(cube.p_WB.z(), 0.025, kRestTolerance);
+  EXPECT_LE(TiltFromAFace(cube), kRestTolerance / 0.015);
+  EXPECT_LE(cube.v_WB.norm(), kRestSpeed);
+  EXPECT_LE(run.deepest, kRestTolerance);
+}
+
 TEST(PartContactsTest, CubeDroppedOnTheDumbbellsBarRestsOnIt) {
   // scenes/cube_on_dumbbell.yaml: the dumbbell's exact parts
   const LoadedScene loaded = LoadScene(ScenePath("cube_on_dumbbell.yaml"));
