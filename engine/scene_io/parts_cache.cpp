@@ -78,6 +78,10 @@ std::vector<geometry::ConvexHull> CachedDecomposition(
     }
   }
   std::vector<geometry::ConvexHull> parts = decompose();
+  // each part as a load from the cache makes it, from its corners alone (their hull can differ
+  // from the decomposition's in its faces' order and round-off), so that a run does not depend on
+  // whether the parts were cached
+  for (geometry::ConvexHull& part : parts) part = geometry::ComputeConvexHull(part.vertices, path);
   try {
     WriteFileAtomically(path, CacheText(parts));
   } catch (const InputError& e) {

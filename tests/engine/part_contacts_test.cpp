@@ -273,6 +273,32 @@ TEST(PartContactsTest, CubeDroppedIntoARoundMugRestsOnItsFloor) {
   EXPECT_LE(run.deepest, kRestTolerance);
 }
 
+TEST(PartContactsTest, AFirstLoadAndACachedOneGiveTheSameParts) {
+  // the round mug's parts, computed (no cache beside its mesh) and then read from the cache:
+  // the hull of a grown part's corners orders its faces otherwise than the decomposition's hull
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / "ecpsim_round_mug_cache";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  std::filesystem::copy_file(ScenePath("meshes/round_mug.obj"), dir / "round_mug.obj");
+  const std::string yaml =
+      "duration: 1\nground: {}\nbodies:\n  - {name: mug, mesh: round_mug.obj, mass: 0.3, "
+      "on_ground: true, "
+      "position: [0, 0], decomposition: auto}\n";
+  const Scene computed = LoadSceneText(yaml, "mug.yaml", dir.string()).scene;
+  const Scene cached = LoadSceneText(yaml, "mug.yaml", dir.string()).scene;
+  std::filesystem::remove_all(dir);
+  ASSERT_EQ(computed.bodies[0].parts.size(), cached.bodies[0].parts.size());
+  for (size_t i = 0; i < computed.bodies[0].parts.size(); ++i) {
+    const geometry::ConvexHull& a = computed.bodies[0].parts[i]->AsPolyhedron()->hull();
+    const geometry::ConvexHull& b = cached.bodies[0].parts[i]->AsPolyhedron()->hull();
+    EXPECT_EQ(a.vertices, b.vertices) << "part " << i;
+    EXPECT_EQ(a.faces, b.faces) << "part " << i;
+    EXPECT_EQ(a.normals, b.normals) << "part " << i;
+    EXPECT_EQ(a.offsets, b.offsets) << "part " << i;
+  }
+}
+
 TEST(PartContactsTest, CubeDroppedOnTheDumbbellsBarRestsOnIt) {
   // scenes/cube_on_dumbbell.yaml: the dumbbell's exact parts
   const LoadedScene loaded = LoadScene(ScenePath("cube_on_dumbbell.yaml"));
