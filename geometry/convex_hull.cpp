@@ -458,15 +458,46 @@ std::vector<std::vector<Eigen::Vector3d>> CutAtReflexEdges(ExactMesh whole) {
   return pieces;
 }
 
-// whether the surface meets itself other than at the edges and corners its triangles share
-// (exact predicates on the doubles, cheaper than on the lazy exact kernel's points)
+// Whether the surface meets itself other than at the edges and corners its triangles share
+// (exact predicates on the doubles, cheaper than on the lazy exact kernel's points). Two
+// triangles that meet have boxes that overlap at some coordinate along the mesh's longest axis,
+// so both lie in the triangles reaching below the median there or both in those reaching above:
+// the two halves are checked on two threads.
 bool IntersectsItself(const TriangleMesh& mesh,
                       const std::vector<std::array<std::size_t, 3>>& triangles) {
+  using Surface = CGAL::Surface_mesh<Point3>;
   std::vector<Point3> points;
   for (const Eigen::Vector3d& v : mesh.vertices) points.emplace_back(v.x(), v.y(), v.z());
-  CGAL::Surface_mesh<Point3> surface;
+  Surface surface;
   CGAL::Polygon_mesh_processing::polygon_soup_to_polygon_mesh(points, triangles, surface);
-  return CGAL::Polygon_mesh_processing::does_self_intersect(surface);
+  Eigen::AlignedBox3d box;
+  for (const Eigen::Vector3d& v : mesh.vertices) box.extend(v);
+  Eigen::Index axis = 0;
+  box.sizes().maxCoeff(&axis);
+  std::vector<double> centres;
+  for (Surface::Face_index f : surface.faces()) {
+    double sum = 0;
+    for (Surface::Vertex_index v : CGAL::vertices_around_face(surface.halfedge(f), surface))
+      sum += surface.point(v)[axis];
+    centres.push_back(sum / 3);
+  }
+  std::nth_element(centres.begin(), centres.begin() + centres.size() / 2, centres.end());
+  const double median = centres[centres.size() / 2];
+  std::array<std::vector<Surface::Face_index>, 2> halves;
+  for (Surface::Face_index f : surface.faces()) {
+    double low = INFINITY, high = -INFINITY;
+    for (Surface::Vertex_index v : CGAL::vertices_around_face(surface.halfedge(f), surface)) {
+      low = std::min(low, surface.point(v)[axis]);
+      high = std::max(high, surface.point(v)[axis]);
+    }
+    if (low <= median) halves[0].push_back(f);
+    if (high >= median) halves[1].push_back(f);
+  }
+  std::array<bool, 2> meets = {false, false};
+  ParallelFor(2, [&](std::size_t k) {
+    meets[k] = CGAL::Polygon_mesh_processing::does_self_intersect(halves[k], surface);
+  });
+  return meets[0] || meets[1];
 }
 
 }  // namespace

@@ -117,22 +117,26 @@ TEST(ConvexDecompositionTest, AnOpenSurfaceIsRefused) {
 }
 
 TEST(ConvexDecompositionTest, ASurfaceThatMeetsItselfIsRefused) {
-  // a cup's surface and a cube's through its wall in one mesh, each closed (the cup has reflex
-  // edges, which CGAL's clip would cut, and on such a surface may crash)
-  TriangleMesh two = Cells(CupCells(), 0.01);
-  const TriangleMesh other = Cells({{0, 0, 0}}, 0.01);
-  const int offset = static_cast<int>(two.vertices.size());
-  for (const Eigen::Vector3d& v : other.vertices)
-    two.vertices.push_back(v + Eigen::Vector3d(0.035, 0.015, 0.015));
-  for (const Eigen::Vector3i& t : other.triangles) two.triangles.push_back(t.array() + offset);
-  try {
-    DecomposeSolid(two, "two.obj", 64, 0);
-    FAIL() << "expected an InputError";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("convex decomposition of two.obj: the mesh intersects "
-                                         "itself"),
-              std::string::npos)
-        << e.what();
+  // a cup's surface and a cube's in one mesh, each closed, the cube through the cup's wall and,
+  // in the middle, where the check splits the triangles between its two threads, through its
+  // floor (the cup has reflex edges, which CGAL's clip would cut, and on such a surface may
+  // crash)
+  for (const Eigen::Vector3d& offset :
+       {Eigen::Vector3d(0.035, 0.015, 0.015), Eigen::Vector3d(0.015, 0.015, -0.005)}) {
+    TriangleMesh two = Cells(CupCells(), 0.01);
+    const TriangleMesh other = Cells({{0, 0, 0}}, 0.01);
+    const int first = static_cast<int>(two.vertices.size());
+    for (const Eigen::Vector3d& v : other.vertices) two.vertices.push_back(v + offset);
+    for (const Eigen::Vector3i& t : other.triangles) two.triangles.push_back(t.array() + first);
+    try {
+      DecomposeSolid(two, "two.obj", 64, 0);
+      FAIL() << "expected an InputError for the cube at " << offset.transpose();
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("convex decomposition of two.obj: the mesh "
+                                           "intersects itself"),
+                std::string::npos)
+          << e.what();
+    }
   }
 }
 
