@@ -180,12 +180,12 @@ void BM_IslandTrain(benchmark::State& bench) {
   const Scene scene = LoadScene(std::string(ECPSIM_SOURCE_DIR) + "/scenes/train.yaml").scene;
   State settled = InitialState(scene);
   StepWorkspace workspace;
-  constexpr int kSettleSteps = 50, kRestartSteps = 150;
+  constexpr int kSettleSteps = 50, kTrainRestartSteps = 150;
   for (int k = 0; k < kSettleSteps; ++k) Step(scene, settled, workspace);
   State state = settled;
   long iterations = 0, count = 0;
   for (auto _ : bench) {
-    if (count % kRestartSteps == 0) state = settled;
+    if (count % kTrainRestartSteps == 0) state = settled;
     iterations += Step(scene, state, workspace).iterations;
     ++count;
   }

@@ -31,7 +31,9 @@ class BenchCommandTest : public CliTest {
       const CliResult r =
           Run(fmt::format("{} --shard {}/2 -o '{}'", command, shard, part.string()));
       EXPECT_EQ(r.exit_code, 0) << r.output;
-      if (!chart.empty()) EXPECT_FALSE(fs::exists(part / chart)) << chart;
+      if (!chart.empty()) {
+        EXPECT_FALSE(fs::exists(part / chart)) << chart;
+      }
     }
     return Run(fmt::format("bench --merge '{}' '{}' -o '{}'", (dir_ / "s1").string(),
                            (dir_ / "s2").string(), (dir_ / "all").string()));
