@@ -1,14 +1,16 @@
 """Ctrl-C during Simulation.step (python/step_interrupt.h): the step in progress stops within a
 solver iteration, undone, and Python's SIGINT handler runs. Each case runs in a child process that
-sends itself SIGINT 0.3 s into the train's first step (the pusher's strike on the row at rest,
-seconds of CPU: docs/bench_results.md), so that the signal cannot reach pytest."""
+sends itself SIGINT 0.1 s into the train's first step (the pusher's strike on the row at rest, the
+longest step of the shipped scenes: 0.40-0.53 s on the 2-core EPYC), so that the signal cannot
+reach pytest."""
 
 import subprocess
 import sys
 import textwrap
 
-# s: when the child sends itself SIGINT, well inside the strike's step
-POKE_AFTER = 0.3
+# s: when the child sends itself SIGINT, well inside the strike's step even on a machine several
+# times faster (at 0.3 s it came 0.1 s before the step's end)
+POKE_AFTER = 0.1
 
 CHILD = textwrap.dedent("""
     import os, signal, sys, threading, time
