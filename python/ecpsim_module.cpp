@@ -253,33 +253,6 @@ void FindMeshReader() {
   if (::access(beside.c_str(), X_OK) == 0) ::setenv("ECPSIM_MESH_READER", beside.c_str(), 0);
 }
 
-// `n` steps of `self`, Ctrl-C stopping the one in progress (python/step_interrupt.h): it is left
-// undone and Python's SIGINT handler runs; where the program's handler raises nothing, that step
-// is taken again and the rest after it
-void StepInterruptibly(PySimulation& self, std::int64_t n) {
-  while (n > 0) {
-    bool interrupted = false;
-    {
-      py::gil_scoped_release release;
-      const std::lock_guard<std::mutex> lock(self.mutex);
-      CancelFlag flag;
-      self.sim.StopOn(&flag);
-      // (the flag dies with this scope, whatever leaves it)
-      const std::unique_ptr<Simulation, void (*)(Simulation*)> unhook(
-          &self.sim, [](Simulation* sim) { sim->StopOn(nullptr); });
-      const StepInterrupt guard(flag);
-      try {
-        for (; n > 0; --n) self.sim.Step(1);
-      } catch (const Cancelled&) {
-        // only the guard raises the flag
-      }
-      interrupted = guard.interrupted();
-    }
-    if (!interrupted) return;
-    HandOverInterrupt();
-  }
-}
-
 }  // namespace
 }  // namespace ecpsim::python
 

@@ -22,6 +22,7 @@
 #include "engine/scene_io/loaded_scene.h"
 #include "engine/scene_limits.h"
 #include "python/conversions.h"
+#include "python/step_interrupt.h"
 #include "render/ffmpeg_pipe.h"
 #include "render/frame_times.h"
 #include "render/image_compare.h"
@@ -170,25 +171,39 @@ py::dict Record(PySimulation& self, const py::handle& path, const py::object& fp
   }
   const long steps = engine::PlannedSteps(duration, scene.h);
   const std::string video_path = settings.path;
+  // as `ecpsim run`: a step that fails, or Ctrl-C (python/step_interrupt.h), ends the video at
+  // the last good state
+  std::unique_ptr<VideoRecording> recording;
+  bool interrupted = false;  // while ffmpeg and the renderer start and frame 0 is drawn
+  {
+    py::gil_scoped_release release;
+    const std::lock_guard<std::mutex> lock(self.mutex);
+    CancelFlag setup_flag;  // nothing here reads it: the guard only records a SIGINT
+    const StepInterrupt guard(setup_flag);
+    recording = std::make_unique<VideoRecording>(self.sim, std::move(settings));
+    try {
+      recording->Capture(self.sim);
+    } catch (...) {
+      recording->FinishAfterFailure();
+      throw;
+    }
+    interrupted = guard.interrupted();
+  }
+  try {
+    if (interrupted) HandOverInterrupt();
+    StepInterruptibly(self, steps, [&] { recording->Capture(self.sim); });
+  } catch (...) {
+    const py::gil_scoped_release release;
+    recording->FinishAfterFailure();
+    throw;
+  }
   int frames = 0;
   double t_end = 0;
   {
     py::gil_scoped_release release;
     const std::lock_guard<std::mutex> lock(self.mutex);
-    VideoRecording recording(self.sim, std::move(settings));
-    // as `ecpsim run`: a step that fails ends the video at the last good state
-    try {
-      recording.Capture(self.sim);
-      for (long k = 1; k <= steps; ++k) {
-        self.sim.Step(1);
-        recording.Capture(self.sim);
-      }
-    } catch (...) {
-      recording.FinishAfterFailure();
-      throw;
-    }
-    recording.Finish();
-    frames = recording.frames();
+    recording->Finish();
+    frames = recording->frames();
     t_end = self.sim.state().t;
   }
   py::dict result;

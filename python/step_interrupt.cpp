@@ -2,6 +2,8 @@
 
 #include <atomic>
 #include <csignal>
+#include <memory>
+#include <mutex>
 
 #include <pybind11/pybind11.h>
 
@@ -58,6 +60,35 @@ bool StepInterrupt::interrupted() const {
 void HandOverInterrupt() {
   PyErr_SetInterrupt();
   if (PyErr_CheckSignals() != 0) throw pybind11::error_already_set();
+}
+
+void StepInterruptibly(PySimulation& self, std::int64_t n,
+                       const std::function<void()>& after_step) {
+  while (n > 0) {
+    bool interrupted = false;
+    {
+      pybind11::gil_scoped_release release;
+      const std::lock_guard<std::mutex> lock(self.mutex);
+      CancelFlag flag;
+      self.sim.StopOn(&flag);
+      // (the flag dies with this scope, whatever leaves it)
+      const std::unique_ptr<Simulation, void (*)(Simulation*)> unhook(
+          &self.sim, [](Simulation* sim) { sim->StopOn(nullptr); });
+      const StepInterrupt guard(flag);
+      try {
+        for (; n > 0; --n) {
+          self.sim.Step(1);
+          after_step();
+        }
+      } catch (const Cancelled&) {
+        // only the guard raises the flag
+      }
+      interrupted = guard.interrupted();
+    }
+    // the lock is let go first: the bindings' getters take it while holding the GIL
+    if (!interrupted) return;
+    HandOverInterrupt();
+  }
 }
 
 }  // namespace ecpsim::python

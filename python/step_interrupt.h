@@ -1,11 +1,15 @@
 #pragma once
-// Ctrl-C during Simulation.step: Python runs its SIGINT handler only on the main thread, and only
-// once that thread holds the GIL again, which a step gives up for its whole length. So while the
-// main thread steps, SIGINT goes to a handler of the module's own, which raises the step's stop
-// flag (the step then ends within a solver iteration, undone: engine::StopStepsOn), and the
-// signal is handed back to Python's handler once the GIL is held again.
+// Ctrl-C during Simulation.step and record: Python runs its SIGINT handler only on the main thread,
+// and only once that thread holds the GIL again, which a step gives up for its whole length. So
+// while the main thread steps, SIGINT goes to a handler of the module's own, which raises the
+// step's stop flag (the step then ends within a solver iteration, undone: engine::StopStepsOn), and
+// the signal is handed back to Python's handler once the GIL is held again.
+
+#include <cstdint>
+#include <functional>
 
 #include "common/cancel_flag.h"
+#include "python/py_simulation.h"
 
 namespace ecpsim::python {
 
@@ -30,6 +34,13 @@ class StepInterrupt {
 /// Records which thread is Python's main thread (`threading.main_thread()`); with the GIL, once,
 /// at the module's import.
 void RecordMainThread();
+
+/// `n` steps of `self` with the GIL held, `after_step` after each (without the GIL, with the
+/// simulation's lock), Ctrl-C stopping the step in progress: it is left undone and Python's SIGINT
+/// handler runs, its exception (KeyboardInterrupt by default) thrown from here; where the program's
+/// handler raises nothing, that step is taken again and the rest after it.
+void StepInterruptibly(
+    PySimulation& self, std::int64_t n, const std::function<void()>& after_step = [] {});
 
 /// Hands a SIGINT that a StepInterrupt caught to Python's handler (with the GIL): throws
 /// pybind11::error_already_set with what it raises (KeyboardInterrupt by default); returns where

@@ -58,3 +58,49 @@ def test_a_handler_that_raises_nothing_lets_the_step_be_taken(scenes):
     lines = run_child(scenes, "handler")
     # the program's handler ran once, and the stopped step was taken again to its end
     assert lines[0] == "returned 0.01 1", lines
+
+
+# the same for Simulation.record: the train's first 0.05 s at 20 frames/s, frames at 0 and 0.05 s
+RECORD_CHILD = textwrap.dedent("""
+    import json, os, signal, subprocess, sys, threading, time
+    import ecpsim
+    sim = ecpsim.Simulation(ecpsim.load_scene(sys.argv[1]))
+    calls = []
+    if sys.argv[2] == "handler":
+        signal.signal(signal.SIGINT, lambda signum, frame: calls.append(signum))
+    def poke():
+        time.sleep(float(sys.argv[3]))
+        os.kill(os.getpid(), signal.SIGINT)
+    threading.Thread(target=poke).start()
+    path = sys.argv[4]
+    try:
+        result = sim.record(path, duration=0.05, fps=20, width=64, height=48)
+        print("returned", result["frames"], result["steps"], sim.time, len(calls))
+    except KeyboardInterrupt:
+        print("KeyboardInterrupt", sim.time, len(calls))
+    probe = subprocess.run(["ffprobe", "-v", "error", "-select_streams", "v:0", "-show_entries",
+                            "stream=nb_frames", "-of", "json", path],
+                           capture_output=True, text=True, check=True).stdout
+    print("video", json.loads(probe)["streams"][0]["nb_frames"])
+""")
+
+
+def run_record_child(scenes, mode, path):
+    done = subprocess.run(
+        [sys.executable, "-c", RECORD_CHILD, str(scenes / "train.yaml"), mode, str(POKE_AFTER),
+         str(path)], capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr
+    return done.stdout.split("\n")
+
+
+def test_ctrl_c_ends_a_recording_at_the_last_step_taken(scenes, tmp_path):
+    lines = run_record_child(scenes, "default", tmp_path / "train.mp4")
+    # the strike's step stopped, undone; the video holds the frame at t = 0 and is a valid MP4
+    assert lines[0] == "KeyboardInterrupt 0.0 0", lines
+    assert lines[1] == "video 1", lines
+
+
+def test_a_handler_that_raises_nothing_lets_the_recording_go_on(scenes, tmp_path):
+    lines = run_record_child(scenes, "handler", tmp_path / "train.mp4")
+    assert lines[0] == "returned 2 5 0.05 1", lines
+    assert lines[1] == "video 2", lines
