@@ -12,8 +12,10 @@ import textwrap
 # times faster (at 0.3 s it came 0.1 s before the step's end)
 POKE_AFTER = 0.1
 
-CHILD = textwrap.dedent("""
-    import os, signal, sys, threading, time
+# a child's start: the train's simulation, the program's own SIGINT handler where asked (one that
+# counts its calls and raises nothing), and a thread that sends SIGINT after argv[3] s
+PRELUDE = textwrap.dedent("""
+    import json, os, signal, subprocess, sys, threading, time
     import ecpsim
     scene = ecpsim.load_scene(sys.argv[1])
     sim = ecpsim.Simulation(scene)
@@ -24,6 +26,9 @@ CHILD = textwrap.dedent("""
         time.sleep(float(sys.argv[3]))
         os.kill(os.getpid(), signal.SIGINT)
     threading.Thread(target=poke).start()
+""")
+
+CHILD = PRELUDE + textwrap.dedent("""
     try:
         sim.step()
         print("returned", sim.time, len(calls))
@@ -61,17 +66,7 @@ def test_a_handler_that_raises_nothing_lets_the_step_be_taken(scenes):
 
 
 # the same for Simulation.record: the train's first 0.05 s at 20 frames/s, frames at 0 and 0.05 s
-RECORD_CHILD = textwrap.dedent("""
-    import json, os, signal, subprocess, sys, threading, time
-    import ecpsim
-    sim = ecpsim.Simulation(ecpsim.load_scene(sys.argv[1]))
-    calls = []
-    if sys.argv[2] == "handler":
-        signal.signal(signal.SIGINT, lambda signum, frame: calls.append(signum))
-    def poke():
-        time.sleep(float(sys.argv[3]))
-        os.kill(os.getpid(), signal.SIGINT)
-    threading.Thread(target=poke).start()
+RECORD_CHILD = PRELUDE + textwrap.dedent("""
     path = sys.argv[4]
     try:
         result = sim.record(path, duration=0.05, fps=20, width=64, height=48)
