@@ -327,6 +327,10 @@ std::array<Exact::Point_3, 3> FaceCorners(const ExactMesh& mesh, ExactHalfedge h
           mesh.point(mesh.target(mesh.next(h)))};
 }
 
+Eigen::Vector3d ToEigen(const Exact::Point_3& p) {
+  return {CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z())};
+}
+
 bool OnPlaneOf(const std::array<Exact::Point_3, 3>& face, const Exact::Point_3& p) {
   return CGAL::orientation(face[0], face[1], face[2], p) == CGAL::COPLANAR;
 }
@@ -351,14 +355,10 @@ std::optional<Exact::Plane_3> ReflexCut(const ExactMesh& mesh) {
   }
   if (reflex.empty()) return std::nullopt;
   // the ends in doubles, to skip the exact test for ends plainly off a plane
-  const auto approximate = [&](const Exact::Point_3& p) {
-    return Eigen::Vector3d(CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z()));
-  };
   std::vector<std::array<Eigen::Vector3d, 2>> ends;
   double size = 0;
   for (const ExactHalfedge h : reflex) {
-    ends.push_back(
-        {approximate(mesh.point(mesh.source(h))), approximate(mesh.point(mesh.target(h)))});
+    ends.push_back({ToEigen(mesh.point(mesh.source(h))), ToEigen(mesh.point(mesh.target(h)))});
     size = std::max(
         {size, ends.back()[0].lpNorm<Eigen::Infinity>(), ends.back()[1].lpNorm<Eigen::Infinity>()});
   }
@@ -376,9 +376,8 @@ std::optional<Exact::Plane_3> ReflexCut(const ExactMesh& mesh) {
   for (const ExactHalfedge h : reflex) {
     for (const ExactHalfedge side : {h, mesh.opposite(h)}) {
       const std::array<Exact::Point_3, 3> face = FaceCorners(mesh, side);
-      const Eigen::Vector3d a = approximate(face[0]);
-      const Eigen::Vector3d unit =
-          (approximate(face[1]) - a).cross(approximate(face[2]) - a).normalized();
+      const Eigen::Vector3d a = ToEigen(face[0]);
+      const Eigen::Vector3d unit = (ToEigen(face[1]) - a).cross(ToEigen(face[2]) - a).normalized();
       const auto near = [&](const Eigen::Vector3d& p) {
         return std::abs(unit.dot(p - a)) <= off_plane;
       };
@@ -427,8 +426,7 @@ std::vector<Eigen::Vector3d> Corners(const ExactMesh& piece) {
     for (const ExactHalfedge h : CGAL::halfedges_around_target(v, piece))
       flat = flat && OnPlaneOf(first, piece.point(piece.source(h)));
     if (flat) continue;
-    const Exact::Point_3& p = piece.point(v);
-    corners.emplace_back(CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z()));
+    corners.push_back(ToEigen(piece.point(v)));
   }
   return corners;
 }
@@ -463,35 +461,34 @@ std::vector<std::vector<Eigen::Vector3d>> CutAtReflexEdges(ExactMesh whole) {
 // triangles that meet have boxes that overlap at some coordinate along the mesh's longest axis,
 // so both lie in the triangles reaching below the median there or both in those reaching above:
 // the two halves are checked on two threads.
-bool IntersectsItself(const TriangleMesh& mesh,
+bool IntersectsItself(const std::vector<Point3>& points,
                       const std::vector<std::array<std::size_t, 3>>& triangles) {
   using Surface = CGAL::Surface_mesh<Point3>;
-  std::vector<Point3> points;
-  for (const Eigen::Vector3d& v : mesh.vertices) points.emplace_back(v.x(), v.y(), v.z());
   Surface surface;
   CGAL::Polygon_mesh_processing::polygon_soup_to_polygon_mesh(points, triangles, surface);
   Eigen::AlignedBox3d box;
-  for (const Eigen::Vector3d& v : mesh.vertices) box.extend(v);
+  for (const Point3& p : points) box.extend(ToEigen(p));
   Eigen::Index axis = 0;
   box.sizes().maxCoeff(&axis);
-  std::vector<double> centres;
+  // each face's extent along the axis, and the median of their middles
+  std::vector<std::array<double, 2>> extents;
   for (Surface::Face_index f : surface.faces()) {
-    double sum = 0;
-    for (Surface::Vertex_index v : CGAL::vertices_around_face(surface.halfedge(f), surface))
-      sum += surface.point(v)[axis];
-    centres.push_back(sum / 3);
+    std::array<double, 2> extent = {INFINITY, -INFINITY};
+    for (Surface::Vertex_index v : CGAL::vertices_around_face(surface.halfedge(f), surface)) {
+      extent[0] = std::min(extent[0], surface.point(v)[axis]);
+      extent[1] = std::max(extent[1], surface.point(v)[axis]);
+    }
+    extents.push_back(extent);
   }
-  std::nth_element(centres.begin(), centres.begin() + centres.size() / 2, centres.end());
-  const double median = centres[centres.size() / 2];
+  std::vector<double> middles;
+  for (const std::array<double, 2>& extent : extents)
+    middles.push_back((extent[0] + extent[1]) / 2);
+  std::nth_element(middles.begin(), middles.begin() + middles.size() / 2, middles.end());
+  const double median = middles[middles.size() / 2];
   std::array<std::vector<Surface::Face_index>, 2> halves;
   for (Surface::Face_index f : surface.faces()) {
-    double low = INFINITY, high = -INFINITY;
-    for (Surface::Vertex_index v : CGAL::vertices_around_face(surface.halfedge(f), surface)) {
-      low = std::min(low, surface.point(v)[axis]);
-      high = std::max(high, surface.point(v)[axis]);
-    }
-    if (low <= median) halves[0].push_back(f);
-    if (high >= median) halves[1].push_back(f);
+    if (extents[f][0] <= median) halves[0].push_back(f);
+    if (extents[f][1] >= median) halves[1].push_back(f);
   }
   std::array<bool, 2> meets = {false, false};
   ParallelFor(2, [&](std::size_t k) {
@@ -516,13 +513,11 @@ std::vector<std::vector<Eigen::Vector3d>> ExactConvexPieces(const TriangleMesh& 
         "surface (an edge with more than two triangles, or two triangles wound alike across it)",
         source));
   }
+  std::vector<Point3> inexact;
+  for (const Eigen::Vector3d& v : mesh.vertices) inexact.emplace_back(v.x(), v.y(), v.z());
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
     const Eigen::Vector3i& corner = mesh.triangles[t];
-    const auto point = [&](int k) {
-      const Eigen::Vector3d& v = mesh.vertices[corner[k]];
-      return Point3(v.x(), v.y(), v.z());
-    };
-    if (CGAL::collinear(point(0), point(1), point(2))) {
+    if (CGAL::collinear(inexact[corner[0]], inexact[corner[1]], inexact[corner[2]])) {
       throw InputError(fmt::format(
           "convex decomposition of {}: triangle {} has no area (its corners {}, {}, {} lie on a "
           "line); a solid's surface needs triangles that span a plane",
@@ -539,7 +534,7 @@ std::vector<std::vector<Eigen::Vector3d>> ExactConvexPieces(const TriangleMesh& 
         source));
   }
   // CGAL's cuts ask for a surface that does not meet itself (on one that does they may crash)
-  if (IntersectsItself(mesh, triangles)) {
+  if (IntersectsItself(inexact, triangles)) {
     throw InputError(fmt::format(
         "convex decomposition of {}: the mesh intersects itself; a solid needs a surface that "
         "does not",
