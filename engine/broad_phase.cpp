@@ -85,6 +85,7 @@ void StepReachOf(const Scene& scene, const State& state, StepReach& reach) {
   std::vector<Eigen::Vector3d>& closing = reach.closing;
   closing.assign(n, Eigen::Vector3d::Zero());
   reach.size.resize(n);
+  reach.own_distance.resize(n);
   reach.part_boxes.resize(n);
   double fastest = 0;
   for (size_t b = 0; b < scene.bodies.size(); ++b) {
@@ -136,6 +137,8 @@ void StepReachOf(const Scene& scene, const State& state, StepReach& reach) {
     }
     double distance = isotropic + h * closing[b].norm();
     if (scene.bodies[b].IsKinematic() || !std::isfinite(distance)) distance = INFINITY;
+    const bool driven = scene.bodies[b].IsKinematic() || scene.bodies[b].IsJaw();
+    reach.own_distance[b] = driven ? INFINITY : h * speed[b] + kBroadPhaseRelMargin * size;
     reach.distance[b] = distance;
     reach.size[b] = size;
   }
@@ -161,6 +164,25 @@ bool BodiesInReach(const Scene& scene, const State& state, const StepReach& reac
   return geometry::WithinDistance(ShapeOfBody(scene, pair), PoseOf(state.bodies[a]),
                                   ShapeOfOther(scene, pair), PoseOf(state.bodies[b]), distance,
                                   std::max(reach.size[a], reach.size[b]));
+}
+
+bool StaysApart(const Scene& scene, const State& state, const StepReach& reach, int k) {
+  const ContactPair& pair = scene.contacts[k];
+  const int a = pair.body, b = pair.other_body;
+  if (static_cast<size_t>(k) >= state.contacts.size() || !(state.contacts[k].p_n == 0))
+    return false;
+  const double distance = reach.own_distance[a] + reach.own_distance[b];
+  if (!std::isfinite(distance)) return false;
+  return !geometry::WithinDistance(ShapeOfBody(scene, pair), PoseOf(state.bodies[a]),
+                                   ShapeOfOther(scene, pair), PoseOf(state.bodies[b]), distance,
+                                   std::max(reach.size[a], reach.size[b]));
+}
+
+bool EndsApart(const Scene& scene, int k, const BodyState& body, const BodyState& other,
+               double size) {
+  const ContactPair& pair = scene.contacts[k];
+  return !geometry::WithinDistance(ShapeOfBody(scene, pair), PoseOf(body),
+                                   ShapeOfOther(scene, pair), PoseOf(other), 0, size);
 }
 
 bool PartReachesBody(const StepReach& reach, const ContactPair& pair) {

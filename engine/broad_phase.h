@@ -26,6 +26,10 @@ struct StepReach {
   /// m: how far any point of the body can move within the step (a jaw's closing included);
   /// infinite for a kinematic body, whose box holds its motion instead.
   std::vector<double> distance;
+  /// m: how far any point of the body can move within the step by its own motion, loads and
+  /// gravity alone, h (|v| + |ω| r + |p_applied| / m + h |g|) — `distance` without what a contact
+  /// can give it; infinite for a kinematic body and a gripper's jaw (driven, not free).
+  std::vector<double> own_distance;
   /// m: the diagonal of the hull's box at the start pose, the body's length scale.
   std::vector<double> size;
   /// m/s (world): a jaw's closing speed along its gripper's axis, which grows its box along that
@@ -48,6 +52,19 @@ void StepReachOf(const Scene& scene, const State& state, StepReach& reach);
 /// overlap only because a turned body's box holds more than its hull (a pile turned about z, the
 /// dominoes), so that which contacts a step solves does not depend on the world axes.
 bool BodiesInReach(const Scene& scene, const State& state, const StepReach& reach, int k);
+
+/// Whether contact pair `k` (between two bodies, in reach: BodiesInReach) stays apart within the
+/// step unless a contact of the step pushes one of its bodies: it carried no normal impulse over
+/// the last step and its hulls (or the parts it names) at the step's start lie farther apart than
+/// the two bodies' own motions can close (StepReach::own_distance). Such a pair between two
+/// islands is left out of the step, and the driver verifies at the step's end that it is still
+/// apart (EndsApart); engine/README.md, "Pairs apart at both ends of the step".
+bool StaysApart(const Scene& scene, const State& state, const StepReach& reach, int k);
+
+/// Whether the sides of contact pair `k` (between two bodies) are strictly apart with its bodies
+/// at `body` and `other` (GJK finds a separating direction); `size` (m) the bodies' length scale.
+bool EndsApart(const Scene& scene, int k, const BodyState& body, const BodyState& other,
+               double size);
 
 /// Whether the box of the part of F that `pair` names (between two bodies, F touching with a
 /// part) meets the whole box of G: where it does not, no contact of that part with G can act.

@@ -51,10 +51,6 @@ void FormIslandsInto(const Scene& scene, const State& state, IslandScratch& scra
       }
     }
     in_step[k] = BodiesInReach(scene, state, known_reach(), static_cast<int>(k));
-    // (a pair listing two sets joins its bodies by the set it keeps, below)
-    if (in_step[k] && pair.sides == SideChoice::kFixed &&
-        !scene.bodies[pair.other_body].IsKinematic())
-      root[find(pair.body)] = find(pair.other_body);
   }
   // such a pair keeps one of the two within the step (engine/auto_sides.h): those between two
   // bodies before the islands form, so that a set left out joins nothing
@@ -71,17 +67,36 @@ void FormIslandsInto(const Scene& scene, const State& state, IslandScratch& scra
                                        : SideChoice::kHulls;
         for (size_t j = k; j < end; ++j)
           if (scene.contacts[j].sides == dropped) in_step[j] = false;
-        const bool joins =
-            std::any_of(in_step.begin() + k, in_step.begin() + end, [](char in) { return in; });
-        if (joins && with_body && !scene.bodies[pair.other_body].IsKinematic())
-          root[find(pair.body)] = find(pair.other_body);
       }
       k = end;
     }
   };
   keep_one_set(true);
+  // the pairs that join their bodies' islands, and those that stay apart (StaysApart)
+  std::vector<int>& apart = scratch.apart;
+  apart.clear();
+  const bool any_kept = scratch.kept.size() == scene.contacts.size();
+  for (size_t k = 0; k < scene.contacts.size(); ++k) {
+    const ContactPair& pair = scene.contacts[k];
+    if (!in_step[k] || !pair.WithBody() || scene.bodies[pair.other_body].IsKinematic()) continue;
+    if (!(any_kept && scratch.kept[k]) &&
+        StaysApart(scene, state, known_reach(), static_cast<int>(k))) {
+      apart.push_back(static_cast<int>(k));
+    } else {
+      root[find(pair.body)] = find(pair.other_body);
+    }
+  }
   // a gripper's jaws move as one (island_gripper.h)
   for (const Gripper& gripper : scene.grippers) root[find(gripper.jaws[0])] = find(gripper.jaws[1]);
+  // a pair that stays apart between two islands is left out of the step (the driver verifies
+  // that it ends apart); within one island it stays in, as a block of the island's MNCP
+  apart.erase(std::remove_if(apart.begin(), apart.end(),
+                             [&](int k) {
+                               const ContactPair& pair = scene.contacts[k];
+                               return find(pair.body) == find(pair.other_body);
+                             }),
+              apart.end());
+  for (int k : apart) in_step[k] = false;
   std::vector<int>& island_of = scratch.island_of;
   island_of.assign(n, -1);
   size_t count = 0;

@@ -17,6 +17,11 @@ struct IslandScratch {
   std::vector<int> root, island_of;  // the union–find's roots, each root's island
   std::vector<char> in_step;         // each contact's presence in the step
   StepReach reach;                   // the broad phase's bounds, where a contact needs them
+  /// contacts left out of the step as staying apart between two islands, for the driver to verify
+  std::vector<int> apart;
+  /// per contact: kept in the step whatever StaysApart says (the driver found it not apart at
+  /// the step's end); empty or sized as the scene's contacts, set by the caller
+  std::vector<char> kept;
 };
 
 /// The scene's islands for the step [t, t + h] from `state` (in order of their lowest body):
@@ -29,7 +34,10 @@ struct IslandScratch {
 /// dynamic body is in exactly one island, with all its contacts with obstacles; kinematic bodies
 /// are in none (their motion is given). Of a pair that lists its hulls' and its parts' contacts
 /// (Decomposition::kAuto) only one set is in the step, and only it joins the bodies' islands:
-/// the hulls' where HullsExact says so (engine/auto_sides.h), else the parts'. Each contact's friction is StepFriction's at `state`.
+/// the hulls' where HullsExact says so (engine/auto_sides.h), else the parts'. A contact between
+/// two bodies that stays apart unless the step's contacts push them (StaysApart), and whose
+/// bodies the other contacts leave in two islands, joins nothing: it is listed in `apart`
+/// instead, unless `kept` names it. Each contact's friction is StepFriction's at `state`.
 std::vector<Island> FormIslands(const Scene& scene, const State& state);
 
 /// FormIslands into `islands`, over their last contents (reusing their storage).

@@ -197,41 +197,16 @@ void SolveAwakeIslands(const Scene& scene, const State& state, const WithModel& 
       });
 }
 
-}  // namespace
-
-StepReport StepIslands(const Scene& scene, State& state, const WithModel& with_model,
-                       StepWorkspace& workspace) {
-  StepScratch& scratch = workspace.Part<StepScratch>();
-  // (looked up once: the workspace keeps its parts where they are)
-  if (scratch.threads == nullptr) {
-    scratch.threads = &IslandThreadsOf(workspace);
-    scratch.solver = &workspace.Part<McpWorkspace>();
-  }
-  StepReport report;
-  report.converged = true;
-  report.models.assign(scene.bodies.size(), StepModel::kKinematic);
-  // the step's results, written into `state` only once every island is solved (a failure leaves
-  // it as it was); the contacts' states are not copied as a whole: with every pair of bodies a
-  // potential contact they outnumber the bodies by far (2,016 pairs for 64 boxes)
-  std::vector<Island>& islands = scratch.islands;
-  FormIslandsInto(scene, state, scratch.island_scratch, islands);
-  std::vector<IslandState>& solved = scratch.solved;
-  solved.resize(islands.size());
-  scratch.outcomes.resize(islands.size());
+// The islands' outcomes in index order into `report`, each island's bodies at the step's end
+// into `next_bodies` (a sleeping island replays its last step); the first island that failed
+// fails the step
+void ReadOutcomes(const Scene& scene, const State& state, StepScratch& scratch,
+                  StepReport& report) {
+  const std::vector<Island>& islands = scratch.islands;
   const SleepPlan& sleep = scratch.sleep;
-  PlanSleep(scene, state, islands, scratch.sleep);
-  scratch.island_substeps.assign(islands.size(), 1);
-  scratch.island_residuals.assign(islands.size(), 0.0);
-  // (a replay repeats its start)
-  scratch.island_repeats.assign(islands.size(), true);
-
-  OrderAwake(islands, sleep, scratch.threads->threads(), scratch.awake);
-  SolveAwakeIslands(scene, state, with_model, workspace, scratch);
-
-  // the islands' outcomes in index order: the first that failed fails the step
   for (size_t island_index = 0; island_index < islands.size(); ++island_index) {
     const Island& island = islands[island_index];
-    IslandState& local = solved[island_index];
+    IslandState& local = scratch.solved[island_index];
     // a sleeping island replays its last step: its bodies' poses advance, nothing else changes
     if (sleep.sleeps[island_index]) {
       local.bodies.resize(island.bodies.size());
@@ -289,13 +264,79 @@ StepReport StepIslands(const Scene& scene, State& state, const WithModel& with_m
     const KinematicPose end = body.motion->PoseAt(static_cast<double>(state.steps + 1) * scene.h);
     next_bodies[b] = {end.p, end.q, twist.v, twist.w};
   }
+  for (size_t i = 0; i < islands.size(); ++i) {
+    for (size_t j = 0; j < islands[i].bodies.size(); ++j)
+      next_bodies[islands[i].bodies[j]] = scratch.solved[i].bodies[j];
+  }
+}
+
+// Whether every pair the islands left out as staying apart (IslandScratch::apart) is apart at the
+// step's end; those that are not are marked to be kept in the step (IslandScratch::kept)
+bool ApartPairsEndApart(const Scene& scene, StepScratch& scratch) {
+  IslandScratch& islands = scratch.island_scratch;
+  bool all_apart = true;
+  for (int k : islands.apart) {
+    const ContactPair& pair = scene.contacts[k];
+    const double size =
+        std::max(islands.reach.size[pair.body], islands.reach.size[pair.other_body]);
+    if (EndsApart(scene, k, scratch.next_bodies[pair.body], scratch.next_bodies[pair.other_body],
+                  size))
+      continue;
+    islands.kept.resize(scene.contacts.size(), false);
+    islands.kept[k] = true;
+    all_apart = false;
+  }
+  return all_apart;
+}
+
+}  // namespace
+
+StepReport StepIslands(const Scene& scene, State& state, const WithModel& with_model,
+                       StepWorkspace& workspace) {
+  StepScratch& scratch = workspace.Part<StepScratch>();
+  // (looked up once: the workspace keeps its parts where they are)
+  if (scratch.threads == nullptr) {
+    scratch.threads = &IslandThreadsOf(workspace);
+    scratch.solver = &workspace.Part<McpWorkspace>();
+  }
+  // the step's results, written into `state` only once every island is solved (a failure leaves
+  // it as it was); the contacts' states are not copied as a whole: with every pair of bodies a
+  // potential contact they outnumber the bodies by far (2,016 pairs for 64 boxes)
+  std::vector<Island>& islands = scratch.islands;
+  const SleepPlan& sleep = scratch.sleep;
+  // the islands solved without the pairs that stay apart; a pair found not apart at the step's
+  // end is kept in it and the step solved again (engine/README.md, "Pairs apart at both ends of
+  // the step"); the work of every pass is counted
+  scratch.island_scratch.kept.clear();
+  StepReport report;
+  int earlier_iterations = 0, earlier_retries = 0;
+  for (;;) {
+    report = StepReport{};
+    report.converged = true;
+    report.models.assign(scene.bodies.size(), StepModel::kKinematic);
+    FormIslandsInto(scene, state, scratch.island_scratch, islands);
+    scratch.solved.resize(islands.size());
+    scratch.outcomes.resize(islands.size());
+    PlanSleep(scene, state, islands, scratch.sleep);
+    scratch.island_substeps.assign(islands.size(), 1);
+    scratch.island_residuals.assign(islands.size(), 0.0);
+    // (a replay repeats its start)
+    scratch.island_repeats.assign(islands.size(), true);
+    OrderAwake(islands, sleep, scratch.threads->threads(), scratch.awake);
+    SolveAwakeIslands(scene, state, with_model, workspace, scratch);
+    ReadOutcomes(scene, state, scratch, report);
+    if (ApartPairsEndApart(scene, scratch)) break;
+    earlier_iterations += report.iterations;
+    earlier_retries += report.retries;
+  }
+  report.iterations += earlier_iterations;
+  report.retries += earlier_retries;
+  std::vector<IslandState>& solved = scratch.solved;
 
   // every island solved: the step is committed (copied over the state's own storage)
-  state.bodies.swap(next_bodies);
+  state.bodies.swap(scratch.next_bodies);
   for (size_t i = 0; i < islands.size(); ++i) {
     const Island& island = islands[i];
-    for (size_t j = 0; j < island.bodies.size(); ++j)
-      state.bodies[island.bodies[j]] = solved[i].bodies[j];
     // (a replay leaves its contacts as they are)
     if (sleep.sleeps[i]) continue;
     // copied over the state's contacts, warm starts into their own storage (swapping would move

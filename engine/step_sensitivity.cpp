@@ -331,9 +331,15 @@ StepSensitivity ComputeStepSensitivity(const Scene& scene, const State& state,
   out.A_determined.setOnes(kStateCoordinates * n, kStateCoordinates * n);
   out.B_determined.setOnes(kStateCoordinates * n, kWrenchCoordinates * n);
 
-  // the islands as the step formed them
+  // the islands as the step formed them: a pair that stays apart was kept in the step where the
+  // driver found it not apart at the step's end, and only such a pair has a warm start after it
   const double h = scene.h;
-  const std::vector<Island> islands = FormIslands(scene, state);
+  IslandScratch island_scratch;
+  island_scratch.kept.resize(scene.contacts.size());
+  for (size_t k = 0; k < scene.contacts.size(); ++k)
+    island_scratch.kept[k] = !out.next.contacts[k].warm_start.empty();
+  std::vector<Island> islands;
+  FormIslandsInto(scene, state, island_scratch, islands);
   for (const Island& island : islands) {
     IslandAtStart at{scene, island, state.t, h, Gather(island, state), {}, {}, false};
     const IslandState after = Gather(island, out.next);

@@ -9,7 +9,9 @@
 
 #include "engine/islands.h"
 #include "engine/models/hull_model.h"
+#include "engine/scene_io/scene_builders.h"
 #include "engine/time_step.h"
+#include "geometry/convex_separation.h"
 #include "tests/engine/test_bodies.h"
 
 namespace ecpsim::engine {
@@ -195,6 +197,69 @@ TEST(StepIslandsTest, TheHullModelThroughTheDriverIsTheStep) {
     ASSERT_EQ(a.bodies[0].p_WB, b.bodies[0].p_WB);
     ASSERT_EQ(a.bodies[0].Q_WB.coeffs(), b.bodies[0].Q_WB.coeffs());
   }
+}
+
+// m/m: how deep two boxes the step left touching may overlap, relative to their size: the
+// MNCP's non-penetration holds to its tolerance (1e-12), far below this
+constexpr double kTouchingOverlapRel = 1e-10;
+constexpr double kRowBoxSize = 0.1;  // m
+
+// Three cubes a, b, c in a row along x on the ground, every pair a contact pair: a touching b
+// and moving toward it at `speed`, c `gap` beyond b. b and c at rest cannot close a gap of more
+// than 2 h² |g| (2 mm at h = 0.01 s) by themselves, so the islands leave b–c out of the step
+Scene RowOfBoxes(double gap, double speed) {
+  std::vector<Body> boxes;
+  const double xs[] = {0, kRowBoxSize, 2 * kRowBoxSize + gap};
+  for (int i = 0; i < 3; ++i) {
+    Body box = MakeBoxBody(Vector3d::Constant(kRowBoxSize), 1, std::string(1, 'a' + i));
+    box.p0 = Vector3d(xs[i], 0, kRowBoxSize / 2);
+    boxes.push_back(box);
+  }
+  boxes[0].v0 = Vector3d(speed, 0, 0);
+  Scene scene = MakeGroundScene(boxes);
+  AddBodyPairs(scene);
+  return scene;
+}
+
+// the contact pair between b and c in RowOfBoxes
+int PairBC(const Scene& scene) {
+  for (size_t k = 0; k < scene.contacts.size(); ++k) {
+    const ContactPair& pair = scene.contacts[k];
+    if (pair.WithBody() && pair.body + pair.other_body == 3) return static_cast<int>(k);
+  }
+  return -1;
+}
+
+TEST(StepIslandsTest, APairLeftOutAsApartThatAStrikeClosesIsSolvedInTheStep) {
+  // a strikes b at 4 m/s and gives it 2 m/s, 2 cm in the step: b–c, 1 cm apart and left out, does
+  // not end the step apart, and the driver solves the step again with the pair in
+  const Scene scene = RowOfBoxes(0.01, 4);
+  State state = InitialState(scene);
+  const int b_c = PairBC(scene);
+  IslandScratch scratch;
+  std::vector<Island> islands;
+  FormIslandsInto(scene, state, scratch, islands);
+  ASSERT_THAT(scratch.apart, ::testing::Contains(b_c));
+
+  Step(scene, state);
+  EXPECT_GT(state.contacts[b_c].p_n, 0) << "b pushes c";
+  EXPECT_GT(state.bodies[2].v_WB.x(), 0);
+  const double overlap =
+      geometry::PenetrationDepth(*scene.bodies[1].hull, PoseOf(state.bodies[1]),
+                                 *scene.bodies[2].hull, PoseOf(state.bodies[2]), kRowBoxSize);
+  EXPECT_LE(overlap, kTouchingOverlapRel * kRowBoxSize);
+}
+
+TEST(StepIslandsTest, APairLeftOutAsApartThatEndsApartReportsNoImpulse) {
+  // a at 2 m/s takes b 1 cm, c 5 cm beyond b stays untouched
+  const Scene scene = RowOfBoxes(0.05, 2);
+  State state = InitialState(scene);
+  Step(scene, state);
+  EXPECT_GT(state.bodies[1].v_WB.x(), 0) << "a strikes b";
+  EXPECT_EQ(state.bodies[2].v_WB, Vector3d::Zero());
+  const ContactState& b_c = state.contacts[PairBC(scene)];
+  EXPECT_EQ(b_c.p_n, 0);
+  EXPECT_TRUE(b_c.warm_start.empty());
 }
 
 }  // namespace
