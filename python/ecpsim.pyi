@@ -290,7 +290,8 @@ def rollout(
     apply_wrench; zero on kinematic bodies. A failed step stops its simulation at its last good
     state; after the others finish the first failure is raised (SolverFailure, ModelInvalid or
     InputError) with attributes simulation, steps_done, failures and results (the completed
-    simulations' arrays and their indices, results['simulations'])."""
+    simulations' arrays and their indices, results['simulations']). Ctrl-C stops every step in
+    progress, undone (docs/python.md, "Ctrl-C")."""
 
 def hull(
     mesh_path: Union[str, os.PathLike],

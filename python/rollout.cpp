@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cstring>
+#include <memory>
 #include <optional>
 #include <system_error>
 #include <thread>
@@ -18,16 +19,21 @@ namespace {
 // doubles per body and step: force then torque
 constexpr int kWrenchSize = 6;
 
-// steps job's simulation, writing its rows; a step that throws ends it, recorded in `failure`
-void RunJob(const RolloutJob& job, std::int64_t steps, size_t index,
-            std::optional<RolloutFailure>& failure) {
+// steps job's simulation on from `progress`, writing its rows; a step that throws ends it,
+// recorded in `failure`, and one that `cancel` stops leaves it where it stands
+void RunJob(const RolloutJob& job, std::int64_t steps, size_t index, const CancelFlag* cancel,
+            RolloutProgress& progress, std::optional<RolloutFailure>& failure) {
   const std::lock_guard<std::mutex> lock(*job.mutex);
   Simulation& sim = *job.sim;
+  sim.StopOn(cancel);
+  // (the flag is the caller's: the simulation forgets it whatever leaves this scope)
+  const std::unique_ptr<Simulation, void (*)(Simulation*)> unhook(
+      &sim, [](Simulation* s) { s->StopOn(nullptr); });
   const size_t n = job.scene->bodies.size();
-  for (std::int64_t k = 0; k < steps; ++k) {
+  for (std::int64_t k = progress.steps_done; k < steps; ++k) {
     try {
       // the step's wrenches, as apply_wrench with no point (kinematic rows are zero, checked)
-      if (job.controls != nullptr) {
+      if (job.controls != nullptr && !progress.controls_pending) {
         const double* row = job.controls + static_cast<size_t>(k) * n * kWrenchSize;
         for (size_t b = 0; b < n; ++b) {
           if (job.scene->bodies[b].IsKinematic()) continue;
@@ -36,12 +42,18 @@ void RunJob(const RolloutJob& job, std::int64_t steps, size_t index,
                           Eigen::Vector3d(w[3], w[4], w[5]), std::nullopt);
         }
       }
+      progress.controls_pending = job.controls != nullptr;
       sim.Step(1);
+      progress.controls_pending = false;
+    } catch (const Cancelled&) {
+      return;
     } catch (const std::exception& e) {
       failure = RolloutFailure{index, k, sim.state().t, e.what(), std::current_exception()};
+      progress.over = true;
       return;
     } catch (...) {
       failure = RolloutFailure{index, k, sim.state().t, "unknown error", std::current_exception()};
+      progress.over = true;
       return;
     }
     // the state after the step (engine::Step commits finite states only)
@@ -57,7 +69,9 @@ void RunJob(const RolloutJob& job, std::int64_t steps, size_t index,
     }
     job.rows.time[k] = state.t;
     job.rows.converged[k] = sim.last_report().converged;
+    progress.steps_done = k + 1;
   }
+  progress.over = true;
 }
 
 }  // namespace
@@ -93,15 +107,18 @@ void CheckControls(const RolloutJob& job, size_t index, std::int64_t steps) {
 }
 
 std::vector<RolloutFailure> Rollout(const std::vector<RolloutJob>& jobs, std::int64_t steps,
-                                    int threads) {
-  ECPSIM_DEMAND(steps >= 1 && threads >= 1);
+                                    int threads, const CancelFlag* cancel,
+                                    std::vector<RolloutProgress>& progress) {
+  ECPSIM_DEMAND(steps >= 1 && threads >= 1 && progress.size() == jobs.size());
   if (jobs.empty()) return {};
   std::vector<std::optional<RolloutFailure>> failed(jobs.size());
-  // each thread takes the next job until none is left (scenes of different cost balance)
+  // each thread takes the next job until none is left (scenes of different cost balance), or
+  // the flag is raised
   std::atomic<size_t> next{0};
   const auto work = [&] {
     for (size_t i = next.fetch_add(1); i < jobs.size(); i = next.fetch_add(1)) {
-      RunJob(jobs[i], steps, i, failed[i]);
+      if (cancel != nullptr && cancel->raised()) return;
+      if (!progress[i].over) RunJob(jobs[i], steps, i, cancel, progress[i], failed[i]);
     }
   };
   std::vector<std::thread> pool;

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "common/cancel_flag.h"
 #include "engine/scene.h"
 #include "python/simulation.h"
 
@@ -50,6 +51,15 @@ struct RolloutFailure {
   std::exception_ptr error;
 };
 
+/// How far a rollout took one job: its steps done, whether the controls of the next one are
+/// applied already (a step stopped by the cancel flag leaves them pending, as a failed one does),
+/// and whether it is over (all its steps taken, or failed).
+struct RolloutProgress {
+  std::int64_t steps_done = 0;
+  bool controls_pending = false;
+  bool over = false;
+};
+
 /// Checks `job`'s controls before any step (`index`: the job's place, for the message): every
 /// value finite within ±kMaxMagnitude, and a kinematic body's rows zero (its motion is
 /// prescribed; no wrench moves it).
@@ -60,11 +70,15 @@ void CheckControls(const RolloutJob& job, size_t index, std::int64_t steps);
 /// threads − 1 more; each takes the next job not yet taken, locks its mutex and steps it to the
 /// end), applying its controls before each step and writing its rows after it. The jobs are
 /// independent, so every row is the same double whatever `threads` is. A job whose step fails
-/// (SolverFailure, ModelInvalid, InputError of a load) stops there, the others go on.
+/// (SolverFailure, ModelInvalid, InputError of a load) stops there, the others go on. Once
+/// `cancel` (may be null) is raised, every job's step in progress stops within a solver
+/// iteration, undone (Simulation::StopOn), and no job starts: `progress` (one per job, kept by
+/// the caller) says where each stands, and a later call with it takes each job on from there.
 /// Preconditions: distinct simulations, controls checked by CheckControls, rows of room for
-/// `steps` rows of the simulation's bodies.
-/// @returns the jobs that stopped, by index; empty when every job took all its steps.
+/// `steps` rows of the simulation's bodies, `progress` sized as `jobs`.
+/// @returns the jobs that failed in this call, by index.
 std::vector<RolloutFailure> Rollout(const std::vector<RolloutJob>& jobs, std::int64_t steps,
-                                    int threads);
+                                    int threads, const CancelFlag* cancel,
+                                    std::vector<RolloutProgress>& progress);
 
 }  // namespace ecpsim::python

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <iterator>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -17,6 +18,7 @@
 #include "python/conversions.h"
 #include "python/rollout.h"
 #include "python/state_arrays.h"
+#include "python/step_interrupt.h"
 
 namespace py = pybind11;
 
@@ -262,11 +264,29 @@ py::dict RolloutCall(const py::sequence& simulations, std::int64_t steps, const 
     CheckControls(job, i, steps);
   }
 
+  // Ctrl-C stops every job's step in progress, undone, and Python's SIGINT handler runs (its
+  // KeyboardInterrupt thrown from here); where the program's handler raises nothing, the jobs go
+  // on from where they stood
   std::vector<RolloutFailure> failures;
-  {
-    py::gil_scoped_release release;
-    failures = Rollout(jobs, steps, static_cast<int>(thread_count));
+  std::vector<RolloutProgress> progress(n);
+  for (;;) {
+    bool interrupted = false;
+    {
+      py::gil_scoped_release release;
+      CancelFlag flag;
+      const StepInterrupt guard(flag);
+      std::vector<RolloutFailure> failed =
+          Rollout(jobs, steps, static_cast<int>(thread_count), &flag, progress);
+      failures.insert(failures.end(), std::make_move_iterator(failed.begin()),
+                      std::make_move_iterator(failed.end()));
+      interrupted = guard.interrupted();
+    }
+    if (!interrupted) break;
+    HandOverInterrupt();
   }
+  std::sort(failures.begin(), failures.end(), [](const RolloutFailure& a, const RolloutFailure& b) {
+    return a.simulation < b.simulation;
+  });
   if (!failures.empty()) RaiseFailures(failures, arrays, n, steps);
   return arrays.Dict();
 }
@@ -351,7 +371,10 @@ void BindRollout(py::module_& m, py::class_<PySimulation>& sim) {
         "SolverFailure (or ModelInvalid, InputError) is raised naming the simulation and step, "
         "with attributes simulation, steps_done, failures [(simulation, steps_done, message)] "
         "and results (the arrays of the completed simulations, their indices in "
-        "results['simulations']).");
+        "results['simulations']).\n"
+        "Ctrl-C stops every simulation's step in progress, undone, and raises "
+        "KeyboardInterrupt with each at its last step done (a handler that raises nothing lets "
+        "them go on).");
 }
 
 }  // namespace ecpsim::python

@@ -99,3 +99,42 @@ def test_a_handler_that_raises_nothing_lets_the_recording_go_on(scenes, tmp_path
     lines = run_record_child(scenes, "handler", tmp_path / "train.mp4")
     assert lines[0] == "returned 2 5 0.05 1", lines
     assert lines[1] == "video 2", lines
+
+
+# the same for ecpsim.rollout: two copies of the train stepped 3 steps each on two threads, a
+# push on the first's CM in its first step (a control that must act once, however often the step
+# is stopped and taken again)
+ROLLOUT_CHILD = PRELUDE + textwrap.dedent("""
+    import numpy as np
+    def fresh():
+        return [ecpsim.Simulation(scene), ecpsim.Simulation(scene)]
+    controls = np.zeros((2, 3, len(scene.body_names), 6))
+    controls[0, 0, scene.body_names.index("c1"), 0] = 5.0
+    sims = fresh()
+    try:
+        rows = ecpsim.rollout(sims, 3, threads=2, controls=controls)
+        reference = ecpsim.rollout(fresh(), 3, threads=2, controls=controls)
+        same = all((rows[k] == reference[k]).all() for k in reference)
+        print("returned", [s.time for s in sims], len(calls), same)
+    except KeyboardInterrupt:
+        print("KeyboardInterrupt", [s.time for s in sims], len(calls))
+""")
+
+
+def run_rollout_child(scenes, mode):
+    done = subprocess.run(
+        [sys.executable, "-c", ROLLOUT_CHILD, str(scenes / "train.yaml"), mode, str(POKE_AFTER)],
+        capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr
+    return done.stdout.split("\n")
+
+
+def test_ctrl_c_stops_a_rollout_with_every_step_in_progress_undone(scenes):
+    lines = run_rollout_child(scenes, "default")
+    assert lines[0] == "KeyboardInterrupt [0.0, 0.0] 0", lines
+
+
+def test_a_handler_that_raises_nothing_lets_the_rollout_go_on(scenes):
+    lines = run_rollout_child(scenes, "handler")
+    # every step taken once, the push applied once: the rows of an uninterrupted rollout
+    assert lines[0] == "returned [0.03, 0.03] 1 True", lines
