@@ -14,7 +14,9 @@
 //   two threads against one, in wall time (the workers' CPU time is not the caller's);
 //   BM_IslandTrain: scenes/train.yaml's push once the row moves (issue 30's bar: ≤ 100 µs).
 // Every scene is stepped with the hull model, whose islands these are (model: auto would turn
-// the single resting box into a planar step and the comparison into one of two models).
+// the single resting box into a planar step and the comparison into one of two models), and
+// awake (solver.sleep false) but in BM_IslandSleep: they time the islands' solves, which
+// sleeping would replace by replays of resting bodies.
 
 #include <algorithm>
 #include <cmath>
@@ -49,6 +51,7 @@ Scene HullScene(std::vector<Body> bodies) {
   Scene scene = testing::MakeGroundScene(std::move(bodies), 0.01, kFriction);
   AddBodyPairs(scene);
   scene.model = ContactModel::kHull;
+  scene.solver.sleep = false;
   return scene;
 }
 
@@ -126,6 +129,7 @@ void BM_IslandScatteredPairs(benchmark::State& bench) {
       testing::MakeGroundScene(ScatteredBoxes(static_cast<int>(bench.range(0))), 0.01, kFriction);
   if (bench.range(1) == 1) AddBodyPairs(scene);
   scene.model = ContactModel::kHull;
+  scene.solver.sleep = false;
   State state = InitialState(scene);
   StepWorkspace workspace;
   constexpr int kSettleSteps = 5;
@@ -214,7 +218,8 @@ std::string CrossedBarsYaml(bool parts) {
   constexpr int kParts = 20;
   constexpr double kLength = 0.4, kPitch = kLength / kParts, kOverlap = 0.002;
   std::string yaml =
-      "duration: 5\nh: 0.01\nmodel: hull\nground: {friction: {mu: 0.5, e_r: 0.05}}\n"
+      "duration: 5\nh: 0.01\nmodel: hull\nsolver: {sleep: false}\n"
+      "ground: {friction: {mu: 0.5, e_r: 0.05}}\n"
       "bodies:\n";
   for (const int axis : {0, 1}) {
     yaml += fmt::format(

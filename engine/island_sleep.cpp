@@ -71,13 +71,16 @@ void PlanSleep(const Scene& scene, const State& state, const std::vector<Island>
   }
   for (size_t i = 0; i < islands.size(); ++i) {
     const Island& island = islands[i];
-    plan.steady[i] = Steady(scene, state, island, plan.touched);
+    // an island moving at the start neither sleeps nor repeats its start at rest, whatever its
+    // loads: they are evaluated only for islands at rest (the desk's, every step)
+    const auto at_rest = [&](int b) { return AtRest(scene.bodies[b], state.bodies[b], scene.h); };
+    plan.steady[i] = std::all_of(island.bodies.begin(), island.bodies.end(), at_rest) &&
+                     Steady(scene, state, island, plan.touched);
     if (!plan.steady[i]) continue;
     bool sleeps = true;
     for (int b : island.bodies) {
       const std::int64_t rest = state.rest.steps[b];
-      sleeps = sleeps && rest >= kStepsToSleep && rest % kSleepCheckSteps != 0 &&
-               AtRest(scene.bodies[b], state.bodies[b], scene.h);
+      sleeps = sleeps && rest >= kStepsToSleep && rest % kSleepCheckSteps != 0;
     }
     plan.sleeps[i] = sleeps;
   }

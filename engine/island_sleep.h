@@ -33,13 +33,13 @@ bool AtRest(const Body& body, const BodyState& state, double h);
 
 /// The sleep rule's decision for each island of a step, made at its start.
 struct SleepPlan {
-  // per island: the rule's preconditions hold — sleeping on (solver.sleep), no body touched by a
-  // contact that entered or left the step since the last one, no kinematic body in its contacts,
-  // no gripper jaw, and each body's applied impulse (loads, impulses) over this step equal to its
-  // last step's, bit for bit
+  // per island: the rule's preconditions hold — sleeping on (solver.sleep), every body at rest at
+  // the start, no body touched by a contact that entered or left the step since the last one, no
+  // kinematic body in its contacts, no gripper jaw, and each body's applied impulse (loads,
+  // impulses) over this step equal to its last step's, bit for bit
   std::vector<char> steady;
-  // per island: steady, every body at rest at the start and its island at rest for
-  // kStepsToSleep steps or more, and this is not a check step (a multiple of kSleepCheckSteps)
+  // per island: steady, its island at rest for kStepsToSleep steps or more, and this is not a
+  // check step (a multiple of kSleepCheckSteps)
   std::vector<char> sleeps;
   // per contact of the scene: in one of the step's islands
   std::vector<char> in_step;

@@ -164,11 +164,9 @@ struct SolverSettings {
   bool use_window = true;  // false: every hull face enters the MNCP
   Selection selection = Selection::kCreep;
   // islands at rest replay their last step instead of solving it (engine/README.md, "Sleeping
-  // islands"). Off by default: it moves no shipped scene's poses, velocities or impulses by a
-  // bit, but a replay reports the residual its solution had when solved, where the awake step
-  // re-measures it, and keeps the frames of contacts between bodies, which the awake step turns
-  // by round-off with the other body (1e-33), and the TrajectoryHash table pins both
-  bool sleep = false;
+  // islands"): it moves no shipped scene's poses, velocities or impulses by a bit; a replay
+  // reports the residual its solution had when solved (re-measured every kSleepCheckSteps)
+  bool sleep = true;
 };
 
 /// Built by the routes of engine/scene_io/ (a file, `ecpsim drop`, code), each of which checks it
