@@ -43,10 +43,11 @@ CHILD = PRELUDE + textwrap.dedent("""
 """)
 
 
-def run_child(scenes, mode):
+def run_child(scenes, mode, child=CHILD, *more_args):
+    """The lines a child script printed, run on the train with `mode` ("default" or "handler")."""
     done = subprocess.run(
-        [sys.executable, "-c", CHILD, str(scenes / "train.yaml"), mode, str(POKE_AFTER)],
-        capture_output=True, text=True, timeout=300)
+        [sys.executable, "-c", child, str(scenes / "train.yaml"), mode, str(POKE_AFTER),
+         *map(str, more_args)], capture_output=True, text=True, timeout=300)
     assert done.returncode == 0, done.stderr
     return done.stdout.split("\n")
 
@@ -80,23 +81,15 @@ RECORD_CHILD = PRELUDE + textwrap.dedent("""
 """)
 
 
-def run_record_child(scenes, mode, path):
-    done = subprocess.run(
-        [sys.executable, "-c", RECORD_CHILD, str(scenes / "train.yaml"), mode, str(POKE_AFTER),
-         str(path)], capture_output=True, text=True, timeout=300)
-    assert done.returncode == 0, done.stderr
-    return done.stdout.split("\n")
-
-
 def test_ctrl_c_ends_a_recording_at_the_last_step_taken(scenes, tmp_path):
-    lines = run_record_child(scenes, "default", tmp_path / "train.mp4")
+    lines = run_child(scenes, "default", RECORD_CHILD, tmp_path / "train.mp4")
     # the strike's step stopped, undone; the video holds the frame at t = 0 and is a valid MP4
     assert lines[0] == "KeyboardInterrupt 0.0 0", lines
     assert lines[1] == "video 1", lines
 
 
 def test_a_handler_that_raises_nothing_lets_the_recording_go_on(scenes, tmp_path):
-    lines = run_record_child(scenes, "handler", tmp_path / "train.mp4")
+    lines = run_child(scenes, "handler", RECORD_CHILD, tmp_path / "train.mp4")
     assert lines[0] == "returned 2 5 0.05 1", lines
     assert lines[1] == "video 2", lines
 
@@ -121,20 +114,12 @@ ROLLOUT_CHILD = PRELUDE + textwrap.dedent("""
 """)
 
 
-def run_rollout_child(scenes, mode):
-    done = subprocess.run(
-        [sys.executable, "-c", ROLLOUT_CHILD, str(scenes / "train.yaml"), mode, str(POKE_AFTER)],
-        capture_output=True, text=True, timeout=300)
-    assert done.returncode == 0, done.stderr
-    return done.stdout.split("\n")
-
-
 def test_ctrl_c_stops_a_rollout_with_every_step_in_progress_undone(scenes):
-    lines = run_rollout_child(scenes, "default")
+    lines = run_child(scenes, "default", ROLLOUT_CHILD)
     assert lines[0] == "KeyboardInterrupt [0.0, 0.0] 0", lines
 
 
 def test_a_handler_that_raises_nothing_lets_the_rollout_go_on(scenes):
-    lines = run_rollout_child(scenes, "handler")
+    lines = run_child(scenes, "handler", ROLLOUT_CHILD)
     # every step taken once, the push applied once: the rows of an uninterrupted rollout
     assert lines[0] == "returned [0.03, 0.03] 1 True", lines
