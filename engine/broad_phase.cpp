@@ -72,6 +72,14 @@ JawReach JawReachOf(const Scene& scene, int b, const State& state, double radius
   return reach;
 }
 
+// whether the sides of `pair` with its bodies at `body` and `other` come within `distance` (m;
+// GJK in units of `size`, the bodies' length scale)
+bool SidesWithin(const Scene& scene, const ContactPair& pair, const BodyState& body,
+                 const BodyState& other, double distance, double size) {
+  return geometry::WithinDistance(ShapeOfBody(scene, pair), PoseOf(body), ShapeOfOther(scene, pair),
+                                  PoseOf(other), distance, size);
+}
+
 }  // namespace
 
 void StepReachOf(const Scene& scene, const State& state, StepReach& reach) {
@@ -161,9 +169,8 @@ bool BodiesInReach(const Scene& scene, const State& state, const StepReach& reac
   // a pair that carried a load touches at the step's start: GJK would say so too, at a cost paid
   // on every step of a pile
   if (static_cast<size_t>(k) < state.contacts.size() && state.contacts[k].p_n > 0) return true;
-  return geometry::WithinDistance(ShapeOfBody(scene, pair), PoseOf(state.bodies[a]),
-                                  ShapeOfOther(scene, pair), PoseOf(state.bodies[b]), distance,
-                                  std::max(reach.size[a], reach.size[b]));
+  return SidesWithin(scene, pair, state.bodies[a], state.bodies[b], distance,
+                     std::max(reach.size[a], reach.size[b]));
 }
 
 bool StaysApart(const Scene& scene, const State& state, const StepReach& reach, int k) {
@@ -173,16 +180,13 @@ bool StaysApart(const Scene& scene, const State& state, const StepReach& reach, 
     return false;
   const double distance = reach.own_distance[a] + reach.own_distance[b];
   if (!std::isfinite(distance)) return false;
-  return !geometry::WithinDistance(ShapeOfBody(scene, pair), PoseOf(state.bodies[a]),
-                                   ShapeOfOther(scene, pair), PoseOf(state.bodies[b]), distance,
-                                   std::max(reach.size[a], reach.size[b]));
+  return !SidesWithin(scene, pair, state.bodies[a], state.bodies[b], distance,
+                      std::max(reach.size[a], reach.size[b]));
 }
 
 bool EndsApart(const Scene& scene, int k, const BodyState& body, const BodyState& other,
                double size) {
-  const ContactPair& pair = scene.contacts[k];
-  return !geometry::WithinDistance(ShapeOfBody(scene, pair), PoseOf(body),
-                                   ShapeOfOther(scene, pair), PoseOf(other), 0, size);
+  return !SidesWithin(scene, scene.contacts[k], body, other, 0, size);
 }
 
 bool PartReachesBody(const StepReach& reach, const ContactPair& pair) {
