@@ -140,4 +140,11 @@ void RecordRest(const Scene& scene, const std::vector<Island>& islands, const Sl
   rest.in_step = plan.in_step;
 }
 
+void RecordInStepOnly(const SleepPlan& plan, RestRecord& rest) {
+  rest.steps.clear();
+  rest.models.clear();
+  rest.residuals.clear();
+  rest.in_step = plan.in_step;
+}
+
 }  // namespace ecpsim::engine

@@ -74,4 +74,8 @@ void RecordRest(const Scene& scene, const std::vector<Island>& islands, const Sl
                 const std::vector<int>& island_substeps, const std::vector<char>& island_repeats,
                 const std::vector<double>& island_residuals, State& state);
 
+/// The record of a step taken with sleeping off: which contacts were in it (`plan.in_step`), and
+/// no counts, models or residuals, so that it plans every island awake.
+void RecordInStepOnly(const SleepPlan& plan, RestRecord& rest);
+
 }  // namespace ecpsim::engine

@@ -45,7 +45,9 @@ struct RestRecord {
   // per body: that step's residual (StepReport::residual's part of its island), which a replay
   // reports as its own: it commits the same solution
   std::vector<double> residuals;
-  // per contact: whether it was in an island's step at the last step
+  // per contact: whether it was in an island's step at the last step (kept with sleeping off
+  // too); a contact that was not holds no impulse and no warm start, and the next step does not
+  // read it unless it enters
   std::vector<char> in_step;
 };
 

@@ -344,9 +344,13 @@ StepReport StepIslands(const Scene& scene, State& state, const WithModel& with_m
     for (size_t j = 0; j < island.contacts.size(); ++j)
       state.contacts[island.contacts[j]] = solved[i].contacts[j];
   }
-  // contacts in no island: their bodies are apart for the whole step
+  // contacts in no island: their bodies are apart for the whole step. Those that were in none at
+  // the last step either were cleared then (the record says which; most of a body of parts'
+  // pairs, whose states are not read again)
+  const std::vector<char>& was_in_step = state.rest.in_step;
+  const bool recorded = was_in_step.size() == scene.contacts.size();
   for (size_t k = 0; k < scene.contacts.size(); ++k) {
-    if (sleep.in_step[k]) continue;
+    if (sleep.in_step[k] || (recorded && !was_in_step[k])) continue;
     ContactState& c = state.contacts[k];
     // (most are clear already, +0 to the bit: a pile's far pairs, parts away from the other
     // body)
@@ -357,13 +361,13 @@ StepReport StepIslands(const Scene& scene, State& state, const WithModel& with_m
     c.p_n = c.p_t = c.p_o = c.p_r = c.sigma = 0;
     c.warm_start.Reset();
   }
-  // without sleeping no record is kept: one made while it was off would let an island that
+  // without sleeping no counts are kept: one made while it was off would let an island that
   // turned it on sleep on counts it never earned
   if (scene.solver.sleep) {
     RecordRest(scene, islands, sleep, report.models, scratch.island_substeps,
                scratch.island_repeats, scratch.island_residuals, state);
-  } else if (!state.rest.steps.empty()) {
-    state.rest = RestRecord{};
+  } else {
+    RecordInStepOnly(sleep, state.rest);
   }
   AdvanceTime(scene.h, state);
   return report;
