@@ -258,8 +258,9 @@ void Run(const BenchOptions& o) {
   // every option is checked before any work: a typo in the last one must not cost the minutes
   // of the sweeps before it
   const std::vector<evaluation::Method> methods =
-      Select(evaluation::AllMethods(), o.methods, "--methods",
-             [](const evaluation::Method& m) { return m.name; });
+      o.methods.empty() ? evaluation::DefaultMethods()
+                        : Select(evaluation::AllMethods(), o.methods, "--methods",
+                                 [](const evaluation::Method& m) { return m.name; });
   const std::vector<double> steps =
       o.steps.empty() ? (o.quick ? kQuickSteps : kFullSteps) : o.steps;
   std::vector<evaluation::Scenario> scenarios;
@@ -357,9 +358,9 @@ void AddBenchCommand(CLI::App& app) {
   bench
       ->add_option(
           "--methods", o->methods,
-          "methods (default all available): hull, hull-tol1e-08, hull-tol1e-05, "
-          "auto, planar, multipatch, point, mujoco-default, mujoco-coulomb, bullet-default, "
-          "bullet-coulomb, ode-default, ode-coulomb")
+          "methods (default all available but auto-least-energy): hull, hull-tol1e-08, "
+          "hull-tol1e-05, auto, auto-least-energy, planar, multipatch, point, mujoco-default, "
+          "mujoco-coulomb, bullet-default, bullet-coulomb, ode-default, ode-coulomb")
       ->delimiter(',');
   bench
       ->add_option("--maps", o->maps,

@@ -19,6 +19,7 @@ std::string MethodLineStyle(const std::string& method) {
       {"hull-tol1e-08", "lc rgb '#2171b5' pt 6"},
       {"hull-tol1e-05", "lc rgb '#6baed6' pt 4"},
       {"auto", "lc rgb '#a50f15' pt 3"},
+      {"auto-least-energy", "lc rgb '#41ab5d' pt 8"},
       {"planar", "lc rgb '#ff7f00' pt 9"},
       {"multipatch", "lc rgb '#e6ab02' pt 11"},
       {"point", "lc rgb '#7f3b08' pt 5"},

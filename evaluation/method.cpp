@@ -1,5 +1,7 @@
 #include "evaluation/method.h"
 
+#include <algorithm>
+
 #include <fmt/format.h>
 
 #include "common/errors.h"
@@ -19,6 +21,7 @@ class EcpsimStepper final : public Stepper {
   EcpsimStepper(const Method& method, const engine::Scene& scene) : scene_(scene) {
     scene_.model = method.model;
     scene_.solver.tolerance = method.tolerance;
+    scene_.solver.selection = method.selection;
     state_ = engine::InitialState(scene_);
   }
   void Step() override { iterations_ = engine::Step(scene_, state_, workspace_).iterations; }
@@ -81,6 +84,14 @@ std::vector<Method> AllMethods() {
   automatic.tolerance = kHullTolerances[0];
   automatic.name = engine::ContactModelName(engine::ContactModel::kAuto);
   methods.push_back(automatic);
+  // and with `solver.selection: least_energy`: where contacts between bodies share a load or a
+  // moment statically indeterminately, the exact solution of least elastic energy
+  // (engine/README.md, "Steps whose solutions form a set")
+  Method least_energy = automatic;
+  least_energy.selection = engine::Selection::kLeastEnergy;
+  least_energy.in_default_set = false;
+  least_energy.name = "auto-least-energy";
+  methods.push_back(least_energy);
   for (engine::ContactModel model :
        {engine::ContactModel::kPlanar, engine::ContactModel::kMultiPatch,
         engine::ContactModel::kPoint}) {
@@ -105,6 +116,14 @@ std::vector<Method> AllMethods() {
       methods.push_back(method);
     }
   }
+  return methods;
+}
+
+std::vector<Method> DefaultMethods() {
+  std::vector<Method> methods = AllMethods();
+  methods.erase(std::remove_if(methods.begin(), methods.end(),
+                               [](const Method& m) { return !m.in_default_set; }),
+                methods.end());
   return methods;
 }
 

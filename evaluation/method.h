@@ -18,14 +18,22 @@ struct Method {
   bool external = false;
   engine::ContactModel model = engine::ContactModel::kHull;  // ecpsim's model (external = false)
   double tolerance = 1e-12;                                  // ecpsim's residual tolerance
+  // ecpsim's choice where a step's solutions form a set (solver.selection)
+  engine::Selection selection = engine::Selection::kCreep;
+  // run when no --methods are named (the least-energy selection only where named: its dense
+  // factorizations make the many-body scenarios and the scaling grid take hours)
+  bool in_default_set = true;
   baselines::ExternalEngine engine = baselines::ExternalEngine::kMujoco;  // (external = true)
   baselines::FrictionSetting setting = baselines::FrictionSetting::kDefault;
 };
 
-/// Every method this build can run: hull at tolerances 1e-12 (the default), 1e-8 and 1e-5;
-/// planar; multipatch; point; and each available external engine with its default and its
-/// Coulomb-matched settings.
+/// Every method this build can run: hull at tolerances 1e-12 (the default), 1e-8 and 1e-5; auto,
+/// and auto with the least-energy selection (auto-least-energy); planar; multipatch; point; and
+/// each available external engine with its default and its Coulomb-matched settings.
 std::vector<Method> AllMethods();
+
+/// AllMethods() that are in_default_set: what a sweep runs when no methods are named.
+std::vector<Method> DefaultMethods();
 
 /// The method called `name` among AllMethods().
 /// @throws InputError naming the name and the choices.

@@ -35,6 +35,9 @@ struct Scenario {
   bool planar_applies = false;  // flat on the ground throughout: the planar model applies
   // the body has convex `parts` (else the multi-patch model is the hull model once more)
   bool multipatch_applies = false;
+  // contacts between bodies whose islands are small enough for the least-energy selection's
+  // dense factorizations (auto-least-energy runs here; alone on the ground it is auto)
+  bool least_energy_applies = false;
   // contact modes are compared (not for a smooth hull: a tolerance band on a curved surface
   // makes the mode depend on the band, not on the motion)
   bool compare_modes = true;

@@ -97,6 +97,7 @@ Method HullMethod() { return FindMethod("hull"); }
 
 bool MethodApplies(const Method& method, const Scenario& scenario) {
   if (method.external) return true;
+  if (method.selection == engine::Selection::kLeastEnergy) return scenario.least_energy_applies;
   if (method.model == engine::ContactModel::kPlanar) return scenario.planar_applies;
   if (method.model == engine::ContactModel::kMultiPatch) return scenario.multipatch_applies;
   return true;
