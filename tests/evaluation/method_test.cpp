@@ -105,7 +105,8 @@ TEST(MethodsTest, AutoLeastEnergyRunsOnlyWhereNamedAndOnTheSmallScenesOfBodiesTo
 // whole weight on the table (force μ m g to round-off), while the least-energy split moves part
 // of it onto the pusher's face friction and lowers the push force by as much (8.3 % at h = 0.01
 // s). The rule takes no load history: a real pusher meeting a box already at rest on the table
-// leaves the weight there (engine/README.md, "Steps whose solutions form a set", "Not yet")
+// leaves the weight there (engine/README.md, "Steps whose solutions form a set", "No load
+// history")
 TEST(MethodsTest, TheLeastEnergySplitPutsPartOfAPushedBoxsWeightOnThePushersFriction) {
   std::vector<Scenario> push_box;
   for (Scenario& s : WorkPrecisionScenarios(kScenesDir, 0.5)) {
