@@ -4,17 +4,13 @@
 #include <map>
 #include <utility>
 
+#include "evaluation/median.h"
+
 namespace ecpsim::evaluation {
 namespace {
 
 // CPU per simulated second of a run that completed and measured some time, else nothing
 bool Measured(const WorkPrecisionRow& r) { return !r.failed && r.cpu_per_sim_s > 0; }
-
-double Median(std::vector<double> values) {
-  std::sort(values.begin(), values.end());
-  const size_t n = values.size();
-  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
-}
 
 }  // namespace
 

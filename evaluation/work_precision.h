@@ -9,6 +9,7 @@
 
 #include "evaluation/method.h"
 #include "evaluation/scenario.h"
+#include "evaluation/trajectory_run.h"
 
 namespace ecpsim::evaluation {
 
@@ -54,6 +55,26 @@ struct SweepOptions {
   int shard_count = 1;
   std::function<void(const std::string& message)> progress;  // one line per finished group
 };
+
+/// s: a run's CPU time below this is timed again. A single run of a few milliseconds reads high
+/// (its first steps fill the caches) and scatters: on the shared 2-core machine the stack's 50
+/// steps at h = 0.02 s took 0.51 … 0.60 ms as single runs in six sweeps, 0.29 … 0.47 ms as the
+/// median of this rule's runs; auto's cost over hull's there, where both take the hull model's
+/// steps, read 0.62 … 0.87 from single runs and 0.94 … 1.03 from the medians
+inline constexpr double kMinTimedCpuSeconds = 0.05;
+/// runs timed at most (a run of 0.5 ms is timed 25 times, 12.5 ms in all)
+inline constexpr int kMaxTimedRuns = 25;
+
+struct TimedCpu {
+  double cpu_seconds = 0;  // the median of the runs' CPU times
+  int runs = 0;            // runs timed, `first` included
+};
+
+/// The CPU time of `first`, a completed run of `method` on `scenario` at step h: where it took
+/// less than kMinTimedCpuSeconds, the median of it and further runs of the same (deterministic)
+/// trajectory until their times add up to that, at most kMaxTimedRuns runs in all.
+TimedCpu TimedCpuSeconds(const Method& method, const Scenario& scenario, double h,
+                         const RunRecord& first, double cpu_limit_s);
 
 /// Whether `method` applies to `scenario` (planar: flat throughout; multipatch: half-spaces).
 bool MethodApplies(const Method& method, const Scenario& scenario);

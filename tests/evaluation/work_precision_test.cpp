@@ -60,6 +60,26 @@ TEST(WorkPrecisionTest, ShardsPartitionTheSweepAndReproduceItsErrors) {
   }
 }
 
+TEST(WorkPrecisionTest, AShortRunIsTimedAgainAndALongOneOnce) {
+  const Scenario slide = CheapScenarios().front();
+  ASSERT_EQ(slide.name, "slide");
+  const Method hull = FindMethod("hull");
+  // the slide at h = 0.02 s: some 50 steps, well under a millisecond of CPU
+  const RunRecord first = RunTrajectory(hull, slide, 0.02);
+  ASSERT_FALSE(first.failed) << first.failure;
+  ASSERT_LT(first.cpu_seconds, kMinTimedCpuSeconds);
+  const TimedCpu timed = TimedCpuSeconds(hull, slide, 0.02, first, 60);
+  EXPECT_GE(timed.runs, 2);
+  EXPECT_LE(timed.runs, kMaxTimedRuns);
+  EXPECT_GT(timed.cpu_seconds, 0);
+  // a run that took long enough is its own time
+  RunRecord long_run = first;
+  long_run.cpu_seconds = 2 * kMinTimedCpuSeconds;
+  const TimedCpu once = TimedCpuSeconds(hull, slide, 0.02, long_run, 60);
+  EXPECT_EQ(once.runs, 1);
+  EXPECT_EQ(once.cpu_seconds, long_run.cpu_seconds);
+}
+
 TEST(WorkPrecisionTest, PlanarAndHullAgreeWhereBothApply) {
   SweepOptions options;
   options.steps = {0.01};
