@@ -179,7 +179,8 @@ const std::vector<int>& DefaultScalingSizes() {
 
 bool AppliesToStackGrid(const Method& method) {
   return method.external || (method.model != engine::ContactModel::kPlanar &&
-                             method.model != engine::ContactModel::kMultiPatch);
+                             method.model != engine::ContactModel::kMultiPatch &&
+                             method.selection != engine::Selection::kLeastEnergy);
 }
 
 std::vector<ScalingRow> RunScaling(const std::vector<Method>& methods,

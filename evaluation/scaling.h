@@ -61,7 +61,8 @@ struct ScalingOptions {
 };
 
 /// Whether `method` models the stack grid's contacts between bodies (the planar and the
-/// multi-patch models do not: they stop with ModelInvalid on such a scene).
+/// multi-patch models do not: they stop with ModelInvalid on such a scene) at a cost the grid's
+/// sizes allow (the least-energy selection's dense factorizations do not: engine/README.md).
 bool AppliesToStackGrid(const Method& method);
 
 /// Runs this shard's part of the measurement: (method, N) groups, methods outermost, N in the

@@ -41,6 +41,7 @@ TEST(Scaling, PlanarAndMultipatchDoNotApply) {
   EXPECT_FALSE(AppliesToStackGrid(FindMethod("multipatch")));
   EXPECT_TRUE(AppliesToStackGrid(FindMethod("hull")));
   EXPECT_TRUE(AppliesToStackGrid(FindMethod("auto")));
+  EXPECT_FALSE(AppliesToStackGrid(FindMethod("auto-least-energy")));
 }
 
 TEST(Scaling, EveryMethodHasARowPerSizeWithFinitePositiveTimes) {
