@@ -170,6 +170,13 @@ class LadderRun {
         if (tried.Repeats(z, start_options)) return false;
       // (kept in the workspace: the solve leaves z at its last iterate)
       starts_.current = z;
+      if (SelectedStartHolds(guess, z)) {
+        if (!GrowViolatedWindows(problem_, layout_, z, scales_)) {
+          CommitSolution(problem_, layout_, z, state_);
+          return true;
+        }
+        z = starts_.current;
+      }
       const Attempt attempt = SolveAttempt(problem_, layout_, z, options_, scales_,
                                            ejection_energy_, workspace_, result_);
       result_.residual = attempt.residual;
@@ -205,6 +212,24 @@ class LadderRun {
       return true;
     }
     return false;
+  }
+
+  // under the selection, whether the last step's solution `z` (a selected, exact root) is a root
+  // of this step's exact problem that passes every check: it is then selected from as it is,
+  // rather than solved with the creep first and taken back onto the exact set
+  bool SelectedStartHolds(Guess guess, VectorXd& z) {
+    if (!select_ || guess != Guess::kWarm || !options_.verify_start_first) return false;
+    IslandProblem exact = problem_;
+    for (IslandContact& cp : exact.contacts) cp.stick_creep = 0;
+    McpOptions verify = options_;
+    verify.max_iterations = 0;
+    VectorXd start = z;
+    const Attempt attempt =
+        SolveAttempt(exact, layout_, start, verify, scales_, ejection_energy_, workspace_, result_);
+    if (attempt.outcome != Outcome::kSolved) return false;
+    select_(problem_, layout_, start);
+    z = start;
+    return true;
   }
 
   // a failed guess in the failure's list of what was tried

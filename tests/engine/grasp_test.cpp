@@ -144,9 +144,10 @@ class SlipOnsetTest : public testing::TestWithParam<SlipOnsetCase> {};
 constexpr double kPadTorsion = 0.01;     // m, the scene's pads' e_r
 constexpr double kBoxHalfWidth = 0.025;  // m
 // slip onset against the prediction (the issue asks for 2 %). Measured (examples/grasp_slip.py):
-// within one ramp step (0.58 %) where the grip is centred, within 0.6 % off centre, where the
-// held piece's least point is found to the selection's tolerance rather than exactly at the
-// friction limit
+// within one ramp step (0.58 %) where the grip is centred, off centre within 0.63 % but at 5 mm
+// (1.1–1.7 % early for 2 cm pads, 0.6–1.2 % late for 4 cm ones), where the held piece's least
+// point is found to the selection's tolerance rather than exactly at the friction limit and the
+// piece the ramp goes on in depends on the roots before it; these five cases slip within 1 %
 constexpr double kOnsetTolerance = 0.01;
 // the grip from kLiftFrom: kRampStart × the prediction while the frame lifts 5 mm at 12.5 mm/s
 // (a jerk the spare friction takes in one step, so the box starts the ramp as placed) until
