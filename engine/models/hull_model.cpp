@@ -170,13 +170,7 @@ class LadderRun {
         if (tried.Repeats(z, start_options)) return false;
       // (kept in the workspace: the solve leaves z at its last iterate)
       starts_.current = z;
-      if (SelectedStartHolds(guess, z)) {
-        if (!GrowViolatedWindows(problem_, layout_, z, scales_)) {
-          CommitSolution(problem_, layout_, z, state_);
-          return true;
-        }
-        z = starts_.current;
-      }
+      if (CommitSelectedStart(guess, z)) return true;
       const Attempt attempt = SolveAttempt(problem_, layout_, z, options_, scales_,
                                            ejection_energy_, workspace_, result_);
       result_.residual = attempt.residual;
@@ -214,21 +208,25 @@ class LadderRun {
     return false;
   }
 
-  // under the selection, whether the last step's solution `z` (a selected, exact root) is a root
-  // of this step's exact problem that passes every check: it is then selected from as it is,
-  // rather than solved with the creep first and taken back onto the exact set
-  bool SelectedStartHolds(Guess guess, VectorXd& z) {
+  // under the selection, where the last step's solution `z` (a selected, exact root) is a root of
+  // this step's exact problem that passes every check, the root selected from it as it is,
+  // committed (its windows holding for the whole hulls, as AcceptReduced checks them); true once
+  // committed. It is not first solved with the creep and taken back onto the exact set
+  bool CommitSelectedStart(Guess guess, const VectorXd& z) {
     if (!select_ || guess != Guess::kWarm || !options_.verify_start_first) return false;
     IslandProblem exact = problem_;
     for (IslandContact& cp : exact.contacts) cp.stick_creep = 0;
     McpOptions verify = options_;
     verify.max_iterations = 0;
-    VectorXd start = z;
+    VectorXd root = z;
     const Attempt attempt =
-        SolveAttempt(exact, layout_, start, verify, scales_, ejection_energy_, workspace_, result_);
+        SolveAttempt(exact, layout_, root, verify, scales_, ejection_energy_, workspace_, result_);
     if (attempt.outcome != Outcome::kSolved) return false;
-    select_(problem_, layout_, start);
-    z = start;
+    select_(problem_, layout_, root);
+    IslandProblem checked = problem_;
+    if (GrowViolatedWindows(checked, layout_, root, scales_)) return false;
+    CommitSolution(problem_, layout_, root, state_);
+    result_.residual = attempt.residual;
     return true;
   }
 
