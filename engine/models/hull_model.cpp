@@ -210,8 +210,8 @@ class LadderRun {
 
   // under the selection, where the last step's solution `z` (a selected, exact root) is a root of
   // this step's exact problem that passes every check, the root selected from it as it is,
-  // committed (its windows holding for the whole hulls, as AcceptReduced checks them); true once
-  // committed. It is not first solved with the creep and taken back onto the exact set
+  // committed where its windows hold for the whole hulls (AcceptReduced); true once committed.
+  // It is not first solved with the creep and taken back onto the exact set
   bool CommitSelectedStart(Guess guess, const VectorXd& z) {
     if (!select_ || guess != Guess::kWarm || !options_.verify_start_first) return false;
     IslandProblem exact = problem_;
@@ -221,13 +221,7 @@ class LadderRun {
     VectorXd root = z;
     const Attempt attempt =
         SolveAttempt(exact, layout_, root, verify, scales_, ejection_energy_, workspace_, result_);
-    if (attempt.outcome != Outcome::kSolved) return false;
-    select_(problem_, layout_, root);
-    IslandProblem checked = problem_;
-    if (GrowViolatedWindows(checked, layout_, root, scales_)) return false;
-    CommitSolution(problem_, layout_, root, state_);
-    result_.residual = attempt.residual;
-    return true;
+    return AcceptReduced(problem_, layout_, root, attempt, scales_, state_, result_, select_);
   }
 
   // a failed guess in the failure's list of what was tried
