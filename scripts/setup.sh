@@ -6,6 +6,8 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build ccache pkg-config git
   libeigen3-dev libcgal-dev libgmp-dev libmpfr-dev libboost-dev
+  # KLU: the sparse LU of an island's Newton matrix (engine/solver/sparse_factorizations.h)
+  libsuitesparse-dev
   libassimp-dev libosmesa6-dev libpng-dev zlib1g-dev libfreetype-dev fonts-dejavu-core
   libgtest-dev libgmock-dev googletest libbenchmark-dev
   libccd-dev libyaml-cpp-dev libcli11-dev libmuparser-dev libfmt-dev nlohmann-json3-dev

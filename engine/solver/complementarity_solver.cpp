@@ -12,10 +12,9 @@
 #include <Eigen/LU>
 #include <Eigen/OrderingMethods>
 #include <Eigen/QR>
-#include <Eigen/SparseCholesky>
-#include <Eigen/SparseLU>
 
 #include "engine/solver/pattern_lu.h"
+#include "engine/solver/sparse_factorizations.h"
 
 namespace ecpsim::engine {
 namespace {
@@ -237,6 +236,8 @@ class DenseNewtonAlgebra {
   // the largest solve whose storage is kept (WorkspaceLease): its matrices are then at most a
   // few hundred kB
   static constexpr int kMaxKeptUnknowns = 256;
+  // (a dense factorization keeps nothing from solve to solve but storage)
+  void BeginSolve() {}
   // the dense elimination (in `order`, McpOptions::elimination_order, when not empty), or
   // (replay) the pattern's schedule with threshold pivoting, or (minimum_norm) the complete
   // orthogonal decomposition
@@ -278,40 +279,24 @@ class DenseNewtonAlgebra {
   Matrix shifted_;  // H + diag(shift)
 };
 
-// The non-zero pattern a sparse factorization was analysed for: its fill-reducing ordering and
-// symbolic factorization depend on nothing else, so they are redone only when it changes
-class SparsityPattern {
- public:
-  // true when `A`'s compressed pattern differs from the last one (which it then becomes)
-  bool Update(const SparseMatrix& A) {
-    const bool same = static_cast<Eigen::Index>(outer_.size()) == A.outerSize() + 1 &&
-                      static_cast<Eigen::Index>(inner_.size()) == A.nonZeros() &&
-                      std::equal(outer_.begin(), outer_.end(), A.outerIndexPtr()) &&
-                      std::equal(inner_.begin(), inner_.end(), A.innerIndexPtr());
-    if (same) return false;
-    outer_.assign(A.outerIndexPtr(), A.outerIndexPtr() + A.outerSize() + 1);
-    inner_.assign(A.innerIndexPtr(), A.innerIndexPtr() + A.nonZeros());
-    return true;
-  }
-
- private:
-  std::vector<int> outer_, inner_;
-};
-
 // The same on a sparse H (an island's: bodies' 6 × 6 blocks coupled only through their shared
-// contacts, engine/README.md "The island's linear algebra"): a supernodal LU with a
-// fill-reducing column ordering (COLAMD), analysed again only when the pattern changes, and the
-// normal matrix HᵀH + μ I, as sparse as H's column overlap, by a simplicial LDLᵀ with AMD
-// ordering. Both cost in proportion to the island for a chain of bodies.
+// contacts, engine/README.md "The island's linear algebra"): KLU's LU for the Newton direction,
+// and the Levenberg–Marquardt direction from the augmented system, as sparse as H
+// (sparse_factorizations.h). Both cost in proportion to the island for a chain of bodies.
 class SparseNewtonAlgebra {
  public:
   using Matrix = SparseMatrix;
   // every solve's storage is kept: it grows with the non-zeros, not their square, and the
   // analyses kept with it are what the next solve of an island of the same pattern saves
   static constexpr int kMaxKeptUnknowns = std::numeric_limits<int>::max();
-  // (the sparse LU keeps its analysis per pattern anyway: `replay` changes nothing here, and its
-  // COLAMD ordering is the fill-reducing one; the minimum-norm solve factors H dense: a rescue's
-  // cost, not a step's)
+  // (the sparse LU keeps its analysis per pattern anyway: `replay` changes nothing here; the
+  // minimum-norm solve factors H dense: a rescue's cost, not a step's)
+  // the analyses are kept within a solve for matrices whose non-zeros they cover, and into the
+  // next only for one of the same pattern (PatternCover): the factors depend on the solve alone
+  void BeginSolve() {
+    lu_.BeginSolve();
+    damped_.BeginSolve();
+  }
   void Factor(const Matrix& matrix, const Eigen::VectorXd* shift, bool /*replay*/,
               bool minimum_norm, const std::vector<int>& /*order*/) {
     const Matrix* factored = &matrix;
@@ -330,9 +315,7 @@ class SparseNewtonAlgebra {
       minimum_norm_solver_.Factor(Eigen::MatrixXd(H));
       return;
     }
-    if (lu_pattern_.Update(H)) lu_.analyzePattern(H);
-    lu_.factorize(H);
-    factored_ = lu_.info() == Eigen::Success;
+    factored_ = lu_.Factor(H);
   }
   void Solve(Eigen::VectorXd& x) {
     if (!factored_) {
@@ -343,22 +326,11 @@ class SparseNewtonAlgebra {
       minimum_norm_solver_.Solve(x);
       return;
     }
-    rhs_ = x;
-    x = lu_.solve(rhs_);
+    lu_.SolveInPlace(x);
   }
   void SolveDamped(const Matrix& H, double mu, const Eigen::VectorXd& gradient,
                    Eigen::VectorXd& direction) {
-    normal_ = H.transpose() * H;
-    for (Eigen::Index j = 0; j < normal_.cols(); ++j) normal_.coeffRef(j, j) += mu;
-    normal_.makeCompressed();
-    // (the ordering is the pattern's alone: computed again only when that changes)
-    if (ldlt_pattern_.Update(normal_)) ldlt_.analyzePattern(normal_);
-    ldlt_.factorize(normal_);
-    if (ldlt_.info() != Eigen::Success) {
-      direction.setConstant(gradient.size(), std::numeric_limits<double>::quiet_NaN());
-      return;
-    }
-    direction = ldlt_.solve(-gradient);
+    damped_.Solve(H, mu, gradient, direction);
   }
 
  private:
@@ -369,13 +341,9 @@ class SparseNewtonAlgebra {
   bool factored_ = false;
   bool minimum_norm_ = false;
   MinimumNormSolver minimum_norm_solver_;
-  Eigen::SparseLU<Matrix, Eigen::COLAMDOrdering<int>> lu_;
-  SparsityPattern lu_pattern_;  // the pattern lu_ was analysed for
-  Eigen::VectorXd rhs_;
+  SparseLu lu_;
   Matrix shifted_;  // H + diag(shift)
-  Matrix normal_;
-  Eigen::SimplicialLDLT<Matrix, Eigen::Lower, Eigen::AMDOrdering<int>> ldlt_;
-  SparsityPattern ldlt_pattern_;  // the pattern ldlt_ was analysed for
+  DampedLeastSquares damped_;
 };
 
 // the storage of one solve, kept from solve to solve (one per thread and algebra), so that a
@@ -492,6 +460,7 @@ McpResult SolveMcpWith(const std::function<void(const Eigen::VectorXd&, Eigen::V
   recent_merits.push_back(0.5 * current.phi.squaredNorm());
 
   Algebra& algebra = w.algebra;
+  algebra.BeginSolve();
   Eigen::VectorXd& gradient = w.gradient;
   Eigen::VectorXd& direction = w.direction;
   Eigen::VectorXd& linear_residual = w.linear_residual;

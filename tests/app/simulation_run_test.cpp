@@ -89,13 +89,14 @@ TEST_F(SimulationRunTest, SigintFinishesTheStepAndWritesCompleteOutputs) {
 }
 
 TEST_F(SimulationRunTest, SigintInsideALongStepLeavesThatStepUndone) {
-  // the train's first step takes seconds (3.2 s of CPU, thousands of Newton iterations: the
-  // resting pile meets the pusher); the signal arrives right after the initial row, inside it,
-  // and the run stops there instead of finishing the step. (Should that step ever take less than
-  // the few milliseconds the signal needs, this test wants a slower first step.)
+  // the pyramid's first step takes more than a second (ten boxes at rest on each other, solved
+  // from a cold start: hundreds of Newton iterations on a set of solutions); the signal arrives
+  // right after the initial row, inside it, and the run stops there instead of finishing the
+  // step. (Should that step ever take less than the few milliseconds the signal needs, this test
+  // wants a slower first step.)
   const fs::path out = dir_ / "out";
   testing::EcpsimProcess run(binary_,
-                             {"run", "scenes/train.yaml", "-o", out.string(), "--threads", "2"},
+                             {"run", "scenes/pyramid.yaml", "-o", out.string(), "--threads", "2"},
                              ECPSIM_SOURCE_DIR, dir_ / "log.txt");
   ASSERT_TRUE(run.started());
   const auto deadline = std::chrono::steady_clock::now() + testing::kStartTimeout;

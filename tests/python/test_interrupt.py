@@ -1,18 +1,18 @@
 """Ctrl-C during Simulation.step (python/step_interrupt.h): the step in progress stops within a
 solver iteration, undone, and Python's SIGINT handler runs. Each case runs in a child process that
-sends itself SIGINT 0.1 s into the train's first step (the pusher's strike on the row at rest, the
-longest step of the shipped scenes: 0.40-0.53 s on the 2-core EPYC), so that the signal cannot
-reach pytest."""
+sends itself SIGINT 0.1 s into the pyramid's first step (ten boxes at rest on each other solved from
+a cold start, the longest step of the shipped scenes: about 1.4 s on the 2-core EPYC), so that the
+signal cannot reach pytest."""
 
 import subprocess
 import sys
 import textwrap
 
-# s: when the child sends itself SIGINT, well inside the strike's step even on a machine several
-# times faster (at 0.3 s it came 0.1 s before the step's end)
+# s: when the child sends itself SIGINT, well inside the first step even on a machine several
+# times faster
 POKE_AFTER = 0.1
 
-# a child's start: the train's simulation, the program's own SIGINT handler where asked (one that
+# a child's start: the pyramid's simulation, the program's own SIGINT handler where asked (one that
 # counts its calls and raises nothing), and a thread that sends SIGINT after argv[3] s
 PRELUDE = textwrap.dedent("""
     import json, os, signal, subprocess, sys, threading, time
@@ -44,9 +44,9 @@ CHILD = PRELUDE + textwrap.dedent("""
 
 
 def run_child(scenes, mode, child=CHILD, *more_args):
-    """The lines a child script printed, run on the train with `mode` ("default" or "handler")."""
+    """The lines a child script printed, run on the pyramid with `mode` ("default" or "handler")."""
     done = subprocess.run(
-        [sys.executable, "-c", child, str(scenes / "train.yaml"), mode, str(POKE_AFTER),
+        [sys.executable, "-c", child, str(scenes / "pyramid.yaml"), mode, str(POKE_AFTER),
          *map(str, more_args)], capture_output=True, text=True, timeout=300)
     assert done.returncode == 0, done.stderr
     return done.stdout.split("\n")
@@ -54,7 +54,7 @@ def run_child(scenes, mode, child=CHILD, *more_args):
 
 def test_ctrl_c_stops_the_step_in_progress_and_leaves_it_undone(scenes):
     lines = run_child(scenes, "default")
-    # KeyboardInterrupt with the state still at t = 0: the strike's step was stopped, not
+    # KeyboardInterrupt with the state still at t = 0: the first step was stopped, not
     # finished; stepping on then gives the uninterrupted step, bit for bit
     assert lines[0] == "KeyboardInterrupt 0.0 0", lines
     assert lines[1] == "stepped on 0.01 True", lines
@@ -66,7 +66,7 @@ def test_a_handler_that_raises_nothing_lets_the_step_be_taken(scenes):
     assert lines[0] == "returned 0.01 1", lines
 
 
-# the same for Simulation.record: the train's first 0.05 s at 20 frames/s, frames at 0 and 0.05 s
+# the same for Simulation.record: the pyramid's first 0.05 s at 20 frames/s, frames at 0 and 0.05 s
 RECORD_CHILD = PRELUDE + textwrap.dedent("""
     path = sys.argv[4]
     try:
@@ -82,19 +82,19 @@ RECORD_CHILD = PRELUDE + textwrap.dedent("""
 
 
 def test_ctrl_c_ends_a_recording_at_the_last_step_taken(scenes, tmp_path):
-    lines = run_child(scenes, "default", RECORD_CHILD, tmp_path / "train.mp4")
-    # the strike's step stopped, undone; the video holds the frame at t = 0 and is a valid MP4
+    lines = run_child(scenes, "default", RECORD_CHILD, tmp_path / "pyramid.mp4")
+    # the first step stopped, undone; the video holds the frame at t = 0 and is a valid MP4
     assert lines[0] == "KeyboardInterrupt 0.0 0", lines
     assert lines[1] == "video 1", lines
 
 
 def test_a_handler_that_raises_nothing_lets_the_recording_go_on(scenes, tmp_path):
-    lines = run_child(scenes, "handler", RECORD_CHILD, tmp_path / "train.mp4")
+    lines = run_child(scenes, "handler", RECORD_CHILD, tmp_path / "pyramid.mp4")
     assert lines[0] == "returned 2 5 0.05 1", lines
     assert lines[1] == "video 2", lines
 
 
-# the same for ecpsim.rollout: two copies of the train stepped 3 steps each on two threads, a
+# the same for ecpsim.rollout: two copies of the pyramid stepped 3 steps each on two threads, a
 # push on the first's CM in its first step (a control that must act once, however often the step
 # is stopped and taken again)
 ROLLOUT_CHILD = PRELUDE + textwrap.dedent("""
@@ -102,7 +102,7 @@ ROLLOUT_CHILD = PRELUDE + textwrap.dedent("""
     def fresh():
         return [ecpsim.Simulation(scene), ecpsim.Simulation(scene)]
     controls = np.zeros((2, 3, len(scene.body_names), 6))
-    controls[0, 0, scene.body_names.index("c1"), 0] = 5.0
+    controls[0, 0, scene.body_names.index("b1"), 0] = 1.0
     sims = fresh()
     try:
         rows = ecpsim.rollout(sims, 3, threads=2, controls=controls)
