@@ -289,14 +289,14 @@ class SparseNewtonAlgebra {
   // every solve's storage is kept: it grows with the non-zeros, not their square, and the
   // analyses kept with it are what the next solve of an island of the same pattern saves
   static constexpr int kMaxKeptUnknowns = std::numeric_limits<int>::max();
-  // (the sparse LU keeps its analysis per pattern anyway: `replay` changes nothing here; the
-  // minimum-norm solve factors H dense: a rescue's cost, not a step's)
   // the analyses are kept within a solve for matrices whose non-zeros they cover, and into the
   // next only for one of the same pattern (PatternCover): the factors depend on the solve alone
   void BeginSolve() {
     lu_.BeginSolve();
     damped_.BeginSolve();
   }
+  // (the sparse LU keeps its analysis per pattern anyway: `replay` changes nothing here; the
+  // minimum-norm solve factors H dense: a rescue's cost, not a step's)
   void Factor(const Matrix& matrix, const Eigen::VectorXd* shift, bool /*replay*/,
               bool minimum_norm, const std::vector<int>& /*order*/) {
     const Matrix* factored = &matrix;

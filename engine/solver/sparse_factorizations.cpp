@@ -200,10 +200,10 @@ bool DampedLeastSquares::SolveAugmented(const Eigen::SparseMatrix<double>& H, do
   solution_ += augmented_ldlt_.solve(correction_);
   direction = solution_.tail(n);
   // the normal equations' residual (HᵀH + μI) d + g, the measure the fallback is held to
-  check_.noalias() = H * direction;
-  rhs_.head(n).noalias() = H.transpose() * check_;
-  rhs_.head(n) += mu * direction + gradient;
-  const double error = rhs_.head(n).norm();
+  product_.noalias() = H * direction;
+  normal_residual_.noalias() = H.transpose() * product_;
+  normal_residual_ += mu * direction + gradient;
+  const double error = normal_residual_.norm();
   return std::isfinite(error) && error <= kAugmentedRelTolerance * gradient.norm();
 }
 

@@ -123,7 +123,8 @@ class DampedLeastSquares {
   Eigen::SparseMatrix<double> augmented_;              // K's lower triangle
   Ldlt augmented_ldlt_;
   PatternCover augmented_pattern_;
-  Eigen::VectorXd rhs_, solution_, correction_, check_;
+  Eigen::VectorXd rhs_, solution_, correction_;
+  Eigen::VectorXd product_, normal_residual_;  // H d, and (HᵀH + μI) d + g
   Eigen::SparseMatrix<double> normal_;  // HᵀH + μI
   Ldlt normal_ldlt_;
   SparsityPattern normal_pattern_;
