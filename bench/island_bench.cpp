@@ -4,6 +4,8 @@
 //   BM_IslandScattered/64 ≤ 1.2 × 64 × BM_IslandRestingBox (each body an island of its own);
 //   BM_IslandScatteredPairs/bodies:1024/every_pair:1 against …/every_pair:0: what a YAML
 //   scene's default of every pair of bodies costs where none of them touches (issue 30);
+//   BM_IslandGridPairs/bodies:1000/every_pair:1 against …/every_pair:0: the same with the
+//   scaling benchmark's grid of stacks, sleeping (issue 30: cost linear in the bodies);
 //   BM_IslandFreeFall: a body that can touch nothing costs the closed-form free flight;
 //   BM_IslandSleep/<scene>/1 against BM_IslandSleep/<scene>/0: resting scenes with sleeping
 //   islands on and off (engine/README.md, "Sleeping islands");
@@ -15,8 +17,8 @@
 //   BM_IslandTrain: scenes/train.yaml's push once the row moves (issue 30's bar: ≤ 100 µs).
 // Every scene is stepped with the hull model, whose islands these are (model: auto would turn
 // the single resting box into a planar step and the comparison into one of two models), and
-// awake (solver.sleep false) but in BM_IslandSleep: they time the islands' solves, which
-// sleeping would replace by replays of resting bodies.
+// awake (solver.sleep false) but in BM_IslandSleep and BM_IslandGridPairs: they time the islands'
+// solves, which sleeping would replace by replays of resting bodies.
 
 #include <algorithm>
 #include <cmath>
@@ -29,6 +31,7 @@
 #include "bench/step_loop.h"
 #include "engine/scene_io/scene_builders.h"
 #include "engine/scene_io/scene_yaml.h"
+#include "evaluation/stack_grid.h"
 #include "tests/engine/test_bodies.h"
 
 namespace ecpsim::engine {
@@ -120,27 +123,50 @@ void BM_IslandScattered(benchmark::State& bench) {
 }
 BENCHMARK(BM_IslandScattered)->Arg(8)->Arg(64)->Unit(benchmark::kMicrosecond);
 
-// the scattered boxes at rest, stepped after kSettleSteps untimed steps (at a thousand boxes a
-// restart from t = 0 inside the timed loop would be most of what it times), with every pair of
+// `scene` under the hull model stepped after `settle_steps` untimed steps, never restarted (at a
+// thousand boxes a restart from t = 0 inside the timed loop would be most of what it times)
+void RunSettledSteps(benchmark::State& bench, Scene& scene, int settle_steps) {
+  scene.model = ContactModel::kHull;
+  State state = InitialState(scene);
+  StepWorkspace workspace;
+  for (int k = 0; k < settle_steps; ++k) Step(scene, state, workspace);
+  for (auto _ : bench) Step(scene, state, workspace);
+  bench.counters["pairs"] = static_cast<double>(scene.contacts.size());
+  CountPerBody(bench, scene);
+}
+
+// the scattered boxes at rest, stepped after 5 untimed steps, with every pair of
 // bodies a contact pair (second argument 1) or none (0): what the pairs that never touch cost
 // where a YAML scene lists none (each a ContactState in the state and a test in every step)
 void BM_IslandScatteredPairs(benchmark::State& bench) {
   Scene scene =
       testing::MakeGroundScene(ScatteredBoxes(static_cast<int>(bench.range(0))), 0.01, kFriction);
   if (bench.range(1) == 1) AddBodyPairs(scene);
-  scene.model = ContactModel::kHull;
   scene.solver.sleep = false;
-  State state = InitialState(scene);
-  StepWorkspace workspace;
-  constexpr int kSettleSteps = 5;
-  for (int k = 0; k < kSettleSteps; ++k) Step(scene, state, workspace);
-  for (auto _ : bench) Step(scene, state, workspace);
-  bench.counters["pairs"] = static_cast<double>(scene.contacts.size());
-  CountPerBody(bench, scene);
+  RunSettledSteps(bench, scene, 5);
 }
 BENCHMARK(BM_IslandScatteredPairs)
     ->ArgNames({"bodies", "every_pair"})
     ->ArgsProduct({{64, 1024}, {0, 1}})
+    ->Unit(benchmark::kMicrosecond);
+
+// the scaling benchmark's grid of stacks at rest (evaluation/stack_grid.h) with the pairs within
+// each stack (every_pair:0) or every pair of bodies (1), as a YAML scene lists them by default,
+// sleeping as a user runs it: what a step pays for pairs the broad phase leaves out (500,500 of
+// them at 1,000 bodies), stepped after 20 untimed steps (its islands asleep)
+void BM_IslandGridPairs(benchmark::State& bench) {
+  const int bodies = static_cast<int>(bench.range(0));
+  Scene scene = evaluation::MakeStackGrid(bodies);
+  if (bench.range(1) == 1) {
+    // the ground's contacts (each body's, first) kept, then every pair (AddBodyPairs indexes)
+    scene.contacts.resize(bodies);
+    AddBodyPairs(scene);
+  }
+  RunSettledSteps(bench, scene, 20);
+}
+BENCHMARK(BM_IslandGridPairs)
+    ->ArgNames({"bodies", "every_pair"})
+    ->ArgsProduct({{64, 250, 1000}, {0, 1}})
     ->Unit(benchmark::kMicrosecond);
 
 // a box falling from 200 m (122 m in the 5 s before each restart): every step is the

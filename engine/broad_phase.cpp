@@ -152,6 +152,28 @@ void StepReachOf(const Scene& scene, const State& state, StepReach& reach) {
   }
 }
 
+void OverlappingBoxes(const std::vector<Box>& boxes, std::vector<int>& order,
+                      std::vector<std::pair<int, int>>& pairs) {
+  order.clear();
+  pairs.clear();
+  for (size_t b = 0; b < boxes.size(); ++b) {
+    if (!boxes[b].min().hasNaN() && !boxes[b].max().hasNaN()) order.push_back(static_cast<int>(b));
+  }
+  // by the boxes' lower x, ties by index: every box that meets box i along x and comes after it
+  // starts before i's upper x
+  std::sort(order.begin(), order.end(), [&](int i, int j) {
+    const double xi = boxes[i].min().x(), xj = boxes[j].min().x();
+    return xi < xj || (xi == xj && i < j);
+  });
+  for (size_t s = 0; s < order.size(); ++s) {
+    const Box& box = boxes[order[s]];
+    for (size_t t = s + 1; t < order.size() && boxes[order[t]].min().x() <= box.max().x(); ++t) {
+      if (!box.intersects(boxes[order[t]])) continue;
+      pairs.emplace_back(std::min(order[s], order[t]), std::max(order[s], order[t]));
+    }
+  }
+}
+
 bool BodiesInReach(const Scene& scene, const State& state, const StepReach& reach, int k) {
   const ContactPair& pair = scene.contacts[k];
   const int a = pair.body, b = pair.other_body;

@@ -2,6 +2,7 @@
 // The broad phase: per body a world box that holds everything of it that can be touched within
 // the step, so that pairs whose boxes are apart stay out of the step's islands.
 
+#include <utility>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -43,6 +44,13 @@ struct StepReach {
 /// Every body's reach for the step from `state`, into `reach` over its last contents (reusing
 /// their storage: a step allocates nothing once its sizes have been seen).
 void StepReachOf(const Scene& scene, const State& state, StepReach& reach);
+
+/// Every pair (i, j), i < j, of `boxes` that intersect (Box::intersects), into `pairs` (in the
+/// sweep's order): sweep and prune along x, so that the cost grows with the bodies and the pairs
+/// of boxes that overlap along x, not with all pairs. A box with a NaN bound meets none. `order`
+/// is working storage.
+void OverlappingBoxes(const std::vector<Box>& boxes, std::vector<int>& order,
+                      std::vector<std::pair<int, int>>& pairs);
 
 /// Whether the bodies of contact pair `k` (between two bodies) can touch within the step: their
 /// boxes (and the boxes of the parts it names) overlap and, unless one is kinematic, their hulls

@@ -63,12 +63,11 @@ void PlanSleep(const Scene& scene, const State& state, const std::vector<Island>
   // a contact that entered or left the step (the broad phase proposed it, or its bodies moved
   // apart) touches the islands of its bodies: a body approaching, an island merged or split
   plan.touched.assign(scene.bodies.size(), false);
-  for (size_t k = 0; k < scene.contacts.size(); ++k) {
-    if (plan.in_step[k] == state.rest.in_step[k]) continue;
+  ForEachDifference(plan.in_step, state.rest.in_step, [&](size_t k) {
     const ContactPair& pair = scene.contacts[k];
     plan.touched[pair.body] = true;
     if (pair.WithBody()) plan.touched[pair.other_body] = true;
-  }
+  });
   for (size_t i = 0; i < islands.size(); ++i) {
     const Island& island = islands[i];
     // an island moving at the start neither sleeps nor repeats its start at rest, whatever its

@@ -11,6 +11,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "engine/contact_index.h"
 #include "engine/kinematic_motion.h"
 #include "engine/loads.h"
 #include "geometry/convex_shape.h"
@@ -184,6 +185,9 @@ struct Scene {
   std::vector<Gripper> grippers;
   SolverSettings solver;
   ContactModel model = ContactModel::kAuto;
+  /// where each pair of bodies' contacts lie (IndexContacts, once the contacts are complete); a
+  /// step indexes a scene without one itself, every step
+  std::shared_ptr<const ContactIndex> contact_index;
 };
 
 /// F's side of `pair`: body `pair.body`'s hull or the part it names (body frame).

@@ -348,18 +348,22 @@ StepReport StepIslands(const Scene& scene, State& state, const WithModel& with_m
   // the last step either were cleared then (the record says which; most of a body of parts'
   // pairs, whose states are not read again)
   const std::vector<char>& was_in_step = state.rest.in_step;
-  const bool recorded = was_in_step.size() == scene.contacts.size();
-  for (size_t k = 0; k < scene.contacts.size(); ++k) {
-    if (sleep.in_step[k] || (recorded && !was_in_step[k])) continue;
+  const auto clear_left = [&](size_t k) {
+    if (sleep.in_step[k]) return;
     ContactState& c = state.contacts[k];
     // (most are clear already, +0 to the bit: a pile's far pairs, parts away from the other
     // body)
     const auto clear = [](double x) { return x == 0 && !std::signbit(x); };
     if (c.warm_start.empty() && clear(c.p_n) && clear(c.p_t) && clear(c.p_o) && clear(c.p_r) &&
         clear(c.sigma))
-      continue;
+      return;
     c.p_n = c.p_t = c.p_o = c.p_r = c.sigma = 0;
     c.warm_start.Reset();
+  };
+  if (was_in_step.size() == scene.contacts.size()) {
+    ForEachDifference(sleep.in_step, was_in_step, clear_left);
+  } else {
+    for (size_t k = 0; k < scene.contacts.size(); ++k) clear_left(k);
   }
   // without sleeping no counts are kept: one made while it was off would let an island that
   // turned it on sleep on counts it never earned

@@ -37,6 +37,7 @@ engine::Scene MakeStackGrid(int bodies) {
       scene.contacts.push_back(engine::BodyPair(scene, i, j, friction));
     }
   }
+  engine::IndexContacts(scene);
   return scene;
 }
 

@@ -5,14 +5,11 @@ namespace ecpsim::engine {
 using Eigen::Vector3d;
 
 std::vector<ContactGroup> ContactGroups(const Scene& scene) {
-  std::vector<ContactGroup> groups;
-  const int n = static_cast<int>(scene.contacts.size());
-  for (int k = 0; k < n; ++k) {
-    if (groups.empty() || !scene.contacts[k].SameBodies(scene.contacts[groups.back().first]))
-      groups.push_back({k, k});
-    groups.back().end = k + 1;
-  }
-  return groups;
+  if (scene.contact_index != nullptr && scene.contact_index->Fits(scene))
+    return scene.contact_index->groups;
+  ContactIndex index;
+  BuildContactIndex(scene, index);
+  return index.groups;
 }
 
 ContactState CombinedContact(const State& state, const ContactGroup& group) {

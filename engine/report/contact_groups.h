@@ -6,19 +6,13 @@
 
 #include <vector>
 
+#include "engine/contact_index.h"
 #include "engine/scene.h"
 #include "engine/state.h"
 
 namespace ecpsim::engine {
 
-/// The consecutive contacts [first, end) of Scene::contacts that join the same two sides
-/// (ContactPair::SameBodies); one contact alone where the pair touches with its hulls.
-struct ContactGroup {
-  int first = 0;
-  int end = 0;
-};
-
-/// Scene::contacts split into groups, in order.
+/// Scene::contacts split into groups (engine/contact_index.h), in order.
 std::vector<ContactGroup> ContactGroups(const Scene& scene);
 
 /// The group's contacts combined: a group of one is its contact exactly (warm start dropped).

@@ -106,6 +106,7 @@ LoadedScene MakeDropScene(const DropOptions& options) {
   } catch (const SceneError& e) {
     throw InputError(fmt::format("ecpsim drop {}: {}", options.mesh, e.what()));
   }
+  IndexContacts(scene);
   return loaded;
 }
 

@@ -55,6 +55,7 @@ Scene MakeGroundScene(std::vector<Body> bodies, double h, const Friction& fricti
   }
   scene.bodies = std::move(bodies);
   ValidateScene(scene);
+  IndexContacts(scene);
   return scene;
 }
 
@@ -67,6 +68,7 @@ void AddBodyPairs(Scene& scene) {
                       PairFriction(scene.bodies[i].friction, scene.bodies[j].friction));
     }
   }
+  IndexContacts(scene);
 }
 
 }  // namespace ecpsim::engine

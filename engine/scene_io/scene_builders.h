@@ -22,15 +22,16 @@ Body MakeMeshBody(const geometry::TriangleMesh& mesh_any_frame, double mass,
 
 /// A scene with the ground, the half-space `up` · x ≤ 0 (`up` unit, world; by default z ≤ 0), and
 /// the given bodies, each dynamic one in contact with the ground with `friction`; source "code",
-/// step h, duration 1 s. It passes ValidateScene: a caller that edits it afterwards (bodies,
-/// pairs, loads, h) builds a scene of its own, to check again.
+/// step h, duration 1 s. It passes ValidateScene and is indexed (IndexContacts): a caller that
+/// edits it afterwards (bodies, pairs, loads, h) builds a scene of its own, to check again (and
+/// to index again where it adds pairs).
 /// @throws SceneError (scene_io/scene_validation.h) naming the Scene's key, e.g.
 ///         `bodies[0].mass = -1: expected ...` or `h = 0: expected ...`, for a scene it rejects.
 Scene MakeGroundScene(std::vector<Body> bodies, double h, const Friction& friction,
                       const Eigen::Vector3d& up = Eigen::Vector3d::UnitZ());
 
 /// Adds AddBodyContacts(i, j, PairFriction of the two bodies) for every pair i < j of `scene`'s
-/// bodies that are not both kinematic.
+/// bodies that are not both kinematic, and indexes the contacts again (IndexContacts).
 void AddBodyPairs(Scene& scene);
 
 }  // namespace ecpsim::engine

@@ -301,6 +301,7 @@ LoadedScene LoadTree(Context ctx, YAML::Node root, const std::vector<std::string
   } catch (const SceneError& e) {
     throw Locate(ctx, root, e);
   }
+  IndexContacts(loaded.scene);
   return loaded;
 }
 

@@ -228,6 +228,25 @@ TEST(IslandSleepTest, AStateRecordCarriesTheRestSoARestoredRunSleepsAsTheOrigina
   EXPECT_TRUE(StateFromRecord(record, "record").rest.steps.empty());
 }
 
+// the differences of two flag vectors, at a block's ends, alone in a block and in the last,
+// short block, as a plain loop finds them
+TEST(IslandSleepTest, ForEachDifferenceFindsEveryDifferingFlagInOrder) {
+  constexpr size_t kFlags = 1000;
+  std::vector<char> a(kFlags, 0), b(kFlags, 0);
+  for (size_t k : {0u, 255u, 256u, 511u, 700u, 701u, 999u}) b[k] = 1;
+  for (size_t k = 300; k < 310; ++k) a[k] = b[k] = 1;  // set in both: no difference
+  a[800] = 1;
+  std::vector<size_t> expected, found;
+  for (size_t k = 0; k < kFlags; ++k)
+    if (a[k] != b[k]) expected.push_back(k);
+  ForEachDifference(a, b, [&](size_t k) { found.push_back(k); });
+  EXPECT_EQ(found, expected);
+  EXPECT_EQ(found.size(), 8u);
+  found.clear();
+  ForEachDifference(a, a, [&](size_t k) { found.push_back(k); });
+  EXPECT_TRUE(found.empty());
+}
+
 TEST(IslandSleepTest, ABodyIsAtRestBelowATenQuadrillionthOfItsLengthAStep) {
   // a 0.1 m cube: radius of gyration √(3 · 0.1² / 6) = 0.0707 m
   Body cube;

@@ -48,6 +48,9 @@ TEST(ClutterBin, TheSameSeedDropsTheSameBoxesTheSameWay) {
         differs || a.bodies[i].p0 != other.bodies[i].p0 || a.bodies[i].mass != other.bodies[i].mass;
   }
   EXPECT_TRUE(differs) << "seeds " << kSeed << " and " << kSeed + 1 << " gave the same bin";
+  // indexed with its walls' and its boxes' pairs (engine/contact_index.h)
+  ASSERT_NE(a.contact_index, nullptr);
+  EXPECT_TRUE(a.contact_index->Fits(a));
 }
 
 TEST(ClutterBin, BoxesOfTheStatedSizesStartInsideTheBinApart) {

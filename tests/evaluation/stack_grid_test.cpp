@@ -96,6 +96,9 @@ TEST(StackGrid, PairsAreTheGroundAndTheBoxesOfOneStack) {
     }
     EXPECT_EQ(ground, n);
     EXPECT_EQ(between, expected_between) << n;
+    // indexed with its pairs (engine/contact_index.h), so that a step need not index it
+    ASSERT_NE(scene.contact_index, nullptr);
+    EXPECT_TRUE(scene.contact_index->Fits(scene)) << n;
   }
 }
 
