@@ -55,16 +55,20 @@ void BuildContactIndex(const Scene& scene, ContactIndex& index) {
     }
     k = end;
   }
-  // each body's groups with other bodies, counted above, placed by a prefix sum
-  for (int b = 0; b < n; ++b) index.body_groups_begin[b + 1] += index.body_groups_begin[b];
-  index.body_groups.resize(index.body_groups_begin[n]);
-  std::vector<int> filled(index.body_groups_begin.begin(), index.body_groups_begin.end() - 1);
+  // each body's groups with other bodies, counted above: a prefix sum makes begin[b + 1] the end
+  // of b's range, each group placed below it moves it down to b's start, and a shift by one
+  // makes each start its body's
+  std::vector<int>& begin = index.body_groups_begin;
+  for (int b = 0; b < n; ++b) begin[b + 1] += begin[b];
+  index.body_groups.resize(begin[n]);
   for (size_t g = 0; g < index.groups.size(); ++g) {
     const ContactPair& pair = contacts[index.groups[g].first];
     if (!pair.WithBody()) continue;
-    index.body_groups[filled[pair.body]++] = {pair.other_body, static_cast<int>(g)};
-    index.body_groups[filled[pair.other_body]++] = {pair.body, static_cast<int>(g)};
+    index.body_groups[--begin[pair.body + 1]] = {pair.other_body, static_cast<int>(g)};
+    index.body_groups[--begin[pair.other_body + 1]] = {pair.body, static_cast<int>(g)};
   }
+  for (int b = 0; b < n; ++b) begin[b] = begin[b + 1];
+  begin[n] = static_cast<int>(index.body_groups.size());
   for (int b = 0; b < n; ++b) {
     std::sort(index.body_groups.begin() + index.body_groups_begin[b],
               index.body_groups.begin() + index.body_groups_begin[b + 1]);
