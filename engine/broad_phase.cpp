@@ -152,24 +152,27 @@ void StepReachOf(const Scene& scene, const State& state, StepReach& reach) {
   }
 }
 
-void OverlappingBoxes(const std::vector<Box>& boxes, std::vector<int>& order,
+void OverlappingBoxes(const std::vector<Box>& boxes, BoxSweep& sweep,
                       std::vector<std::pair<int, int>>& pairs) {
+  std::vector<std::pair<double, int>>& order = sweep.order;
   order.clear();
   pairs.clear();
   for (size_t b = 0; b < boxes.size(); ++b) {
-    if (!boxes[b].min().hasNaN() && !boxes[b].max().hasNaN()) order.push_back(static_cast<int>(b));
+    if (!boxes[b].min().hasNaN() && !boxes[b].max().hasNaN())
+      order.emplace_back(boxes[b].min().x(), static_cast<int>(b));
   }
   // by the boxes' lower x, ties by index: every box that meets box i along x and comes after it
-  // starts before i's upper x
-  std::sort(order.begin(), order.end(), [&](int i, int j) {
-    const double xi = boxes[i].min().x(), xj = boxes[j].min().x();
-    return xi < xj || (xi == xj && i < j);
-  });
-  for (size_t s = 0; s < order.size(); ++s) {
-    const Box& box = boxes[order[s]];
-    for (size_t t = s + 1; t < order.size() && boxes[order[t]].min().x() <= box.max().x(); ++t) {
-      if (!box.intersects(boxes[order[t]])) continue;
-      pairs.emplace_back(std::min(order[s], order[t]), std::max(order[s], order[t]));
+  // starts before i's upper x; the boxes copied in that order, so the sweep reads them in turn
+  std::sort(order.begin(), order.end());
+  sweep.sorted.resize(order.size());
+  for (size_t s = 0; s < order.size(); ++s) sweep.sorted[s] = boxes[order[s].second];
+  const std::vector<Box>& sorted = sweep.sorted;
+  for (size_t s = 0; s < sorted.size(); ++s) {
+    const Box& box = sorted[s];
+    for (size_t t = s + 1; t < sorted.size() && sorted[t].min().x() <= box.max().x(); ++t) {
+      if (!box.intersects(sorted[t])) continue;
+      const int i = order[s].second, j = order[t].second;
+      pairs.emplace_back(std::min(i, j), std::max(i, j));
     }
   }
 }

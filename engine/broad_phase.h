@@ -45,11 +45,16 @@ struct StepReach {
 /// their storage: a step allocates nothing once its sizes have been seen).
 void StepReachOf(const Scene& scene, const State& state, StepReach& reach);
 
+/// OverlappingBoxes' working storage, kept by the caller from step to step.
+struct BoxSweep {
+  std::vector<std::pair<double, int>> order;  // (lower x, box), sorted
+  std::vector<Box> sorted;                    // the boxes in that order, side by side
+};
+
 /// Every pair (i, j), i < j, of `boxes` that intersect (Box::intersects), into `pairs` (in the
 /// sweep's order): sweep and prune along x, so that the cost grows with the bodies and the pairs
-/// of boxes that overlap along x, not with all pairs. A box with a NaN bound meets none. `order`
-/// is working storage.
-void OverlappingBoxes(const std::vector<Box>& boxes, std::vector<int>& order,
+/// of boxes that overlap along x, not with all pairs. A box with a NaN bound meets none.
+void OverlappingBoxes(const std::vector<Box>& boxes, BoxSweep& sweep,
                       std::vector<std::pair<int, int>>& pairs);
 
 /// Whether the bodies of contact pair `k` (between two bodies) can touch within the step: their

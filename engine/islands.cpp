@@ -64,7 +64,7 @@ void GroupsInReach(const Scene& scene, const State& state, const ContactIndex& i
   }
   std::vector<int>& near = scratch.near_groups;
   near.clear();
-  OverlappingBoxes(boxes, scratch.order, scratch.box_pairs);
+  OverlappingBoxes(boxes, scratch.sweep, scratch.box_pairs);
   for (const auto& [a, b] : scratch.box_pairs) {
     const auto [first, last] = index.GroupsBetween(a, b);
     for (const auto* it = first; it != last; ++it) {

@@ -28,7 +28,7 @@ struct IslandScratch {
   std::vector<char> in_step;         // each contact's presence in the step
   StepReach reach;                   // the broad phase's bounds, where a contact needs them
   ContactIndex index;                // the scene's, where it has none (Scene::contact_index)
-  std::vector<int> order;            // the box sweep's working storage (OverlappingBoxes)
+  BoxSweep sweep;                    // the box sweep's working storage (OverlappingBoxes)
   std::vector<std::pair<int, int>> box_pairs;  // the bodies whose boxes meet
   std::vector<int> near_groups;                // the groups of bodies whose boxes meet
   std::vector<int> groups;  // the contact groups that may be in the step, in order

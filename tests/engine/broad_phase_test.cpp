@@ -219,9 +219,9 @@ TEST(BroadPhaseTest, TheBoxSweepFindsEveryPairOfBoxesThatMeetAndNoOther) {
       if (boxes[i].intersects(boxes[j])) expected.emplace_back(i, j);
     }
   }
-  std::vector<int> order;
+  BoxSweep sweep;
   std::vector<std::pair<int, int>> pairs;
-  OverlappingBoxes(boxes, order, pairs);
+  OverlappingBoxes(boxes, sweep, pairs);
   std::sort(pairs.begin(), pairs.end());
   EXPECT_EQ(pairs, expected);
   EXPECT_TRUE(std::find(pairs.begin(), pairs.end(), std::make_pair(3, 200)) != pairs.end());
@@ -230,7 +230,7 @@ TEST(BroadPhaseTest, TheBoxSweepFindsEveryPairOfBoxesThatMeetAndNoOther) {
                           [](const auto& p) { return p.first == 201 || p.second == 201; }),
             201);
   // and the list is rebuilt, not appended to, on the next call
-  OverlappingBoxes(boxes, order, pairs);
+  OverlappingBoxes(boxes, sweep, pairs);
   std::sort(pairs.begin(), pairs.end());
   EXPECT_EQ(pairs, expected);
 }
