@@ -75,6 +75,13 @@ void BuildContactIndex(const Scene& scene, ContactIndex& index) {
   }
 }
 
+const ContactIndex& ContactIndexOf(const Scene& scene, ContactIndex& storage) {
+  if (scene.contact_index != nullptr && scene.contact_index->Fits(scene))
+    return *scene.contact_index;
+  BuildContactIndex(scene, storage);
+  return storage;
+}
+
 void IndexContacts(Scene& scene) {
   auto index = std::make_shared<ContactIndex>();
   BuildContactIndex(scene, *index);

@@ -45,6 +45,9 @@ struct ContactIndex {
 /// `index` rebuilt for `scene`'s contacts, over its last contents (reusing their storage).
 void BuildContactIndex(const Scene& scene, ContactIndex& index);
 
+/// The scene's contact index where it has one that fits it, else one built into `storage`.
+const ContactIndex& ContactIndexOf(const Scene& scene, ContactIndex& storage);
+
 /// Gives `scene` its contact index (Scene::contact_index): for a scene whose contacts are
 /// complete; each route that builds a scene (engine/scene_io, evaluation) calls it last.
 void IndexContacts(Scene& scene);

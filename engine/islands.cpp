@@ -16,14 +16,6 @@ namespace {
 // with every pair 500
 constexpr std::size_t kSweepAbovePairsPerBody = 8;
 
-// the scene's contact index, or one built for it into `scratch` where it has none that fits
-const ContactIndex& IndexOf(const Scene& scene, IslandScratch& scratch) {
-  if (scene.contact_index != nullptr && scene.contact_index->Fits(scene))
-    return *scene.contact_index;
-  BuildContactIndex(scene, scratch.index);
-  return scratch.index;
-}
-
 // which contacts of `group` (between two bodies whose boxes meet) are in reach (BodiesInReach),
 // into `in_step`: a part of F whose box misses G's box is out of reach of each of G's sides, its
 // row skipped at one box test
@@ -97,7 +89,7 @@ void FormIslandsInto(const Scene& scene, const State& state, IslandScratch& scra
   };
   std::vector<char>& in_step = scratch.in_step;
   in_step.assign(scene.contacts.size(), false);
-  const ContactIndex& index = IndexOf(scene, scratch);
+  const ContactIndex& index = ContactIndexOf(scene, scratch.index);
   // the bounds, computed once and only if a contact needs them
   StepReach& reach = scratch.reach;
   bool reach_known = false;

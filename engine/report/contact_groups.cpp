@@ -5,11 +5,8 @@ namespace ecpsim::engine {
 using Eigen::Vector3d;
 
 std::vector<ContactGroup> ContactGroups(const Scene& scene) {
-  if (scene.contact_index != nullptr && scene.contact_index->Fits(scene))
-    return scene.contact_index->groups;
-  ContactIndex index;
-  BuildContactIndex(scene, index);
-  return index.groups;
+  ContactIndex storage;
+  return ContactIndexOf(scene, storage).groups;
 }
 
 ContactState CombinedContact(const State& state, const ContactGroup& group) {
