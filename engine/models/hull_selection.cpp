@@ -150,6 +150,7 @@ RootSelection SelectLeastEnergyRoot(const Scene& scene, const Island& island,
   options.tolerance = tolerance;
   options.minimum_norm_steps = true;
   options.max_iterations = scene.solver.max_iterations;
+  options.stall_iterations = kNearSetStallIterations;
   options.measure = [&](const VectorXd& zz, const VectorXd& F) {
     return IslandMncpResidual(exact, layout, zz, F, row_scale, var_scale, units);
   };

@@ -99,6 +99,7 @@ SelectionResult SelectLeastEnergySolution(const McpFunction& f, int num_free,
 
   McpOptions land = options;
   land.minimum_norm_steps = true;
+  land.stall_iterations = kNearSetStallIterations;
   // the solution at z + alpha dx (scaled), back on the set, if its E is at most `allowed`; and
   // E's slope along the set there in the direction of dx
   const auto step_to = [&](const VectorXd& dx, double alpha, double allowed, Point& trial,

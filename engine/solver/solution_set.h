@@ -47,9 +47,9 @@ struct SelectionResult {
 /// Moves a solution z of the MCP along its set of solutions to the point where E is least.
 /// Each step is the Gauss–Newton step of E restricted to the set's directions at z (the least-
 /// squares solution of (R N) d = −r), cut to keep every active pair's x_i ≥ 0, followed by
-/// minimum-norm Newton steps back onto the set (SolveMcp with `options` and
-/// minimum_norm_steps: the nearest solution, nothing moved along the set); it is taken where it
-/// lands on a solution whose E is not higher (to round-off), else halved (up to
+/// minimum-norm Newton steps back onto the set (SolveMcp with `options`, minimum_norm_steps and
+/// kNearSetStallIterations: the nearest solution, nothing moved along the set); it is taken where
+/// it lands on a solution whose E is not higher (to round-off), else halved (up to
 /// kSelectionHalvings times), and changed to the secant root of E's slope along it where that
 /// lands closer to E's least point (a curved set). The steps end
 /// when the Gauss–Newton step is below `options.tolerance` in the scaled unknowns, or after
@@ -66,5 +66,12 @@ SelectionResult SelectLeastEnergySolution(const McpFunction& f, int num_free,
 inline constexpr int kMaxSelectionSteps = 20;
 /// The halvings of a step that did not lower E (a curved set's Gauss–Newton step overshoots).
 inline constexpr int kSelectionHalvings = 8;
+/// Iterations without halving the residual before a solve from a start next to the set gives up
+/// (McpOptions::stall_iterations): a landing starts a second-order distance off the set, the
+/// selection's first solve a creep's or a step's change (hull::SelectLeastEnergyRoot), and Newton
+/// gets there in a few iterations where it gets there at all; a solve that has not, runs its whole
+/// budget for nothing before the step is halved. Half as many stopped slow landings that do get
+/// there: the selection then ended short of the least point (scenes/push_box.yaml's first touch).
+inline constexpr int kNearSetStallIterations = 10;
 
 }  // namespace ecpsim::engine
