@@ -191,8 +191,9 @@ RootSelection SelectLeastEnergyRoot(const Scene& scene, const Island& island,
   // where its pads' ECPs left the centre): the piece the last step's solution continues is
   // searched too. A piece that sticks everywhere inside the friction limits is taken over one
   // that slips (compliance holds what friction can hold at its least point); else the lesser
-  // energy
-  if (last != nullptr) {
+  // energy. A last solution that is z itself (a selected start that holds) would repeat the
+  // selection from z bit for bit
+  if (last != nullptr && !(last->size() == z.size() && *last == z)) {
     VectorXd other = *last;
     SelectionResult other_result;
     const double other_energy = select_from(other, other_result);

@@ -32,8 +32,9 @@ struct RootSelection {
 
 /// A root `z` of `problem` (solved with its sticking creep) taken onto the exact MNCP's set of
 /// solutions (no creep: minimum-norm Newton steps, the nearest root) and along it to the least
-/// PatchEnergy; where `last` (the last step's solution laid out as `layout`) is given, the same
-/// from it too (the set may come in pieces no path along it joins), and of the two the one whose
+/// PatchEnergy; where `last` (the last step's solution laid out as `layout`) is given and is not
+/// z, the same from it too (the set may come in pieces no path along it joins), and of the two the
+/// one whose
 /// loaded contacts all stick inside their friction limits if only one does, else the lesser
 /// energy.
 /// z is left as it is where neither selection succeeds, or where the selected root gains more
