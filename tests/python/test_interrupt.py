@@ -13,7 +13,9 @@ import textwrap
 POKE_AFTER = 0.1
 
 # a child's start: the pyramid's simulation, the program's own SIGINT handler where asked (one that
-# counts its calls and raises nothing), and a thread that sends SIGINT after argv[3] s
+# counts its calls and raises nothing), and start_poke(), a thread that sends SIGINT after argv[3] s.
+# Each child starts it right before its `try`: a signal that came while the child was still setting
+# up (importing numpy takes longer than POKE_AFTER on a loaded machine) would end it outside the try
 PRELUDE = textwrap.dedent("""
     import json, os, signal, subprocess, sys, threading, time
     import ecpsim
@@ -25,10 +27,12 @@ PRELUDE = textwrap.dedent("""
     def poke():
         time.sleep(float(sys.argv[3]))
         os.kill(os.getpid(), signal.SIGINT)
-    threading.Thread(target=poke).start()
+    def start_poke():
+        threading.Thread(target=poke).start()
 """)
 
 CHILD = PRELUDE + textwrap.dedent("""
+    start_poke()
     try:
         sim.step()
         print("returned", sim.time, len(calls))
@@ -69,6 +73,7 @@ def test_a_handler_that_raises_nothing_lets_the_step_be_taken(scenes):
 # the same for Simulation.record: the pyramid's first 0.05 s at 20 frames/s, frames at 0 and 0.05 s
 RECORD_CHILD = PRELUDE + textwrap.dedent("""
     path = sys.argv[4]
+    start_poke()
     try:
         result = sim.record(path, duration=0.05, fps=20, width=64, height=48)
         print("returned", result["frames"], result["steps"], sim.time, len(calls))
@@ -104,6 +109,7 @@ ROLLOUT_CHILD = PRELUDE + textwrap.dedent("""
     controls = np.zeros((2, 3, len(scene.body_names), 6))
     controls[0, 0, scene.body_names.index("b1"), 0] = 1.0
     sims = fresh()
+    start_poke()
     try:
         rows = ecpsim.rollout(sims, 3, threads=2, controls=controls)
         reference = ecpsim.rollout(fresh(), 3, threads=2, controls=controls)
