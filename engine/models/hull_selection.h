@@ -34,9 +34,8 @@ struct RootSelection {
 /// solutions (no creep: minimum-norm Newton steps, the nearest root) and along it to the least
 /// PatchEnergy; where `last` (the last step's solution laid out as `layout`) is given and is not
 /// z, the same from it too (the set may come in pieces no path along it joins), and of the two the
-/// one whose
-/// loaded contacts all stick inside their friction limits if only one does, else the lesser
-/// energy.
+/// one whose loaded contacts all stick inside their friction limits if only one does, else the
+/// lesser energy.
 /// z is left as it is where neither selection succeeds, or where the selected root gains more
 /// energy than the step's allowance (`ejection_energy` as for any root, SolveAttempt).
 RootSelection SelectLeastEnergyRoot(const Scene& scene, const Island& island,
