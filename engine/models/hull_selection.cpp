@@ -157,6 +157,10 @@ RootSelection SelectLeastEnergyRoot(const Scene& scene, const Island& island,
   const McpFunction f = [&](const VectorXd& zz, VectorXd* F, MatrixXd* J) {
     EvaluateIslandMncp(exact, layout, zz, F, J, /*jacobian_is_zero=*/true);
   };
+  // a contact's friction impulses and σ move along the set only while it bears a load
+  std::vector<int> ties(layout.size, -1);
+  for (const MncpLayout::Contact& L : layout.contacts)
+    for (int i : {L.p_t, L.p_o, L.p_r, L.sigma}) ties[i] = L.p_n;
   McpWorkspace& solver_workspace = workspace.Part<McpWorkspace>();
   const double allowed_gain =
       kMaxEnergyGainRel * IslandEnergyScale(exact, scales) + ejection_energy;
@@ -168,7 +172,7 @@ RootSelection SelectLeastEnergyRoot(const Scene& scene, const Island& island,
       return NAN;
     result = SelectLeastEnergySolution(f, layout.num_free, row_scale, var_scale,
                                        PatchEnergy(scene, island, exact, layout, root), root,
-                                       options, solver_workspace);
+                                       options, solver_workspace, ties);
     if (!result.converged || IslandStepEnergyGain(exact, layout, root) > allowed_gain) return NAN;
     return result.energy;
   };

@@ -107,6 +107,88 @@ TEST(SolutionSetTest, AnInactivePairHoldsItsUnknownAndADegenerateOneBoth) {
   EXPECT_EQ(N.cols(), 1);
 }
 
+TEST(SolutionSetTest, ATiedRowCountsInTheRankWhateverItsScale) {
+  // z0 + z1 + z2 = 1 and s (z1 − z2) = 0, the second row tied to z0 (a loaded contact's friction
+  // row, whose entries go with its load and σ): a line along (2, −1, −1) for a row 1e-14 or 1e15
+  // times the first, not a plane (the small row dropped, or the first row taken for 0)
+  const VectorXd ones = VectorXd::Ones(3);
+  for (const double s : {1e-14, 1e15}) {
+    const MatrixXd J = (MatrixXd(3, 3) << 1, 1, 1, 0, s, -s, 0, 0, 0).finished();
+    const MatrixXd N = SolutionSetDirections(J, VectorXd::Constant(3, 1.0 / 3), VectorXd::Zero(3),
+                                             3, ones, ones, kSolveTolerance, {-1, 0, -1});
+    ASSERT_EQ(N.cols(), 1) << s;
+    EXPECT_NEAR(std::abs(N.col(0).dot(Eigen::Vector3d(2, -1, -1) / std::sqrt(6.0))), 1,
+                kDirectionRoundOff)
+        << s;
+    // untied, the row is taken against the largest: a plane either way
+    EXPECT_EQ(SolutionSetDirections(J, VectorXd::Constant(3, 1.0 / 3), VectorXd::Zero(3), 3, ones,
+                                    ones, kSolveTolerance)
+                  .cols(),
+              2)
+        << s;
+  }
+}
+
+TEST(SolutionSetTest, AnUnknownTiedToOneHeldAtZeroIsHeldWithItAndItsRowLeftOut) {
+  // a contact in miniature, (v, p) free and p_n ≥ 0 ⊥ its gap 1: v + p = 1, and the friction row
+  // p_n v = 0, which holds for any v and p while p_n = 0. Untied, v and p trade along a line; p
+  // tied to p_n (the cone holds p at 0 to second order) is held, and its row left out with it
+  const VectorXd z = Eigen::Vector3d(1, 0, 0);
+  const VectorXd F = Eigen::Vector3d(0, 0, 1);
+  const MatrixXd J = (MatrixXd(3, 3) << 1, 1, 0, 0, 0, 1, 0, 0, 0).finished();
+  const VectorXd ones = VectorXd::Ones(3);
+  EXPECT_EQ(SolutionSetDirections(J, z, F, 2, ones, ones, kSolveTolerance).cols(), 1);
+  EXPECT_EQ(SolutionSetDirections(J, z, F, 2, ones, ones, kSolveTolerance, {-1, 2, -1}).cols(), 0);
+  // loaded (p_n > 0, its gap closed, rows that v + p = 1 alone constrains), the tie holds nothing
+  const VectorXd loaded = Eigen::Vector3d(1, 0, 0.5);
+  const MatrixXd J_loaded = (MatrixXd(3, 3) << 1, 1, 0, 0, 0, 0, 0, 0, 0).finished();
+  const MatrixXd untied =
+      SolutionSetDirections(J_loaded, loaded, VectorXd::Zero(3), 2, ones, ones, kSolveTolerance);
+  const MatrixXd tied = SolutionSetDirections(J_loaded, loaded, VectorXd::Zero(3), 2, ones, ones,
+                                              kSolveTolerance, {-1, 2, -1});
+  EXPECT_EQ(untied.cols(), 2);
+  EXPECT_EQ(tied, untied);
+}
+
+TEST(SolutionSetTest, ADegeneratePairIsLetGoWhereItsUnknownMustGrow) {
+  // z0 + z1 = 1 with z1 ≥ 0 ⊥ z0 + z1 − 1 (0 on the line): the set is the line's half z1 ≥ 0,
+  // and at (1, 0) the pair is degenerate. E = ½ |z − (0, 2)|² is least at (−½, 3/2), which the
+  // selection reaches only by letting z1 grow
+  const McpFunction f = [](const VectorXd& z, VectorXd* F, MatrixXd* J) {
+    *F = Vector2d(z[0] + z[1] - 1, z[0] + z[1] - 1);
+    if (J != nullptr) *J << 1, 1, 1, 1;
+  };
+  VectorXd z = Vector2d(1, 0);
+  McpWorkspace workspace;
+  const SelectionResult result =
+      SelectLeastEnergySolution(f, 1, kOnes2, kOnes2, DistanceTo({0, 2}), z, Options(), workspace);
+  EXPECT_TRUE(result.converged);
+  EXPECT_EQ(result.directions, 0);  // both held at the start
+  EXPECT_NEAR(z[0], -0.5, kSelectedError);
+  EXPECT_NEAR(z[1], 1.5, kSelectedError);
+}
+
+TEST(SolutionSetTest, ADegeneratePairIsLetGoWhereItsRowMustOpen) {
+  // z1 = 0 (a free row) with z1 ≥ 0 ⊥ z0 − 1: the set is z0 ≥ 1, z1 = 0, degenerate at (1, 0).
+  // E = ½ (z0 − 3)² is least at (3, 0), where the row is open (z0 − 1 = 2)
+  const McpFunction f = [](const VectorXd& z, VectorXd* F, MatrixXd* J) {
+    *F = Vector2d(z[1], z[0] - 1);
+    if (J != nullptr) *J << 0, 1, 1, 0;
+  };
+  const EnergyResiduals energy = [](const VectorXd& z, VectorXd* r, MatrixXd* R) {
+    *r = VectorXd::Constant(1, z[0] - 3);
+    if (R != nullptr) *R = (MatrixXd(1, 2) << 1, 0).finished();
+  };
+  VectorXd z = Vector2d(1, 0);
+  McpWorkspace workspace;
+  const SelectionResult result =
+      SelectLeastEnergySolution(f, 1, kOnes2, kOnes2, energy, z, Options(), workspace);
+  EXPECT_TRUE(result.converged);
+  EXPECT_EQ(result.directions, 0);
+  EXPECT_NEAR(z[0], 3, kSelectedError);
+  EXPECT_EQ(z[1], 0);
+}
+
 TEST(SolutionSetTest, TheLeastNormPointOfALineWhateverTheStart) {
   McpWorkspace workspace;
   for (const Vector2d& start : {Vector2d(1, 0), Vector2d(-3, 4), Vector2d(0.5, 0.5)}) {
