@@ -20,8 +20,12 @@ constexpr double kEnergyRoundOff = 64 * std::numeric_limits<double>::epsilon();
 // the secant's step is tried where it differs from the step taken by more than this fraction
 constexpr double kSecantChange = 0.1;
 // a degenerate pair's hold is let go where its multiplier exceeds this fraction of E's gradient
-// (scaled unknowns): far above the multipliers' round-off, far below any pair that binds
+// (scaled unknowns): far above the multipliers' round-off
 constexpr double kReleaseRel = 1e-9;
+// a Gauss–Newton step that a let-go pair makes longer than this (scaled unknowns: a hundred of
+// their own scales) runs along a direction the energy barely sees, and the pair stays held; at a
+// gripper's pad edges such steps ran to 1e4 … 2e11, and no landing follows them
+constexpr double kMaxReleasedStep = 100;
 
 // what a solution's unknown i keeps as it moves along the set
 enum class Hold {
@@ -67,6 +71,7 @@ struct Release {
   bool moves;
 };
 
+// the rows z holds, with `releases` let go and `ties` applied (SolutionSetDirections)
 HeldRows MakeHeldRows(const MatrixXd& J, const VectorXd& z, const VectorXd& F, int num_free,
                       const VectorXd& row_scale, const VectorXd& var_scale, double tolerance,
                       const std::vector<int>& ties, const std::vector<Release>& releases) {
@@ -198,7 +203,7 @@ SelectionResult SelectLeastEnergySolution(const McpFunction& f, int num_free,
     const double threshold = kReleaseRel * (R_x.transpose() * p.r).lpNorm<Eigen::Infinity>();
     std::vector<Release> releases;
     HeldRows released;
-    VectorXd dx(n);
+    VectorXd dx(n), held_dx;
     for (;;) {
       const HeldRows& held = releases.empty() ? p.held : released;
       const MatrixXd N = releases.empty() ? p.N : Kernel(held, n);
@@ -211,9 +216,12 @@ SelectionResult SelectLeastEnergySolution(const McpFunction& f, int num_free,
         decomposition.compute(R_x * N);
         dx = N * decomposition.solve(-p.r);
       }
+      // a pair let go onto a direction the energy barely sees: no landing follows such a step
+      if (!releases.empty() && !(dx.lpNorm<Eigen::Infinity>() <= kMaxReleasedStep)) return held_dx;
       const std::optional<Release> next =
           ReleasedPair(held, p.J, var_scale, R_x, p.r, dx, threshold);
       if (!next) return dx;
+      held_dx = dx;
       releases.push_back(*next);
       released = MakeHeldRows(p.J, p.z, p.F, num_free, row_scale, var_scale, options.tolerance,
                               ties, releases);

@@ -151,17 +151,13 @@ TEST(SolutionSetTest, AnUnknownTiedToOneHeldAtZeroIsHeldWithItAndItsRowLeftOut) 
 }
 
 TEST(SolutionSetTest, ADegeneratePairIsLetGoWhereItsUnknownMustGrow) {
-  // z0 + z1 = 1 with z1 ≥ 0 ⊥ z0 + z1 − 1 (0 on the line): the set is the line's half z1 ≥ 0,
-  // and at (1, 0) the pair is degenerate. E = ½ |z − (0, 2)|² is least at (−½, 3/2), which the
-  // selection reaches only by letting z1 grow
-  const McpFunction f = [](const VectorXd& z, VectorXd* F, MatrixXd* J) {
-    *F = Vector2d(z[0] + z[1] - 1, z[0] + z[1] - 1);
-    if (J != nullptr) *J << 1, 1, 1, 1;
-  };
+  // SumIsOne with its second row a pair, z1 ≥ 0 ⊥ 2 (z0 + z1 − 1) (0 on the line): the set is the
+  // line's half z1 ≥ 0, and at (1, 0) the pair is degenerate. E = ½ |z − (0, 2)|² is least at (−½,
+  // 3/2), which the selection reaches only by letting z1 grow
   VectorXd z = Vector2d(1, 0);
   McpWorkspace workspace;
-  const SelectionResult result =
-      SelectLeastEnergySolution(f, 1, kOnes2, kOnes2, DistanceTo({0, 2}), z, Options(), workspace);
+  const SelectionResult result = SelectLeastEnergySolution(
+      SumIsOne, 1, kOnes2, kOnes2, DistanceTo({0, 2}), z, Options(), workspace);
   EXPECT_TRUE(result.converged);
   EXPECT_EQ(result.directions, 0);  // both held at the start
   EXPECT_NEAR(z[0], -0.5, kSelectedError);
@@ -187,6 +183,23 @@ TEST(SolutionSetTest, ADegeneratePairIsLetGoWhereItsRowMustOpen) {
   EXPECT_EQ(result.directions, 0);
   EXPECT_NEAR(z[0], 3, kSelectedError);
   EXPECT_EQ(z[1], 0);
+}
+
+TEST(SolutionSetTest, APairThatOpensOnlyADirectionTheEnergyBarelySeesStaysHeld) {
+  // the set of ADegeneratePairIsLetGoWhereItsUnknownMustGrow, with E = ½ (1e-12 z1 − 1)²: letting
+  // z1 grow lowers E, but its least point lies 1e12 of z1's scale away, far past any step a
+  // contact takes along its set (kMaxReleasedStep): the pair stays held and z where it is
+  const EnergyResiduals energy = [](const VectorXd& z, VectorXd* r, MatrixXd* R) {
+    *r = VectorXd::Constant(1, 1e-12 * z[1] - 1);
+    if (R != nullptr) *R = (MatrixXd(1, 2) << 0, 1e-12).finished();
+  };
+  VectorXd z = Vector2d(1, 0);
+  McpWorkspace workspace;
+  const SelectionResult result =
+      SelectLeastEnergySolution(SumIsOne, 1, kOnes2, kOnes2, energy, z, Options(), workspace);
+  EXPECT_TRUE(result.converged);
+  EXPECT_EQ(result.steps, 0);
+  EXPECT_EQ(z, Vector2d(1, 0));
 }
 
 TEST(SolutionSetTest, TheLeastNormPointOfALineWhateverTheStart) {
