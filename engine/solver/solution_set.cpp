@@ -139,6 +139,10 @@ MatrixXd Kernel(const HeldRows& held, int n) {
 std::optional<Release> ReleasedPair(const HeldRows& held, const MatrixXd& J,
                                     const VectorXd& var_scale, const MatrixXd& R_x,
                                     const VectorXd& r, const VectorXd& dx, double threshold) {
+  // (most points have no degenerate pair: no multipliers to find)
+  if (std::none_of(held.holds.begin(), held.holds.end(),
+                   [](Hold hold) { return hold == Hold::kBoth; }))
+    return std::nullopt;
   const VectorXd g = R_x.transpose() * (R_x * dx + r);
   VectorXd g_moving(held.moving.size());
   for (size_t c = 0; c < held.moving.size(); ++c) g_moving[c] = g[held.moving[c]];
