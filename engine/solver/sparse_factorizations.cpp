@@ -90,6 +90,8 @@ struct SparseLu::Klu {
   klu_symbolic* symbolic = nullptr;
   klu_numeric* numeric = nullptr;
   int n = 0;
+  // the numeric factors reuse the pivots of an earlier matrix of the solve (klu_refactor)
+  bool reused_pivots = false;
 
   Klu() {
     klu_defaults(&common);
@@ -109,27 +111,65 @@ SparseLu::~SparseLu() = default;
 
 bool SparseLu::Factor(const Eigen::SparseMatrix<double>& matrix) {
   Klu& k = *klu_;
-  k.FreeNumeric();
   bool analyse = false;
   const Eigen::SparseMatrix<double>& A = pattern_.Cover(matrix, &analyse);
-  // (KLU's arguments are not const-qualified; it reads them only)
-  int* outer = const_cast<int*>(A.outerIndexPtr());
-  int* inner = const_cast<int*>(A.innerIndexPtr());
+  factored_ = &A;
+  // a new analysis, or a new solve, starts from pivots of its own
+  if (analyse || !pivots_of_solve_) k.FreeNumeric();
   if (analyse) {
     if (k.symbolic) klu_free_symbolic(&k.symbolic, &k.common);
     k.n = static_cast<int>(A.rows());
-    k.symbolic = klu_analyze(k.n, outer, inner, &k.common);
+    // (KLU's arguments are not const-qualified; it reads them only)
+    k.symbolic = klu_analyze(k.n, const_cast<int*>(A.outerIndexPtr()),
+                             const_cast<int*>(A.innerIndexPtr()), &k.common);
   }
   if (!k.symbolic) {
     pattern_ = PatternCover();  // analysed again next time
     return false;
   }
-  k.numeric = klu_factor(outer, inner, const_cast<double*>(A.valuePtr()), k.symbolic, &k.common);
+  pivots_of_solve_ = true;
+  if (k.numeric != nullptr &&
+      klu_refactor(const_cast<int*>(A.outerIndexPtr()), const_cast<int*>(A.innerIndexPtr()),
+                   const_cast<double*>(A.valuePtr()), k.symbolic, k.numeric, &k.common)) {
+    k.reused_pivots = true;
+    return true;
+  }
+  return FactorWithOwnPivots();
+}
+
+bool SparseLu::FactorWithOwnPivots() {
+  Klu& k = *klu_;
+  const Eigen::SparseMatrix<double>& A = *factored_;
+  k.FreeNumeric();
+  k.numeric = klu_factor(const_cast<int*>(A.outerIndexPtr()), const_cast<int*>(A.innerIndexPtr()),
+                         const_cast<double*>(A.valuePtr()), k.symbolic, &k.common);
+  k.reused_pivots = false;
   return k.numeric != nullptr;
 }
 
 void SparseLu::SolveInPlace(Eigen::VectorXd& x) {
   Klu& k = *klu_;
+  if (!k.reused_pivots) {
+    klu_solve(k.symbolic, k.numeric, k.n, 1, x.data(), &k.common);
+    return;
+  }
+  rhs_ = x;
+  klu_solve(k.symbolic, k.numeric, k.n, 1, x.data(), &k.common);
+  // the solve's backward error: reused pivots can be small ones of this matrix, whose growth
+  // only the residual shows
+  residual_ = rhs_;
+  residual_.noalias() -= *factored_ * x;
+  const double largest_entry =
+      Eigen::Map<const Eigen::VectorXd>(factored_->valuePtr(), factored_->nonZeros())
+          .lpNorm<Eigen::Infinity>();
+  const double scale = largest_entry * x.lpNorm<Eigen::Infinity>() + rhs_.lpNorm<Eigen::Infinity>();
+  // (a non-finite x or residual fails the test)
+  if (residual_.lpNorm<Eigen::Infinity>() <= kReusedPivotsBackwardError * scale) return;
+  x = rhs_;
+  if (!FactorWithOwnPivots()) {
+    x.setConstant(std::numeric_limits<double>::quiet_NaN());
+    return;
+  }
   klu_solve(k.symbolic, k.numeric, k.n, 1, x.data(), &k.common);
 }
 

@@ -54,7 +54,10 @@ class PatternCover {
 /// each block and partial pivoting within it. An island's Newton matrix — bodies' 6 × 6 blocks
 /// coupled through their contacts' blocks — has the structure KLU is made for: on the 24-box
 /// bin's 2,450-unknown island it factors in about 20 ms where Eigen's supernodal SparseLU
-/// (COLAMD) takes 48.
+/// (COLAMD) takes 48. Within a solve (from one BeginSolve to the next) a matrix on the analysed
+/// pattern is factored with the pivots of the solve's last pivoted factorization (klu_refactor,
+/// no pivot search), and factored with pivots of its own only where the solve by the reused ones
+/// leaves a backward error above kReusedPivotsBackwardError.
 class SparseLu {
  public:
   /// A pivot is taken on the diagonal only where it is at least this fraction of its column's
@@ -64,24 +67,38 @@ class SparseLu {
   /// its steps failed a step that partial pivoting solves (scenes/dominoes.yaml under `model:
   /// hull` at h = 0.01 s).
   static constexpr double kPivotTolerance = 1.0;
+  /// A solve by reused pivots stands where ‖A x − b‖∞ ≤ this × (‖A‖max ‖x‖∞ + ‖b‖∞): partial
+  /// pivoting's own backward error on the islands' Newton matrices, with room (engine/README.md,
+  /// "The island's linear algebra"); above it the pivots no longer fit the matrix.
+  static constexpr double kReusedPivotsBackwardError = 1e-13;
 
   SparseLu();
   ~SparseLu();
   SparseLu(const SparseLu&) = delete;
   SparseLu& operator=(const SparseLu&) = delete;
 
-  /// A new solve's first matrix (PatternCover::BeginSolve).
-  void BeginSolve() { pattern_.BeginSolve(); }
+  /// A new solve's first matrix (PatternCover::BeginSolve), factored with pivots of its own: the
+  /// factors depend on the solve alone.
+  void BeginSolve() {
+    pattern_.BeginSolve();
+    pivots_of_solve_ = false;
+  }
   /// Factors `A` (compressed, square, columns sorted); false where it is singular to a zero
   /// pivot.
   bool Factor(const Eigen::SparseMatrix<double>& A);
-  /// x ← A⁻¹ x with the last successful Factor.
+  /// x ← A⁻¹ x with the last successful Factor; not finite where `A` proves singular to a zero
+  /// pivot of its own.
   void SolveInPlace(Eigen::VectorXd& x);
 
  private:
+  bool FactorWithOwnPivots();  // of *factored_, with partial pivoting
+
   struct Klu;
   std::unique_ptr<Klu> klu_;
   PatternCover pattern_;  // the pattern klu_'s symbolic analysis was made for
+  const Eigen::SparseMatrix<double>* factored_ = nullptr;  // the last Factor's matrix (pattern_'s)
+  bool pivots_of_solve_ = false;    // klu_'s numeric factors, if any, are this solve's
+  Eigen::VectorXd rhs_, residual_;  // a solve by reused pivots' right-hand side and residual
 };
 
 /// The Levenberg–Marquardt direction d = −(HᵀH + μI)⁻¹ g of a sparse square H, μ > 0.
@@ -125,7 +142,7 @@ class DampedLeastSquares {
   PatternCover augmented_pattern_;
   Eigen::VectorXd rhs_, solution_, correction_;
   Eigen::VectorXd product_, normal_residual_;  // H d, and (HᵀH + μI) d + g
-  Eigen::SparseMatrix<double> normal_;  // HᵀH + μI
+  Eigen::SparseMatrix<double> normal_;         // HᵀH + μI
   Ldlt normal_ldlt_;
   SparsityPattern normal_pattern_;
 };

@@ -85,6 +85,42 @@ TEST(SparseLuTest, AMatrixWithinTheAnalysedPatternIsSolvedWithTheAnalysisKept) {
   EXPECT_LE((inside * x - b).norm(), kSolveRelError * b.norm());
 }
 
+TEST(SparseLuTest, ALaterMatrixOfTheSolveIsSolvedToRoundOffWithTheReusedPivots) {
+  // the same pattern with other values, as a Newton iteration's next matrix
+  const SparseMatrix first = BlockChain(50, 0), next = BlockChain(50, 0.7);
+  SparseLu lu;
+  lu.BeginSolve();
+  ASSERT_TRUE(lu.Factor(first));
+  ASSERT_TRUE(lu.Factor(next));
+  const Eigen::VectorXd b = Ramp(static_cast<int>(next.rows()));
+  Eigen::VectorXd x = b;
+  lu.SolveInPlace(x);
+  EXPECT_LE((next * x - b).norm(), kSolveRelError * b.norm());
+}
+
+TEST(SparseLuTest, PivotsThatNoLongerFitTheMatrixAreChosenAgain) {
+  // the first matrix pivots column 0 on row 1; on the next, that entry is 1e-20 of its row's,
+  // and eliminating with it would lose the solution (x = (0, 1) for (1, 1))
+  const auto two_by_two = [](double a00, double a10) {
+    SparseMatrix A(2, 2);
+    const std::vector<Eigen::Triplet<double>> entries = {
+        {0, 0, a00}, {1, 0, a10}, {0, 1, 1}, {1, 1, 1}};
+    A.setFromTriplets(entries.begin(), entries.end());
+    A.makeCompressed();
+    return A;
+  };
+  const SparseMatrix first = two_by_two(1e-3, 1), next = two_by_two(1, 1e-20);
+  SparseLu lu;
+  lu.BeginSolve();
+  ASSERT_TRUE(lu.Factor(first));
+  ASSERT_TRUE(lu.Factor(next));
+  const Eigen::VectorXd b = Eigen::Vector2d(2, 1 + 1e-20);
+  Eigen::VectorXd x = b;
+  lu.SolveInPlace(x);
+  EXPECT_LE((next * x - b).norm(), kSolveRelError * b.norm());
+  EXPECT_NEAR(x[0], 1, kSolveRelError);
+}
+
 TEST(SparseLuTest, ASolvesFactorsDoNotDependOnTheSolveBefore) {
   // `inside`'s factors after a solve that analysed the fuller pattern are those of a fresh LU:
   // a new solve keeps the last analysis only for exactly its pattern
