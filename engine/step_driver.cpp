@@ -4,7 +4,6 @@
 #include <atomic>
 #include <cmath>
 #include <exception>
-#include <iterator>
 #include <utility>
 
 #include "engine/island_sleep.h"
@@ -15,10 +14,19 @@
 namespace ecpsim::engine {
 namespace {
 
-// the sub-step ladder: the step at h, then in 2, 4 and 16 equal parts (engine/README.md: hard
-// impacts and bodies far smaller than g h² need the last rung)
-constexpr int kSubsteps[] = {1, 2, 4, 16};
-constexpr int kLadderLength = static_cast<int>(std::size(kSubsteps));
+// a span that fails is split in two halves, each solved from where the one before ended, down
+// to h / 2⁴ (engine/README.md, "Failed steps": hard impacts and bodies far smaller than g h²
+// need the finest)
+constexpr int kMaxSplits = 4;
+
+// What an island step's solved spans summed: the contacts' impulses, the largest residual, the
+// dearest model and the finest split (as sub-steps of the step)
+struct SpanSums {
+  std::vector<Eigen::Vector4d> impulse;  // per contact
+  double residual = 0;
+  StepModel model = StepModel::kFree;
+  int substeps = 1;
+};
 
 // What solving one island gave: written by the thread that solved it, read by the driver once
 // every island is done
@@ -32,8 +40,8 @@ struct IslandOutcome {
   int retries = 0;
   bool repeats = true;  // RepeatsItsStart (only sleeping reads it)
   std::vector<FailedAttempt> tried;
-  std::vector<Eigen::Vector4d> impulse;  // per contact, the sub-steps' sum
-  std::exception_ptr thrown;             // what the model threw (kThrew)
+  SpanSums sums;              // (SpanSolver's, kept from step to step for their storage)
+  std::exception_ptr thrown;  // what the model threw (kThrew)
 };
 
 // The driver's part of the StepWorkspace: vectors keep their capacity from step to step, and a
@@ -70,65 +78,127 @@ void Gather(const Island& island, const State& state, IslandState& local) {
     local.contacts[i] = state.contacts[island.contacts[i]];
 }
 
-// Advances `island` from `state` into `local` by the sub-step ladder with the model's usual
-// effort; only where that fails at every length, again with its last resort (if it has one), so
-// that what the usual effort solves stays as it was. Reads `state`, writes only `local` and
-// `outcome`: islands on several threads at once.
+// The spans of one island's step: each solved with the model's usual effort, split in two where
+// that fails, each half from where the one before ended (a span solved is kept, never solved
+// again at a shorter length), and given the model's last resort only where splitting did not
+// solve it (at h / 2⁴, or where a half failed), so that what the usual effort solves stays as
+// it was. Reads `state`, writes only `local` and `outcome`: islands on several threads at once.
+class SpanSolver {
+ public:
+  SpanSolver(const State& state, const Island& island, const ContactModelStepper& model,
+             const CancelFlag* cancel, IslandState& local, IslandOutcome& outcome)
+      : state_(state),
+        island_(island),
+        model_(model),
+        cancel_(cancel),
+        local_(local),
+        outcome_(outcome),
+        sums_(outcome.sums) {}
+
+  // `local` at t advanced over [t, t + h], h the step's length / 2^splits; true once solved. A
+  // span that fails leaves `local` and what the solved spans summed as it found them
+  bool Solve(double t, double h, int splits) {
+    Start(splits);
+    if (Advance(t, h, Effort::kUsual, splits)) return true;
+    Restore(splits);
+    if (splits < kMaxSplits) {
+      if (Solve(t, h / 2, splits + 1) && Solve(t + h / 2, h / 2, splits + 1)) return true;
+      Restore(splits);
+    }
+    if (!model_.HasLastResort()) return false;
+    if (Advance(t, h, Effort::kLastResort, splits)) return true;
+    Restore(splits);
+    return false;
+  }
+
+  const SpanSums& sums() const { return sums_; }
+
+ private:
+  // a span's start, to return to where it fails: the step's is `state`'s, gathered again where
+  // needed (the usual step, solved at once, copies nothing more); a shorter span's is kept
+  void Start(int splits) {
+    if (splits == 0) {
+      Restore(0);
+      return;
+    }
+    if (static_cast<int>(kept_.size()) <= splits) kept_.resize(splits + 1);
+    kept_[splits] = {local_, sums_};
+  }
+  void Restore(int splits) {
+    if (splits > 0) {
+      local_ = kept_[splits].first;
+      sums_ = kept_[splits].second;
+      return;
+    }
+    Gather(island_, state_, local_);
+    sums_.impulse.assign(island_.contacts.size(), Eigen::Vector4d::Zero());
+    sums_.residual = 0;
+    sums_.model = StepModel::kFree;
+    sums_.substeps = 1;
+  }
+
+  // one attempt over [t, t + h]; what it gave added to the sums once solved
+  bool Advance(double t, double h, Effort effort, int splits) {
+    ThrowIfCancelled(cancel_, "the step");
+    const AdvanceResult result = model_.Advance(island_, t, h, local_, effort);
+    outcome_.iterations += result.iterations;
+    outcome_.retries += result.retries;
+    outcome_.residual = result.residual;
+    outcome_.tried.insert(outcome_.tried.end(), result.tried.begin(), result.tried.end());
+    if (!result.solved) return false;
+    // a solved step can still overflow (e.g. the explicit gyroscopic term feeding a fast
+    // spin, engine/README.md): such a state is never committed
+    if (!std::all_of(local_.bodies.begin(), local_.bodies.end(),
+                     [](const BodyState& b) { return IsFinite(b); })) {
+      outcome_.residual = INFINITY;
+      outcome_.tried.push_back({"the solved step", h, "a non-finite state"});
+      return false;
+    }
+    sums_.residual = std::max(sums_.residual, result.residual);
+    sums_.model = std::max(sums_.model, result.model);
+    sums_.substeps = std::max(sums_.substeps, 1 << splits);
+    for (size_t k = 0; k < island_.contacts.size(); ++k) {
+      const ContactState& c = local_.contacts[k];
+      sums_.impulse[k] += Eigen::Vector4d(c.p_n, c.p_t, c.p_o, c.p_r);
+    }
+    return true;
+  }
+
+  const State& state_;
+  const Island& island_;
+  const ContactModelStepper& model_;
+  const CancelFlag* cancel_;
+  IslandState& local_;
+  IslandOutcome& outcome_;
+  SpanSums& sums_;
+  std::vector<std::pair<IslandState, SpanSums>> kept_;  // per split, a span's start
+};
+
+// Advances `island` from `state` into `local` by SpanSolver; a contact's impulses are the whole
+// step's, its spans' sum
 void SolveIsland(const Scene& scene, const State& state, const Island& island,
                  const ContactModelStepper& model, const CancelFlag* cancel, IslandState& local,
                  IslandOutcome& outcome) {
-  outcome.status = IslandOutcome::Status::kFailed;
   outcome.iterations = outcome.retries = 0;
   outcome.tried.clear();
-  const int attempts = (model.HasLastResort() ? 2 : 1) * kLadderLength;
-  for (int attempt = 0; attempt < attempts; ++attempt) {
-    ThrowIfCancelled(cancel, "the step");
-    const Effort effort = attempt < kLadderLength ? Effort::kUsual : Effort::kLastResort;
-    const int substeps = kSubsteps[attempt % kLadderLength];
-    Gather(island, state, local);
-    const double h = scene.h / substeps;
-    double island_residual = 0;
-    StepModel island_model = StepModel::kFree;
-    bool ok = true;
-    // a contact's impulses are the whole step's: the sub-steps' sum
-    outcome.impulse.assign(island.contacts.size(), Eigen::Vector4d::Zero());
-    for (int i = 0; i < substeps && ok; ++i) {
-      const AdvanceResult result = model.Advance(island, state.t + i * h, h, local, effort);
-      for (size_t k = 0; k < island.contacts.size(); ++k) {
-        const ContactState& c = local.contacts[k];
-        outcome.impulse[k] += Eigen::Vector4d(c.p_n, c.p_t, c.p_o, c.p_r);
-      }
-      outcome.iterations += result.iterations;
-      outcome.retries += result.retries;
-      outcome.residual = result.residual;
-      island_residual = std::max(island_residual, result.residual);
-      island_model = std::max(island_model, result.model);
-      outcome.tried.insert(outcome.tried.end(), result.tried.begin(), result.tried.end());
-      ok = result.solved;
-      // a solved step can still overflow (e.g. the explicit gyroscopic term feeding a fast
-      // spin, engine/README.md): such a state is never committed
-      if (ok && !std::all_of(local.bodies.begin(), local.bodies.end(),
-                             [](const BodyState& b) { return IsFinite(b); })) {
-        ok = false;
-        outcome.residual = INFINITY;
-        outcome.tried.push_back({"the solved step", h, "a non-finite state"});
-      }
-    }
-    if (!ok) continue;
-    outcome.status = IslandOutcome::Status::kSolved;
-    outcome.model = island_model;
-    outcome.substeps = substeps;
-    outcome.residual = island_residual;
-    // (only sleeping reads it: a step without it pays nothing for the rule)
-    outcome.repeats = !scene.solver.sleep || RepeatsItsStart(island, state, local);
-    for (size_t i = 0; i < island.contacts.size(); ++i) {
-      ContactState& c = local.contacts[i];
-      c.p_n = outcome.impulse[i][0];
-      c.p_t = outcome.impulse[i][1];
-      c.p_o = outcome.impulse[i][2];
-      c.p_r = outcome.impulse[i][3];
-    }
+  SpanSolver spans(state, island, model, cancel, local, outcome);
+  if (!spans.Solve(state.t, scene.h, 0)) {
+    outcome.status = IslandOutcome::Status::kFailed;
     return;
+  }
+  const SpanSums& sums = spans.sums();
+  outcome.status = IslandOutcome::Status::kSolved;
+  outcome.model = sums.model;
+  outcome.substeps = sums.substeps;
+  outcome.residual = sums.residual;
+  // (only sleeping reads it: a step without it pays nothing for the rule)
+  outcome.repeats = !scene.solver.sleep || RepeatsItsStart(island, state, local);
+  for (size_t i = 0; i < island.contacts.size(); ++i) {
+    ContactState& c = local.contacts[i];
+    c.p_n = sums.impulse[i][0];
+    c.p_t = sums.impulse[i][1];
+    c.p_o = sums.impulse[i][2];
+    c.p_r = sums.impulse[i][3];
   }
 }
 

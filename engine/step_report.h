@@ -23,7 +23,7 @@ struct StepReport {
   int iterations = 0;   // Newton iterations, summed over bodies and sub-steps
   double residual = 0;  // max over bodies of the unscaled residual (see engine/README.md)
   int retries = 0;      // restarts of the ladder used (0 when the warm start converged)
-  int substeps = 1;     // 1, 2, 4 or 16
+  int substeps = 1;     // the finest split's: 1, 2, 4, 8 or 16 sub-steps of h
   // islands that slept (replayed their last step, engine/README.md "Sleeping islands") and their
   // bodies
   int sleeping_islands = 0;

@@ -1,7 +1,9 @@
 #include "engine/step_driver.h"
 
+#include <cmath>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <gmock/gmock.h>
@@ -26,36 +28,39 @@ using testing::MakeGroundScene;
 // m: one rounding of a coordinate |x| ≈ 1 (ε = 2.2e-16, rounded up)
 constexpr double kRoundingOfOne = 2.3e-16;
 
-// A model that moves each body by h along x and solves only sub-steps of at most `largest_h`
-// (for the body named "stubborn"; every other body at any h): the driver's ladder is what is
-// under test, with the outcome known in advance.
+// A model that moves each body by h along x and solves only spans of at most `largest_h` (for
+// the body named "stubborn"; every other body at any h) among those that end after
+// `hard_from` (any span that ends before it solves): the driver's splitting is what is under
+// test, with the outcome known in advance.
 class SubstepModel final : public ContactModelStepper {
  public:
-  explicit SubstepModel(const Scene& scene, double largest_h)
-      : scene_(scene), largest_h_(largest_h) {}
-  AdvanceResult Advance(const Island& island, double, double h, IslandState& state,
+  explicit SubstepModel(const Scene& scene, double largest_h, double hard_from = -INFINITY)
+      : scene_(scene), largest_h_(largest_h), hard_from_(hard_from) {}
+  AdvanceResult Advance(const Island& island, double t, double h, IslandState& state,
                         Effort) const override {
     AdvanceResult result;
     ++calls;
     result.iterations = 1;
     const bool stubborn = scene_.bodies[island.bodies[0]].name == "stubborn";
-    if (stubborn && h > largest_h_) {
+    if (stubborn && h > largest_h_ && t + h > hard_from_) {
       result.residual = 0.5;
       result.retries = 1;
       result.tried.push_back({"test", h, "refused"});
       state.bodies[0].p_WB.setConstant(NAN);  // a failed attempt's state must never be committed
       return result;
     }
+    if (stubborn) solved_spans.push_back({t, h});
     for (BodyState& b : state.bodies) b.p_WB.x() += h;
     result.residual = h;
     result.solved = true;
     return result;
   }
   mutable int calls = 0;
+  mutable std::vector<std::pair<double, double>> solved_spans;  // the stubborn body's (t, h)
 
  private:
   const Scene& scene_;
-  double largest_h_;
+  double largest_h_, hard_from_;
 };
 
 // the one stepper `model` for every thread (the tests' models are used on one)
@@ -86,16 +91,16 @@ TEST(FormIslandsTest, EveryBodyIsAnIslandWithItsObstacleContacts) {
   }
 }
 
-TEST(StepIslandsTest, AnIslandThatFailsAtHIsSteppedInTheFirstSubstepsThatSolve) {
+TEST(StepIslandsTest, AnIslandThatFailsAtHIsSplitUntilItsSpansSolve) {
   const Scene scene = TwoBoxes();
   State state = InitialState(scene);
   StepWorkspace workspace;
-  // solvable at h/4 only: the ladder tries h, then 2 × h/2 (the first fails), then 4 × h/4
+  // solvable at h/4 only: h fails, then each half fails and is split into quarters that solve
   const SubstepModel model(scene, scene.h / 4);
   const StepReport report = StepIslands(scene, state, Using(model), workspace);
   EXPECT_EQ(report.substeps, 4);
-  EXPECT_EQ(report.retries, 2);
-  EXPECT_EQ(model.calls, 1 + 1 + 1 + 4);
+  EXPECT_EQ(report.retries, 3);
+  EXPECT_EQ(model.calls, 1 + 1 + (1 + 2) + (1 + 2));
   // each body moved by h (the stubborn one in four roundings of x + h/4: a few ulps of 1), and
   // the failed attempts' NaN never reached the state
   constexpr double kFourRoundings = 4 * kRoundingOfOne;
@@ -106,21 +111,38 @@ TEST(StepIslandsTest, AnIslandThatFailsAtHIsSteppedInTheFirstSubstepsThatSolve) 
   EXPECT_EQ(report.residual, scene.h);
 }
 
+TEST(StepIslandsTest, ASolvedSpanIsKeptAndOnlyTheHalfThatFailedIsSplit) {
+  const Scene scene = TwoBoxes();
+  State state = InitialState(scene);
+  StepWorkspace workspace;
+  // hard only in the step's second half: the first half solves at h/2 once and is kept, the
+  // second is split into quarters
+  const SubstepModel model(scene, scene.h / 4, scene.h / 2);
+  const StepReport report = StepIslands(scene, state, Using(model), workspace);
+  const double h = scene.h;
+  const std::vector<std::pair<double, double>> spans = {
+      {0, h / 2}, {h / 2, h / 4}, {h / 2 + h / 4, h / 4}};
+  EXPECT_EQ(model.solved_spans, spans);
+  EXPECT_EQ(report.substeps, 4);
+  EXPECT_EQ(model.calls, 1 + 1 + 1 + (1 + 2));
+  EXPECT_NEAR(state.bodies[1].p_WB.x(), 1 + scene.h, 3 * kRoundingOfOne);
+}
+
 TEST(StepIslandsTest, AnIslandThatNeverSolvesNamesTimeBodyAndWhatWasTriedAndLeavesTheState) {
   Scene scene = TwoBoxes();
   scene.model = ContactModel::kPlanar;  // the failure names a model other than the hull's
   State state = InitialState(scene);
   StepWorkspace workspace;
   const State before = state;
-  const SubstepModel model(scene, scene.h / 100);  // below the ladder's last rung, h/16
+  const SubstepModel model(scene, scene.h / 100);  // below the finest split, h/16
   EXPECT_THAT([&] { StepIslands(scene, state, Using(model), workspace); },
               ::testing::ThrowsMessage<SolverFailure>(
                   AllOf(HasSubstr("planar model: solver failed at t = 0 s on body 'stubborn': "
                                   "residual 0.5 > tolerance 1e-12"),
                         HasSubstr("tried test (h = 0.01 s): refused; test (h = 0.005 s): "
-                                  "refused; test (h = 0.0025 s): refused; test (h = 0.000625 s): "
-                                  "refused"))));
-  // the same as a record: each rung's first sub-step refused
+                                  "refused; test (h = 0.0025 s): refused; test (h = 0.00125 s): "
+                                  "refused; test (h = 0.000625 s): refused"))));
+  // the same as a record: the step and each first half down to h/16 refused
   try {
     StepIslands(scene, state, Using(model), workspace);
     ADD_FAILURE() << "no SolverFailure";
@@ -130,8 +152,8 @@ TEST(StepIslandsTest, AnIslandThatNeverSolvesNamesTimeBodyAndWhatWasTriedAndLeav
     EXPECT_EQ(record->model, "planar");
     EXPECT_EQ(record->bodies, std::vector<std::string>{"stubborn"});
     EXPECT_EQ(record->residual, 0.5);
-    ASSERT_EQ(record->tried.size(), 4u);
-    EXPECT_EQ(record->tried[3].h, scene.h / 16);
+    ASSERT_EQ(record->tried.size(), 5u);
+    EXPECT_EQ(record->tried[4].h, scene.h / 16);
   }
   EXPECT_EQ(state.steps, 0);
   for (size_t b = 0; b < state.bodies.size(); ++b)
@@ -139,45 +161,55 @@ TEST(StepIslandsTest, AnIslandThatNeverSolvesNamesTimeBodyAndWhatWasTriedAndLeav
 }
 
 // The SubstepModel whose Advance never solves the stubborn body, with a last resort that solves
-// it at sub-steps of at most `last_resort_h`.
+// it at spans of at most `last_resort_h`; it records which effort each attempt had.
 class LastResortModel final : public ContactModelStepper {
  public:
   LastResortModel(const Scene& scene, double last_resort_h)
       : advance_(scene, 0), last_resort_(scene, last_resort_h) {}
   AdvanceResult Advance(const Island& island, double t, double h, IslandState& state,
                         Effort effort) const override {
-    if (effort == Effort::kLastResort) return last_resort_.Advance(island, t, h, state, effort);
-    EXPECT_EQ(last_resort_.calls, 0) << "the usual effort after the last resort";
+    if (effort == Effort::kLastResort) {
+      // a span is given the last resort only after its usual effort failed
+      EXPECT_FALSE(efforts.empty() || efforts.back() != 'u' || last_h != h)
+          << "the last resort before the usual effort at t = " << t << ", h = " << h;
+      efforts += 'L';
+      return last_resort_.Advance(island, t, h, state, effort);
+    }
+    efforts += 'u';
+    last_h = h;
     return advance_.Advance(island, t, h, state, effort);
   }
   bool HasLastResort() const override { return true; }
   SubstepModel advance_, last_resort_;
+  mutable std::string efforts;  // per attempt: 'u' usual, 'L' last resort
+  mutable double last_h = 0;    // the last usual attempt's span
 };
 
-TEST(StepIslandsTest, TheLastResortRunsOnlyWhereEverySubstepLengthFailed) {
+TEST(StepIslandsTest, TheLastResortIsGivenOnlyToSpansThatSplittingDidNotSolve) {
   const Scene scene = TwoBoxes();
   State state = InitialState(scene);
   StepWorkspace workspace;
-  // the last resort solves at h/2: for the stubborn body the ladder fails at h, h/2, h/4 and
-  // h/16 first (each length stops at its first failure), then the last resort fails at h and
-  // solves both halves; the easy body is solved by Advance at h
+  // the usual effort never solves the stubborn body: every span from h down to h/16 fails with
+  // it and is split (1 + 2 + 4 + 8 spans), and each of the 16 spans of h/16 fails with it too
+  // and is solved by the last resort; the easy body is solved by Advance at h
   const LastResortModel model(scene, scene.h / 2);
   const StepReport report = StepIslands(scene, state, Using(model), workspace);
-  EXPECT_EQ(model.advance_.calls, 1 + 4);
-  EXPECT_EQ(model.last_resort_.calls, 1 + 2);
-  EXPECT_EQ(report.substeps, 2);
-  // two roundings of x + h/2
-  EXPECT_NEAR(state.bodies[1].p_WB.x(), 1 + scene.h, 2 * kRoundingOfOne);
+  EXPECT_EQ(model.advance_.calls, 1 + (1 + 2 + 4 + 8) + 16);
+  EXPECT_EQ(model.last_resort_.calls, 16);
+  EXPECT_EQ(report.substeps, 16);
+  // sixteen roundings of x + h/16
+  EXPECT_NEAR(state.bodies[1].p_WB.x(), 1 + scene.h, 16 * kRoundingOfOne);
   EXPECT_EQ(state.steps, 1);
 }
 
-TEST(StepIslandsTest, AModelWithoutALastResortFailsAfterTheLadder) {
+TEST(StepIslandsTest, AModelWithoutALastResortFailsAfterTheSplits) {
   const Scene scene = TwoBoxes();
   State state = InitialState(scene);
   StepWorkspace workspace;
   const SubstepModel model(scene, scene.h / 100);
   EXPECT_THROW(StepIslands(scene, state, Using(model), workspace), SolverFailure);
-  EXPECT_EQ(model.calls, 1 + 4);  // the easy body, then h, h/2, h/4, h/16 for the stubborn one
+  // the easy body, then the step and each first half down to h/16 for the stubborn one
+  EXPECT_EQ(model.calls, 1 + 5);
 }
 
 TEST(StepIslandsTest, TheHullModelThroughTheDriverIsTheStep) {

@@ -95,9 +95,10 @@ TEST(HullModelTest, APassNeverSolvesTwiceFromTheSameStart) {
       EXPECT_EQ(attempt.start.rfind("sliding guess", 0), std::string::npos) << attempt.start;
       resting += attempt.start.rfind("resting guess", 0) == 0;
     }
-    // 4 step lengths, 4 passes at usual effort (the minimum-norm one too: 264 unknowns) and 2 in
-    // the last resort
-    EXPECT_EQ(resting, 4 * (4 + 2));
+    // 5 span lengths (the step and each first half down to h/16), each with 4 passes at usual
+    // effort (the minimum-norm one too: 264 unknowns) and, once its splits failed, 2 in the
+    // last resort
+    EXPECT_EQ(resting, 5 * (4 + 2));
   }
 }
 
