@@ -2,7 +2,7 @@
 // The interface every contact model implements (hull, planar, multi-patch, point): advance one
 // contact island — bodies whose contacts couple them within the step, with those contacts — by
 // one step or sub-step. The driver (step_driver.h) forms the islands (islands.h), runs the
-// sub-step ladder and commits; a model only solves.
+// split spans and commits; a model only solves.
 
 #include <string>
 #include <vector>
@@ -41,8 +41,8 @@ struct AdvanceResult {
 };
 
 /// How hard the driver asks a model to try: its usual attempt, or the dearer last resort that the
-/// driver asks for only where the usual one failed at h and at every sub-step length, so that
-/// every step the usual attempt solves is solved as without it.
+/// driver asks for only on a span where the usual one failed and so did every split of the span
+/// into halves, so that every step the usual attempt solves is solved as without it.
 enum class Effort { kUsual, kLastResort };
 
 class ContactModelStepper {
