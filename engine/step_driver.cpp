@@ -15,7 +15,7 @@ namespace ecpsim::engine {
 namespace {
 
 // a span that fails is split in two halves, each solved from where the one before ended, down
-// to h / 2⁴ (engine/README.md, "Failed steps": hard impacts and bodies far smaller than g h²
+// to h / 2⁴ (engine/README.md, "Restart ladder": hard impacts and bodies far smaller than g h²
 // need the finest)
 constexpr int kMaxSplits = 4;
 
