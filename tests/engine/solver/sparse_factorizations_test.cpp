@@ -50,6 +50,20 @@ Eigen::VectorXd Ramp(int n) {
   return b;
 }
 
+// `lu` in a new solve, having factored `first` and then `then` (of the same solve)
+void FactorInOneSolve(SparseLu& lu, const SparseMatrix& first, const SparseMatrix& then) {
+  lu.BeginSolve();
+  ASSERT_TRUE(lu.Factor(first));
+  ASSERT_TRUE(lu.Factor(then));
+}
+
+// A⁻¹ b by `lu`'s last factors
+Eigen::VectorXd Solved(SparseLu& lu, const Eigen::VectorXd& b) {
+  Eigen::VectorXd x = b;
+  lu.SolveInPlace(x);
+  return x;
+}
+
 TEST(SparseLuTest, SolvesAnIslandLikeMatrixToRoundOff) {
   const SparseMatrix A = BlockChain(50, 0);
   SparseLu lu;
@@ -76,26 +90,18 @@ TEST(SparseLuTest, ASingularMatrixIsReportedNotFactored) {
 TEST(SparseLuTest, AMatrixWithinTheAnalysedPatternIsSolvedWithTheAnalysisKept) {
   const SparseMatrix full = BlockChain(30, 0), inside = BlockChain(30, 1, 3);
   SparseLu lu;
-  lu.BeginSolve();
-  ASSERT_TRUE(lu.Factor(full));
-  ASSERT_TRUE(lu.Factor(inside));
+  ASSERT_NO_FATAL_FAILURE(FactorInOneSolve(lu, full, inside));
   const Eigen::VectorXd b = Ramp(static_cast<int>(inside.rows()));
-  Eigen::VectorXd x = b;
-  lu.SolveInPlace(x);
-  EXPECT_LE((inside * x - b).norm(), kSolveRelError * b.norm());
+  EXPECT_LE((inside * Solved(lu, b) - b).norm(), kSolveRelError * b.norm());
 }
 
 TEST(SparseLuTest, ALaterMatrixOfTheSolveIsSolvedToRoundOffWithTheReusedPivots) {
   // the same pattern with other values, as a Newton iteration's next matrix
   const SparseMatrix first = BlockChain(50, 0), next = BlockChain(50, 0.7);
   SparseLu lu;
-  lu.BeginSolve();
-  ASSERT_TRUE(lu.Factor(first));
-  ASSERT_TRUE(lu.Factor(next));
+  ASSERT_NO_FATAL_FAILURE(FactorInOneSolve(lu, first, next));
   const Eigen::VectorXd b = Ramp(static_cast<int>(next.rows()));
-  Eigen::VectorXd x = b;
-  lu.SolveInPlace(x);
-  EXPECT_LE((next * x - b).norm(), kSolveRelError * b.norm());
+  EXPECT_LE((next * Solved(lu, b) - b).norm(), kSolveRelError * b.norm());
 }
 
 TEST(SparseLuTest, PivotsThatNoLongerFitTheMatrixAreChosenAgain) {
@@ -111,12 +117,9 @@ TEST(SparseLuTest, PivotsThatNoLongerFitTheMatrixAreChosenAgain) {
   };
   const SparseMatrix first = two_by_two(1e-3, 1), next = two_by_two(1, 1e-20);
   SparseLu lu;
-  lu.BeginSolve();
-  ASSERT_TRUE(lu.Factor(first));
-  ASSERT_TRUE(lu.Factor(next));
+  ASSERT_NO_FATAL_FAILURE(FactorInOneSolve(lu, first, next));
   const Eigen::VectorXd b = Eigen::Vector2d(2, 1 + 1e-20);
-  Eigen::VectorXd x = b;
-  lu.SolveInPlace(x);
+  const Eigen::VectorXd x = Solved(lu, b);
   EXPECT_LE((next * x - b).norm(), kSolveRelError * b.norm());
   EXPECT_NEAR(x[0], 1, kSolveRelError);
 }
